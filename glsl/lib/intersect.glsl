@@ -1,0 +1,108 @@
+/*
+ * intersect.glsl: ray-triangle intersection and ray-origin offsetting.
+ *
+ * intersect_triangle is the watertight test of Woop, Benthin and Wald, "Watertight Ray/Triangle
+ * Intersection", JCGT 2013: the triangle is sheared into a space where the ray is the +z axis,
+ * and the 2D edge functions U, V, W decide inclusion. Two triangles sharing an edge compute that
+ * edge's function from the same two sheared vertices in opposite order, and IEEE subtraction is
+ * antisymmetric, so a ray through the edge is accepted by at least one of them. `precise` stops
+ * the compiler from fusing a*b - c*d into an fma, which would break that symmetry. Edges are
+ * inclusive (>= 0), so a ray through a shared vertex or edge hits; a triangle of zero area
+ * (det == 0) is never hit, so degenerate input yields no hit and no NaN.
+ */
+#ifndef VKRT_INTERSECT_GLSL
+#define VKRT_INTERSECT_GLSL
+
+/* Per-ray constants of the watertight test: the axis permutation and the shear. */
+struct RayShear {
+    vec3 origin;
+    int kx, ky, kz;
+    vec3 shear; /* Sx, Sy, Sz */
+};
+
+RayShear ray_shear_make(vec3 origin, vec3 dir)
+{
+    RayShear s;
+    s.origin = origin;
+    vec3 a = abs(dir);
+    s.kz = (a.x > a.y) ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
+    s.kx = (s.kz + 1) % 3;
+    s.ky = (s.kx + 1) % 3;
+    /* Keep the winding of the sheared triangle independent of the ray's z sign. */
+    if (dir[s.kz] < 0.0) {
+        int t = s.kx;
+        s.kx = s.ky;
+        s.ky = t;
+    }
+    s.shear = vec3(dir[s.kx] / dir[s.kz], dir[s.ky] / dir[s.kz], 1.0 / dir[s.kz]);
+    return s;
+}
+
+/* Returns true and the hit's t and barycentrics (u of v1, v of v2) when the ray hits the
+ * triangle with tmin < t < tmax. */
+bool intersect_triangle(RayShear s, vec3 p0, vec3 p1, vec3 p2, float tmin, float tmax,
+                        out float t, out float u, out float v)
+{
+    vec3 a = p0 - s.origin;
+    vec3 b = p1 - s.origin;
+    vec3 c = p2 - s.origin;
+    precise float ax = a[s.kx] - s.shear.x * a[s.kz];
+    precise float ay = a[s.ky] - s.shear.y * a[s.kz];
+    precise float bx = b[s.kx] - s.shear.x * b[s.kz];
+    precise float by = b[s.ky] - s.shear.y * b[s.kz];
+    precise float cx = c[s.kx] - s.shear.x * c[s.kz];
+    precise float cy = c[s.ky] - s.shear.y * c[s.kz];
+
+    precise float eu = cx * by - cy * bx;
+    precise float ev = ax * cy - ay * cx;
+    precise float ew = bx * ay - by * ax;
+    t = 0.0;
+    u = 0.0;
+    v = 0.0;
+    if ((eu < 0.0 || ev < 0.0 || ew < 0.0) && (eu > 0.0 || ev > 0.0 || ew > 0.0))
+        return false;
+    float det = eu + ev + ew;
+    if (det == 0.0)
+        return false;
+
+    /* Scaled distance; compared before the division, which is the expensive part. */
+    float az = s.shear.z * a[s.kz];
+    float bz = s.shear.z * b[s.kz];
+    float cz = s.shear.z * c[s.kz];
+    float scaled_t = eu * az + ev * bz + ew * cz;
+    float inv_det = 1.0 / det;
+    float hit_t = scaled_t * inv_det;
+    if (!(hit_t > tmin && hit_t < tmax))
+        return false;
+    t = hit_t;
+    u = ev * inv_det;
+    v = ew * inv_det;
+    return true;
+}
+
+/* Moves a surface point p off its surface along the geometric normal n (facing the side the new
+ * ray leaves towards), by an amount that scales with the magnitudes involved instead of one fixed
+ * epsilon: int_scale ULPs of the largest coordinate of p or of its triangle (magnitude), or a
+ * small absolute step near the origin. After Wächter and Binder, "A Fast and Robust Method for
+ * Avoiding Self-Intersection", Ray Tracing Gems, ch. 6, with one change: their offset is per
+ * coordinate of p, which leaves a point on the plane x = 0 of a large scene almost unmoved in x
+ * while the intersection test of that plane, done relative to its far-away vertices, errs by
+ * ULPs of the vertices' magnitude; the noise of self-shadowing on such walls showed it. Scaling
+ * by the largest magnitude clears both the rounding of p and that of the plane test. */
+vec3 offset_ray_origin(vec3 p, vec3 n, float magnitude)
+{
+    const float origin_step = 1.0 / 65536.0;
+    const float ulps = 256.0;
+    const float ulp_of_one = 1.0 / 8388608.0; /* 2^-23 */
+    float largest = max(magnitude, max(abs(p.x), max(abs(p.y), abs(p.z))));
+    return p + max(origin_step, ulps * ulp_of_one * largest) * n;
+}
+
+/* The largest absolute coordinate of a triangle, for offset_ray_origin. */
+float triangle_magnitude(vec3 a, vec3 b, vec3 c)
+{
+    vec3 m = max(abs(a), max(abs(b), abs(c)));
+    return max(m.x, max(m.y, m.z));
+}
+
+#endif

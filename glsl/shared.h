@@ -1,0 +1,97 @@
+/*
+ * shared.h: every struct that crosses between the host and the kernels, defined once.
+ *
+ * This file is compiled both as C (by the host, and by tests/test_layout.c) and as GLSL (every
+ * kernel includes it; vkrt's shader compiler defines VKRT_GLSL). Buffers use std430 layout, so
+ * every struct here is built only from 16-byte vectors (vec4, uvec4) and, at most, a final run of
+ * 4-byte scalars filling a 16-byte slot: then std430 and C agree without hidden padding.
+ * tests/test_layout.c writes every field on the GPU and reads it back through these C structs.
+ */
+#ifndef VKRT_SHARED_H
+#define VKRT_SHARED_H
+
+#ifndef VKRT_GLSL
+#include <stdalign.h>
+#include <stdint.h>
+typedef struct vec4 { alignas(16) float x; float y, z, w; } vec4;
+typedef struct uvec4 { alignas(16) uint32_t x; uint32_t y, z, w; } uvec4;
+typedef uint32_t uint;
+#define VKRT_STRUCT(name) typedef struct name name; struct name
+#else
+#define VKRT_STRUCT(name) struct name
+#endif
+
+/* Marks a hit record of a ray that missed every triangle. */
+#define VKRT_NO_HIT 0xFFFFFFFFu
+
+/* Light kinds, as in scene.cfg. */
+#define VKRT_LIGHT_KIND_AMBIENT 0u
+#define VKRT_LIGHT_KIND_DIRECTIONAL 1u
+#define VKRT_LIGHT_KIND_POINT 2u
+#define VKRT_LIGHT_KIND_SPOT 3u
+
+/* One ray of the wavefront with its "image reconstruction information" (the seed's term):
+ * which pixel it adds to, how much (importance), its random stream and its depth. */
+VKRT_STRUCT(Ray) {
+    vec4 origin;      /* xyz origin, w: tmin */
+    vec4 direction;   /* xyz unit direction, w: tmax */
+    vec4 importance;  /* rgb throughput towards the pixel, w unused */
+    uvec4 info;       /* x: pixel index, y: random seed, z: depth, w: flags (unused yet) */
+};
+
+/* The closest hit of a ray: barycentrics u (of v1) and v (of v2), or triangle == VKRT_NO_HIT. */
+VKRT_STRUCT(Hit) {
+    float t;
+    float u;
+    float v;
+    uint triangle;
+};
+
+/* Triangle positions, what traversal reads (w unused). */
+VKRT_STRUCT(Triangle) {
+    vec4 v0;
+    vec4 v1;
+    vec4 v2;
+};
+
+/* Per-vertex normals of a triangle; uploaded only when the OBJ has normals. */
+VKRT_STRUCT(TriangleNormals) {
+    vec4 n0;
+    vec4 n1;
+    vec4 n2;
+};
+
+/* What the built-in Lambert shade reads of a material. */
+VKRT_STRUCT(Material) {
+    vec4 diffuse;     /* rgb: Kd (albedo), w unused */
+};
+
+/* A light in GPU form. Spot lights fall off linearly in angle from beam_angle (full intensity)
+ * to cutoff_angle (zero), as Mitsuba's spot light does. */
+VKRT_STRUCT(Light) {
+    vec4 position;    /* xyz: point and spot position; w: spot cutoff angle (radians) */
+    vec4 direction;   /* xyz: unit direction light travels (directional, spot axis); w: cos(cutoff) */
+    vec4 colour;      /* rgb: radiance (ambient), irradiance (directional), intensity (point, spot); w: spot beam angle */
+    uvec4 info;       /* x: VKRT_LIGHT_KIND_* */
+};
+
+/* Everything a frame's kernels need besides buffers; sent as push constants (<= 128 bytes). */
+VKRT_STRUCT(FrameParams) {
+    vec4 eye;         /* xyz camera position */
+    vec4 right;       /* camera right axis scaled by tan(fov/2) * aspect */
+    vec4 up;          /* camera up axis scaled by tan(fov/2) */
+    vec4 forward;     /* unit view direction */
+    vec4 environment; /* rgb radiance of rays that miss */
+    uvec4 image;      /* x: width, y: height, z: index of this sample pass, w: samples per pixel */
+    uvec4 counts;     /* x: triangles, y: lights, z: rays in this wavefront, w: frame seed */
+};
+
+/* Counters the kernels update with atomics; the host reads them after a frame. */
+VKRT_STRUCT(Counters) {
+    uint rays_traced;   /* primary, shadow and (later) secondary rays, all counted */
+    uint pad0;
+    uint pad1;
+    uint pad2;
+};
+
+#endif

@@ -1,0 +1,125 @@
+/* cli.c: command-line parsing (see cli.h). */
+#include "cli.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+const char *vkrt_usage(void)
+{
+    return "usage: vkrt render SCENE.cfg [options]   render every frame (camera) of a scene\n"
+           "       vkrt --list-devices               list Vulkan devices\n"
+           "       vkrt --help | --version\n"
+           "\n"
+           "render options:\n"
+           "  -o PATH           output file (.png or .exr); a pattern such as out/f%04d.png\n"
+           "                    numbers the frames; overrides the scene's `output`\n"
+           "  --width W         image width in pixels (overrides `resolution`)\n"
+           "  --height H        image height in pixels\n"
+           "  --spp N           samples per pixel (overrides `samples`)\n"
+           "  --exposure STOPS  scale PNG output by 2^STOPS before the sRGB curve (EXR unchanged)\n"
+           "  --device N        Vulkan device (see --list-devices); default: the first discrete\n"
+           "                    GPU, else the first device\n"
+           "  --validation      enable Vulkan validation layers (also VKRT_VALIDATION=1); any\n"
+           "                    validation message makes the run fail\n"
+           "  --quiet           no summary on stderr\n"
+           "  --list-devices    list Vulkan devices and exit\n"
+           "  --help, --version\n";
+}
+
+static bool parse_u32(const char *option, const char *text, uint32_t min, uint32_t max,
+                      uint32_t *out, vkrt_error *err)
+{
+    if (!text)
+        return vkrt_error_set(err, "%s needs a value", option);
+    char *end;
+    errno = 0;
+    long long value = strtoll(text, &end, 10);
+    if (errno || end == text || *end || value < (long long)min || value > (long long)max)
+        return vkrt_error_set(err, "%s: '%s' is not a whole number from %u to %u", option, text,
+                              min, max);
+    *out = (uint32_t)value;
+    return true;
+}
+
+static bool parse_float(const char *option, const char *text, float *out, vkrt_error *err)
+{
+    if (!text)
+        return vkrt_error_set(err, "%s needs a value", option);
+    char *end;
+    errno = 0;
+    float value = strtof(text, &end);
+    if (errno || end == text || *end || !isfinite(value))
+        return vkrt_error_set(err, "%s: '%s' is not a number", option, text);
+    *out = value;
+    return true;
+}
+
+bool vkrt_options_parse(int argc, char **argv, vkrt_options *opts, vkrt_error *err)
+{
+    memset(opts, 0, sizeof *opts);
+    opts->device = -1;
+    const char *env = getenv("VKRT_VALIDATION");
+    opts->validation = env && strcmp(env, "0") != 0 && *env;
+    for (int i = 1; i < argc; ++i) {
+        const char *arg = argv[i];
+        const char *value = i + 1 < argc ? argv[i + 1] : NULL;
+        uint32_t device;
+        if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
+            opts->command = VKRT_COMMAND_HELP;
+            return true;
+        } else if (strcmp(arg, "--version") == 0) {
+            opts->command = VKRT_COMMAND_VERSION;
+            return true;
+        } else if (strcmp(arg, "--list-devices") == 0) {
+            opts->command = VKRT_COMMAND_LIST_DEVICES;
+            return true;
+        } else if (strcmp(arg, "-o") == 0) {
+            if (!value)
+                return vkrt_error_set(err, "-o needs a path");
+            opts->output = value;
+            ++i;
+        } else if (strcmp(arg, "--width") == 0) {
+            if (!parse_u32(arg, value, 1, 16384, &opts->width, err))
+                return false;
+            ++i;
+        } else if (strcmp(arg, "--height") == 0) {
+            if (!parse_u32(arg, value, 1, 16384, &opts->height, err))
+                return false;
+            ++i;
+        } else if (strcmp(arg, "--spp") == 0) {
+            if (!parse_u32(arg, value, 1, 65536, &opts->samples, err))
+                return false;
+            ++i;
+        } else if (strcmp(arg, "--device") == 0) {
+            if (!parse_u32(arg, value, 0, 1000, &device, err))
+                return false;
+            opts->device = (int)device;
+            ++i;
+        } else if (strcmp(arg, "--exposure") == 0) {
+            if (!parse_float(arg, value, &opts->exposure, err))
+                return false;
+            ++i;
+        } else if (strcmp(arg, "--quiet") == 0) {
+            opts->quiet = true;
+        } else if (strcmp(arg, "--validation") == 0) {
+            opts->validation = true;
+        } else if (arg[0] == '-' && arg[1]) {
+            return vkrt_error_set(err, "unknown option '%s' (see vkrt --help)", arg);
+        } else if (opts->command == VKRT_COMMAND_NONE) {
+            if (strcmp(arg, "render") != 0)
+                return vkrt_error_set(err, "unknown command '%s' (see vkrt --help)", arg);
+            opts->command = VKRT_COMMAND_RENDER;
+        } else if (!opts->scene_path) {
+            opts->scene_path = arg;
+        } else {
+            return vkrt_error_set(err, "unexpected argument '%s'", arg);
+        }
+    }
+    if (opts->command == VKRT_COMMAND_NONE)
+        return vkrt_error_set(err, "no command given (see vkrt --help)");
+    if (!opts->scene_path)
+        return vkrt_error_set(err, "render needs a scene file: vkrt render SCENE.cfg");
+    return true;
+}

@@ -1,0 +1,38 @@
+/*
+ * cli.h: command-line parsing for `vkrt render` (and the commands to come).
+ */
+#ifndef VKRT_CLI_H
+#define VKRT_CLI_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "error.h"
+
+typedef enum vkrt_command {
+    VKRT_COMMAND_NONE = 0,
+    VKRT_COMMAND_RENDER,
+    VKRT_COMMAND_HELP,
+    VKRT_COMMAND_VERSION,
+    VKRT_COMMAND_LIST_DEVICES,
+} vkrt_command;
+
+typedef struct vkrt_options {
+    vkrt_command command;
+    const char *scene_path;   /* render: the scene.cfg */
+    const char *output;       /* -o: overrides the scene's output; NULL when not given */
+    uint32_t width, height;   /* 0 when not given */
+    uint32_t samples;         /* --spp; 0 when not given */
+    int device;               /* --device; -1 picks the default */
+    float exposure;           /* --exposure, stops, PNG only */
+    bool quiet;
+    bool validation;          /* --validation, or VKRT_VALIDATION=1 in the environment */
+} vkrt_options;
+
+/* Parses argv. On failure returns false with a one-line message in err. */
+bool vkrt_options_parse(int argc, char **argv, vkrt_options *opts, vkrt_error *err);
+
+/* The --help text. */
+const char *vkrt_usage(void);
+
+#endif

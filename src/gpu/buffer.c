@@ -1,0 +1,148 @@
+/*
+ * buffer.c: device buffers and staging transfers (see buffer.h).
+ *
+ * Every upload and download goes through a short-lived staging buffer and a one-shot command
+ * buffer. That costs a wait per transfer, which is fine: vkrt transfers when a scene loads and
+ * when a frame is read back, never per bounce.
+ */
+#include "buffer.h"
+
+#include <string.h>
+
+#include "vk_check.h"
+
+static const size_t min_buffer_size = 16;
+
+static bool create_with_memory(gpu_context *ctx, gpu_buffer *buf, size_t size,
+                               VkBufferUsageFlags usage, VkMemoryPropertyFlags wanted,
+                               VkMemoryPropertyFlags fallback, vkrt_error *err)
+{
+    memset(buf, 0, sizeof *buf);
+    if (size < min_buffer_size)
+        size = min_buffer_size;
+    VkBufferCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO,
+        .size = size,
+        .usage = usage,
+        .sharingMode = VK_SHARING_MODE_EXCLUSIVE,
+    };
+    GPU_CHECK(vkCreateBuffer(ctx->device, &info, NULL, &buf->buffer));
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(ctx->device, buf->buffer, &req);
+    uint32_t type = gpu_memory_type(ctx, req.memoryTypeBits, wanted);
+    if (type == UINT32_MAX)
+        type = gpu_memory_type(ctx, req.memoryTypeBits, fallback);
+    if (type == UINT32_MAX) {
+        vkrt_error_set(err, "no suitable memory type for a buffer of %zu bytes", size);
+        goto fail;
+    }
+    VkMemoryAllocateInfo alloc = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
+        .allocationSize = req.size,
+        .memoryTypeIndex = type,
+    };
+    GPU_CHECK(vkAllocateMemory(ctx->device, &alloc, NULL, &buf->memory));
+    GPU_CHECK(vkBindBufferMemory(ctx->device, buf->buffer, buf->memory, 0));
+    if (ctx->memory.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT &&
+        wanted & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT)
+        GPU_CHECK(vkMapMemory(ctx->device, buf->memory, 0, VK_WHOLE_SIZE, 0, &buf->mapped));
+    buf->size = size;
+    return true;
+fail:
+    gpu_buffer_destroy(ctx, buf);
+    return false;
+}
+
+bool gpu_buffer_create(gpu_context *ctx, gpu_buffer *buf, size_t size, const char *what,
+                       vkrt_error *err)
+{
+    const VkPhysicalDeviceLimits *limits = &ctx->properties.limits;
+    if (size > limits->maxStorageBufferRange) {
+        memset(buf, 0, sizeof *buf);
+        return vkrt_error_set(err, "%s needs %.1f MiB, more than one storage buffer on %s allows "
+                                   "(maxStorageBufferRange %.1f MiB)",
+                              what, size / 1048576.0, ctx->properties.deviceName,
+                              limits->maxStorageBufferRange / 1048576.0);
+    }
+    if (!create_with_memory(ctx, buf, size,
+                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                            VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, err))
+        return vkrt_error_prefix(err, "%s (%zu bytes)", what, size);
+    return true;
+}
+
+bool gpu_staging_create(gpu_context *ctx, gpu_buffer *buf, size_t size, vkrt_error *err)
+{
+    const VkMemoryPropertyFlags host =
+        VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    return create_with_memory(ctx, buf, size,
+                              VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                              host, host, err);
+}
+
+void gpu_buffer_destroy(gpu_context *ctx, gpu_buffer *buf)
+{
+    if (buf->mapped)
+        vkUnmapMemory(ctx->device, buf->memory);
+    if (buf->buffer)
+        vkDestroyBuffer(ctx->device, buf->buffer, NULL);
+    if (buf->memory)
+        vkFreeMemory(ctx->device, buf->memory, NULL);
+    memset(buf, 0, sizeof *buf);
+}
+
+static bool copy_buffer(gpu_context *ctx, VkBuffer src, VkBuffer dst, size_t size,
+                        vkrt_error *err)
+{
+    VkCommandBuffer cmd;
+    if (!gpu_commands_begin(ctx, &cmd, err))
+        return false;
+    VkBufferCopy region = {.size = size};
+    vkCmdCopyBuffer(cmd, src, dst, 1, &region);
+    return gpu_commands_submit(ctx, err);
+}
+
+bool gpu_buffer_upload(gpu_context *ctx, gpu_buffer *buf, const void *data, size_t size,
+                       vkrt_error *err)
+{
+    if (size == 0)
+        return true;
+    if (size > buf->size)
+        return vkrt_error_set(err, "upload of %zu bytes into a buffer of %zu", size,
+                              (size_t)buf->size);
+    gpu_buffer staging;
+    if (!gpu_staging_create(ctx, &staging, size, err))
+        return false;
+    memcpy(staging.mapped, data, size);
+    bool ok = copy_buffer(ctx, staging.buffer, buf->buffer, size, err);
+    gpu_buffer_destroy(ctx, &staging);
+    return ok;
+}
+
+bool gpu_buffer_download(gpu_context *ctx, const gpu_buffer *buf, void *data, size_t size,
+                         vkrt_error *err)
+{
+    if (size == 0)
+        return true;
+    if (size > buf->size)
+        return vkrt_error_set(err, "download of %zu bytes from a buffer of %zu", size,
+                              (size_t)buf->size);
+    gpu_buffer staging;
+    if (!gpu_staging_create(ctx, &staging, size, err))
+        return false;
+    bool ok = copy_buffer(ctx, buf->buffer, staging.buffer, size, err);
+    if (ok)
+        memcpy(data, staging.mapped, size);
+    gpu_buffer_destroy(ctx, &staging);
+    return ok;
+}
+
+bool gpu_buffer_zero(gpu_context *ctx, gpu_buffer *buf, vkrt_error *err)
+{
+    VkCommandBuffer cmd;
+    if (!gpu_commands_begin(ctx, &cmd, err))
+        return false;
+    vkCmdFillBuffer(cmd, buf->buffer, 0, VK_WHOLE_SIZE, 0);
+    return gpu_commands_submit(ctx, err);
+}

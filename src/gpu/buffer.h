@@ -1,0 +1,44 @@
+/*
+ * buffer.h: storage buffers on the device, with upload and download through staging buffers.
+ */
+#ifndef VKRT_GPU_BUFFER_H
+#define VKRT_GPU_BUFFER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <vulkan/vulkan.h>
+
+#include "context.h"
+
+typedef struct gpu_buffer {
+    VkBuffer buffer;
+    VkDeviceMemory memory;
+    VkDeviceSize size;
+    void *mapped;        /* non-NULL for host-visible buffers (staging) */
+} gpu_buffer;
+
+/* Creates a device-local storage buffer of size bytes (at least 16, since Vulkan has no empty
+ * buffers), usable as a transfer source and destination. what names the buffer in messages:
+ * a buffer larger than the device's maxStorageBufferRange is refused with its size and the limit.
+ * On failure nothing is left allocated. */
+bool gpu_buffer_create(gpu_context *ctx, gpu_buffer *buf, size_t size, const char *what,
+                       vkrt_error *err);
+
+/* Creates a host-visible, coherent, persistently mapped buffer for transfers. */
+bool gpu_staging_create(gpu_context *ctx, gpu_buffer *buf, size_t size, vkrt_error *err);
+
+/* Frees the buffer and zeroes it. Safe on a zeroed buffer. */
+void gpu_buffer_destroy(gpu_context *ctx, gpu_buffer *buf);
+
+/* Copies size bytes from data into the start of buf and waits until done. */
+bool gpu_buffer_upload(gpu_context *ctx, gpu_buffer *buf, const void *data, size_t size,
+                       vkrt_error *err);
+
+/* Copies size bytes from the start of buf into data and waits until done. */
+bool gpu_buffer_download(gpu_context *ctx, const gpu_buffer *buf, void *data, size_t size,
+                         vkrt_error *err);
+
+/* Fills the first size bytes of buf with zeros and waits until done. */
+bool gpu_buffer_zero(gpu_context *ctx, gpu_buffer *buf, vkrt_error *err);
+
+#endif

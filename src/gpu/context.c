@@ -1,0 +1,365 @@
+/*
+ * context.c: instance, device and queue setup (see context.h).
+ *
+ * vkrt needs only a compute queue: no window, no surface. Validation messages are counted in the
+ * context so that tests can fail on any of them.
+ */
+#include "context.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "vk_check.h"
+
+static const char *const validation_layer = "VK_LAYER_KHRONOS_validation";
+
+static VKAPI_ATTR VkBool32 VKAPI_CALL on_validation_message(
+    VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT types,
+    const VkDebugUtilsMessengerCallbackDataEXT *data, void *user)
+{
+    (void)types;
+    gpu_context *ctx = user;
+    /* Info and verbose messages are chatter (loader and layer announcements), not findings. */
+    if (severity < VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT)
+        return VK_FALSE;
+    if (ctx->validation_messages == 0)
+        snprintf(ctx->first_validation_message, sizeof ctx->first_validation_message, "%s",
+                 data->pMessage);
+    ctx->validation_messages++;
+    if (!ctx->messenger_quiet)
+        fprintf(stderr, "vkrt: validation: %s\n", data->pMessage);
+    return VK_FALSE;
+}
+
+static bool layer_available(const char *name)
+{
+    uint32_t count = 0;
+    if (vkEnumerateInstanceLayerProperties(&count, NULL) != VK_SUCCESS)
+        return false;
+    VkLayerProperties *layers = calloc(count ? count : 1, sizeof *layers);
+    if (!layers)
+        return false;
+    bool found = false;
+    if (vkEnumerateInstanceLayerProperties(&count, layers) == VK_SUCCESS)
+        for (uint32_t i = 0; i < count && !found; ++i)
+            found = strcmp(layers[i].layerName, name) == 0;
+    free(layers);
+    return found;
+}
+
+static bool create_instance(gpu_context *ctx, bool validation, vkrt_error *err)
+{
+    if (validation && !layer_available(validation_layer))
+        return vkrt_error_set(err, "validation was asked for but %s is not installed "
+                                   "(Debian: apt-get install vulkan-validationlayers)",
+                              validation_layer);
+    VkApplicationInfo app = {
+        .sType = VK_STRUCTURE_TYPE_APPLICATION_INFO,
+        .pApplicationName = "vkrt",
+        .pEngineName = "vkrt",
+        .apiVersion = VK_API_VERSION_1_1,
+    };
+    const char *extensions[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME};
+    VkDebugUtilsMessengerCreateInfoEXT messenger_info = {
+        .sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT,
+        .messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
+                           VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT,
+        .messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
+                       VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                       VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT,
+        .pfnUserCallback = on_validation_message,
+        .pUserData = ctx,
+    };
+    VkInstanceCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO,
+        /* Chained so that instance creation and destruction are validated too. */
+        .pNext = validation ? &messenger_info : NULL,
+        .pApplicationInfo = &app,
+        .enabledLayerCount = validation ? 1 : 0,
+        .ppEnabledLayerNames = &validation_layer,
+        .enabledExtensionCount = validation ? 1 : 0,
+        .ppEnabledExtensionNames = extensions,
+    };
+    VkResult result = vkCreateInstance(&info, NULL, &ctx->instance);
+    if (result == VK_ERROR_INCOMPATIBLE_DRIVER || result == VK_ERROR_INITIALIZATION_FAILED)
+        return vkrt_error_set(err, "no Vulkan driver found (%s); install one, e.g. Debian's "
+                                   "mesa-vulkan-drivers for lavapipe",
+                              gpu_result_name(result));
+    if (result != VK_SUCCESS)
+        return vkrt_error_set(err, "vkCreateInstance failed: %s", gpu_result_name(result));
+    if (validation) {
+        PFN_vkCreateDebugUtilsMessengerEXT create_messenger =
+            (PFN_vkCreateDebugUtilsMessengerEXT)vkGetInstanceProcAddr(
+                ctx->instance, "vkCreateDebugUtilsMessengerEXT");
+        if (!create_messenger)
+            return vkrt_error_set(err, "validation: vkCreateDebugUtilsMessengerEXT is missing");
+        result = create_messenger(ctx->instance, &messenger_info, NULL, &ctx->messenger);
+        if (result != VK_SUCCESS)
+            return vkrt_error_set(err, "vkCreateDebugUtilsMessengerEXT failed: %s",
+                                  gpu_result_name(result));
+    }
+    return true;
+}
+
+static bool enumerate_devices(VkInstance instance, VkPhysicalDevice **devices, uint32_t *count,
+                              vkrt_error *err)
+{
+    *devices = NULL;
+    *count = 0;
+    VkResult result = vkEnumeratePhysicalDevices(instance, count, NULL);
+    if (result != VK_SUCCESS)
+        return vkrt_error_set(err, "vkEnumeratePhysicalDevices failed: %s",
+                              gpu_result_name(result));
+    if (*count == 0)
+        return vkrt_error_set(err, "no Vulkan device found");
+    *devices = calloc(*count, sizeof **devices);
+    if (!*devices)
+        return vkrt_error_set(err, "out of memory");
+    result = vkEnumeratePhysicalDevices(instance, count, *devices);
+    if (result != VK_SUCCESS && result != VK_INCOMPLETE) {
+        free(*devices);
+        *devices = NULL;
+        return vkrt_error_set(err, "vkEnumeratePhysicalDevices failed: %s",
+                              gpu_result_name(result));
+    }
+    return true;
+}
+
+static bool pick_device(gpu_context *ctx, const gpu_context_desc *desc, vkrt_error *err)
+{
+    VkPhysicalDevice *devices;
+    uint32_t count;
+    if (!enumerate_devices(ctx->instance, &devices, &count, err))
+        return false;
+    uint32_t chosen = 0;
+    if (desc->pick_default || desc->device_index < 0) {
+        for (uint32_t i = 0; i < count; ++i) {
+            VkPhysicalDeviceProperties props;
+            vkGetPhysicalDeviceProperties(devices[i], &props);
+            if (props.deviceType == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU) {
+                chosen = i;
+                break;
+            }
+        }
+    } else if ((uint32_t)desc->device_index >= count) {
+        free(devices);
+        return vkrt_error_set(err, "--device %d: there are only %u Vulkan devices (see --list-devices)",
+                              desc->device_index, count);
+    } else {
+        chosen = (uint32_t)desc->device_index;
+    }
+    ctx->physical = devices[chosen];
+    free(devices);
+    vkGetPhysicalDeviceProperties(ctx->physical, &ctx->properties);
+    vkGetPhysicalDeviceMemoryProperties(ctx->physical, &ctx->memory);
+    return true;
+}
+
+static bool find_compute_queue(gpu_context *ctx, vkrt_error *err)
+{
+    uint32_t count = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(ctx->physical, &count, NULL);
+    VkQueueFamilyProperties *families = calloc(count ? count : 1, sizeof *families);
+    if (!families)
+        return vkrt_error_set(err, "out of memory");
+    vkGetPhysicalDeviceQueueFamilyProperties(ctx->physical, &count, families);
+    ctx->queue_family = UINT32_MAX;
+    for (uint32_t i = 0; i < count; ++i)
+        if (families[i].queueFlags & VK_QUEUE_COMPUTE_BIT) {
+            ctx->queue_family = i;
+            break;
+        }
+    free(families);
+    if (ctx->queue_family == UINT32_MAX)
+        return vkrt_error_set(err, "%s has no compute queue", ctx->properties.deviceName);
+    return true;
+}
+
+static bool create_device(gpu_context *ctx, vkrt_error *err)
+{
+    VkPhysicalDeviceFeatures supported;
+    vkGetPhysicalDeviceFeatures(ctx->physical, &supported);
+    /* Out-of-range reads in a kernel (a user's shader, later) then return zeros instead of
+     * reading other memory. */
+    ctx->robust_buffer_access = supported.robustBufferAccess == VK_TRUE;
+    VkPhysicalDeviceFeatures enabled = {.robustBufferAccess = supported.robustBufferAccess};
+    float priority = 1.0f;
+    VkDeviceQueueCreateInfo queue_info = {
+        .sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO,
+        .queueFamilyIndex = ctx->queue_family,
+        .queueCount = 1,
+        .pQueuePriorities = &priority,
+    };
+    VkDeviceCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
+        .queueCreateInfoCount = 1,
+        .pQueueCreateInfos = &queue_info,
+        .pEnabledFeatures = &enabled,
+    };
+    GPU_CHECK(vkCreateDevice(ctx->physical, &info, NULL, &ctx->device));
+    vkGetDeviceQueue(ctx->device, ctx->queue_family, 0, &ctx->queue);
+
+    VkCommandPoolCreateInfo pool_info = {
+        .sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
+        .flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT,
+        .queueFamilyIndex = ctx->queue_family,
+    };
+    GPU_CHECK(vkCreateCommandPool(ctx->device, &pool_info, NULL, &ctx->command_pool));
+    VkCommandBufferAllocateInfo alloc = {
+        .sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
+        .commandPool = ctx->command_pool,
+        .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
+        .commandBufferCount = 1,
+    };
+    GPU_CHECK(vkAllocateCommandBuffers(ctx->device, &alloc, &ctx->command_buffer));
+    VkFenceCreateInfo fence_info = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    GPU_CHECK(vkCreateFence(ctx->device, &fence_info, NULL, &ctx->fence));
+    return true;
+fail:
+    return false;
+}
+
+bool gpu_context_create(gpu_context *ctx, const gpu_context_desc *desc, vkrt_error *err)
+{
+    memset(ctx, 0, sizeof *ctx);
+    ctx->messenger_quiet = desc->quiet_validation;
+    if (!create_instance(ctx, desc->validation, err) || !pick_device(ctx, desc, err) ||
+        !find_compute_queue(ctx, err) || !create_device(ctx, err)) {
+        gpu_context_destroy(ctx);
+        return false;
+    }
+    return true;
+}
+
+void gpu_context_destroy(gpu_context *ctx)
+{
+    if (ctx->device) {
+        vkDeviceWaitIdle(ctx->device);
+        if (ctx->fence)
+            vkDestroyFence(ctx->device, ctx->fence, NULL);
+        if (ctx->command_pool)
+            vkDestroyCommandPool(ctx->device, ctx->command_pool, NULL);
+        vkDestroyDevice(ctx->device, NULL);
+    }
+    if (ctx->messenger) {
+        PFN_vkDestroyDebugUtilsMessengerEXT destroy_messenger =
+            (PFN_vkDestroyDebugUtilsMessengerEXT)vkGetInstanceProcAddr(
+                ctx->instance, "vkDestroyDebugUtilsMessengerEXT");
+        if (destroy_messenger)
+            destroy_messenger(ctx->instance, ctx->messenger, NULL);
+    }
+    if (ctx->instance)
+        vkDestroyInstance(ctx->instance, NULL);
+    uint32_t messages = ctx->validation_messages;
+    memset(ctx, 0, sizeof *ctx);
+    ctx->validation_messages = messages;
+}
+
+static const char *device_type_name(VkPhysicalDeviceType type)
+{
+    switch (type) {
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_CPU: return "CPU";
+    default: return "other";
+    }
+}
+
+bool gpu_list_devices(FILE *out, vkrt_error *err)
+{
+    gpu_context ctx = {0};
+    if (!create_instance(&ctx, false, err))
+        return false;
+    VkPhysicalDevice *devices;
+    uint32_t count;
+    if (!enumerate_devices(ctx.instance, &devices, &count, err)) {
+        vkDestroyInstance(ctx.instance, NULL);
+        return false;
+    }
+    for (uint32_t i = 0; i < count; ++i) {
+        VkPhysicalDeviceProperties props;
+        vkGetPhysicalDeviceProperties(devices[i], &props);
+        fprintf(out, "%u: %s (%s, Vulkan %u.%u.%u)\n", i, props.deviceName,
+                device_type_name(props.deviceType), VK_API_VERSION_MAJOR(props.apiVersion),
+                VK_API_VERSION_MINOR(props.apiVersion), VK_API_VERSION_PATCH(props.apiVersion));
+    }
+    free(devices);
+    vkDestroyInstance(ctx.instance, NULL);
+    return true;
+}
+
+bool gpu_commands_begin(gpu_context *ctx, VkCommandBuffer *cmd, vkrt_error *err)
+{
+    GPU_CHECK(vkResetCommandBuffer(ctx->command_buffer, 0));
+    VkCommandBufferBeginInfo begin = {
+        .sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
+        .flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT,
+    };
+    GPU_CHECK(vkBeginCommandBuffer(ctx->command_buffer, &begin));
+    *cmd = ctx->command_buffer;
+    return true;
+fail:
+    return false;
+}
+
+bool gpu_commands_submit(gpu_context *ctx, vkrt_error *err)
+{
+    GPU_CHECK(vkEndCommandBuffer(ctx->command_buffer));
+    GPU_CHECK(vkResetFences(ctx->device, 1, &ctx->fence));
+    VkSubmitInfo submit = {
+        .sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
+        .commandBufferCount = 1,
+        .pCommandBuffers = &ctx->command_buffer,
+    };
+    GPU_CHECK(vkQueueSubmit(ctx->queue, 1, &submit, ctx->fence));
+    GPU_CHECK(vkWaitForFences(ctx->device, 1, &ctx->fence, VK_TRUE, UINT64_MAX));
+    return true;
+fail:
+    return false;
+}
+
+uint32_t gpu_memory_type(const gpu_context *ctx, uint32_t type_bits, VkMemoryPropertyFlags wanted)
+{
+    for (uint32_t i = 0; i < ctx->memory.memoryTypeCount; ++i)
+        if ((type_bits & (1u << i)) && (ctx->memory.memoryTypes[i].propertyFlags & wanted) == wanted)
+            return i;
+    return UINT32_MAX;
+}
+
+const char *gpu_result_name(VkResult result)
+{
+    switch (result) {
+#define NAME(r) case r: return #r;
+    NAME(VK_SUCCESS)
+    NAME(VK_NOT_READY)
+    NAME(VK_TIMEOUT)
+    NAME(VK_EVENT_SET)
+    NAME(VK_EVENT_RESET)
+    NAME(VK_INCOMPLETE)
+    NAME(VK_ERROR_OUT_OF_HOST_MEMORY)
+    NAME(VK_ERROR_OUT_OF_DEVICE_MEMORY)
+    NAME(VK_ERROR_INITIALIZATION_FAILED)
+    NAME(VK_ERROR_DEVICE_LOST)
+    NAME(VK_ERROR_MEMORY_MAP_FAILED)
+    NAME(VK_ERROR_LAYER_NOT_PRESENT)
+    NAME(VK_ERROR_EXTENSION_NOT_PRESENT)
+    NAME(VK_ERROR_FEATURE_NOT_PRESENT)
+    NAME(VK_ERROR_INCOMPATIBLE_DRIVER)
+    NAME(VK_ERROR_TOO_MANY_OBJECTS)
+    NAME(VK_ERROR_FORMAT_NOT_SUPPORTED)
+    NAME(VK_ERROR_FRAGMENTED_POOL)
+    NAME(VK_ERROR_UNKNOWN)
+    NAME(VK_ERROR_OUT_OF_POOL_MEMORY)
+    NAME(VK_ERROR_INVALID_EXTERNAL_HANDLE)
+    NAME(VK_ERROR_FRAGMENTATION)
+    NAME(VK_ERROR_INVALID_OPAQUE_CAPTURE_ADDRESS)
+    NAME(VK_ERROR_SURFACE_LOST_KHR)
+    NAME(VK_ERROR_NATIVE_WINDOW_IN_USE_KHR)
+    NAME(VK_SUBOPTIMAL_KHR)
+    NAME(VK_ERROR_OUT_OF_DATE_KHR)
+    NAME(VK_ERROR_VALIDATION_FAILED_EXT)
+#undef NAME
+    default: return "unknown VkResult";
+    }
+}

@@ -1,0 +1,61 @@
+/*
+ * context.h: the Vulkan instance, the chosen physical device, its compute queue and a command
+ * buffer for one-shot submissions. Knows nothing of scenes.
+ */
+#ifndef VKRT_GPU_CONTEXT_H
+#define VKRT_GPU_CONTEXT_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <vulkan/vulkan.h>
+
+#include "../error.h"
+
+typedef struct gpu_context_desc {
+    int device_index;    /* index into vkEnumeratePhysicalDevices; -1 (or leave 0 and set
+                            pick_default) picks the first discrete GPU, else the first device */
+    bool pick_default;   /* true: ignore device_index and pick as above */
+    bool validation;     /* enable VK_LAYER_KHRONOS_validation; every message is counted */
+    bool quiet_validation; /* count validation messages without printing them */
+} gpu_context_desc;
+
+typedef struct gpu_context {
+    VkInstance instance;
+    VkDebugUtilsMessengerEXT messenger;
+    VkPhysicalDevice physical;
+    VkPhysicalDeviceProperties properties;
+    VkPhysicalDeviceMemoryProperties memory;
+    VkDevice device;
+    uint32_t queue_family;
+    VkQueue queue;
+    VkCommandPool command_pool;
+    VkCommandBuffer command_buffer; /* for gpu_commands_begin / gpu_commands_submit */
+    VkFence fence;
+    bool robust_buffer_access;
+    uint32_t validation_messages;   /* messages the validation layers reported so far */
+    bool messenger_quiet;
+    char first_validation_message[512];
+} gpu_context;
+
+/* Creates the context. On failure returns false with err set and nothing left allocated. */
+bool gpu_context_create(gpu_context *ctx, const gpu_context_desc *desc, vkrt_error *err);
+
+/* Waits for the device to go idle and destroys everything the context owns. Safe on a zeroed
+ * context. */
+void gpu_context_destroy(gpu_context *ctx);
+
+/* Prints one line per Vulkan physical device: index, name, type, API version. */
+bool gpu_list_devices(FILE *out, vkrt_error *err);
+
+/* Resets and begins ctx->command_buffer for one-shot work; returns it through *cmd. */
+bool gpu_commands_begin(gpu_context *ctx, VkCommandBuffer *cmd, vkrt_error *err);
+
+/* Ends ctx->command_buffer, submits it and waits for it to finish. A lost device is reported as
+ * such. */
+bool gpu_commands_submit(gpu_context *ctx, vkrt_error *err);
+
+/* Index of a memory type allowed by type_bits that has all of wanted, or UINT32_MAX. */
+uint32_t gpu_memory_type(const gpu_context *ctx, uint32_t type_bits, VkMemoryPropertyFlags wanted);
+
+#endif

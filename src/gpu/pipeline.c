@@ -1,0 +1,194 @@
+/*
+ * pipeline.c: descriptor sets, pipeline layouts and compute pipelines (see pipeline.h).
+ */
+#include "pipeline.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "vk_check.h"
+
+bool gpu_storage_set_create(gpu_context *ctx, gpu_storage_set *set, uint32_t binding_count,
+                            uint32_t push_size, vkrt_error *err)
+{
+    memset(set, 0, sizeof *set);
+    if (push_size > ctx->properties.limits.maxPushConstantsSize)
+        return vkrt_error_set(err, "%u bytes of push constants exceed the device's %u", push_size,
+                              ctx->properties.limits.maxPushConstantsSize);
+    VkDescriptorSetLayoutBinding *bindings = calloc(binding_count, sizeof *bindings);
+    if (!bindings)
+        return vkrt_error_set(err, "out of memory");
+    for (uint32_t i = 0; i < binding_count; ++i)
+        bindings[i] = (VkDescriptorSetLayoutBinding){
+            .binding = i,
+            .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+            .descriptorCount = 1,
+            .stageFlags = VK_SHADER_STAGE_COMPUTE_BIT,
+        };
+    VkDescriptorSetLayoutCreateInfo layout_info = {
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
+        .bindingCount = binding_count,
+        .pBindings = bindings,
+    };
+    GPU_CHECK(vkCreateDescriptorSetLayout(ctx->device, &layout_info, NULL, &set->layout));
+    VkDescriptorPoolSize pool_size = {
+        .type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+        .descriptorCount = binding_count,
+    };
+    VkDescriptorPoolCreateInfo pool_info = {
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
+        .maxSets = 1,
+        .poolSizeCount = 1,
+        .pPoolSizes = &pool_size,
+    };
+    GPU_CHECK(vkCreateDescriptorPool(ctx->device, &pool_info, NULL, &set->pool));
+    VkDescriptorSetAllocateInfo alloc = {
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
+        .descriptorPool = set->pool,
+        .descriptorSetCount = 1,
+        .pSetLayouts = &set->layout,
+    };
+    GPU_CHECK(vkAllocateDescriptorSets(ctx->device, &alloc, &set->set));
+    VkPushConstantRange push = {
+        .stageFlags = VK_SHADER_STAGE_COMPUTE_BIT,
+        .size = push_size,
+    };
+    VkPipelineLayoutCreateInfo pipeline_layout_info = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
+        .setLayoutCount = 1,
+        .pSetLayouts = &set->layout,
+        .pushConstantRangeCount = push_size ? 1 : 0,
+        .pPushConstantRanges = &push,
+    };
+    GPU_CHECK(vkCreatePipelineLayout(ctx->device, &pipeline_layout_info, NULL,
+                                     &set->pipeline_layout));
+    set->binding_count = binding_count;
+    set->push_size = push_size;
+    free(bindings);
+    return true;
+fail:
+    free(bindings);
+    gpu_storage_set_destroy(ctx, set);
+    return false;
+}
+
+void gpu_storage_set_destroy(gpu_context *ctx, gpu_storage_set *set)
+{
+    if (set->pipeline_layout)
+        vkDestroyPipelineLayout(ctx->device, set->pipeline_layout, NULL);
+    if (set->pool)
+        vkDestroyDescriptorPool(ctx->device, set->pool, NULL);
+    if (set->layout)
+        vkDestroyDescriptorSetLayout(ctx->device, set->layout, NULL);
+    memset(set, 0, sizeof *set);
+}
+
+void gpu_storage_set_bind(gpu_context *ctx, gpu_storage_set *set, uint32_t binding,
+                          const gpu_buffer *buf)
+{
+    VkDescriptorBufferInfo info = {.buffer = buf->buffer, .range = VK_WHOLE_SIZE};
+    VkWriteDescriptorSet write = {
+        .sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
+        .dstSet = set->set,
+        .dstBinding = binding,
+        .descriptorCount = 1,
+        .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+        .pBufferInfo = &info,
+    };
+    vkUpdateDescriptorSets(ctx->device, 1, &write, 0, NULL);
+}
+
+bool gpu_pipeline_create(gpu_context *ctx, gpu_pipeline *pipe, const gpu_storage_set *set,
+                         const uint32_t *spirv, size_t word_count, uint32_t workgroup_size,
+                         const gpu_spec_constant *spec, uint32_t spec_count, const char *name,
+                         vkrt_error *err)
+{
+    memset(pipe, 0, sizeof *pipe);
+    VkShaderModule module = VK_NULL_HANDLE;
+    uint32_t count = spec_count + 1;
+    VkSpecializationMapEntry *entries = calloc(count, sizeof *entries);
+    uint32_t *values = calloc(count, sizeof *values);
+    if (!entries || !values) {
+        vkrt_error_set(err, "out of memory");
+        goto fail;
+    }
+    entries[0] = (VkSpecializationMapEntry){.constantID = 0, .offset = 0, .size = 4};
+    values[0] = workgroup_size;
+    for (uint32_t i = 0; i < spec_count; ++i) {
+        entries[i + 1] = (VkSpecializationMapEntry){
+            .constantID = spec[i].id, .offset = 4 * (i + 1), .size = 4};
+        values[i + 1] = spec[i].value;
+    }
+    VkSpecializationInfo specialization = {
+        .mapEntryCount = count,
+        .pMapEntries = entries,
+        .dataSize = 4 * count,
+        .pData = values,
+    };
+    VkShaderModuleCreateInfo module_info = {
+        .sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO,
+        .codeSize = word_count * sizeof *spirv,
+        .pCode = spirv,
+    };
+    GPU_CHECK(vkCreateShaderModule(ctx->device, &module_info, NULL, &module));
+    VkComputePipelineCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO,
+        .stage =
+            {
+                .sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
+                .stage = VK_SHADER_STAGE_COMPUTE_BIT,
+                .module = module,
+                .pName = "main",
+                .pSpecializationInfo = &specialization,
+            },
+        .layout = set->pipeline_layout,
+    };
+    GPU_CHECK(vkCreateComputePipelines(ctx->device, VK_NULL_HANDLE, 1, &info, NULL,
+                                       &pipe->pipeline));
+    pipe->workgroup_size = workgroup_size;
+    vkDestroyShaderModule(ctx->device, module, NULL);
+    free(entries);
+    free(values);
+    return true;
+fail:
+    if (module)
+        vkDestroyShaderModule(ctx->device, module, NULL);
+    free(entries);
+    free(values);
+    return vkrt_error_prefix(err, "pipeline %s", name);
+}
+
+void gpu_pipeline_destroy(gpu_context *ctx, gpu_pipeline *pipe)
+{
+    if (pipe->pipeline)
+        vkDestroyPipeline(ctx->device, pipe->pipeline, NULL);
+    memset(pipe, 0, sizeof *pipe);
+}
+
+void gpu_dispatch(VkCommandBuffer cmd, const gpu_pipeline *pipe, const gpu_storage_set *set,
+                  const void *push, uint32_t items)
+{
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipe->pipeline);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, set->pipeline_layout, 0, 1,
+                            &set->set, 0, NULL);
+    if (set->push_size)
+        vkCmdPushConstants(cmd, set->pipeline_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
+                           set->push_size, push);
+    /* Past 65535 workgroups (the smallest maxComputeWorkGroupCount[0] Vulkan allows) the grid
+     * folds into y; kernels flatten it back with invocation_index() in glsl/lib/bindings.glsl. */
+    const uint32_t max_groups_x = 65535;
+    uint32_t groups = (items + pipe->workgroup_size - 1) / pipe->workgroup_size;
+    uint32_t groups_x = groups < max_groups_x ? groups : max_groups_x;
+    uint32_t groups_y = groups_x ? (groups + groups_x - 1) / groups_x : 0;
+    if (groups)
+        vkCmdDispatch(cmd, groups_x, groups_y, 1);
+    VkMemoryBarrier barrier = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+        .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
+        .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                         VK_ACCESS_TRANSFER_READ_BIT,
+    };
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0,
+                         1, &barrier, 0, NULL, 0, NULL);
+}

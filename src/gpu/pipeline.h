@@ -1,0 +1,67 @@
+/*
+ * pipeline.h: compute pipelines over one descriptor set of storage buffers.
+ *
+ * Every vkrt kernel sees the same kind of interface: set 0 holds storage buffers at bindings
+ * 0..binding_count-1, and push constants carry per-dispatch parameters. Choices fixed at pipeline
+ * creation (workgroup size, whether a buffer is present) are specialization constants.
+ */
+#ifndef VKRT_GPU_PIPELINE_H
+#define VKRT_GPU_PIPELINE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <vulkan/vulkan.h>
+
+#include "buffer.h"
+#include "context.h"
+
+/* The set layout, pool and set shared by the pipelines of one renderer. */
+typedef struct gpu_storage_set {
+    VkDescriptorSetLayout layout;
+    VkDescriptorPool pool;
+    VkDescriptorSet set;
+    VkPipelineLayout pipeline_layout;
+    uint32_t binding_count;
+    uint32_t push_size;
+} gpu_storage_set;
+
+/* Creates a set of binding_count storage buffers and a pipeline layout with push_size bytes of
+ * push constants (at most the device's limit). */
+bool gpu_storage_set_create(gpu_context *ctx, gpu_storage_set *set, uint32_t binding_count,
+                            uint32_t push_size, vkrt_error *err);
+
+/* Frees the set. Safe on a zeroed one. */
+void gpu_storage_set_destroy(gpu_context *ctx, gpu_storage_set *set);
+
+/* Points binding at the whole of buf. Call before recording dispatches that use it. */
+void gpu_storage_set_bind(gpu_context *ctx, gpu_storage_set *set, uint32_t binding,
+                          const gpu_buffer *buf);
+
+/* A specialization constant: constant_id and its 32-bit value (bool: 0 or 1). */
+typedef struct gpu_spec_constant {
+    uint32_t id;
+    uint32_t value;
+} gpu_spec_constant;
+
+typedef struct gpu_pipeline {
+    VkPipeline pipeline;
+    uint32_t workgroup_size;
+} gpu_pipeline;
+
+/* Creates a compute pipeline from SPIR-V. Constant id 0 is the workgroup size
+ * (local_size_x_id = 0) and is set to workgroup_size; more constants come in spec. */
+bool gpu_pipeline_create(gpu_context *ctx, gpu_pipeline *pipe, const gpu_storage_set *set,
+                         const uint32_t *spirv, size_t word_count, uint32_t workgroup_size,
+                         const gpu_spec_constant *spec, uint32_t spec_count, const char *name,
+                         vkrt_error *err);
+
+/* Frees the pipeline. Safe on a zeroed one. */
+void gpu_pipeline_destroy(gpu_context *ctx, gpu_pipeline *pipe);
+
+/* Records a dispatch of enough workgroups to cover `items` invocations in x, with push constants,
+ * followed by a barrier that makes its buffer writes visible to the next dispatch and transfer. */
+void gpu_dispatch(VkCommandBuffer cmd, const gpu_pipeline *pipe, const gpu_storage_set *set,
+                  const void *push, uint32_t items);
+
+#endif

@@ -1,0 +1,166 @@
+/*
+ * main.c: the vkrt program. Parses the command line, loads the scene (all CPU, so bad input stops
+ * before any GPU work), renders every frame and writes it, then prints a summary on stderr.
+ * Only this file decides how the process exits.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "cli.h"
+#include "error.h"
+#include "gpu/context.h"
+#include "output/image_write.h"
+#include "render/renderer.h"
+#include "scene/scene.h"
+
+#ifndef VKRT_VERSION
+#define VKRT_VERSION "unknown"
+#endif
+
+/* The folder part of path must exist before any frame is rendered: failing after minutes of GPU
+ * work for a typo in a folder name would waste them. */
+static bool check_output_folder(const char *path, vkrt_error *err)
+{
+    const char *slash = strrchr(path, '/');
+    if (!slash || slash == path)
+        return true;
+    char folder[4096];
+    if ((size_t)(slash - path) >= sizeof folder)
+        return vkrt_error_set(err, "%s: path too long", path);
+    memcpy(folder, path, (size_t)(slash - path));
+    folder[slash - path] = '\0';
+    struct stat st;
+    if (stat(folder, &st) != 0 || !S_ISDIR(st.st_mode))
+        return vkrt_error_set(err, "%s: folder %s does not exist", path, folder);
+    return true;
+}
+
+static bool check_output(const char *output, uint32_t frames, vkrt_error *err)
+{
+    if (!output)
+        return vkrt_error_set(err, "no output file: give -o PATH or an `output` line");
+    char first[4096];
+    if (!vkrt_frame_path(first, sizeof first, output, 0, err))
+        return false;
+    if (vkrt_image_format_of(first) == VKRT_IMAGE_UNKNOWN)
+        return vkrt_error_set(err, "%s: unknown image format (use .png or .exr)", output);
+    if (frames > 1 && !vkrt_frame_pattern_has_number(output))
+        return vkrt_error_set(err, "%s: the scene has %u cameras (frames) but the output has no "
+                                   "frame number; use a pattern such as frame%%04d.png",
+                              output, frames);
+    return check_output_folder(first, err);
+}
+
+typedef struct render_totals {
+    double seconds;
+    uint64_t rays;
+} render_totals;
+
+static bool render_frames(const vkrt_options *opts, const vkrt_scene *scene, const char *output,
+                          gpu_context *ctx, render_totals *totals, vkrt_error *err)
+{
+    const vkrt_config *cfg = &scene->config;
+    vkrt_render_desc desc = {
+        .width = opts->width ? opts->width : cfg->width,
+        .height = opts->height ? opts->height : cfg->height,
+        .samples = opts->samples ? opts->samples : cfg->samples,
+    };
+    vkrt_renderer renderer;
+    if (!vkrt_renderer_create(&renderer, ctx, scene, &desc, err))
+        return false;
+    float *rgb = malloc((size_t)desc.width * desc.height * 3 * sizeof *rgb);
+    bool ok = rgb != NULL;
+    if (!ok)
+        vkrt_error_set(err, "out of memory for a %ux%u image", desc.width, desc.height);
+    for (uint32_t f = 0; ok && f < cfg->camera_count; ++f) {
+        vkrt_frame_stats stats;
+        char path[4096];
+        ok = vkrt_renderer_render(&renderer, &cfg->cameras[f], f, rgb, &stats, err) &&
+             vkrt_frame_path(path, sizeof path, output, f, err) &&
+             vkrt_image_write(path, desc.width, desc.height, rgb, opts->exposure, err);
+        if (ok) {
+            totals->seconds += stats.seconds;
+            totals->rays += stats.primary_rays + stats.shadow_rays;
+        }
+    }
+    free(rgb);
+    vkrt_renderer_destroy(&renderer);
+    return ok;
+}
+
+static int run_render(const vkrt_options *opts)
+{
+    vkrt_error err = {{0}};
+    vkrt_scene scene;
+    if (!vkrt_scene_load(opts->scene_path, &scene, &err)) {
+        fprintf(stderr, "vkrt: %s\n", err.msg);
+        return 1;
+    }
+    if (scene.mesh.warnings[0] && !opts->quiet)
+        fprintf(stderr, "vkrt: warning: %s: %s\n", scene.config.geometry, scene.mesh.warnings);
+    const char *output = opts->output ? opts->output : scene.config.output;
+    if (!check_output(output, scene.config.camera_count, &err)) {
+        fprintf(stderr, "vkrt: %s\n", err.msg);
+        vkrt_scene_free(&scene);
+        return 1;
+    }
+
+    gpu_context ctx;
+    gpu_context_desc ctx_desc = {.device_index = opts->device, .validation = opts->validation};
+    render_totals totals = {0};
+    bool ok = gpu_context_create(&ctx, &ctx_desc, &err) &&
+              render_frames(opts, &scene, output, &ctx, &totals, &err);
+    char device[256];
+    snprintf(device, sizeof device, "%s", ctx.properties.deviceName);
+    gpu_context_destroy(&ctx);
+    if (ok && ctx.validation_messages) {
+        vkrt_error_set(&err, "Vulkan validation reported %u message(s)", ctx.validation_messages);
+        ok = false;
+    }
+    if (!ok) {
+        fprintf(stderr, "vkrt: %s\n", err.msg);
+        vkrt_scene_free(&scene);
+        return 1;
+    }
+    if (!opts->quiet) {
+        uint32_t frames = scene.config.camera_count;
+        fprintf(stderr,
+                "vkrt: %s | %u triangles | %u frame%s | %.1f ms/frame | %.2f Mrays/s\n", device,
+                scene.mesh.triangle_count, frames, frames == 1 ? "" : "s",
+                1e3 * totals.seconds / frames,
+                totals.seconds > 0 ? totals.rays / totals.seconds * 1e-6 : 0.0);
+    }
+    vkrt_scene_free(&scene);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    vkrt_options opts;
+    vkrt_error err = {{0}};
+    if (!vkrt_options_parse(argc, argv, &opts, &err)) {
+        fprintf(stderr, "vkrt: %s\n", err.msg);
+        return 2;
+    }
+    switch (opts.command) {
+    case VKRT_COMMAND_HELP:
+        fputs(vkrt_usage(), stdout);
+        return 0;
+    case VKRT_COMMAND_VERSION:
+        printf("vkrt %s\n", VKRT_VERSION);
+        return 0;
+    case VKRT_COMMAND_LIST_DEVICES:
+        if (!gpu_list_devices(stdout, &err)) {
+            fprintf(stderr, "vkrt: %s\n", err.msg);
+            return 1;
+        }
+        return 0;
+    case VKRT_COMMAND_RENDER:
+        return run_render(&opts);
+    default:
+        return 2;
+    }
+}

@@ -1,0 +1,575 @@
+/*
+ * image_write.c: writes rendered frames as PNG (8-bit sRGB, via stb_image_write) or EXR (32-bit
+ * float linear RGB, via OpenEXRCore), and expands frame-number patterns in output paths.
+ *
+ * Both formats go through the same temporary-file discipline: the bytes are written to
+ * "<path>.tmp-<pid>" beside the target (same folder, so rename() is atomic), and only a
+ * complete, closed file is renamed onto path. Any failure unlinks the temporary file, so a
+ * failed or interrupted write never leaves a truncated image or clobbers an older one.
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include "image_write.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <inttypes.h>
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <openexr.h>
+#include <stb_image_write.h>
+
+/* ---------------------------------------------------------------------------------------------
+ * Format detection
+ * ------------------------------------------------------------------------------------------- */
+
+static bool ends_with_ignoring_case(const char *text, const char *suffix)
+{
+    size_t text_len = strlen(text), suffix_len = strlen(suffix);
+    if (text_len < suffix_len)
+        return false;
+    const char *tail = text + text_len - suffix_len;
+    for (size_t i = 0; i < suffix_len; i++) {
+        if (tolower((unsigned char)tail[i]) != tolower((unsigned char)suffix[i]))
+            return false;
+    }
+    return true;
+}
+
+vkrt_image_format vkrt_image_format_of(const char *path)
+{
+    if (!path)
+        return VKRT_IMAGE_UNKNOWN;
+    if (ends_with_ignoring_case(path, ".png"))
+        return VKRT_IMAGE_PNG;
+    if (ends_with_ignoring_case(path, ".exr"))
+        return VKRT_IMAGE_EXR;
+    return VKRT_IMAGE_UNKNOWN;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Temporary file beside the target
+ * ------------------------------------------------------------------------------------------- */
+
+typedef struct temp_file {
+    const char *target_path; /* the final name, used in every error message */
+    char *temp_path;         /* "<target>.tmp-<pid>", heap-allocated */
+    int fd;                  /* -1 once closed */
+} temp_file;
+
+static bool temp_file_open(temp_file *tf, const char *target_path, vkrt_error *err)
+{
+    tf->target_path = target_path;
+    tf->fd = -1;
+    /* "%ld" of a pid needs at most 20 characters; keep some slack for ".tmp-" and NUL. */
+    size_t size = strlen(target_path) + 32;
+    tf->temp_path = malloc(size);
+    if (!tf->temp_path)
+        return vkrt_error_set(err, "%s: cannot write: out of memory", target_path);
+    snprintf(tf->temp_path, size, "%s.tmp-%ld", target_path, (long)getpid());
+
+    /* O_TRUNC rather than O_EXCL: a leftover from an earlier crashed run with the same pid is
+     * ours to overwrite. 0666 lets the umask decide, like any other file the user creates. */
+    tf->fd = open(tf->temp_path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    if (tf->fd < 0) {
+        int saved = errno;
+        free(tf->temp_path);
+        tf->temp_path = NULL;
+        return vkrt_error_set(err, "%s: cannot write: %s", target_path, strerror(saved));
+    }
+    return true;
+}
+
+/* Writes all of data at the current position, retrying short writes and EINTR.
+ * Returns 0 or the errno of the failure. */
+static int write_all(int fd, const void *data, size_t size)
+{
+    const unsigned char *bytes = data;
+    while (size > 0) {
+        ssize_t n = write(fd, bytes, size);
+        if (n < 0) {
+            if (errno == EINTR)
+                continue;
+            return errno;
+        }
+        if (n == 0)
+            return EIO;
+        bytes += n;
+        size -= (size_t)n;
+    }
+    return 0;
+}
+
+/* Same as write_all, at an absolute offset (OpenEXRCore seeks back to fill the offset table). */
+static int pwrite_all(int fd, const void *data, size_t size, off_t offset)
+{
+    const unsigned char *bytes = data;
+    while (size > 0) {
+        ssize_t n = pwrite(fd, bytes, size, offset);
+        if (n < 0) {
+            if (errno == EINTR)
+                continue;
+            return errno;
+        }
+        if (n == 0)
+            return EIO;
+        bytes += n;
+        size -= (size_t)n;
+        offset += n;
+    }
+    return 0;
+}
+
+/* Throws the temporary file away; used on every failure path, so it never reports. */
+static void temp_file_discard(temp_file *tf)
+{
+    if (tf->fd >= 0)
+        close(tf->fd);
+    tf->fd = -1;
+    if (tf->temp_path)
+        unlink(tf->temp_path);
+    free(tf->temp_path);
+    tf->temp_path = NULL;
+}
+
+/* Closes the complete file and renames it onto the target. close() is checked because NFS
+ * and friends report delayed write errors there; on any failure the temp file is removed. */
+static bool temp_file_commit(temp_file *tf, vkrt_error *err)
+{
+    int fd = tf->fd;
+    tf->fd = -1;
+    if (close(fd) != 0) {
+        int saved = errno;
+        temp_file_discard(tf);
+        return vkrt_error_set(err, "%s: cannot write: %s", tf->target_path, strerror(saved));
+    }
+    if (rename(tf->temp_path, tf->target_path) != 0) {
+        int saved = errno;
+        temp_file_discard(tf);
+        return vkrt_error_set(err, "%s: cannot write: %s", tf->target_path, strerror(saved));
+    }
+    free(tf->temp_path);
+    tf->temp_path = NULL;
+    return true;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * PNG
+ * ------------------------------------------------------------------------------------------- */
+
+/* Exact sRGB OETF (IEC 61966-2-1), on a value already clamped to [0, 1]. */
+static double srgb_encode(double linear)
+{
+    if (linear < 0.0031308)
+        return 12.92 * linear;
+    return 1.055 * pow(linear, 1.0 / 2.4) - 0.055;
+}
+
+/* One channel of linear radiance (already scaled by exposure) to an 8-bit sRGB code value.
+ * NaN maps to black so a single bad sample cannot poison a frame (or reach the cast, where
+ * converting NaN to an integer would be undefined behaviour). */
+static uint8_t linear_to_srgb8(float scaled)
+{
+    if (isnan(scaled))
+        return 0;
+    double clamped = scaled < 0.0f ? 0.0 : scaled > 1.0f ? 1.0 : (double)scaled;
+    return (uint8_t)(srgb_encode(clamped) * 255.0 + 0.5);
+}
+
+/* Where stb_image_write's bytes go: straight into the temp file, remembering the first error
+ * because stb's callback cannot report one. */
+typedef struct png_sink {
+    int fd;
+    int error; /* errno of the first failed write, 0 if none */
+} png_sink;
+
+static void png_sink_write(void *context, void *data, int size)
+{
+    png_sink *sink = context;
+    if (sink->error == 0 && size > 0)
+        sink->error = write_all(sink->fd, data, (size_t)size);
+}
+
+static bool png_size_fits(uint32_t width, uint32_t height)
+{
+    /* stb_image_write computes its filter buffer as (width*3 + 1) * height in int. */
+    uint64_t filtered_bytes = ((uint64_t)width * 3 + 1) * (uint64_t)height;
+    return filtered_bytes <= (uint64_t)INT_MAX;
+}
+
+static bool write_png(const char *path, uint32_t width, uint32_t height, const float *rgb,
+                      float exposure, vkrt_error *err)
+{
+    if (!png_size_fits(width, height))
+        return vkrt_error_set(err, "%s: image %" PRIu32 "x%" PRIu32 " is too large for PNG",
+                              path, width, height);
+
+    size_t value_count = (size_t)width * height * 3;
+    uint8_t *srgb8 = malloc(value_count);
+    if (!srgb8)
+        return vkrt_error_set(err, "%s: cannot write: out of memory", path);
+    float scale = exp2f(exposure);
+    for (size_t i = 0; i < value_count; i++)
+        srgb8[i] = linear_to_srgb8(rgb[i] * scale);
+
+    temp_file tf;
+    if (!temp_file_open(&tf, path, err)) {
+        free(srgb8);
+        return false;
+    }
+    png_sink sink = {.fd = tf.fd, .error = 0};
+    int encoded = stbi_write_png_to_func(png_sink_write, &sink, (int)width, (int)height, 3,
+                                         srgb8, (int)width * 3);
+    free(srgb8);
+
+    if (sink.error != 0) {
+        temp_file_discard(&tf);
+        return vkrt_error_set(err, "%s: cannot write: %s", path, strerror(sink.error));
+    }
+    if (!encoded) {
+        /* stb only fails to encode when an allocation fails. */
+        temp_file_discard(&tf);
+        return vkrt_error_set(err, "%s: cannot write: PNG encoding failed (out of memory)", path);
+    }
+    return temp_file_commit(&tf, err);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * EXR
+ * ------------------------------------------------------------------------------------------- */
+
+/* State shared with OpenEXRCore's callbacks through the context's user_data (no globals). */
+typedef struct exr_stream {
+    int fd;
+    int write_errno;      /* errno of the first failed write, 0 if none */
+    char library_msg[256]; /* the library's most recent detailed message, "" if none */
+} exr_stream;
+
+static int64_t exr_stream_write(exr_const_context_t ctxt, void *userdata, const void *buffer,
+                                uint64_t size, uint64_t offset,
+                                exr_stream_error_func_ptr_t error_cb)
+{
+    (void)ctxt;
+    (void)error_cb; /* we keep errno ourselves, so the message can say what really went wrong */
+    exr_stream *stream = userdata;
+    if (size > (uint64_t)SSIZE_MAX || offset > (uint64_t)INT64_MAX) {
+        stream->write_errno = EFBIG;
+        return -1;
+    }
+    int error = pwrite_all(stream->fd, buffer, (size_t)size, (off_t)offset);
+    if (error != 0) {
+        if (stream->write_errno == 0)
+            stream->write_errno = error;
+        return -1;
+    }
+    return (int64_t)size;
+}
+
+/* Replaces the library's default handler, which prints to stderr: library code must not
+ * print, so the message is kept and becomes part of the returned error. */
+static void exr_keep_error_message(exr_const_context_t ctxt, exr_result_t code, const char *msg)
+{
+    (void)code;
+    void *userdata = NULL;
+    if (!ctxt || exr_get_user_data(ctxt, &userdata) != EXR_ERR_SUCCESS || !userdata)
+        return;
+    exr_stream *stream = userdata;
+    snprintf(stream->library_msg, sizeof stream->library_msg, "%s", msg ? msg : "");
+}
+
+/* Turns a failed OpenEXRCore call into "path: cannot write: why", preferring the errno of a
+ * failed write, then the library's detailed text, then its generic text for the code. */
+static bool exr_failure(const char *path, const exr_stream *stream, exr_result_t rv,
+                        vkrt_error *err)
+{
+    if (stream->write_errno != 0)
+        return vkrt_error_set(err, "%s: cannot write: %s", path, strerror(stream->write_errno));
+    if (stream->library_msg[0] != '\0')
+        return vkrt_error_set(err, "%s: cannot write EXR: %s", path, stream->library_msg);
+    return vkrt_error_set(err, "%s: cannot write EXR: %s", path,
+                          exr_get_default_error_message(rv));
+}
+
+/* Declares the single scanline part: B, G, R float channels (the order EXR sorts them in),
+ * data and display window 0..w-1 x 0..h-1, increasing y (top row first, as ours). */
+static exr_result_t exr_define_rgb_part(exr_context_t ctxt, uint32_t width, uint32_t height)
+{
+    int part_index = 0;
+    exr_result_t rv = exr_add_part(ctxt, "rgb", EXR_STORAGE_SCANLINE, &part_index);
+    if (rv != EXR_ERR_SUCCESS)
+        return rv;
+    rv = exr_initialize_required_attr_simple(ctxt, part_index, (int32_t)width, (int32_t)height,
+                                             EXR_COMPRESSION_ZIP);
+    static const char *const channel_names[] = {"B", "G", "R"};
+    for (size_t c = 0; c < 3 && rv == EXR_ERR_SUCCESS; c++)
+        rv = exr_add_channel(ctxt, part_index, channel_names[c], EXR_PIXEL_FLOAT,
+                             EXR_PERCEPTUALLY_LOGARITHMIC, 1, 1);
+    return rv;
+}
+
+/* Offset of a channel inside our interleaved RGB pixel, or -1 for a name we did not add. */
+static int rgb_offset_of_channel(const char *name)
+{
+    if (strcmp(name, "R") == 0)
+        return 0;
+    if (strcmp(name, "G") == 0)
+        return 1;
+    if (strcmp(name, "B") == 0)
+        return 2;
+    return -1;
+}
+
+/* Compresses and writes the chunk that starts at row y, reading straight from the caller's
+ * interleaved buffer through strides (no copy). */
+static exr_result_t exr_encode_chunk(exr_context_t ctxt, int32_t y, uint32_t width,
+                                     const float *rgb)
+{
+    exr_chunk_info_t chunk;
+    exr_result_t rv = exr_write_scanline_chunk_info(ctxt, 0, y, &chunk);
+    if (rv != EXR_ERR_SUCCESS)
+        return rv;
+
+    exr_encode_pipeline_t encoder = EXR_ENCODE_PIPELINE_INITIALIZER;
+    rv = exr_encoding_initialize(ctxt, 0, &chunk, &encoder);
+    const float *first_row = rgb + (size_t)chunk.start_y * width * 3;
+    for (int16_t c = 0; c < encoder.channel_count && rv == EXR_ERR_SUCCESS; c++) {
+        exr_coding_channel_info_t *channel = &encoder.channels[c];
+        int offset = rgb_offset_of_channel(channel->channel_name);
+        if (offset < 0) {
+            rv = EXR_ERR_INVALID_ARGUMENT;
+            break;
+        }
+        channel->encode_from_ptr = (const uint8_t *)(first_row + offset);
+        channel->user_data_type = EXR_PIXEL_FLOAT;
+        channel->user_bytes_per_element = (int16_t)sizeof(float);
+        channel->user_pixel_stride = (int32_t)(3 * sizeof(float));
+        channel->user_line_stride = (int32_t)(width * 3 * sizeof(float));
+    }
+    if (rv == EXR_ERR_SUCCESS)
+        rv = exr_encoding_choose_default_routines(ctxt, 0, &encoder);
+    if (rv == EXR_ERR_SUCCESS)
+        rv = exr_encoding_run(ctxt, 0, &encoder);
+    /* destroy is safe on a pipeline that initialize left zeroed or half-filled */
+    exr_result_t destroy_rv = exr_encoding_destroy(ctxt, &encoder);
+    return rv != EXR_ERR_SUCCESS ? rv : destroy_rv;
+}
+
+static exr_result_t exr_write_all_chunks(exr_context_t ctxt, uint32_t width, uint32_t height,
+                                         const float *rgb)
+{
+    int32_t lines_per_chunk = 0;
+    exr_result_t rv = exr_get_scanlines_per_chunk(ctxt, 0, &lines_per_chunk);
+    if (rv == EXR_ERR_SUCCESS && lines_per_chunk <= 0)
+        rv = EXR_ERR_INVALID_ARGUMENT;
+    for (int64_t y = 0; y < (int64_t)height && rv == EXR_ERR_SUCCESS; y += lines_per_chunk)
+        rv = exr_encode_chunk(ctxt, (int32_t)y, width, rgb);
+    return rv;
+}
+
+static bool exr_size_fits(uint32_t width, uint32_t height)
+{
+    /* EXR windows are int32, and the encoder's line stride (width * 12 bytes) is int32 too. */
+    return height <= (uint32_t)INT32_MAX && (uint64_t)width * 3 * sizeof(float) <= INT32_MAX;
+}
+
+static bool write_exr(const char *path, uint32_t width, uint32_t height, const float *rgb,
+                      vkrt_error *err)
+{
+    if (!exr_size_fits(width, height))
+        return vkrt_error_set(err, "%s: image %" PRIu32 "x%" PRIu32 " is too large for EXR",
+                              path, width, height);
+
+    temp_file tf;
+    if (!temp_file_open(&tf, path, err))
+        return false;
+
+    /* A custom write function on our own descriptor, rather than the library's file mode,
+     * so both formats share one temp-and-rename path and a failed write reports its errno. */
+    exr_stream stream = {.fd = tf.fd, .write_errno = 0, .library_msg = ""};
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.user_data = &stream;
+    init.write_fn = exr_stream_write;
+    init.error_handler_fn = exr_keep_error_message;
+
+    exr_context_t ctxt = NULL;
+    exr_result_t rv = exr_start_write(&ctxt, path, EXR_WRITE_FILE_DIRECTLY, &init);
+    if (rv == EXR_ERR_SUCCESS)
+        rv = exr_define_rgb_part(ctxt, width, height);
+    if (rv == EXR_ERR_SUCCESS)
+        rv = exr_write_header(ctxt);
+    if (rv == EXR_ERR_SUCCESS)
+        rv = exr_write_all_chunks(ctxt, width, height, rgb);
+    /* exr_finish writes the chunk offset table, so its result matters even after success. */
+    if (ctxt) {
+        exr_result_t finish_rv = exr_finish(&ctxt);
+        if (rv == EXR_ERR_SUCCESS)
+            rv = finish_rv;
+    }
+
+    if (rv != EXR_ERR_SUCCESS || stream.write_errno != 0) {
+        temp_file_discard(&tf);
+        return exr_failure(path, &stream, rv, err);
+    }
+    return temp_file_commit(&tf, err);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Entry point
+ * ------------------------------------------------------------------------------------------- */
+
+bool vkrt_image_write(const char *path, uint32_t width, uint32_t height, const float *rgb,
+                      float exposure, vkrt_error *err)
+{
+    if (!path || path[0] == '\0')
+        return vkrt_error_set(err, "cannot write image: empty output path");
+    if (width == 0 || height == 0 || !rgb)
+        return vkrt_error_set(err, "%s: cannot write an empty image (%" PRIu32 "x%" PRIu32 ")",
+                              path, width, height);
+    if ((uint64_t)width * height > SIZE_MAX / (3 * sizeof(float)))
+        return vkrt_error_set(err, "%s: image %" PRIu32 "x%" PRIu32 " is too large", path,
+                              width, height);
+
+    switch (vkrt_image_format_of(path)) {
+    case VKRT_IMAGE_PNG:
+        return write_png(path, width, height, rgb, exposure, err);
+    case VKRT_IMAGE_EXR:
+        return write_exr(path, width, height, rgb, err);
+    case VKRT_IMAGE_UNKNOWN:
+    default:
+        return vkrt_error_set(err, "%s: unknown image format (use .png or .exr)", path);
+    }
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Frame patterns
+ *
+ * The pattern is user input, so it is parsed here and never handed to printf: only "%%" and
+ * one integer conversion "%d", "%Nd" or "%0Nd" (N of one or two digits) are accepted.
+ * ------------------------------------------------------------------------------------------- */
+
+typedef struct frame_conversion {
+    size_t length;   /* characters the conversion spans in the pattern, '%' to 'd' */
+    bool zero_pad;   /* "%0Nd" */
+    int width;       /* N, 0 if absent */
+} frame_conversion;
+
+/* Parses the conversion that starts at the '%' at text[0]. Returns false if it is not one we
+ * accept; "%%" is handled by the caller. */
+static bool parse_frame_conversion(const char *text, frame_conversion *conv)
+{
+    size_t i = 1;
+    conv->zero_pad = text[i] == '0';
+    if (conv->zero_pad)
+        i++;
+    conv->width = 0;
+    int digits = 0;
+    while (isdigit((unsigned char)text[i]) && digits < 2) {
+        conv->width = conv->width * 10 + (text[i] - '0');
+        i++;
+        digits++;
+    }
+    if (text[i] != 'd')
+        return false;
+    if (conv->zero_pad && digits == 0)
+        return false; /* "%0d" is legal printf but almost certainly a typo for "%04d" */
+    conv->length = i + 1;
+    return true;
+}
+
+/* Shortens an offending conversion for an error message: "%" plus up to 3 more characters. */
+static int conversion_excerpt_length(const char *text)
+{
+    int n = 1;
+    while (n < 4 && text[n] != '\0')
+        n++;
+    return n;
+}
+
+bool vkrt_frame_pattern_has_number(const char *pattern)
+{
+    if (!pattern)
+        return false;
+    for (size_t i = 0; pattern[i] != '\0'; i++) {
+        if (pattern[i] != '%')
+            continue;
+        if (pattern[i + 1] == '%') {
+            i++;
+            continue;
+        }
+        frame_conversion conv;
+        if (parse_frame_conversion(pattern + i, &conv))
+            return true;
+    }
+    return false;
+}
+
+/* Appends text of length n to out at *used, failing if it (plus the NUL) would not fit. */
+static bool append(char *out, size_t out_size, size_t *used, const char *text, size_t n)
+{
+    if (n >= out_size - *used)
+        return false;
+    memcpy(out + *used, text, n);
+    *used += n;
+    out[*used] = '\0';
+    return true;
+}
+
+static size_t format_frame_number(char *buf, size_t buf_size, const frame_conversion *conv,
+                                  uint32_t frame)
+{
+    /* The format string here is ours, never the user's. */
+    int n = conv->zero_pad ? snprintf(buf, buf_size, "%0*lu", conv->width, (unsigned long)frame)
+                           : snprintf(buf, buf_size, "%*lu", conv->width, (unsigned long)frame);
+    return n < 0 ? 0 : (size_t)n;
+}
+
+bool vkrt_frame_path(char *out, size_t out_size, const char *pattern, uint32_t frame,
+                     vkrt_error *err)
+{
+    if (!out || out_size == 0 || !pattern)
+        return vkrt_error_set(err, "frame pattern: no pattern or output buffer");
+    out[0] = '\0';
+    size_t used = 0;
+    bool number_done = false;
+
+    for (size_t i = 0; pattern[i] != '\0';) {
+        bool fits;
+        if (pattern[i] != '%') {
+            size_t run = strcspn(pattern + i, "%");
+            fits = append(out, out_size, &used, pattern + i, run);
+            i += run;
+        } else if (pattern[i + 1] == '%') {
+            fits = append(out, out_size, &used, "%", 1);
+            i += 2;
+        } else {
+            frame_conversion conv;
+            if (!parse_frame_conversion(pattern + i, &conv))
+                return vkrt_error_set(err,
+                                      "frame pattern \"%s\": unsupported conversion \"%.*s\" "
+                                      "(use %%d, %%04d or %%%% for a literal %%)",
+                                      pattern, conversion_excerpt_length(pattern + i),
+                                      pattern + i);
+            if (number_done)
+                return vkrt_error_set(err, "frame pattern \"%s\": more than one frame number",
+                                      pattern);
+            char number[128];
+            size_t n = format_frame_number(number, sizeof number, &conv, frame);
+            fits = append(out, out_size, &used, number, n);
+            number_done = true;
+            i += conv.length;
+        }
+        if (!fits) {
+            out[0] = '\0';
+            return vkrt_error_set(err, "frame pattern \"%s\": path for frame %" PRIu32
+                                       " is longer than %zu characters",
+                                  pattern, frame, out_size - 1);
+        }
+    }
+    return true;
+}

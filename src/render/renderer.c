@@ -1,0 +1,322 @@
+/*
+ * renderer.c: scene upload, kernel compilation and frame recording (see renderer.h).
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "renderer.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "../../glsl/shared.h"
+#include "../gpu/shader.h"
+#include "kernel_sources.h"
+
+/* Binding numbers of glsl/lib/bindings.glsl; keep both in the same order. */
+enum {
+    BINDING_RAYS,
+    BINDING_HITS,
+    BINDING_TRIANGLES,
+    BINDING_NORMALS,
+    BINDING_TRIANGLE_MATERIAL,
+    BINDING_MATERIALS,
+    BINDING_LIGHTS,
+    BINDING_IMAGE,
+    BINDING_COUNTERS,
+    BINDING_COUNT,
+};
+
+/* 64 invocations fill two NVIDIA warps or one AMD wave64 and suit lavapipe's 8-wide SIMD; to be
+ * tuned by measurement with the faster traversals. */
+static const uint32_t default_workgroup_size = 64;
+
+/* Albedo of triangles without a material: the .mtl default Kd. */
+static const float default_albedo = 0.8f;
+
+/* Specialization constant ids shared with glsl/lib/bindings.glsl (0 is the workgroup size). */
+enum { SPEC_HAS_NORMALS = 1 };
+
+static bool upload(vkrt_renderer *r, gpu_buffer *buf, const void *data, size_t size,
+                   const char *what, vkrt_error *err)
+{
+    return gpu_buffer_create(r->ctx, buf, size, what, err) &&
+           gpu_buffer_upload(r->ctx, buf, data, size, err);
+}
+
+static bool upload_geometry(vkrt_renderer *r, const vkrt_mesh *mesh, vkrt_error *err)
+{
+    uint32_t n = mesh->triangle_count;
+    Triangle *tris = calloc(n, sizeof *tris);
+    uint32_t *material = calloc(n, sizeof *material);
+    TriangleNormals *normals = mesh->normals ? calloc(n, sizeof *normals) : NULL;
+    bool ok = tris && material && (normals || !mesh->normals);
+    if (!ok) {
+        vkrt_error_set(err, "out of memory for %u triangles", n);
+        goto done;
+    }
+    for (uint32_t i = 0; i < n; ++i) {
+        const float *p = mesh->positions + 9 * (size_t)i;
+        tris[i].v0 = (vec4){p[0], p[1], p[2], 0};
+        tris[i].v1 = (vec4){p[3], p[4], p[5], 0};
+        tris[i].v2 = (vec4){p[6], p[7], p[8], 0};
+        /* The default material sits after the OBJ's own. */
+        material[i] = mesh->material[i] < 0 ? mesh->material_count : (uint32_t)mesh->material[i];
+        if (normals) {
+            const float *q = mesh->normals + 9 * (size_t)i;
+            normals[i].n0 = (vec4){q[0], q[1], q[2], 0};
+            normals[i].n1 = (vec4){q[3], q[4], q[5], 0};
+            normals[i].n2 = (vec4){q[6], q[7], q[8], 0};
+        }
+    }
+    ok = upload(r, &r->triangles, tris, n * sizeof *tris, "triangles", err) &&
+         upload(r, &r->triangle_material, material, n * sizeof *material, "triangle materials",
+                err);
+    /* Without normals the kernels never read this binding; a minimal buffer keeps it valid. */
+    if (ok)
+        ok = normals ? upload(r, &r->normals, normals, n * sizeof *normals, "normals", err)
+                     : gpu_buffer_create(r->ctx, &r->normals, 0, "normals", err);
+done:
+    free(tris);
+    free(material);
+    free(normals);
+    return ok;
+}
+
+static bool upload_materials(vkrt_renderer *r, const vkrt_mesh *mesh, vkrt_error *err)
+{
+    uint32_t count = mesh->material_count + 1;
+    Material *materials = calloc(count, sizeof *materials);
+    if (!materials)
+        return vkrt_error_set(err, "out of memory");
+    for (uint32_t i = 0; i < mesh->material_count; ++i) {
+        const float *kd = mesh->materials[i].kd;
+        materials[i].diffuse = (vec4){kd[0], kd[1], kd[2], 0};
+    }
+    materials[count - 1].diffuse = (vec4){default_albedo, default_albedo, default_albedo, 0};
+    bool ok = upload(r, &r->materials, materials, count * sizeof *materials, "materials", err);
+    free(materials);
+    return ok;
+}
+
+static float radians(float degrees)
+{
+    return degrees * 3.14159265358979f / 180.0f;
+}
+
+static bool upload_lights(vkrt_renderer *r, const vkrt_config *cfg, vkrt_error *err)
+{
+    r->light_count = cfg->light_count;
+    Light *lights = calloc(cfg->light_count ? cfg->light_count : 1, sizeof *lights);
+    if (!lights)
+        return vkrt_error_set(err, "out of memory");
+    for (uint32_t i = 0; i < cfg->light_count; ++i) {
+        const vkrt_config_light *l = &cfg->lights[i];
+        Light *g = &lights[i];
+        g->position = (vec4){l->position[0], l->position[1], l->position[2], 0};
+        g->direction = (vec4){l->direction[0], l->direction[1], l->direction[2], 0};
+        g->colour = (vec4){l->colour[0], l->colour[1], l->colour[2], 0};
+        if (l->kind == VKRT_LIGHT_SPOT) {
+            /* Mitsuba's spot light: full intensity within beam = 3/4 of the cutoff angle, then a
+             * linear fall in angle to zero at the cutoff. */
+            float cutoff = radians(l->half_angle_deg);
+            g->position.w = cutoff;
+            g->direction.w = cosf(cutoff);
+            g->colour.w = 0.75f * cutoff;
+        }
+        static const uint32_t kinds[] = {
+            [VKRT_LIGHT_AMBIENT] = VKRT_LIGHT_KIND_AMBIENT,
+            [VKRT_LIGHT_DIRECTIONAL] = VKRT_LIGHT_KIND_DIRECTIONAL,
+            [VKRT_LIGHT_POINT] = VKRT_LIGHT_KIND_POINT,
+            [VKRT_LIGHT_SPOT] = VKRT_LIGHT_KIND_SPOT,
+        };
+        g->info = (uvec4){kinds[l->kind], 0, 0, 0};
+    }
+    bool ok = upload(r, &r->lights, lights, cfg->light_count * sizeof *lights, "lights", err);
+    free(lights);
+    return ok;
+}
+
+static bool create_frame_buffers(vkrt_renderer *r, vkrt_error *err)
+{
+    size_t pixels = (size_t)r->width * r->height;
+    return gpu_buffer_create(r->ctx, &r->rays, pixels * sizeof(Ray), "ray buffer", err) &&
+           gpu_buffer_create(r->ctx, &r->hits, pixels * sizeof(Hit), "hit buffer", err) &&
+           gpu_buffer_create(r->ctx, &r->image, pixels * sizeof(vec4), "image", err) &&
+           gpu_buffer_create(r->ctx, &r->counters, sizeof(Counters), "counters", err);
+}
+
+static bool create_kernel(vkrt_renderer *r, gpu_pipeline *pipe, const char *path,
+                          uint32_t workgroup_size, const gpu_spec_constant *spec,
+                          uint32_t spec_count, vkrt_error *err)
+{
+    gpu_shader_sources sources = {
+        .lookup = vkrt_kernel_source_lookup,
+        .display_prefix = "glsl/",
+    };
+    uint32_t *spirv;
+    size_t words;
+    if (!gpu_shader_compile(&sources, path, &spirv, &words, err))
+        return false;
+    bool ok = gpu_pipeline_create(r->ctx, pipe, &r->set, spirv, words, workgroup_size, spec,
+                                  spec_count, path, err);
+    free(spirv);
+    return ok;
+}
+
+static bool create_kernels(vkrt_renderer *r, bool has_normals, uint32_t workgroup_size,
+                           vkrt_error *err)
+{
+    gpu_spec_constant spec[] = {{SPEC_HAS_NORMALS, has_normals}};
+    return create_kernel(r, &r->raygen, "raygen.comp", workgroup_size, spec, 1, err) &&
+           create_kernel(r, &r->trace, "trace.comp", workgroup_size, spec, 1, err) &&
+           create_kernel(r, &r->light, "light.comp", workgroup_size, spec, 1, err);
+}
+
+bool vkrt_renderer_create(vkrt_renderer *r, gpu_context *ctx, const vkrt_scene *scene,
+                          const vkrt_render_desc *desc, vkrt_error *err)
+{
+    memset(r, 0, sizeof *r);
+    r->ctx = ctx;
+    r->width = desc->width;
+    r->height = desc->height;
+    r->samples = desc->samples ? desc->samples : 1;
+    r->triangle_count = scene->mesh.triangle_count;
+    memcpy(r->environment, scene->config.environment, sizeof r->environment);
+    uint32_t workgroup_size = desc->workgroup_size ? desc->workgroup_size : default_workgroup_size;
+
+    if (!gpu_storage_set_create(ctx, &r->set, BINDING_COUNT, sizeof(FrameParams), err) ||
+        !upload_geometry(r, &scene->mesh, err) || !upload_materials(r, &scene->mesh, err) ||
+        !upload_lights(r, &scene->config, err) || !create_frame_buffers(r, err) ||
+        !create_kernels(r, scene->mesh.normals != NULL, workgroup_size, err)) {
+        vkrt_renderer_destroy(r);
+        return false;
+    }
+    const gpu_buffer *bound[BINDING_COUNT] = {
+        [BINDING_RAYS] = &r->rays,
+        [BINDING_HITS] = &r->hits,
+        [BINDING_TRIANGLES] = &r->triangles,
+        [BINDING_NORMALS] = &r->normals,
+        [BINDING_TRIANGLE_MATERIAL] = &r->triangle_material,
+        [BINDING_MATERIALS] = &r->materials,
+        [BINDING_LIGHTS] = &r->lights,
+        [BINDING_IMAGE] = &r->image,
+        [BINDING_COUNTERS] = &r->counters,
+    };
+    for (uint32_t i = 0; i < BINDING_COUNT; ++i)
+        gpu_storage_set_bind(ctx, &r->set, i, bound[i]);
+    return true;
+}
+
+static void normalize3(float v[3])
+{
+    float len = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (int i = 0; i < 3; ++i)
+        v[i] /= len;
+}
+
+static void cross3(const float a[3], const float b[3], float out[3])
+{
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* Camera basis of a right-handed camera looking down -z in its own space: right = forward x up. */
+static void camera_params(const vkrt_renderer *r, const vkrt_config_camera *camera,
+                          FrameParams *params)
+{
+    float forward[3] = {camera->look[0] - camera->eye[0], camera->look[1] - camera->eye[1],
+                        camera->look[2] - camera->eye[2]};
+    normalize3(forward);
+    float right[3], up[3];
+    cross3(forward, camera->up, right);
+    normalize3(right);
+    cross3(right, forward, up);
+    float tan_half = tanf(radians(camera->fov_deg) * 0.5f);
+    float aspect = (float)r->width / (float)r->height;
+    params->eye = (vec4){camera->eye[0], camera->eye[1], camera->eye[2], 0};
+    params->forward = (vec4){forward[0], forward[1], forward[2], 0};
+    params->right = (vec4){right[0] * tan_half * aspect, right[1] * tan_half * aspect,
+                           right[2] * tan_half * aspect, 0};
+    params->up = (vec4){up[0] * tan_half, up[1] * tan_half, up[2] * tan_half, 0};
+}
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+bool vkrt_renderer_render(vkrt_renderer *r, const vkrt_config_camera *camera, uint32_t frame_index,
+                          float *rgb, vkrt_frame_stats *stats, vkrt_error *err)
+{
+    uint32_t pixels = r->width * r->height;
+    FrameParams params = {0};
+    camera_params(r, camera, &params);
+    params.environment = (vec4){r->environment[0], r->environment[1], r->environment[2], 0};
+    params.image = (uvec4){r->width, r->height, 0, r->samples};
+    params.counts = (uvec4){r->triangle_count, r->light_count, pixels, frame_index};
+
+    VkCommandBuffer cmd;
+    if (!gpu_commands_begin(r->ctx, &cmd, err))
+        return false;
+    vkCmdFillBuffer(cmd, r->image.buffer, 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(cmd, r->counters.buffer, 0, VK_WHOLE_SIZE, 0);
+    VkMemoryBarrier cleared = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+        .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+        .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+    };
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                         0, 1, &cleared, 0, NULL, 0, NULL);
+    for (uint32_t s = 0; s < r->samples; ++s) {
+        params.image.z = s;
+        gpu_dispatch(cmd, &r->raygen, &r->set, &params, pixels);
+        gpu_dispatch(cmd, &r->trace, &r->set, &params, pixels);
+        gpu_dispatch(cmd, &r->light, &r->set, &params, pixels);
+    }
+    double start = now_seconds();
+    if (!gpu_commands_submit(r->ctx, err))
+        return vkrt_error_prefix(err, "rendering frame %u", frame_index);
+    double seconds = now_seconds() - start;
+
+    vec4 *image = malloc((size_t)pixels * sizeof *image);
+    if (!image)
+        return vkrt_error_set(err, "out of memory reading back %u pixels", pixels);
+    Counters counters;
+    bool ok = gpu_buffer_download(r->ctx, &r->image, image, (size_t)pixels * sizeof *image, err) &&
+              gpu_buffer_download(r->ctx, &r->counters, &counters, sizeof counters, err);
+    if (ok) {
+        float scale = 1.0f / (float)r->samples;
+        for (uint32_t i = 0; i < pixels; ++i) {
+            rgb[3 * (size_t)i + 0] = image[i].x * scale;
+            rgb[3 * (size_t)i + 1] = image[i].y * scale;
+            rgb[3 * (size_t)i + 2] = image[i].z * scale;
+        }
+        if (stats) {
+            stats->seconds = seconds;
+            stats->primary_rays = (uint64_t)pixels * r->samples;
+            stats->shadow_rays = counters.rays_traced;
+        }
+    }
+    free(image);
+    return ok;
+}
+
+void vkrt_renderer_destroy(vkrt_renderer *r)
+{
+    if (!r->ctx)
+        return;
+    gpu_pipeline_destroy(r->ctx, &r->light);
+    gpu_pipeline_destroy(r->ctx, &r->trace);
+    gpu_pipeline_destroy(r->ctx, &r->raygen);
+    gpu_buffer *buffers[] = {&r->counters, &r->image,     &r->hits,
+                             &r->rays,     &r->lights,    &r->materials,
+                             &r->triangle_material, &r->normals, &r->triangles};
+    for (size_t i = 0; i < sizeof buffers / sizeof *buffers; ++i)
+        gpu_buffer_destroy(r->ctx, buffers[i]);
+    gpu_storage_set_destroy(r->ctx, &r->set);
+    memset(r, 0, sizeof *r);
+}

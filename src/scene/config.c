@@ -1,0 +1,840 @@
+/*
+ * config.c: the scene.cfg parser (see config.h, and docs/scene-format.md for the format).
+ *
+ * A scene.cfg is written by hand, so this file's job is less the parsing itself than refusing
+ * every mistake with a message that points at the line and says what is wrong. It stops at the
+ * first error: one precise message beats a cascade of follow-on ones. Everything a later stage
+ * would otherwise have to check (finite numbers, unit directions, a usable camera basis, a valid
+ * frame pattern) is checked here, so the GPU code can trust the values it gets.
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include "config.h"
+
+#include <errno.h>
+#include <float.h>
+#include <limits.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Limits. A scene.cfg is short; anything far past these is a mistake or not a scene.cfg. */
+enum {
+    MAX_LINE_BYTES = 4096,
+    MAX_TOKENS = 32, /* the longest valid line (camera) has 15 */
+    MAX_SIZE = 16384,
+    MAX_SAMPLES = 65536,
+    MAX_DEPTH = 64,
+    MAX_LIGHTS = 65536,
+    MAX_CAMERAS = 1000000,
+    SHOWN_TOKEN_BYTES = 60, /* how much of a bad token a message quotes */
+};
+
+/* vkrt_config_load refuses bigger files; a binary file named by mistake fails fast. */
+#define MAX_FILE_BYTES ((size_t)64 << 20)
+
+/* Vectors shorter than this count as zero: the renderer normalises in float, and squaring a
+ * shorter length would underflow there. */
+#define MIN_LENGTH 1e-18
+
+/* Up closer than this (sine of the angle) to the view direction gives an unstable camera
+ * basis, so it is refused as parallel. */
+#define MIN_UP_SINE 1e-4
+
+typedef struct tokens {
+    char *tok[MAX_TOKENS];
+    int count; /* all tokens on the line, even past MAX_TOKENS, so "got N" stays true */
+} tokens;
+
+typedef struct parser {
+    const char *name;     /* the file name shown in messages */
+    const char *base_dir; /* "" for the current folder */
+    int line;
+    vkrt_error *err;
+    vkrt_config *cfg;
+    int first_line[16];   /* per single-valued keyword: where it was given, 0 if not yet */
+    uint32_t light_cap, camera_cap;
+} parser;
+
+/* ---------------------------------------------------------------------------------------------
+ * Messages
+ * ------------------------------------------------------------------------------------------- */
+
+static bool fail(parser *p, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+static bool fail(parser *p, const char *fmt, ...)
+{
+    char msg[900];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    return vkrt_error_set(p->err, "%s:%d: %s", p->name, p->line, msg);
+}
+
+/* A token as a message shows it: cut short (at a UTF-8 boundary) so that one absurd token
+ * cannot push the useful part of the message out of the fixed-size buffer. */
+static const char *shown(const char *tok, char buf[SHOWN_TOKEN_BYTES + 4])
+{
+    size_t n = strlen(tok);
+    if (n <= SHOWN_TOKEN_BYTES)
+        return tok;
+    n = SHOWN_TOKEN_BYTES;
+    while (n > 0 && ((unsigned char)tok[n] & 0xC0) == 0x80)
+        n--;
+    memcpy(buf, tok, n);
+    memcpy(buf + n, "...", 4);
+    return buf;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Numbers
+ * ------------------------------------------------------------------------------------------- */
+
+/* what names the value in messages, e.g. "light spot direction y". */
+static bool parse_float(parser *p, const char *tok, const char *what, float *out)
+{
+    char buf[SHOWN_TOKEN_BYTES + 4];
+    char *end;
+    errno = 0;
+    double d = strtod(tok, &end);
+    if (end == tok || *end != '\0')
+        return fail(p, "%s '%s' is not a number", what, shown(tok, buf));
+    /* strtod accepts "nan" and "inf" and turns 1e999 into inf; none of them can be rendered. */
+    if (!isfinite(d))
+        return fail(p, "%s '%s' is not a finite number", what, shown(tok, buf));
+    if (fabs(d) > FLT_MAX)
+        return fail(p, "%s '%s' is too large (the limit is about 3.4e38)", what,
+                    shown(tok, buf));
+    *out = (float)d;
+    return true;
+}
+
+static bool is_whole_number_text(const char *tok)
+{
+    size_t i = (tok[0] == '+' || tok[0] == '-') ? 1 : 0;
+    if (tok[i] == '\0')
+        return false;
+    for (; tok[i] != '\0'; i++)
+        if (tok[i] < '0' || tok[i] > '9')
+            return false;
+    return true;
+}
+
+static bool parse_uint(parser *p, const char *tok, const char *what, long long min, long long max,
+                       uint32_t *out)
+{
+    char buf[SHOWN_TOKEN_BYTES + 4];
+    if (!is_whole_number_text(tok)) {
+        char *end;
+        (void)strtod(tok, &end);
+        if (end != tok && *end == '\0')
+            return fail(p, "%s must be a whole number, got '%s'", what, shown(tok, buf));
+        return fail(p, "%s '%s' is not a number", what, shown(tok, buf));
+    }
+    errno = 0;
+    long long v = strtoll(tok, NULL, 10);
+    if (errno == ERANGE || v < min || v > max)
+        return fail(p, "%s must be between %lld and %lld, got %s", what, min, max,
+                    shown(tok, buf));
+    *out = (uint32_t)v;
+    return true;
+}
+
+/* Parses 3 floats starting at t->tok[first]; what is e.g. "light spot position". */
+static bool parse_vec3(parser *p, const tokens *t, int first, const char *what, float out[3])
+{
+    static const char *const axis[3] = {"x", "y", "z"};
+    for (int i = 0; i < 3; i++) {
+        char part[96];
+        snprintf(part, sizeof part, "%s %s", what, axis[i]);
+        if (!parse_float(p, t->tok[first + i], part, &out[i]))
+            return false;
+    }
+    return true;
+}
+
+static bool parse_colour(parser *p, const tokens *t, int first, const char *what, float out[3])
+{
+    static const char *const channel[3] = {"r", "g", "b"};
+    char buf[SHOWN_TOKEN_BYTES + 4];
+    for (int i = 0; i < 3; i++) {
+        char part[96];
+        snprintf(part, sizeof part, "%s %s", what, channel[i]);
+        if (!parse_float(p, t->tok[first + i], part, &out[i]))
+            return false;
+        /* A negative radiance would subtract light, which no physical source does. */
+        if (out[i] < 0.0f)
+            return fail(p, "%s must not be negative, got %s", part,
+                        shown(t->tok[first + i], buf));
+    }
+    return true;
+}
+
+static double length3(const float v[3])
+{
+    return sqrt((double)v[0] * v[0] + (double)v[1] * v[1] + (double)v[2] * v[2]);
+}
+
+/* Normalises in double so that even tiny or huge (finite) vectors come out exactly unit. */
+static bool normalise(parser *p, float v[3], const char *what)
+{
+    double len = length3(v);
+    if (!(len > MIN_LENGTH))
+        return fail(p, "%s has zero length", what);
+    for (int i = 0; i < 3; i++)
+        v[i] = (float)(v[i] / len);
+    return true;
+}
+
+/* Checks that the line has exactly `want` arguments after its first `skip` tokens. */
+static bool want_numbers(parser *p, const tokens *t, int skip, int want, const char *what)
+{
+    int got = t->count - skip;
+    if (got == want)
+        return true;
+    if (got < want)
+        return fail(p, "%s needs %d number%s, got %d", what, want, want == 1 ? "" : "s", got);
+    char buf[SHOWN_TOKEN_BYTES + 4];
+    const char *extra = skip + want < MAX_TOKENS ? t->tok[skip + want] : "...";
+    return fail(p, "%s needs %d number%s, got %d: unexpected '%s'", what, want,
+                want == 1 ? "" : "s", got, shown(extra, buf));
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Paths
+ * ------------------------------------------------------------------------------------------- */
+
+/* Joins base_dir and path unless path is absolute. The output path is a frame pattern
+ * (vkrt_frame_path expands it), so there a '%' in the folder name is written as "%%". */
+static char *join_path(const char *base_dir, const char *path, bool escape_percent)
+{
+    if (path[0] == '/' || base_dir[0] == '\0')
+        return strdup(path);
+    size_t base_len = strlen(base_dir), path_len = strlen(path);
+    char *out = malloc(2 * base_len + 1 + path_len + 1);
+    if (!out)
+        return NULL;
+    size_t n = 0;
+    for (size_t i = 0; i < base_len; i++) {
+        out[n++] = base_dir[i];
+        if (escape_percent && base_dir[i] == '%')
+            out[n++] = '%';
+    }
+    if (out[n - 1] != '/')
+        out[n++] = '/';
+    memcpy(out + n, path, path_len + 1);
+    return out;
+}
+
+/* Checks that the line holds exactly one path after its keyword. */
+static bool check_path(parser *p, const tokens *t, const char *what)
+{
+    char buf[SHOWN_TOKEN_BYTES + 4];
+    if (t->count < 2)
+        return fail(p, "%s needs a path", what);
+    /* Quotes would suggest that spaces work; say plainly that they do not. */
+    if (strchr(t->tok[1], '"') || strchr(t->tok[1], '\''))
+        return fail(p, "%s: quotes are not supported; paths may not contain spaces", what);
+    if (t->count > 2)
+        return fail(p, "%s needs 1 path, got %d parts: unexpected '%s' (paths may not contain "
+                       "spaces)",
+                    what, t->count - 1, shown(t->tok[2], buf));
+    return true;
+}
+
+static bool parse_path(parser *p, const tokens *t, const char *what, bool escape_percent,
+                       char **out)
+{
+    if (!check_path(p, t, what))
+        return false;
+    *out = join_path(p->base_dir, t->tok[1], escape_percent);
+    if (!*out)
+        return fail(p, "out of memory");
+    return true;
+}
+
+static bool ends_with_ignoring_case(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), m = strlen(suffix);
+    if (n < m)
+        return false;
+    for (size_t i = 0; i < m; i++) {
+        char c = s[n - m + i];
+        if (c >= 'A' && c <= 'Z')
+            c = (char)(c - 'A' + 'a');
+        if (c != suffix[i])
+            return false;
+    }
+    return true;
+}
+
+/* The same rules as vkrt_frame_path (output/image_write.c), checked here so that a bad pattern
+ * is reported with its line before any rendering: only "%%" and one "%d", "%Nd" or "%0Nd" with
+ * N of one or two digits. Returns NULL if valid, else the offending conversion. */
+static const char *frame_pattern_problem(const char *pattern, bool *two_numbers)
+{
+    bool have_number = false;
+    *two_numbers = false;
+    for (const char *c = strchr(pattern, '%'); c; c = strchr(c, '%')) {
+        if (c[1] == '%') {
+            c += 2;
+            continue;
+        }
+        size_t i = 1;
+        bool zero = c[i] == '0';
+        if (zero)
+            i++;
+        int digits = 0;
+        while (c[i] >= '0' && c[i] <= '9' && digits < 2) {
+            i++;
+            digits++;
+        }
+        if (c[i] != 'd' || (zero && digits == 0))
+            return c;
+        if (have_number) {
+            *two_numbers = true;
+            return c;
+        }
+        have_number = true;
+        c += i + 1;
+    }
+    return NULL;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Keywords
+ * ------------------------------------------------------------------------------------------- */
+
+static bool kw_geometry(parser *p, const tokens *t)
+{
+    return parse_path(p, t, "geometry", false, &p->cfg->geometry);
+}
+
+static bool kw_materials(parser *p, const tokens *t)
+{
+    return parse_path(p, t, "materials", false, &p->cfg->materials);
+}
+
+static bool kw_output(parser *p, const tokens *t)
+{
+    char buf[SHOWN_TOKEN_BYTES + 4];
+    if (!check_path(p, t, "output"))
+        return false;
+    const char *path = t->tok[1];
+    if (!ends_with_ignoring_case(path, ".png") && !ends_with_ignoring_case(path, ".exr"))
+        return fail(p, "output '%s' must end in .png or .exr", shown(path, buf));
+    bool two;
+    const char *bad = frame_pattern_problem(path, &two);
+    if (bad && two)
+        return fail(p, "output '%s' has more than one frame number", shown(path, buf));
+    if (bad) {
+        /* Quote the conversion alone: '%', any digits, then the letter that ended it. */
+        int len = 1 + (int)strspn(bad + 1, "0123456789");
+        if (bad[len] != '\0' && len < 8)
+            len++;
+        return fail(p, "output '%s': unsupported conversion '%.*s' (use %%d, %%04d, or %%%% "
+                       "for a literal %%)",
+                    shown(path, buf), len > 8 ? 8 : len, bad);
+    }
+    return parse_path(p, t, "output", true, &p->cfg->output);
+}
+
+static bool kw_resolution(parser *p, const tokens *t)
+{
+    if (!want_numbers(p, t, 1, 2, "resolution"))
+        return false;
+    return parse_uint(p, t->tok[1], "resolution width", 1, MAX_SIZE, &p->cfg->width) &&
+           parse_uint(p, t->tok[2], "resolution height", 1, MAX_SIZE, &p->cfg->height);
+}
+
+static bool kw_samples(parser *p, const tokens *t)
+{
+    return want_numbers(p, t, 1, 1, "samples") &&
+           parse_uint(p, t->tok[1], "samples", 1, MAX_SAMPLES, &p->cfg->samples);
+}
+
+static bool kw_max_depth(parser *p, const tokens *t)
+{
+    return want_numbers(p, t, 1, 1, "max-depth") &&
+           parse_uint(p, t->tok[1], "max-depth", 0, MAX_DEPTH, &p->cfg->max_depth);
+}
+
+static bool kw_accel(parser *p, const tokens *t)
+{
+    char buf[SHOWN_TOKEN_BYTES + 4];
+    if (t->count != 2)
+        return fail(p, "accel needs one name (auto, brute, grid or bvh), got %d", t->count - 1);
+    if (!vkrt_accel_parse(t->tok[1], &p->cfg->accel))
+        return fail(p, "unknown accel '%s' (expected auto, brute, grid or bvh)",
+                    shown(t->tok[1], buf));
+    return true;
+}
+
+static bool kw_environment(parser *p, const tokens *t)
+{
+    return want_numbers(p, t, 1, 3, "environment") &&
+           parse_colour(p, t, 1, "environment", p->cfg->environment);
+}
+
+static bool kw_light(parser *p, const tokens *t)
+{
+    char buf[SHOWN_TOKEN_BYTES + 4];
+    static const struct {
+        const char *name;
+        vkrt_light_kind kind;
+        int numbers;
+    } kinds[] = {
+        {"ambient", VKRT_LIGHT_AMBIENT, 3},
+        {"directional", VKRT_LIGHT_DIRECTIONAL, 6},
+        {"point", VKRT_LIGHT_POINT, 6},
+        {"spot", VKRT_LIGHT_SPOT, 10},
+    };
+    if (t->count < 2)
+        return fail(p, "light needs a kind: ambient, directional, point or spot");
+    int k = -1;
+    for (int i = 0; i < (int)(sizeof kinds / sizeof kinds[0]); i++)
+        if (strcmp(t->tok[1], kinds[i].name) == 0)
+            k = i;
+    if (k < 0)
+        return fail(p, "unknown light kind '%s' (expected ambient, directional, point or spot)",
+                    shown(t->tok[1], buf));
+
+    char what[32];
+    snprintf(what, sizeof what, "light %s", kinds[k].name);
+    if (!want_numbers(p, t, 2, kinds[k].numbers, what))
+        return false;
+
+    vkrt_config_light l;
+    memset(&l, 0, sizeof l);
+    l.kind = kinds[k].kind;
+    l.line = p->line;
+    switch (l.kind) {
+    case VKRT_LIGHT_AMBIENT:
+        if (!parse_colour(p, t, 2, "light ambient colour", l.colour))
+            return false;
+        break;
+    case VKRT_LIGHT_DIRECTIONAL:
+        if (!parse_vec3(p, t, 2, "light directional direction", l.direction) ||
+            !parse_colour(p, t, 5, "light directional colour", l.colour) ||
+            !normalise(p, l.direction, "light directional direction"))
+            return false;
+        break;
+    case VKRT_LIGHT_POINT:
+        if (!parse_vec3(p, t, 2, "light point position", l.position) ||
+            !parse_colour(p, t, 5, "light point colour", l.colour))
+            return false;
+        break;
+    case VKRT_LIGHT_SPOT:
+        if (!parse_vec3(p, t, 2, "light spot position", l.position) ||
+            !parse_vec3(p, t, 5, "light spot direction", l.direction) ||
+            !parse_float(p, t->tok[8], "light spot half angle", &l.half_angle_deg) ||
+            !parse_colour(p, t, 9, "light spot colour", l.colour))
+            return false;
+        /* Past 90 degrees the cone is no longer a cone around the axis. */
+        if (!(l.half_angle_deg > 0.0f && l.half_angle_deg <= 90.0f))
+            return fail(p, "light spot half angle must be in (0, 90] degrees, got %s",
+                        shown(t->tok[8], buf));
+        if (!normalise(p, l.direction, "light spot direction"))
+            return false;
+        break;
+    }
+
+    vkrt_config *cfg = p->cfg;
+    if (cfg->light_count >= MAX_LIGHTS)
+        return fail(p, "too many lights (the limit is %d)", MAX_LIGHTS);
+    if (cfg->light_count == p->light_cap) {
+        uint32_t cap = p->light_cap ? 2 * p->light_cap : 8;
+        vkrt_config_light *grown = realloc(cfg->lights, cap * sizeof *grown);
+        if (!grown)
+            return fail(p, "out of memory");
+        cfg->lights = grown;
+        p->light_cap = cap;
+    }
+    cfg->lights[cfg->light_count++] = l;
+    return true;
+}
+
+static bool kw_camera(parser *p, const tokens *t)
+{
+    char buf[SHOWN_TOKEN_BYTES + 4];
+    static const char *const usage = "camera eye X Y Z look X Y Z up X Y Z fov F";
+    static const struct {
+        const char *name;
+        int numbers;
+    } parts[] = {{"eye", 3}, {"look", 3}, {"up", 3}, {"fov", 1}};
+
+    vkrt_config_camera c;
+    memset(&c, 0, sizeof c);
+    c.line = p->line;
+    float *dest[4] = {c.eye, c.look, c.up, &c.fov_deg};
+
+    int at = 1;
+    for (int i = 0; i < 4; i++) {
+        const char *name = parts[i].name;
+        if (at >= t->count)
+            return fail(p, "camera is missing '%s' (write: %s)", name, usage);
+        if (at >= MAX_TOKENS || strcmp(t->tok[at], name) != 0)
+            return fail(p, "camera: expected '%s' but found '%s' (write: %s)", name,
+                        at < MAX_TOKENS ? shown(t->tok[at], buf) : "...", usage);
+        at++;
+        int n = parts[i].numbers;
+        /* Count the numbers up to the next word, so "eye 1 2 look" says "got 2". */
+        int got = 0;
+        while (got < n && at + got < t->count && at + got < MAX_TOKENS) {
+            const char *tok = t->tok[at + got];
+            bool is_part = false;
+            for (int j = 0; j < 4; j++)
+                is_part = is_part || strcmp(tok, parts[j].name) == 0;
+            if (is_part)
+                break;
+            got++;
+        }
+        if (got < n)
+            return fail(p, "camera %s needs %d number%s, got %d", name, n, n == 1 ? "" : "s",
+                        got);
+        char what[32];
+        if (n == 3) {
+            snprintf(what, sizeof what, "camera %s", name);
+            if (!parse_vec3(p, t, at, what, dest[i]))
+                return false;
+        } else if (!parse_float(p, t->tok[at], "camera fov", dest[i])) {
+            return false;
+        }
+        at += n;
+    }
+    if (at < t->count)
+        return fail(p, "camera: unexpected '%s' after fov",
+                    at < MAX_TOKENS ? shown(t->tok[at], buf) : "...");
+
+    if (!(c.fov_deg > 0.0f && c.fov_deg < 180.0f))
+        return fail(p, "camera fov must be between 0 and 180 degrees (exclusive), got %s",
+                    shown(t->tok[at - 1], buf));
+    /* In double: the difference of two finite floats may not be a finite float. */
+    double view[3] = {(double)c.look[0] - c.eye[0], (double)c.look[1] - c.eye[1],
+                      (double)c.look[2] - c.eye[2]};
+    double view_len = sqrt(view[0] * view[0] + view[1] * view[1] + view[2] * view[2]);
+    double up_len = length3(c.up);
+    if (!(view_len > MIN_LENGTH))
+        return fail(p, "camera eye and look are the same point; the camera has no direction");
+    if (!(up_len > MIN_LENGTH))
+        return fail(p, "camera up has zero length");
+    double cx = view[1] * c.up[2] - view[2] * c.up[1];
+    double cy = view[2] * c.up[0] - view[0] * c.up[2];
+    double cz = view[0] * c.up[1] - view[1] * c.up[0];
+    double sine = sqrt(cx * cx + cy * cy + cz * cz) / (view_len * up_len);
+    if (!(sine > MIN_UP_SINE))
+        return fail(p, "camera up is parallel to the view direction (look - eye)");
+
+    vkrt_config *cfg = p->cfg;
+    if (cfg->camera_count >= MAX_CAMERAS)
+        return fail(p, "too many cameras (the limit is %d frames)", MAX_CAMERAS);
+    if (cfg->camera_count == p->camera_cap) {
+        uint32_t cap = p->camera_cap ? 2 * p->camera_cap : 4;
+        vkrt_config_camera *grown = realloc(cfg->cameras, cap * sizeof *grown);
+        if (!grown)
+            return fail(p, "out of memory");
+        cfg->cameras = grown;
+        p->camera_cap = cap;
+    }
+    cfg->cameras[cfg->camera_count++] = c;
+    return true;
+}
+
+typedef struct keyword {
+    const char *word;
+    bool single; /* may be given once only */
+    bool (*parse)(parser *p, const tokens *t);
+} keyword;
+
+static const keyword keywords[] = {
+    {"geometry", true, kw_geometry},
+    {"materials", true, kw_materials},
+    {"resolution", true, kw_resolution},
+    {"samples", true, kw_samples},
+    {"max-depth", true, kw_max_depth},
+    {"accel", true, kw_accel},
+    {"output", true, kw_output},
+    {"environment", true, kw_environment},
+    {"light", false, kw_light},
+    {"camera", false, kw_camera},
+};
+
+_Static_assert(sizeof keywords / sizeof keywords[0] <= sizeof((parser *)0)->first_line /
+                                                          sizeof(int),
+               "parser.first_line needs a slot per keyword");
+
+/* ---------------------------------------------------------------------------------------------
+ * Lines
+ * ------------------------------------------------------------------------------------------- */
+
+/* Length of the valid UTF-8 sequence at s (at most n bytes), or 0 if invalid. */
+static size_t utf8_sequence(const unsigned char *s, size_t n)
+{
+    size_t len;
+    unsigned min;
+    if (s[0] < 0x80)
+        return 1;
+    if (s[0] >= 0xC2 && s[0] <= 0xDF)
+        len = 2, min = 0x80;
+    else if (s[0] >= 0xE0 && s[0] <= 0xEF)
+        len = 3, min = 0x800;
+    else if (s[0] >= 0xF0 && s[0] <= 0xF4)
+        len = 4, min = 0x10000;
+    else
+        return 0;
+    if (len > n)
+        return 0;
+    unsigned cp = s[0] & (0x7F >> len);
+    for (size_t i = 1; i < len; i++) {
+        if ((s[i] & 0xC0) != 0x80)
+            return 0;
+        cp = (cp << 6) | (s[i] & 0x3F);
+    }
+    if (cp < min || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF))
+        return 0;
+    return len;
+}
+
+/* Checks one line (without its '\n') and splits the part before any '#' into tokens in buf. */
+static bool split_line(parser *p, const char *line, size_t len, char *buf, tokens *t)
+{
+    /* Control characters anywhere, comments included, mean this is not a text file. */
+    for (size_t i = 0; i < len; i++) {
+        unsigned char c = (unsigned char)line[i];
+        if (c == '\0')
+            return fail(p, "not a text line (NUL byte at column %zu); is this a scene.cfg?",
+                        i + 1);
+        if ((c < 0x20 && c != '\t' && c != '\r') || c == 0x7F)
+            return fail(p, "not a text line (control character 0x%02X at column %zu)", c,
+                        i + 1);
+    }
+    if (len > MAX_LINE_BYTES)
+        return fail(p, "line is longer than %d bytes", MAX_LINE_BYTES);
+
+    const char *hash = memchr(line, '#', len);
+    size_t used = hash ? (size_t)(hash - line) : len;
+    /* Only the part that is parsed must be UTF-8, so a Latin-1 comment does no harm. */
+    for (size_t i = 0; i < used;) {
+        size_t n = utf8_sequence((const unsigned char *)line + i, used - i);
+        if (n == 0)
+            return fail(p, "not a text line (invalid UTF-8 at column %zu)", i + 1);
+        i += n;
+    }
+
+    memcpy(buf, line, used);
+    buf[used] = '\0';
+    t->count = 0;
+    char *s = buf;
+    for (;;) {
+        s += strspn(s, " \t\r");
+        if (*s == '\0')
+            break;
+        if (t->count < MAX_TOKENS)
+            t->tok[t->count] = s;
+        t->count++;
+        s += strcspn(s, " \t\r");
+        if (*s != '\0')
+            *s++ = '\0';
+    }
+    return true;
+}
+
+static bool parse_line(parser *p, const tokens *t)
+{
+    char buf[SHOWN_TOKEN_BYTES + 4];
+    if (t->count == 0)
+        return true;
+    int n = (int)(sizeof keywords / sizeof keywords[0]);
+    for (int i = 0; i < n; i++) {
+        if (strcmp(t->tok[0], keywords[i].word) != 0)
+            continue;
+        if (keywords[i].single) {
+            if (p->first_line[i])
+                return fail(p, "%s given twice (first on line %d)", keywords[i].word,
+                            p->first_line[i]);
+            p->first_line[i] = p->line;
+        }
+        return keywords[i].parse(p, t);
+    }
+    return fail(p, "unknown keyword '%s' (expected geometry, materials, resolution, samples, "
+                   "max-depth, accel, output, environment, light or camera)",
+                shown(t->tok[0], buf));
+}
+
+static bool parse_all(parser *p, const char *text, size_t size)
+{
+    /* Some Windows editors start UTF-8 files with a byte order mark. */
+    if (size >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0) {
+        text += 3;
+        size -= 3;
+    }
+    char buf[MAX_LINE_BYTES + 1];
+    tokens t;
+    size_t pos = 0;
+    while (pos < size) {
+        if (p->line == INT_MAX)
+            return fail(p, "too many lines");
+        p->line++;
+        const char *line = text + pos;
+        const char *nl = memchr(line, '\n', size - pos);
+        size_t len = nl ? (size_t)(nl - line) : size - pos;
+        pos += len + (nl ? 1 : 0);
+        if (!split_line(p, line, len, buf, &t) || !parse_line(p, &t))
+            return false;
+    }
+    vkrt_config *cfg = p->cfg;
+    if (!cfg->geometry)
+        return vkrt_error_set(p->err, "%s: no 'geometry' line; the OBJ file is required",
+                              p->name);
+    if (cfg->camera_count == 0)
+        return vkrt_error_set(p->err, "%s: no 'camera' line; at least one is required",
+                              p->name);
+    return true;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Public API
+ * ------------------------------------------------------------------------------------------- */
+
+bool vkrt_config_parse(const char *text, size_t size, const char *name, const char *base_dir,
+                       vkrt_config *cfg, vkrt_error *err)
+{
+    if (!cfg)
+        return vkrt_error_set(err, "%s: no config to fill", name ? name : "scene.cfg");
+    memset(cfg, 0, sizeof *cfg);
+
+    vkrt_config c;
+    memset(&c, 0, sizeof c);
+    c.width = 640;
+    c.height = 480;
+    c.samples = 1;
+    c.max_depth = 6;
+    c.accel = VKRT_ACCEL_AUTO;
+
+    parser p;
+    memset(&p, 0, sizeof p);
+    p.name = name ? name : "scene.cfg";
+    p.base_dir = base_dir ? base_dir : "";
+    p.err = err;
+    p.cfg = &c;
+
+    if (name && !(c.path = strdup(name)))
+        return vkrt_error_set(err, "%s: out of memory", p.name);
+    if (!text && size > 0) {
+        vkrt_config_free(&c);
+        return vkrt_error_set(err, "%s: no text to parse", p.name);
+    }
+    if (!parse_all(&p, text ? text : "", text ? size : 0)) {
+        vkrt_config_free(&c);
+        return false;
+    }
+    *cfg = c;
+    return true;
+}
+
+bool vkrt_config_load(const char *path, vkrt_config *cfg, vkrt_error *err)
+{
+    if (cfg)
+        memset(cfg, 0, sizeof *cfg);
+    if (!path)
+        return vkrt_error_set(err, "scene.cfg: no path given");
+
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return vkrt_error_set(err, "%s: cannot open: %s", path, strerror(errno));
+    /* Read in chunks rather than trusting a size from fstat: it may be a pipe. */
+    size_t size = 0, cap = 0;
+    char *text = NULL;
+    for (;;) {
+        if (size == cap) {
+            if (cap >= MAX_FILE_BYTES) {
+                free(text);
+                fclose(f);
+                return vkrt_error_set(err, "%s: larger than %zu MiB; is this a scene.cfg?", path,
+                                      MAX_FILE_BYTES >> 20);
+            }
+            cap = cap ? 2 * cap : 4096;
+            char *grown = realloc(text, cap);
+            if (!grown) {
+                free(text);
+                fclose(f);
+                return vkrt_error_set(err, "%s: out of memory", path);
+            }
+            text = grown;
+        }
+        size_t n = fread(text + size, 1, cap - size, f);
+        size += n;
+        if (n == 0)
+            break;
+    }
+    if (ferror(f)) {
+        int saved = errno;
+        free(text);
+        fclose(f);
+        return vkrt_error_set(err, "%s: cannot read: %s", path, strerror(saved));
+    }
+    fclose(f);
+
+    /* base_dir is the part before the last '/': "" for a bare name, "/" for a file in root. */
+    const char *slash = strrchr(path, '/');
+    size_t dir_len = slash ? (slash == path ? 1 : (size_t)(slash - path)) : 0;
+    char *dir = malloc(dir_len + 1);
+    if (!dir) {
+        free(text);
+        return vkrt_error_set(err, "%s: out of memory", path);
+    }
+    memcpy(dir, path, dir_len);
+    dir[dir_len] = '\0';
+
+    bool ok = vkrt_config_parse(text, size, path, dir, cfg, err);
+    free(dir);
+    free(text);
+    return ok;
+}
+
+void vkrt_config_free(vkrt_config *cfg)
+{
+    if (!cfg)
+        return;
+    free(cfg->path);
+    free(cfg->geometry);
+    free(cfg->materials);
+    free(cfg->output);
+    free(cfg->lights);
+    free(cfg->cameras);
+    memset(cfg, 0, sizeof *cfg);
+}
+
+const char *vkrt_accel_name(vkrt_accel_kind kind)
+{
+    switch (kind) {
+    case VKRT_ACCEL_AUTO:
+        return "auto";
+    case VKRT_ACCEL_BRUTE:
+        return "brute";
+    case VKRT_ACCEL_GRID:
+        return "grid";
+    case VKRT_ACCEL_BVH:
+        return "bvh";
+    }
+    return "unknown";
+}
+
+bool vkrt_accel_parse(const char *name, vkrt_accel_kind *kind)
+{
+    static const vkrt_accel_kind all[] = {VKRT_ACCEL_AUTO, VKRT_ACCEL_BRUTE, VKRT_ACCEL_GRID,
+                                          VKRT_ACCEL_BVH};
+    if (!name)
+        return false;
+    for (size_t i = 0; i < sizeof all / sizeof all[0]; i++) {
+        if (strcmp(name, vkrt_accel_name(all[i])) == 0) {
+            if (kind)
+                *kind = all[i];
+            return true;
+        }
+    }
+    return false;
+}

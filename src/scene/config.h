@@ -1,0 +1,83 @@
+/*
+ * config.h: the scene.cfg parser.
+ *
+ * A scene.cfg names one OBJ, an optional material file, the image settings, the lights and one
+ * camera per frame (docs/scene-format.md). Parsing is pure CPU work and happens before any GPU
+ * work, so a malformed file stops the program with "file:LINE: message" and nothing is rendered.
+ */
+#ifndef VKRT_CONFIG_H
+#define VKRT_CONFIG_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "../error.h"
+
+typedef enum vkrt_accel_kind {
+    VKRT_ACCEL_AUTO = 0,
+    VKRT_ACCEL_BRUTE,
+    VKRT_ACCEL_GRID,
+    VKRT_ACCEL_BVH,
+} vkrt_accel_kind;
+
+typedef enum vkrt_light_kind {
+    VKRT_LIGHT_AMBIENT = 0, /* uniform, unoccluded radiance from every direction: adds Kd * colour */
+    VKRT_LIGHT_DIRECTIONAL, /* colour is irradiance (W/m^2) on a surface facing the light */
+    VKRT_LIGHT_POINT,       /* colour is radiant intensity (W/sr); falls off with 1/d^2 */
+    VKRT_LIGHT_SPOT,        /* a point light limited to a cone of half_angle_deg around direction */
+} vkrt_light_kind;
+
+typedef struct vkrt_config_light {
+    vkrt_light_kind kind;
+    float position[3];     /* point, spot */
+    float direction[3];    /* directional (the direction light travels), spot (cone axis); unit length */
+    float half_angle_deg;  /* spot: the cone's half angle, in (0, 90] */
+    float colour[3];       /* non-negative; units per kind, above */
+    int line;              /* where it was declared, for later messages */
+} vkrt_config_light;
+
+typedef struct vkrt_config_camera {
+    float eye[3], look[3], up[3];
+    float fov_deg;         /* vertical field of view, in (0, 180) */
+    int line;
+} vkrt_config_camera;
+
+typedef struct vkrt_config {
+    char *path;            /* the scene.cfg itself, as given */
+    char *geometry;        /* OBJ path, resolved against the scene.cfg's folder */
+    char *materials;       /* material file, resolved; NULL when absent (the OBJ's .mtl is used) */
+    char *output;          /* output path or frame pattern, resolved; NULL when absent */
+    uint32_t width, height;   /* default 640 x 480 */
+    uint32_t samples;         /* primary samples per pixel, default 1 */
+    uint32_t max_depth;       /* secondary ray generations, default 6 */
+    vkrt_accel_kind accel;    /* default auto */
+    float environment[3];     /* radiance of rays that miss, default 0 */
+    vkrt_config_light *lights;
+    uint32_t light_count;
+    vkrt_config_camera *cameras; /* one per frame, in file order; at least one */
+    uint32_t camera_count;
+} vkrt_config;
+
+/* Reads and parses the scene.cfg at path. Relative paths inside it are resolved against the
+ * folder of path. On failure returns false, fills err with "path:LINE: message" (or
+ * "path: message" for errors of the whole file, such as a missing camera) and leaves *cfg empty
+ * (nothing to free). On success the caller frees *cfg with vkrt_config_free. */
+bool vkrt_config_load(const char *path, vkrt_config *cfg, vkrt_error *err);
+
+/* Parses scene.cfg text already in memory; name is used in messages, base_dir (may be "" or NULL
+ * for the current folder) resolves relative paths. Same contract as vkrt_config_load. text need
+ * not be NUL-free: parsing stops at the first NUL or at size bytes. */
+bool vkrt_config_parse(const char *text, size_t size, const char *name, const char *base_dir,
+                       vkrt_config *cfg, vkrt_error *err);
+
+/* Frees what a successful load or parse allocated, and zeroes *cfg. Safe on a zeroed struct. */
+void vkrt_config_free(vkrt_config *cfg);
+
+/* Name of an accel kind as written in scene.cfg ("auto", "brute", "grid", "bvh"). */
+const char *vkrt_accel_name(vkrt_accel_kind kind);
+
+/* Parses an accel name; returns false for an unknown one. */
+bool vkrt_accel_parse(const char *name, vkrt_accel_kind *kind);
+
+#endif

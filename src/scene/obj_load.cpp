@@ -1,0 +1,937 @@
+/*
+ * obj_load.cpp: the C interface of obj_load.h over tinyobjloader (2.0.0rc10, float build).
+ *
+ * tinyobjloader does the parsing (faces, negative indices, mtllib/usemtl, the .mtl syntax), but it
+ * is lenient in ways a renderer cannot afford and it keeps no line numbers, so this file wraps it:
+ *
+ *  1. The file is read once into memory. UTF-16 (BOM or NUL-interleaved text) and other files with
+ *     NUL bytes are refused up front; a UTF-8 BOM is skipped.
+ *  2. A pre-scan walks the lines exactly as tinyobjloader does (LF, CRLF and lone CR all end a line;
+ *     leading blanks skipped) and records the line of every v, vn, vt and f record, the vertex count
+ *     of every face, and checks the numbers of v/vt/vn records with a strict grammar. This matters
+ *     because rc10's parser turns anything it cannot parse ("nan", "inf", "1.#IND", "abc") into 0
+ *     without a word, and stops at the first bad character ("3.1+e2" becomes 3.1). Decisions:
+ *       - v: all three coordinates must be plain decimal numbers that fit a float; otherwise
+ *         "path:LINE: vertex coordinate is not finite (...)" or "... is not a number" is an error.
+ *       - vt: the coordinates present (up to two) get the same check; a missing v defaults to 0.
+ *       - vn: a normal that is not three finite numbers, or has zero length, is treated as absent:
+ *         the triangles using it get their geometric normal and a warning is recorded.
+ *  3. tinyobjloader parses the same bytes (through an istream over the buffer) with triangulation
+ *     off. Its num_face_vertices is an unsigned char, so faces of more than 255 vertices come back
+ *     with a wrapped count; the pre-scan's counts are used instead, and the two are cross-checked.
+ *  4. Every index is validated against the attribute sizes, and polygons become fans
+ *     (v0, vi, vi+1). Out-of-range indices are "path:LINE: face index N out of range (...)", except
+ *     that vt/vn references in a file with no vt/vn records at all are dropped with a warning.
+ *
+ * Materials come through our own tinyobj::MaterialReader so we know which .mtl each came from
+ * (map_Kd is resolved against that .mtl's folder, falling back to the OBJ's folder when the file
+ * only exists there) and which fields were actually present (tinyobjloader's defaults differ from
+ * the ones obj_load.h documents, e.g. Kd 0 vs 0.8, illum 0 vs 2).
+ *
+ * All C++ exceptions stop at vkrt_obj_load; all output arrays are malloc'ed for the C side.
+ */
+#include <tiny_obj_loader.h>
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cfloat>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <istream>
+#include <map>
+#include <new>
+#include <streambuf>
+#include <string>
+#include <vector>
+
+extern "C" {
+#include "obj_load.h"
+}
+
+namespace {
+
+/* Longest piece of user text quoted in a message, so a garbage line cannot flood it. */
+constexpr int QUOTE_MAX = 40;
+
+/* ---------------------------------------------------------------- file reading and encoding */
+
+bool read_whole_file(const char *path, std::string *text, vkrt_error *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return vkrt_error_set(err, "%s: cannot open: %s", path, strerror(errno));
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
+        fclose(f);
+        return vkrt_error_set(err, "%s: not a regular file", path);
+    }
+    text->resize(static_cast<size_t>(st.st_size));
+    size_t got = text->empty() ? 0 : fread(&(*text)[0], 1, text->size(), f);
+    bool failed = ferror(f) != 0;
+    fclose(f);
+    if (failed)
+        return vkrt_error_set(err, "%s: read error", path);
+    text->resize(got); /* the file may have shrunk meanwhile */
+    return true;
+}
+
+/* UTF-16 text without a BOM shows as NUL bytes on every other position. */
+bool looks_like_bomless_utf16(const std::string &text)
+{
+    size_t n = text.size() < 4096 ? text.size() : 4096;
+    size_t nul_even = 0, nul_odd = 0;
+    for (size_t i = 0; i < n; i++)
+        if (text[i] == '\0')
+            (i % 2 ? nul_odd : nul_even)++;
+    size_t half = n / 2;
+    return half > 0 && ((nul_even * 10 >= half * 8 && nul_odd * 10 < half) ||
+                        (nul_odd * 10 >= half * 8 && nul_even * 10 < half));
+}
+
+/* Refuses what is not 8-bit text; returns in *start how many leading bytes to skip (a BOM). */
+bool check_encoding(const char *path, const std::string &text, size_t *start, vkrt_error *err)
+{
+    *start = 0;
+    const unsigned char *u = reinterpret_cast<const unsigned char *>(text.data());
+    bool bom16 = text.size() >= 2 && ((u[0] == 0xFE && u[1] == 0xFF) || (u[0] == 0xFF && u[1] == 0xFE));
+    if (bom16 || looks_like_bomless_utf16(text))
+        return vkrt_error_set(err, "%s: looks like UTF-16 text; save it as UTF-8", path);
+    /* A NUL would silently cut a line short in tinyobjloader (it parses C strings). */
+    if (memchr(text.data(), '\0', text.size()))
+        return vkrt_error_set(err, "%s: not a text file (contains NUL bytes)", path);
+    if (text.size() >= 3 && u[0] == 0xEF && u[1] == 0xBB && u[2] == 0xBF)
+        *start = 3;
+    return true;
+}
+
+/* Read-only std::streambuf over bytes in memory, so tinyobjloader parses the very bytes we
+ * scanned without a second copy. */
+class MemoryBuffer : public std::streambuf {
+public:
+    explicit MemoryBuffer(const std::string &s) : MemoryBuffer(s.data(), s.size()) {}
+    MemoryBuffer(const char *data, size_t size)
+    {
+        char *p = const_cast<char *>(data); /* only read through the get area */
+        setg(p, p, p + size);
+    }
+};
+
+/* -------------------------------------------------------------------------- line walking */
+
+struct Span {
+    const char *b, *e;
+    size_t len() const { return static_cast<size_t>(e - b); }
+};
+
+/* Splits text into lines the way tinyobjloader's safeGetline does: "\n", "\r\n" and "\r" all end
+ * a line, so our line numbers are the ones its own messages use. */
+struct LineWalker {
+    const char *p, *end;
+    uint32_t number = 0;
+
+    LineWalker(const char *b, const char *e) : p(b), end(e) {}
+
+    bool next(Span *line)
+    {
+        if (p >= end)
+            return false;
+        line->b = p;
+        while (p < end && *p != '\n' && *p != '\r')
+            p++;
+        line->e = p;
+        if (p < end) {
+            char ending = *p++;
+            if (ending == '\r' && p < end && *p == '\n')
+                p++;
+        }
+        number++;
+        return true;
+    }
+};
+
+bool is_blank(char c) { return c == ' ' || c == '\t'; }
+
+/* Next blank-separated token of *rest, or false at the end of the line. */
+bool next_token(Span *rest, Span *token)
+{
+    while (rest->b < rest->e && is_blank(*rest->b))
+        rest->b++;
+    if (rest->b >= rest->e)
+        return false;
+    token->b = rest->b;
+    while (rest->b < rest->e && !is_blank(*rest->b))
+        rest->b++;
+    token->e = rest->b;
+    return true;
+}
+
+/* The record keyword, as tinyobjloader matches it: the word followed by a blank. */
+bool has_keyword(const Span &line, const char *word)
+{
+    size_t n = strlen(word);
+    return line.len() > n && memcmp(line.b, word, n) == 0 && is_blank(line.b[n]);
+}
+
+/* --------------------------------------------------------------------------------- numbers */
+
+enum class Number { ok, not_finite, invalid };
+
+/* Plain decimal as tinyobjloader understands it: [sign] (digits[.digits*] | .digits) [e[sign]digits].
+ * strtod alone would also take hex, "nan" and "inf", which tinyobjloader reads as 0. */
+bool is_plain_decimal(const Span &t)
+{
+    const char *p = t.b, *e = t.e;
+    if (p < e && (*p == '+' || *p == '-'))
+        p++;
+    size_t int_digits = 0, frac_digits = 0;
+    while (p < e && *p >= '0' && *p <= '9')
+        p++, int_digits++;
+    if (p < e && *p == '.') {
+        p++;
+        while (p < e && *p >= '0' && *p <= '9')
+            p++, frac_digits++;
+    }
+    if (int_digits + frac_digits == 0)
+        return false;
+    if (p < e && (*p == 'e' || *p == 'E')) {
+        p++;
+        if (p < e && (*p == '+' || *p == '-'))
+            p++;
+        size_t exp_digits = 0;
+        while (p < e && *p >= '0' && *p <= '9')
+            p++, exp_digits++;
+        if (exp_digits == 0)
+            return false;
+    }
+    return p == e;
+}
+
+bool names_non_finite(const Span &t)
+{
+    std::string s(t.b, t.e);
+    char *end = nullptr;
+    double v = strtod(s.c_str(), &end);
+    if (end && *end == '\0' && !std::isfinite(v))
+        return true; /* nan, -nan, inf, infinity */
+    for (char &c : s)
+        c = static_cast<char>(toupper(static_cast<unsigned char>(c)));
+    return s.find("#IND") != std::string::npos || s.find("#INF") != std::string::npos ||
+           s.find("#QNAN") != std::string::npos; /* MSVC's printf of nan/inf */
+}
+
+Number classify_number(const Span &t)
+{
+    if (!is_plain_decimal(t))
+        return names_non_finite(t) ? Number::not_finite : Number::invalid;
+    std::string s(t.b, t.e);
+    double v = strtod(s.c_str(), nullptr); /* overflow (1e999) gives HUGE_VAL */
+    if (!std::isfinite(v) || std::fabs(v) > FLT_MAX)
+        return Number::not_finite; /* a float is what reaches the GPU */
+    return Number::ok;
+}
+
+/* ------------------------------------------------------------------------------- pre-scan */
+
+/* One f record that tinyobjloader keeps (3 or more corners). */
+struct FaceLine {
+    size_t offset;      /* of the line in the text, to quote an index in a message */
+    uint32_t line;
+    uint32_t corners;
+    uint32_t v_before, vt_before, vn_before; /* records seen before it: relative indices count back */
+};
+
+struct ObjScan {
+    std::vector<uint32_t> v_line, vt_line, vn_line; /* line of each record, by index */
+    std::vector<char> vn_usable;                    /* the vn record holds three finite numbers */
+    std::vector<FaceLine> faces;
+    size_t unusable_normals = 0;
+};
+
+bool fail_number(const char *path, uint32_t line, const char *what, Number kind, const Span &t,
+                 vkrt_error *err)
+{
+    int n = static_cast<int>(t.len() < QUOTE_MAX ? t.len() : QUOTE_MAX);
+    if (kind == Number::not_finite)
+        return vkrt_error_set(err, "%s:%u: %s is not finite (%.*s)", path, line, what, n, t.b);
+    return vkrt_error_set(err, "%s:%u: %s '%.*s' is not a number", path, line, what, n, t.b);
+}
+
+bool scan_vertex(const char *path, uint32_t line, Span rest, vkrt_error *err)
+{
+    Span t;
+    for (int i = 0; i < 3; i++) {
+        if (!next_token(&rest, &t))
+            return vkrt_error_set(err, "%s:%u: vertex has %d coordinates, needs 3", path, line, i);
+        Number kind = classify_number(t);
+        if (kind != Number::ok)
+            return fail_number(path, line, "vertex coordinate", kind, t, err);
+    }
+    return true;
+}
+
+bool scan_texcoord(const char *path, uint32_t line, Span rest, vkrt_error *err)
+{
+    Span t;
+    for (int i = 0; i < 2 && next_token(&rest, &t); i++) {
+        Number kind = classify_number(t);
+        if (kind != Number::ok)
+            return fail_number(path, line, "texture coordinate", kind, t, err);
+    }
+    return true;
+}
+
+bool normal_is_usable(Span rest)
+{
+    Span t;
+    for (int i = 0; i < 3; i++)
+        if (!next_token(&rest, &t) || classify_number(t) != Number::ok)
+            return false;
+    return true;
+}
+
+uint32_t count_tokens(Span rest)
+{
+    uint32_t n = 0;
+    Span t;
+    while (next_token(&rest, &t))
+        n++;
+    return n;
+}
+
+/* Classifies one line (leading blanks already skipped) and records what it is. */
+bool scan_line(const char *path, const std::string &text, uint32_t number, Span line, ObjScan *scan,
+               vkrt_error *err)
+{
+    if (has_keyword(line, "v")) {
+        scan->v_line.push_back(number);
+        return scan_vertex(path, number, Span{line.b + 2, line.e}, err);
+    }
+    if (has_keyword(line, "vt")) {
+        scan->vt_line.push_back(number);
+        return scan_texcoord(path, number, Span{line.b + 3, line.e}, err);
+    }
+    if (has_keyword(line, "vn")) {
+        scan->vn_line.push_back(number);
+        bool usable = normal_is_usable(Span{line.b + 3, line.e});
+        scan->vn_usable.push_back(usable);
+        scan->unusable_normals += !usable;
+        return true;
+    }
+    if (has_keyword(line, "f")) {
+        uint32_t corners = count_tokens(Span{line.b + 2, line.e});
+        if (corners >= 3) /* tinyobjloader drops shorter faces with a warning */
+            scan->faces.push_back(FaceLine{static_cast<size_t>(line.b - text.data()), number, corners,
+                                           static_cast<uint32_t>(scan->v_line.size()),
+                                           static_cast<uint32_t>(scan->vt_line.size()),
+                                           static_cast<uint32_t>(scan->vn_line.size())});
+    }
+    return true;
+}
+
+bool prescan(const char *path, const std::string &text, size_t start, ObjScan *scan, vkrt_error *err)
+{
+    LineWalker walker(text.data() + start, text.data() + text.size());
+    Span line;
+    while (walker.next(&line)) {
+        while (line.b < line.e && is_blank(*line.b))
+            line.b++;
+        if (!scan_line(path, text, walker.number, line, scan, err))
+            return false;
+    }
+    return true;
+}
+
+/* ------------------------------------------------------------------------------ materials */
+
+bool file_exists(const std::string &path)
+{
+    struct stat st;
+    return stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+}
+
+std::string folder_of(const std::string &path)
+{
+    size_t slash = path.find_last_of('/');
+    return slash == std::string::npos ? std::string() : path.substr(0, slash);
+}
+
+std::string join_path(const std::string &folder, const std::string &name)
+{
+    if (folder.empty() || name.empty() || name[0] == '/')
+        return name;
+    return folder + "/" + name;
+}
+
+/* Which fields a material's .mtl block set, so absent ones get obj_load.h's defaults. */
+struct MtlOrigin {
+    std::string folder; /* of the .mtl that defined it */
+    bool kd = true, ks = true, ke = true, ns = true, ni = true, d = true, illum = true;
+};
+
+/* Mirrors tinyobj::LoadMtl's line handling to see which keywords each material block has. The
+ * blocks line up with the materials LoadMtl pushes: one per named newmtl, plus the last one. */
+std::vector<MtlOrigin> scan_mtl_fields(const std::string &text, const std::string &folder)
+{
+    std::vector<MtlOrigin> out;
+    MtlOrigin cur;
+    bool named = false;
+    auto none = [&folder]() {
+        MtlOrigin m;
+        m.folder = folder;
+        m.kd = m.ks = m.ke = m.ns = m.ni = m.d = m.illum = false;
+        return m;
+    };
+    cur = none();
+    LineWalker walker(text.data(), text.data() + text.size());
+    Span line;
+    while (walker.next(&line)) {
+        while (line.e > line.b && is_blank(line.e[-1]))
+            line.e--;
+        while (line.b < line.e && is_blank(*line.b))
+            line.b++;
+        if (has_keyword(line, "newmtl")) {
+            if (named)
+                out.push_back(cur);
+            cur = none();
+            named = line.len() > 7;
+            continue;
+        }
+        cur.kd |= has_keyword(line, "Kd");
+        cur.ks |= has_keyword(line, "Ks");
+        cur.ke |= has_keyword(line, "Ke");
+        cur.ns |= has_keyword(line, "Ns");
+        cur.ni |= has_keyword(line, "Ni");
+        cur.d |= has_keyword(line, "d") || has_keyword(line, "Tr");
+        cur.illum |= has_keyword(line, "illum");
+    }
+    out.push_back(cur);
+    return out;
+}
+
+/* Loads each mtllib file relative to the OBJ's folder (not tinyobjloader's MaterialFileReader, which
+ * splits its base folder at ':' and does not say which file a material came from). */
+class MtlReader : public tinyobj::MaterialReader {
+public:
+    explicit MtlReader(std::string obj_folder) : obj_folder_(std::move(obj_folder)) {}
+
+    std::vector<MtlOrigin> origins; /* parallel to the materials vector */
+
+    bool operator()(const std::string &name, std::vector<tinyobj::material_t> *materials,
+                    std::map<std::string, int> *material_map, std::string *warn, std::string *err) override
+    {
+        std::string path = join_path(obj_folder_, name);
+        std::string text;
+        if (!file_exists(path) || !read_whole_file(path.c_str(), &text, nullptr)) {
+            if (warn)
+                *warn += "material file " + path + " not found\n";
+            return false;
+        }
+        std::vector<MtlOrigin> fields = scan_mtl_fields(text, folder_of(path));
+        size_t before = materials->size();
+        MemoryBuffer buffer(text);
+        std::istream stream(&buffer);
+        std::string mtl_warn; /* LoadMtl assigns, not appends, to its warning string */
+        tinyobj::LoadMtl(material_map, materials, &stream, &mtl_warn, err);
+        if (warn)
+            *warn += mtl_warn;
+        size_t added = materials->size() - before;
+        if (fields.size() != added) /* our mirror disagreed: trust all of tinyobjloader's values */
+            fields.assign(added, MtlOrigin{folder_of(path)});
+        origins.insert(origins.end(), fields.begin(), fields.end());
+        return true;
+    }
+
+private:
+    std::string obj_folder_;
+};
+
+char *copy_string(const std::string &s)
+{
+    char *out = static_cast<char *>(malloc(s.size() + 1));
+    if (!out)
+        throw std::bad_alloc();
+    memcpy(out, s.c_str(), s.size() + 1);
+    return out;
+}
+
+/* Windows exporters write ".\tex.jpg"; the file is found relative to the .mtl, or the OBJ. */
+std::string resolve_texture(std::string name, const std::string &mtl_folder, const std::string &obj_folder)
+{
+    for (char &c : name)
+        if (c == '\\')
+            c = '/';
+    std::string beside_mtl = join_path(mtl_folder, name);
+    if (!file_exists(beside_mtl) && mtl_folder != obj_folder && file_exists(join_path(obj_folder, name)))
+        return join_path(obj_folder, name);
+    return beside_mtl;
+}
+
+/* Non-finite .mtl values (tinyobjloader reads "1e999" as inf) fall back to the default. */
+float finite_or(float v, float fallback) { return std::isfinite(v) ? v : fallback; }
+
+void copy3(float dst[3], const float src[3], bool present, float fallback)
+{
+    for (int i = 0; i < 3; i++)
+        dst[i] = present ? finite_or(src[i], fallback) : fallback;
+}
+
+void convert_material(const tinyobj::material_t &m, const MtlOrigin &o, const std::string &obj_folder,
+                      vkrt_mtl *out)
+{
+    copy3(out->kd, m.diffuse, o.kd, 0.8f);
+    copy3(out->ks, m.specular, o.ks, 0.0f);
+    copy3(out->ke, m.emission, o.ke, 0.0f);
+    out->ns = o.ns ? finite_or(m.shininess, 0.0f) : 0.0f;
+    out->ni = o.ni ? finite_or(m.ior, 1.0f) : 1.0f;
+    out->d = o.d ? finite_or(m.dissolve, 1.0f) : 1.0f;
+    out->illum = o.illum ? m.illum : 2;
+    out->name = copy_string(m.name);
+    if (!m.diffuse_texname.empty())
+        out->map_kd = copy_string(resolve_texture(m.diffuse_texname, o.folder, obj_folder));
+}
+
+void convert_materials(const std::vector<tinyobj::material_t> &materials, const MtlReader &reader,
+                       const std::string &obj_folder, vkrt_mesh *mesh)
+{
+    if (materials.empty())
+        return;
+    mesh->materials = static_cast<vkrt_mtl *>(calloc(materials.size(), sizeof(vkrt_mtl)));
+    if (!mesh->materials)
+        throw std::bad_alloc();
+    mesh->material_count = static_cast<uint32_t>(materials.size());
+    for (size_t i = 0; i < materials.size(); i++) {
+        MtlOrigin origin = i < reader.origins.size() ? reader.origins[i] : MtlOrigin{obj_folder};
+        convert_material(materials[i], origin, obj_folder, &mesh->materials[i]);
+    }
+}
+
+/* ---------------------------------------------------------------------------- validation */
+
+struct Parsed {
+    tinyobj::attrib_t attrib;
+    std::vector<tinyobj::shape_t> shapes;
+    std::vector<tinyobj::material_t> materials;
+};
+
+/* One polygon after validation: its corners in tinyobjloader's index array. */
+struct Face {
+    const tinyobj::index_t *corners;
+    uint32_t count;
+    int32_t material;
+};
+
+/* The text of one index as written, for messages: corner `corner` of the f line, part 0/1/2. */
+std::string written_index(const std::string &text, const FaceLine &face, uint32_t corner, int part)
+{
+    LineWalker walker(text.data() + face.offset, text.data() + text.size());
+    Span line, token;
+    walker.next(&line);
+    while (line.b < line.e && is_blank(*line.b))
+        line.b++;
+    Span rest{line.b + 1, line.e};
+    for (uint32_t i = 0; i <= corner; i++)
+        if (!next_token(&rest, &token))
+            return "?";
+    std::string s(token.b, token.e);
+    for (int i = 0; i < part; i++) {
+        size_t slash = s.find('/');
+        s = slash == std::string::npos ? std::string() : s.substr(slash + 1);
+    }
+    s = s.substr(0, s.find('/'));
+    return s.size() > QUOTE_MAX ? s.substr(0, QUOTE_MAX) + "..." : s;
+}
+
+struct IndexKind {
+    const char *what;  /* "face index" */
+    const char *units; /* "vertices" */
+    int part;          /* position in v/vt/vn */
+};
+
+const IndexKind VERTEX_INDEX = {"face index", "vertices", 0};
+const IndexKind TEXCOORD_INDEX = {"face texture coordinate index", "texture coordinates", 1};
+const IndexKind NORMAL_INDEX = {"face normal index", "normals", 2};
+
+bool fail_index(const char *path, const std::string &text, const FaceLine &face, uint32_t corner,
+                const IndexKind &kind, size_t total, uint32_t before, vkrt_error *err)
+{
+    std::string n = written_index(text, face, corner, kind.part);
+    if (!n.empty() && n[0] == '-')
+        return vkrt_error_set(err, "%s:%u: %s %s out of range (only %u %s before this line)", path,
+                              face.line, kind.what, n.c_str(), before, kind.units);
+    return vkrt_error_set(err, "%s:%u: %s %s out of range (file has %zu %s)", path, face.line,
+                          kind.what, n.c_str(), total, kind.units);
+}
+
+/* tinyobjloader writes -1 for "not given"; a relative index resolving to exactly -1 looks the same
+ * and is taken as absent (it cannot be told apart in rc10's output). */
+bool index_ok(int index, size_t count, bool optional)
+{
+    if (index == -1 && optional)
+        return true;
+    return index >= 0 && static_cast<size_t>(index) < count;
+}
+
+bool validate_face(const char *path, const std::string &text, const Parsed &p, const FaceLine &face, const tinyobj::index_t *corners, vkrt_error *err)
+{
+    size_t nv = p.attrib.vertices.size() / 3, nt = p.attrib.texcoords.size() / 2,
+           nn = p.attrib.normals.size() / 3;
+    for (uint32_t c = 0; c < face.corners; c++) {
+        if (!index_ok(corners[c].vertex_index, nv, false))
+            return fail_index(path, text, face, c, VERTEX_INDEX, nv, face.v_before, err);
+        if (!index_ok(corners[c].texcoord_index, nt, true))
+            return fail_index(path, text, face, c, TEXCOORD_INDEX, nt, face.vt_before, err);
+        if (!index_ok(corners[c].normal_index, nn, true))
+            return fail_index(path, text, face, c, NORMAL_INDEX, nn, face.vn_before, err);
+    }
+    return true;
+}
+
+bool mismatch(const char *path, const char *what, vkrt_error *err)
+{
+    return vkrt_error_set(err, "%s: cannot load: tinyobjloader and the line scan disagree on %s", path, what);
+}
+
+/* Pairs tinyobjloader's faces (all shapes, in file order) with the scanned f lines and validates
+ * every index. The scanned corner count is authoritative: rc10 stores it in an unsigned char. */
+bool collect_faces(const char *path, const std::string &text, const Parsed &p, const ObjScan &scan,
+                   std::vector<Face> *faces, vkrt_error *err)
+{
+    size_t k = 0;
+    for (const tinyobj::shape_t &shape : p.shapes) {
+        const tinyobj::mesh_t &m = shape.mesh;
+        size_t offset = 0;
+        for (size_t f = 0; f < m.num_face_vertices.size(); f++, k++) {
+            if (k >= scan.faces.size() || (scan.faces[k].corners & 0xFFu) != m.num_face_vertices[f])
+                return mismatch(path, "the faces", err);
+            const FaceLine &face = scan.faces[k];
+            if (face.corners > m.indices.size() - offset)
+                return mismatch(path, "the face sizes", err);
+            if (!validate_face(path, text, p, face, &m.indices[offset], err))
+                return false;
+            int mat = f < m.material_ids.size() ? m.material_ids[f] : -1;
+            if (mat < 0 || static_cast<size_t>(mat) >= p.materials.size())
+                mat = -1;
+            faces->push_back(Face{&m.indices[offset], face.corners, mat});
+            offset += face.corners;
+        }
+        if (offset != m.indices.size())
+            return mismatch(path, "the face sizes", err);
+    }
+    if (k != scan.faces.size())
+        return mismatch(path, "the number of faces", err);
+    return true;
+}
+
+/* A file with no vn (or no vt) records at all whose faces still name some has evidently had them
+ * stripped (tinyobjloader's own catmark_torus_creases0.obj does this): those references are dropped
+ * with a warning rather than refusing the file. Where records exist, a bad index stays an error. */
+void drop_references_to_absent_attributes(Parsed *p, std::string *warnings)
+{
+    bool no_normals = p->attrib.normals.empty(), no_texcoords = p->attrib.texcoords.empty();
+    size_t dropped_normals = 0, dropped_texcoords = 0;
+    for (tinyobj::shape_t &shape : p->shapes)
+        for (tinyobj::index_t &corner : shape.mesh.indices) {
+            if (no_normals && corner.normal_index != -1)
+                corner.normal_index = -1, dropped_normals++;
+            if (no_texcoords && corner.texcoord_index != -1)
+                corner.texcoord_index = -1, dropped_texcoords++;
+        }
+    if (dropped_normals)
+        *warnings += "faces name normals but the file has no vn records; normals ignored\n";
+    if (dropped_texcoords)
+        *warnings += "faces name texture coordinates but the file has no vt records; ignored\n";
+}
+
+/* tinyobjloader's own number parser may overflow a float even where ours did not (it is not
+ * correctly rounded), so the values it produced are checked too. */
+bool check_parsed_values(const char *path, const Parsed &p, const ObjScan &scan, vkrt_error *err)
+{
+    if (p.attrib.vertices.size() / 3 != scan.v_line.size() || p.attrib.texcoords.size() / 2 != scan.vt_line.size() ||
+        p.attrib.normals.size() / 3 != scan.vn_line.size())
+        return mismatch(path, "the number of v/vt/vn records", err);
+    for (size_t i = 0; i < p.attrib.vertices.size(); i++)
+        if (!std::isfinite(p.attrib.vertices[i]))
+            return vkrt_error_set(err, "%s:%u: vertex coordinate is not finite", path, scan.v_line[i / 3]);
+    for (size_t i = 0; i < p.attrib.texcoords.size(); i++)
+        if (!std::isfinite(p.attrib.texcoords[i]))
+            return vkrt_error_set(err, "%s:%u: texture coordinate is not finite", path, scan.vt_line[i / 2]);
+    return true;
+}
+
+/* ------------------------------------------------------------------------------- output */
+
+struct Vec3 {
+    double x, y, z;
+};
+
+Vec3 vertex_at(const Parsed &p, int i)
+{
+    const float *v = &p.attrib.vertices[3 * static_cast<size_t>(i)];
+    return Vec3{v[0], v[1], v[2]};
+}
+
+/* Unit vector, or +Z when v has no direction (degenerate triangle, zero normal): never NaN.
+ * Doubles keep the cross product of large float coordinates from overflowing. */
+Vec3 normalized_or_z(Vec3 v)
+{
+    double len = std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
+    if (!(len > 0.0) || !std::isfinite(len))
+        return Vec3{0.0, 0.0, 1.0};
+    return Vec3{v.x / len, v.y / len, v.z / len};
+}
+
+Vec3 geometric_normal(const Vec3 &a, const Vec3 &b, const Vec3 &c)
+{
+    Vec3 e1{b.x - a.x, b.y - a.y, b.z - a.z}, e2{c.x - a.x, c.y - a.y, c.z - a.z};
+    return normalized_or_z(Vec3{e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z, e1.x * e2.y - e1.y * e2.x});
+}
+
+/* The file's normal for a corner, if it has a usable one. */
+bool file_normal(const Parsed &p, const ObjScan &scan, const tinyobj::index_t &corner, Vec3 *out)
+{
+    int i = corner.normal_index;
+    if (i < 0 || !scan.vn_usable[static_cast<size_t>(i)])
+        return false;
+    const float *n = &p.attrib.normals[3 * static_cast<size_t>(i)];
+    Vec3 v{n[0], n[1], n[2]};
+    double len2 = v.x * v.x + v.y * v.y + v.z * v.z;
+    if (!(len2 > 0.0) || !std::isfinite(len2))
+        return false;
+    *out = normalized_or_z(v);
+    return true;
+}
+
+void store3(float *dst, const Vec3 &v)
+{
+    dst[0] = static_cast<float>(v.x);
+    dst[1] = static_cast<float>(v.y);
+    dst[2] = static_cast<float>(v.z);
+}
+
+struct OutputPlan {
+    size_t triangles = 0;
+    bool any_normals = false, any_texcoords = false;
+};
+
+OutputPlan plan_output(const std::vector<Face> &faces)
+{
+    OutputPlan plan;
+    for (const Face &f : faces) {
+        plan.triangles += f.count - 2;
+        for (uint32_t c = 0; c < f.count; c++) {
+            plan.any_normals |= f.corners[c].normal_index >= 0;
+            plan.any_texcoords |= f.corners[c].texcoord_index >= 0;
+        }
+    }
+    return plan;
+}
+
+void *checked_alloc(size_t count, size_t size)
+{
+    void *p = calloc(count, size);
+    if (!p)
+        throw std::bad_alloc();
+    return p;
+}
+
+void allocate_output(const OutputPlan &plan, vkrt_mesh *mesh)
+{
+    size_t n = plan.triangles;
+    mesh->positions = static_cast<float *>(checked_alloc(n * 9, sizeof(float)));
+    mesh->material = static_cast<int32_t *>(checked_alloc(n, sizeof(int32_t)));
+    if (plan.any_normals)
+        mesh->normals = static_cast<float *>(checked_alloc(n * 9, sizeof(float)));
+    if (plan.any_texcoords)
+        mesh->texcoords = static_cast<float *>(checked_alloc(n * 6, sizeof(float)));
+}
+
+/* Writes triangle t from three corners; returns whether it needed the geometric normal although
+ * the file gave normals to some of its corners. */
+bool write_triangle(const Parsed &p, const ObjScan &scan, const tinyobj::index_t *tri[3], int32_t material,
+                    size_t t, vkrt_mesh *mesh)
+{
+    Vec3 pos[3];
+    for (int k = 0; k < 3; k++) {
+        pos[k] = vertex_at(p, tri[k]->vertex_index);
+        store3(&mesh->positions[9 * t + 3 * k], pos[k]);
+    }
+    mesh->material[t] = material;
+    if (mesh->texcoords)
+        for (int k = 0; k < 3; k++) {
+            int i = tri[k]->texcoord_index;
+            for (int j = 0; j < 2; j++)
+                mesh->texcoords[6 * t + 2 * k + j] = i >= 0 ? p.attrib.texcoords[2 * static_cast<size_t>(i) + j] : 0.0f;
+        }
+    if (!mesh->normals)
+        return false;
+    Vec3 n[3];
+    bool all = file_normal(p, scan, *tri[0], &n[0]) && file_normal(p, scan, *tri[1], &n[1]) &&
+               file_normal(p, scan, *tri[2], &n[2]);
+    bool some = tri[0]->normal_index >= 0 || tri[1]->normal_index >= 0 || tri[2]->normal_index >= 0;
+    if (!all)
+        n[0] = n[1] = n[2] = geometric_normal(pos[0], pos[1], pos[2]);
+    for (int k = 0; k < 3; k++)
+        store3(&mesh->normals[9 * t + 3 * k], n[k]);
+    return !all && some;
+}
+
+void compute_bounds(vkrt_mesh *mesh)
+{
+    for (int a = 0; a < 3; a++) {
+        mesh->bounds_min[a] = mesh->positions[a];
+        mesh->bounds_max[a] = mesh->positions[a];
+    }
+    for (size_t i = 0; i < static_cast<size_t>(mesh->triangle_count) * 3; i++)
+        for (int a = 0; a < 3; a++) {
+            float v = mesh->positions[3 * i + a];
+            mesh->bounds_min[a] = v < mesh->bounds_min[a] ? v : mesh->bounds_min[a];
+            mesh->bounds_max[a] = v > mesh->bounds_max[a] ? v : mesh->bounds_max[a];
+        }
+}
+
+/* Fans every face (v0, vi, vi+1) into the output arrays; returns the triangles given the
+ * geometric normal in place of an unusable file normal. */
+size_t write_triangles(const Parsed &p, const ObjScan &scan, const std::vector<Face> &faces, vkrt_mesh *mesh)
+{
+    size_t t = 0, replaced = 0;
+    for (const Face &f : faces)
+        for (uint32_t i = 1; i + 1 < f.count; i++, t++) {
+            const tinyobj::index_t *tri[3] = {&f.corners[0], &f.corners[i], &f.corners[i + 1]};
+            replaced += write_triangle(p, scan, tri, f.material, t, mesh);
+        }
+    return replaced;
+}
+
+/* ------------------------------------------------------------------------------ warnings */
+
+/* Keeps whole distinct lines while they fit (tinyobjloader repeats one warning per face, and
+ * writes "Degenerated face found\n." so a lone "." line is dropped). */
+void set_warnings(const std::string &all, vkrt_mesh *mesh)
+{
+    std::string out;
+    std::vector<std::string> seen;
+    size_t pos = 0;
+    while (pos < all.size()) {
+        size_t nl = all.find('\n', pos);
+        std::string line = all.substr(pos, nl == std::string::npos ? std::string::npos : nl - pos);
+        pos = nl == std::string::npos ? all.size() : nl + 1;
+        if (line.empty() || line == "." || std::find(seen.begin(), seen.end(), line) != seen.end())
+            continue;
+        seen.push_back(line);
+        std::string next = out.empty() ? line : out + "\n" + line;
+        if (next.size() >= sizeof mesh->warnings) {
+            if (out.empty())
+                out = line.substr(0, sizeof mesh->warnings - 1);
+            break;
+        }
+        out = next;
+    }
+    memcpy(mesh->warnings, out.c_str(), out.size() + 1);
+}
+
+/* ---------------------------------------------------------------------------- the load */
+
+/* tinyobjloader's message is one or more "...\n" lines; the first one is the cause. */
+bool fail_tinyobj(const char *path, const std::string &message, vkrt_error *err)
+{
+    std::string first = message.substr(0, message.find('\n'));
+    if (first.empty())
+        first = "tinyobjloader could not parse the file";
+    return vkrt_error_set(err, "%s: %s", path, first.c_str());
+}
+
+bool parse_with_tinyobj(const char *path, const std::string &text, size_t start, Parsed *p, MtlReader *reader,
+                        std::string *warnings, vkrt_error *err)
+{
+    MemoryBuffer buffer(text.data() + start, text.size() - start);
+    std::istream stream(&buffer);
+    std::string tiny_err;
+    bool ok = tinyobj::LoadObj(&p->attrib, &p->shapes, &p->materials, warnings, &tiny_err, &stream, reader,
+                               /*triangulate=*/false, /*default_vcols_fallback=*/false);
+    if (!ok || !tiny_err.empty())
+        return fail_tinyobj(path, tiny_err, err);
+    return true;
+}
+
+bool load(const char *path, vkrt_mesh *mesh, vkrt_error *err)
+{
+    std::string text;
+    size_t start = 0;
+    ObjScan scan;
+    if (!read_whole_file(path, &text, err) || !check_encoding(path, text, &start, err) ||
+        !prescan(path, text, start, &scan, err))
+        return false;
+
+    std::string obj_folder = folder_of(path), warnings;
+    MtlReader reader(obj_folder);
+    Parsed p;
+    std::vector<Face> faces;
+    if (!parse_with_tinyobj(path, text, start, &p, &reader, &warnings, err) ||
+        !check_parsed_values(path, p, scan, err))
+        return false;
+    drop_references_to_absent_attributes(&p, &warnings);
+    if (!collect_faces(path, text, p, scan, &faces, err))
+        return false;
+
+    OutputPlan plan = plan_output(faces);
+    if (plan.triangles == 0)
+        return vkrt_error_set(err, "%s: no triangles", path);
+    if (plan.triangles > UINT32_MAX / 9) /* 9 floats per triangle must stay addressable by uint32 */
+        return vkrt_error_set(err, "%s: too many triangles (%zu)", path, plan.triangles);
+
+    mesh->triangle_count = static_cast<uint32_t>(plan.triangles);
+    allocate_output(plan, mesh);
+    size_t replaced = write_triangles(p, scan, faces, mesh);
+    compute_bounds(mesh);
+    convert_materials(p.materials, reader, obj_folder, mesh);
+    if (replaced)
+        warnings += std::to_string(replaced) +
+                    " triangles had an unusable normal (not finite or zero); used the geometric normal\n";
+    set_warnings(warnings, mesh);
+    return true;
+}
+
+} // namespace
+
+extern "C" bool vkrt_obj_load(const char *path, vkrt_mesh *mesh, vkrt_error *err)
+{
+    if (!mesh)
+        return vkrt_error_set(err, "%s: no mesh to load into", path ? path : "(null)");
+    memset(mesh, 0, sizeof *mesh);
+    if (!path)
+        return vkrt_error_set(err, "(null): no OBJ path given");
+    bool ok = false;
+    try {
+        ok = load(path, mesh, err);
+    } catch (const std::bad_alloc &) {
+        ok = vkrt_error_set(err, "%s: out of memory", path);
+    } catch (const std::exception &e) {
+        ok = vkrt_error_set(err, "%s: %s", path, e.what());
+    } catch (...) {
+        ok = vkrt_error_set(err, "%s: unexpected error while loading", path);
+    }
+    if (!ok)
+        vkrt_mesh_free(mesh);
+    return ok;
+}
+
+extern "C" void vkrt_mesh_free(vkrt_mesh *mesh)
+{
+    if (!mesh)
+        return;
+    free(mesh->positions);
+    free(mesh->normals);
+    free(mesh->texcoords);
+    free(mesh->material);
+    for (uint32_t i = 0; mesh->materials && i < mesh->material_count; i++) {
+        free(mesh->materials[i].name);
+        free(mesh->materials[i].map_kd);
+    }
+    free(mesh->materials);
+    memset(mesh, 0, sizeof *mesh);
+}

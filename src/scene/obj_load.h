@@ -1,0 +1,52 @@
+/*
+ * obj_load.h: Wavefront OBJ (and its .mtl) loading, through tinyobjloader.
+ *
+ * The one C++ file of the project (obj_load.cpp) wraps tinyobjloader behind this C interface.
+ * The result is de-indexed, one record per triangle corner, which is what the kernels read:
+ * polygons become triangle fans, negative indices are resolved, faces without normals get their
+ * geometric normal, and non-finite coordinates or out-of-range indices are errors naming the
+ * file and line.
+ */
+#ifndef VKRT_OBJ_LOAD_H
+#define VKRT_OBJ_LOAD_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "../error.h"
+
+/* One material of the .mtl, the fields vkrt reads. Absent fields keep the defaults in brackets. */
+typedef struct vkrt_mtl {
+    char *name;
+    float kd[3];   /* diffuse albedo [0.8 0.8 0.8] */
+    float ks[3];   /* specular [0 0 0] */
+    float ke[3];   /* emission [0 0 0] */
+    float ns;      /* Phong exponent [0] */
+    float ni;      /* index of refraction [1] */
+    float d;       /* opacity [1] */
+    int illum;     /* illumination model [2] */
+    char *map_kd;  /* diffuse texture path resolved against the .mtl's folder, or NULL */
+} vkrt_mtl;
+
+typedef struct vkrt_mesh {
+    uint32_t triangle_count;
+    float *positions;       /* 9 floats per triangle: v0 xyz, v1 xyz, v2 xyz; all finite */
+    float *normals;         /* 9 floats per triangle, unit length, or NULL if no face had normals;
+                               faces without normals in a file that has some get the geometric one */
+    float *texcoords;       /* 6 floats per triangle, or NULL if no face had texture coordinates */
+    int32_t *material;      /* per triangle: index into materials, or -1 for the default material */
+    vkrt_mtl *materials;
+    uint32_t material_count;
+    float bounds_min[3], bounds_max[3]; /* of all positions; zero when there are no triangles */
+    char warnings[1024];    /* tinyobjloader's warnings (missing .mtl, ...), first lines, or "" */
+} vkrt_mesh;
+
+/* Loads the OBJ at path with the .mtl files it names. On failure returns false with err set to
+ * "path:LINE: message" where a line is known ("path: message" otherwise) and *mesh left empty.
+ * A file with no triangles is an error. */
+bool vkrt_obj_load(const char *path, vkrt_mesh *mesh, vkrt_error *err);
+
+/* Frees what vkrt_obj_load allocated and zeroes *mesh. Safe on a zeroed struct. */
+void vkrt_mesh_free(vkrt_mesh *mesh);
+
+#endif

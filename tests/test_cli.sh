@@ -1,0 +1,78 @@
+#!/bin/sh
+# test_cli.sh: the vkrt program as a user meets it: help, version, a render to PNG and EXR, and
+# bad input (a broken scene.cfg, a missing OBJ, a broken OBJ) giving one line on stderr, a
+# non-zero exit and no output file. Run by meson test with VKRT_BINARY and VKRT_SOURCE_DIR set.
+set -u
+vkrt=${VKRT_BINARY:?}
+src=${VKRT_SOURCE_DIR:?}
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+failures=0
+passed=0
+
+check() { # check NAME CONDITION...: counts a pass or prints the failure
+    name=$1; shift
+    if "$@"; then passed=$((passed + 1)); else echo "FAIL: $name"; failures=$((failures + 1)); fi
+}
+
+"$vkrt" --help >"$tmp/help" 2>&1
+check "--help exits 0" test $? -eq 0
+check "--help mentions render" grep -q "vkrt render" "$tmp/help"
+"$vkrt" --version >"$tmp/version"
+check "--version prints the version" grep -q "^vkrt [0-9]" "$tmp/version"
+"$vkrt" --list-devices >"$tmp/devices"
+check "--list-devices lists device 0" grep -q "^0: " "$tmp/devices"
+"$vkrt" frobnicate 2>"$tmp/err"
+check "unknown command exits non-zero" test $? -ne 0
+
+# A real render, both formats, through the default scene with overrides.
+"$vkrt" render "$src/scenes/cornell/scene.cfg" --width 48 --height 32 --spp 2 -o "$tmp/c.png" 2>"$tmp/err"
+check "render to PNG exits 0" test $? -eq 0
+check "PNG written" test -s "$tmp/c.png"
+check "PNG has the PNG signature" sh -c "head -c 8 '$tmp/c.png' | od -An -c | grep -q 'P   N   G'"
+check "summary names rays per second" grep -q "Mrays/s" "$tmp/err"
+"$vkrt" render "$src/scenes/cornell/scene.cfg" --width 48 --height 32 --quiet -o "$tmp/c.exr" 2>"$tmp/err"
+check "render to EXR exits 0" test $? -eq 0
+check "EXR written" test -s "$tmp/c.exr"
+check "--quiet prints nothing" test ! -s "$tmp/err"
+check "no temporary files left" sh -c "! ls '$tmp' | grep -q tmp"
+
+# A flythrough: two cameras need a frame pattern, and get two numbered files.
+cat >"$tmp/fly.cfg" <<CFG
+geometry $src/scenes/cornell/cornell.obj
+resolution 16 16
+light point 278 500 279 250000 250000 250000
+camera eye 278 273 -800 look 278 273 0 up 0 1 0 fov 40
+camera eye 300 273 -800 look 278 273 0 up 0 1 0 fov 40
+output fly%02d.png
+CFG
+"$vkrt" render "$tmp/fly.cfg" --quiet
+check "flythrough exits 0" test $? -eq 0
+check "frame 0 written" test -s "$tmp/fly00.png"
+check "frame 1 written" test -s "$tmp/fly01.png"
+"$vkrt" render "$tmp/fly.cfg" -o "$tmp/single.png" 2>"$tmp/err"
+check "two cameras without a frame number is refused" test $? -ne 0
+check "and says why" grep -q "frame number" "$tmp/err"
+
+# Bad input: one line on stderr, non-zero exit, nothing written.
+expect_error() { # expect_error NAME CFG PATTERN
+    rm -f "$tmp/out.png"
+    "$vkrt" render "$2" -o "$tmp/out.png" 2>"$tmp/err"
+    status=$?
+    check "$1: non-zero exit" test $status -ne 0
+    check "$1: one line on stderr" test "$(wc -l <"$tmp/err")" -eq 1
+    check "$1: message matches '$3'" grep -q "$3" "$tmp/err"
+    check "$1: no output file" test ! -e "$tmp/out.png"
+    [ $status -ne 0 ] && grep -q "$3" "$tmp/err" || cat "$tmp/err"
+}
+printf 'geometry x.obj\nresolution 640 abc\ncamera eye 0 0 1 look 0 0 0 up 0 1 0 fov 40\n' >"$tmp/broken.cfg"
+expect_error "broken scene.cfg" "$tmp/broken.cfg" "broken.cfg:2:"
+printf 'geometry missing.obj\ncamera eye 0 0 1 look 0 0 0 up 0 1 0 fov 40\n' >"$tmp/missing.cfg"
+expect_error "missing OBJ" "$tmp/missing.cfg" "missing.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n' >"$tmp/broken.obj"
+printf 'geometry broken.obj\ncamera eye 0 0 1 look 0 0 0 up 0 1 0 fov 40\n' >"$tmp/brokenobj.cfg"
+expect_error "broken OBJ" "$tmp/brokenobj.cfg" "broken.obj:3:"
+expect_error "missing scene.cfg" "$tmp/nonexistent.cfg" "nonexistent.cfg"
+
+echo "$passed passed, $failures failed"
+[ $failures -eq 0 ]

@@ -1,0 +1,194 @@
+/*
+ * test_layout.c: the structs of glsl/shared.h have the same layout in C and in the kernels.
+ *
+ * A kernel writes a distinct value into every field of every shared struct, inside one std430
+ * block (and into the second element of arrays, to check strides); the host reads the block back
+ * through the C structs and checks that each field holds its value. A second kernel copies its
+ * push constants (FrameParams) into a buffer, which must match what the host pushed byte for
+ * byte. Any disagreement of offsets, sizes or alignment shows up as a wrong value.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "../glsl/shared.h"
+#include "gpu_fixture.h"
+
+typedef struct Probe {
+    Ray ray;
+    Hit hit;
+    Triangle triangle;
+    TriangleNormals normals;
+    Material material;
+    Light light;
+    FrameParams params;
+    Counters counters;
+    Hit hit_pair[2];
+    Ray ray_pair[2];
+} Probe;
+
+typedef enum { F32, U32, VEC4, UVEC4 } field_type;
+
+typedef struct field {
+    const char *glsl;   /* the field as the kernel names it */
+    size_t offset;      /* where C puts it */
+    field_type type;
+} field;
+
+#define FIELD(member, path, type) {#member "." #path, offsetof(Probe, member) + offsetof(__typeof__(((Probe *)0)->member), path), type}
+
+static const field fields[] = {
+    FIELD(ray, origin, VEC4), FIELD(ray, direction, VEC4), FIELD(ray, importance, VEC4),
+    FIELD(ray, info, UVEC4),
+    FIELD(hit, t, F32), FIELD(hit, u, F32), FIELD(hit, v, F32), FIELD(hit, triangle, U32),
+    FIELD(triangle, v0, VEC4), FIELD(triangle, v1, VEC4), FIELD(triangle, v2, VEC4),
+    FIELD(normals, n0, VEC4), FIELD(normals, n1, VEC4), FIELD(normals, n2, VEC4),
+    FIELD(material, diffuse, VEC4),
+    FIELD(light, position, VEC4), FIELD(light, direction, VEC4), FIELD(light, colour, VEC4),
+    FIELD(light, info, UVEC4),
+    FIELD(params, eye, VEC4), FIELD(params, right, VEC4), FIELD(params, up, VEC4),
+    FIELD(params, forward, VEC4), FIELD(params, environment, VEC4), FIELD(params, image, UVEC4),
+    FIELD(params, counts, UVEC4),
+    FIELD(counters, rays_traced, U32), FIELD(counters, pad0, U32), FIELD(counters, pad1, U32),
+    FIELD(counters, pad2, U32),
+    {"hit_pair[1].triangle", offsetof(Probe, hit_pair) + sizeof(Hit) + offsetof(Hit, triangle), U32},
+    {"hit_pair[1].t", offsetof(Probe, hit_pair) + sizeof(Hit) + offsetof(Hit, t), F32},
+    {"ray_pair[1].info", offsetof(Probe, ray_pair) + sizeof(Ray) + offsetof(Ray, info), UVEC4},
+    {"ray_pair[1].origin", offsetof(Probe, ray_pair) + sizeof(Ray) + offsetof(Ray, origin), VEC4},
+};
+static const size_t field_count = sizeof fields / sizeof *fields;
+
+/* Field k's components get the values 4k+1 .. 4k+4: distinct everywhere, exact as floats. */
+static char *probe_kernel(void)
+{
+    size_t cap = 16384, used = 0;
+    char *src = malloc(cap);
+    used += (size_t)snprintf(src + used, cap - used,
+                             "#include \"shared.h\"\n"
+                             "layout(local_size_x_id = 0) in;\n"
+                             "layout(std430, binding = 0) buffer Out {\n"
+                             "  Ray ray; Hit hit; Triangle triangle; TriangleNormals normals;\n"
+                             "  Material material; Light light; FrameParams params;\n"
+                             "  Counters counters; Hit hit_pair[2]; Ray ray_pair[2];\n"
+                             "};\n"
+                             "void main() {\n"
+                             "  if (gl_GlobalInvocationID.x != 0u) return;\n");
+    for (size_t k = 0; k < field_count; ++k) {
+        unsigned b = 4 * (unsigned)k;
+        const char *f = fields[k].glsl;
+        switch (fields[k].type) {
+        case F32: used += (size_t)snprintf(src + used, cap - used, "  %s = %u.0;\n", f, b + 1); break;
+        case U32: used += (size_t)snprintf(src + used, cap - used, "  %s = %uu;\n", f, b + 1); break;
+        case VEC4:
+            used += (size_t)snprintf(src + used, cap - used, "  %s = vec4(%u, %u, %u, %u);\n", f,
+                                     b + 1, b + 2, b + 3, b + 4);
+            break;
+        case UVEC4:
+            used += (size_t)snprintf(src + used, cap - used, "  %s = uvec4(%uu, %uu, %uu, %uu);\n",
+                                     f, b + 1, b + 2, b + 3, b + 4);
+            break;
+        }
+    }
+    snprintf(src + used, cap - used, "}\n");
+    return src;
+}
+
+static void test_buffer_layout(void **state)
+{
+    (void)state;
+    gpu_context ctx;
+    fixture_context_create(&ctx);
+    vkrt_error err = {{0}};
+    gpu_buffer buf;
+    assert_true(gpu_buffer_create(&ctx, &buf, sizeof(Probe), "probe", &err));
+    assert_true(gpu_buffer_zero(&ctx, &buf, &err));
+    char *src = probe_kernel();
+    fixture_run_kernel(&ctx, src, &buf, 1, NULL, 0, 1);
+    free(src);
+    Probe probe;
+    assert_true(gpu_buffer_download(&ctx, &buf, &probe, sizeof probe, &err));
+    const unsigned char *bytes = (const unsigned char *)&probe;
+    for (size_t k = 0; k < field_count; ++k) {
+        int components = fields[k].type == VEC4 || fields[k].type == UVEC4 ? 4 : 1;
+        bool is_float = fields[k].type == F32 || fields[k].type == VEC4;
+        for (int c = 0; c < components; ++c) {
+            unsigned expected = 4 * (unsigned)k + 1 + (unsigned)c;
+            const unsigned char *at = bytes + fields[k].offset + 4 * (size_t)c;
+            if (is_float) {
+                float value;
+                memcpy(&value, at, 4);
+                if (value != (float)expected)
+                    fail_msg("%s[%d]: C reads %g, the kernel wrote %u", fields[k].glsl, c,
+                             value, expected);
+            } else {
+                uint32_t value;
+                memcpy(&value, at, 4);
+                if (value != expected)
+                    fail_msg("%s[%d]: C reads %u, the kernel wrote %u", fields[k].glsl, c,
+                             value, expected);
+            }
+        }
+    }
+    gpu_buffer_destroy(&ctx, &buf);
+    fixture_context_destroy(&ctx);
+}
+
+static void test_push_constant_layout(void **state)
+{
+    (void)state;
+    gpu_context ctx;
+    fixture_context_create(&ctx);
+    vkrt_error err = {{0}};
+    FrameParams pushed;
+    float *words = (float *)&pushed;
+    for (size_t i = 0; i < sizeof pushed / 4; ++i)
+        words[i] = (float)(i + 1);
+    /* The uvec4 members hold integers, not float bit patterns: set them as such. */
+    pushed.image = (uvec4){101, 102, 103, 104};
+    pushed.counts = (uvec4){201, 202, 203, 204};
+    gpu_buffer buf;
+    assert_true(gpu_buffer_create(&ctx, &buf, sizeof(FrameParams), "params", &err));
+    assert_true(gpu_buffer_zero(&ctx, &buf, &err));
+    fixture_run_kernel(&ctx,
+                       "#include \"shared.h\"\n"
+                       "layout(local_size_x_id = 0) in;\n"
+                       "layout(push_constant) uniform Push { FrameParams frame; };\n"
+                       "layout(std430, binding = 0) buffer Out { FrameParams copy; };\n"
+                       "void main() { if (gl_GlobalInvocationID.x == 0u) copy = frame; }\n",
+                       &buf, 1, &pushed, sizeof pushed, 1);
+    FrameParams copied;
+    assert_true(gpu_buffer_download(&ctx, &buf, &copied, sizeof copied, &err));
+    assert_memory_equal(&pushed, &copied, sizeof pushed);
+    gpu_buffer_destroy(&ctx, &buf);
+    fixture_context_destroy(&ctx);
+}
+
+/* The host-side sizes the kernels rely on (std430 strides of arrays of these structs). */
+static void test_sizes(void **state)
+{
+    (void)state;
+    assert_int_equal(sizeof(Ray), 64);
+    assert_int_equal(sizeof(Hit), 16);
+    assert_int_equal(sizeof(Triangle), 48);
+    assert_int_equal(sizeof(TriangleNormals), 48);
+    assert_int_equal(sizeof(Material), 16);
+    assert_int_equal(sizeof(Light), 64);
+    assert_int_equal(sizeof(FrameParams), 112);
+    assert_true(sizeof(FrameParams) <= 128); /* the push constant size every device offers */
+    assert_int_equal(sizeof(Counters), 16);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_sizes),
+        cmocka_unit_test(test_buffer_layout),
+        cmocka_unit_test(test_push_constant_layout),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,631 @@
+/*
+ * test_obj.c: tests of the OBJ loader (src/scene/obj_load.h).
+ *
+ * Small OBJ/MTL files written to a temporary folder pin down the behaviour (fan order, negative
+ * indices, geometric normals, CRLF, errors with file:line, odd encodings, materials). Then the
+ * shared scenes, when $VKRT_SCENES_DIR is set: every .obj of the tinyobjloader and assimp parser
+ * suites must load or fail cleanly, with triangle counts matching their SOURCE.txt, and the
+ * Cornell box and the Stanford bunny must load whole.
+ */
+#define _XOPEN_SOURCE 700
+#include <dirent.h>
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cmocka.h>
+
+#include "scene/obj_load.h"
+
+/* ------------------------------------------------------------------------ helpers */
+
+typedef struct fixture {
+    char dir[64];
+    char path[512]; /* of the last file written */
+} fixture;
+
+static int make_dir(void **state)
+{
+    fixture *fx = calloc(1, sizeof *fx);
+    if (!fx)
+        return -1;
+    strcpy(fx->dir, "/tmp/vkrt_test_obj_XXXXXX");
+    if (!mkdtemp(fx->dir)) {
+        free(fx);
+        return -1;
+    }
+    *state = fx;
+    return 0;
+}
+
+/* The tests only write plain files into the folder, so one level of removal is enough. */
+static int remove_dir(void **state)
+{
+    fixture *fx = *state;
+    DIR *d = opendir(fx->dir);
+    struct dirent *e;
+    while (d && (e = readdir(d))) {
+        char p[600];
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) {
+            snprintf(p, sizeof p, "%s/%s", fx->dir, e->d_name);
+            unlink(p);
+        }
+    }
+    if (d)
+        closedir(d);
+    rmdir(fx->dir);
+    free(fx);
+    return 0;
+}
+
+/* Writes len bytes (strlen when len is 0) to dir/name; fx->path is left naming it. */
+static const char *write_file(fixture *fx, const char *name, const char *data, size_t len)
+{
+    snprintf(fx->path, sizeof fx->path, "%s/%s", fx->dir, name);
+    FILE *f = fopen(fx->path, "wb");
+    assert_non_null(f);
+    if (len == 0)
+        len = strlen(data);
+    assert_int_equal(fwrite(data, 1, len, f), len);
+    fclose(f);
+    return fx->path;
+}
+
+static void assert_close(float got, float want)
+{
+    if (fabsf(got - want) > 1e-5f)
+        fail_msg("got %g, want %g", (double)got, (double)want);
+}
+
+static void assert_vec3(const float *got, float x, float y, float z)
+{
+    assert_close(got[0], x);
+    assert_close(got[1], y);
+    assert_close(got[2], z);
+}
+
+/* Loads path, expecting failure whose message starts with "path" then `after` (e.g. ":3: vertex"). */
+static void assert_load_fails(const char *path, const char *after)
+{
+    vkrt_mesh mesh;
+    vkrt_error err = {{0}};
+    assert_false(vkrt_obj_load(path, &mesh, &err));
+    size_t n = strlen(path);
+    if (strncmp(err.msg, path, n) != 0 || strncmp(err.msg + n, after, strlen(after)) != 0)
+        fail_msg("error \"%s\" does not read \"%s%s...\"", err.msg, path, after);
+    assert_null(mesh.positions);
+    assert_int_equal(mesh.triangle_count, 0);
+}
+
+static vkrt_mesh load_ok(const char *path)
+{
+    vkrt_mesh mesh;
+    vkrt_error err = {{0}};
+    if (!vkrt_obj_load(path, &mesh, &err))
+        fail_msg("loading %s failed: %s", path, err.msg);
+    return mesh;
+}
+
+/* ------------------------------------------------------------------------ small files */
+
+static const char QUAD[] = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+
+static void quad_becomes_fan(void **state)
+{
+    vkrt_mesh m = load_ok(write_file(*state, "quad.obj", QUAD, 0));
+    assert_int_equal(m.triangle_count, 2);
+    /* fan: (v0 v1 v2), (v0 v2 v3) */
+    assert_vec3(&m.positions[0], 0, 0, 0);
+    assert_vec3(&m.positions[3], 1, 0, 0);
+    assert_vec3(&m.positions[6], 1, 1, 0);
+    assert_vec3(&m.positions[9], 0, 0, 0);
+    assert_vec3(&m.positions[12], 1, 1, 0);
+    assert_vec3(&m.positions[15], 0, 1, 0);
+    assert_null(m.normals);
+    assert_null(m.texcoords);
+    assert_int_equal(m.material[0], -1);
+    assert_int_equal(m.material[1], -1);
+    assert_vec3(m.bounds_min, 0, 0, 0);
+    assert_vec3(m.bounds_max, 1, 1, 0);
+    assert_string_equal(m.warnings, "");
+    vkrt_mesh_free(&m);
+    assert_null(m.positions);
+    vkrt_mesh_free(&m); /* safe on a zeroed struct */
+}
+
+/* More than 255 corners: tinyobjloader's per-face count is an unsigned char. */
+static void big_polygon_keeps_all_corners(void **state)
+{
+    enum { N = 300 };
+    static char text[N * 40];
+    size_t len = 0;
+    for (int i = 0; i < N; i++) {
+        double a = 6.283185307179586 * i / N;
+        len += (size_t)snprintf(text + len, sizeof text - len, "v %f %f 0\n", cos(a), sin(a));
+    }
+    len += (size_t)snprintf(text + len, sizeof text - len, "f");
+    for (int i = 1; i <= N; i++)
+        len += (size_t)snprintf(text + len, sizeof text - len, " %d", i);
+    snprintf(text + len, sizeof text - len, "\nf 1 2 3\n");
+    vkrt_mesh m = load_ok(write_file(*state, "big.obj", text, 0));
+    assert_int_equal(m.triangle_count, N - 2 + 1);
+    assert_vec3(&m.positions[9 * (N - 3) + 6], (float)cos(6.283185307179586 * (N - 1) / N),
+                (float)sin(6.283185307179586 * (N - 1) / N), 0);
+    vkrt_mesh_free(&m);
+}
+
+static void negative_indices(void **state)
+{
+    const char *text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0.25 0.5\nvn 0 0 1\n"
+                       "f -4/-1/-1 -3/-1/-1 -2/-1/-1 -1/-1/-1\n";
+    vkrt_mesh m = load_ok(write_file(*state, "neg.obj", text, 0));
+    assert_int_equal(m.triangle_count, 2);
+    assert_vec3(&m.positions[6], 1, 1, 0);
+    assert_vec3(&m.positions[15], 0, 1, 0);
+    assert_non_null(m.texcoords);
+    assert_close(m.texcoords[0], 0.25f);
+    assert_close(m.texcoords[1], 0.5f);
+    assert_non_null(m.normals);
+    assert_vec3(&m.normals[0], 0, 0, 1);
+    vkrt_mesh_free(&m);
+}
+
+static void geometric_normal_for_faces_without(void **state)
+{
+    /* Triangle 1 has a (non-unit) file normal; triangle 2 lies in the xz plane, wound so that
+     * (v1-v0) x (v2-v0) = (0,0,1) x (1,0,0) = (0,1,0); triangle 3 is degenerate. */
+    const char *text = "v 0 0 0\nv 0 0 1\nv 1 0 0\nvn 0 0 2\n"
+                       "f 1//1 2//1 3//1\n"
+                       "f 1 2 3\n"
+                       "f 1 1 1\n";
+    vkrt_mesh m = load_ok(write_file(*state, "normals.obj", text, 0));
+    assert_int_equal(m.triangle_count, 3);
+    assert_non_null(m.normals);
+    for (int k = 0; k < 3; k++) {
+        assert_vec3(&m.normals[3 * k], 0, 0, 1);
+        assert_vec3(&m.normals[9 + 3 * k], 0, 1, 0);
+        assert_vec3(&m.normals[18 + 3 * k], 0, 0, 1); /* degenerate: +Z, not NaN */
+    }
+    vkrt_mesh_free(&m);
+}
+
+static void unusable_file_normal_becomes_geometric(void **state)
+{
+    const char *text = "v 0 0 0\nv 0 0 1\nv 1 0 0\nvn nan 0 0\nvn 0 0 0\nf 1//1 2//1 3//1\nf 1//2 2//2 3//2\n";
+    vkrt_mesh m = load_ok(write_file(*state, "badnormal.obj", text, 0));
+    assert_int_equal(m.triangle_count, 2);
+    assert_vec3(&m.normals[0], 0, 1, 0);
+    assert_vec3(&m.normals[9], 0, 1, 0);
+    assert_non_null(strstr(m.warnings, "geometric normal"));
+    vkrt_mesh_free(&m);
+}
+
+/* Normals named by faces of a file without any vn records are dropped with a warning (the
+ * tinyobjloader suite has two such files); with some vn records a bad index is an error. */
+static void references_to_absent_normals_are_dropped(void **state)
+{
+    const char *text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1/1 2/2/2 3/3/3\n";
+    vkrt_mesh m = load_ok(write_file(*state, "stripped.obj", text, 0));
+    assert_int_equal(m.triangle_count, 1);
+    assert_null(m.normals);
+    assert_null(m.texcoords);
+    assert_non_null(strstr(m.warnings, "no vn records"));
+    assert_non_null(strstr(m.warnings, "no vt records"));
+    vkrt_mesh_free(&m);
+}
+
+static void crlf_line_endings(void **state)
+{
+    fixture *fx = *state;
+    vkrt_mesh m = load_ok(write_file(fx, "crlf.obj", "v 0 0 0\r\nv 1 0 0\r\nv 1 1 0\r\nv 0 1 0\r\nf 1 2 3 4\r\n", 0));
+    assert_int_equal(m.triangle_count, 2);
+    assert_vec3(&m.positions[15], 0, 1, 0);
+    vkrt_mesh_free(&m);
+    /* line numbers count CRLF (and lone CR) as one line end */
+    write_file(fx, "crlf_nan.obj", "v 0 0 0\r\n\r\nv 1 nan 0\r\nv 0 1 0\r\nf 1 2 3\r\n", 0);
+    assert_load_fails(fx->path, ":3: vertex coordinate is not finite");
+    write_file(fx, "cr_nan.obj", "v 0 0 0\rv 1 0 0\rv inf 1 0\rf 1 2 3\r", 0);
+    assert_load_fails(fx->path, ":3: vertex coordinate is not finite");
+}
+
+static void non_finite_vertex_names_line(void **state)
+{
+    fixture *fx = *state;
+    const char *bad[] = {"nan", "-nan", "inf", "-inf", "1e999", "1.#IND", "1e39"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        char text[200];
+        snprintf(text, sizeof text, "# comment\nv 0 0 0\nv 1 %s 0\nv 0 1 0\nf 1 2 3\n", bad[i]);
+        write_file(fx, "nan.obj", text, 0);
+        assert_load_fails(fx->path, ":3: vertex coordinate is not finite");
+    }
+    /* tinyobjloader would read these as 0 or as a prefix; we refuse them */
+    write_file(fx, "abc.obj", "v 0 0 0\nv 1 abc 0\nv 0 1 0\nf 1 2 3\n", 0);
+    assert_load_fails(fx->path, ":2: vertex coordinate 'abc' is not a number");
+    write_file(fx, "plus.obj", "v 0 0 0\nv 1 0 0\nv 3.1+e2 1 0\nf 1 2 3\n", 0);
+    assert_load_fails(fx->path, ":3: vertex coordinate '3.1+e2' is not a number");
+    write_file(fx, "short.obj", "v 0 0 0\nv 1 0\nv 0 1 0\nf 1 2 3\n", 0);
+    assert_load_fails(fx->path, ":2: vertex has 2 coordinates, needs 3");
+    write_file(fx, "vt.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt inf 0\nf 1/1 2/1 3/1\n", 0);
+    assert_load_fails(fx->path, ":4: texture coordinate is not finite");
+}
+
+static void out_of_range_index_names_line(void **state)
+{
+    fixture *fx = *state;
+    write_file(fx, "range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 9\n", 0);
+    assert_load_fails(fx->path, ":5: face index 9 out of range (file has 3 vertices)");
+    write_file(fx, "huge.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999\n", 0);
+    assert_load_fails(fx->path, ":4: face index 99999999999 out of range");
+    write_file(fx, "rel.obj", "v 0 0 0\nv 1 0 0\nf -1 -2 -3\nv 0 1 0\n", 0);
+    assert_load_fails(fx->path, ":3: face index -3 out of range (only 2 vertices before this line)");
+    write_file(fx, "vn.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//2\n", 0);
+    assert_load_fails(fx->path, ":5: face normal index 2 out of range (file has 1 normals)");
+    write_file(fx, "vt_range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/4 3/1\n", 0);
+    assert_load_fails(fx->path, ":5: face texture coordinate index 4 out of range (file has 1 texture");
+}
+
+static void empty_and_triangle_free_files_fail(void **state)
+{
+    fixture *fx = *state;
+    write_file(fx, "empty.obj", "", 0);
+    assert_load_fails(fx->path, ": no triangles");
+    write_file(fx, "lines.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\np 3\nf 1 2\n", 0);
+    assert_load_fails(fx->path, ": no triangles");
+    char missing[600];
+    snprintf(missing, sizeof missing, "%s/does_not_exist.obj", fx->dir);
+    assert_load_fails(missing, ": cannot open");
+    /* a zero index is tinyobjloader's error, passed on with the path */
+    write_file(fx, "zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", 0);
+    assert_load_fails(fx->path, ": Failed parse `f' line");
+}
+
+/* Deterministic bytes so a failure can be reproduced. */
+static void fill_garbage(unsigned char *buf, size_t n, uint32_t seed, int allow_nul)
+{
+    for (size_t i = 0; i < n; i++) {
+        seed = seed * 1664525u + 1013904223u;
+        buf[i] = (unsigned char)(seed >> 24);
+        if (!allow_nul && buf[i] == 0)
+            buf[i] = 'f';
+    }
+}
+
+static void binary_garbage_fails_cleanly(void **state)
+{
+    fixture *fx = *state;
+    static unsigned char buf[8192];
+    fill_garbage(buf, sizeof buf, 12345u, 1);
+    write_file(fx, "garbage.obj", (const char *)buf, sizeof buf);
+    assert_load_fails(fx->path, ": not a text file");
+    /* without NUL bytes the text goes through both parsers; any clean outcome will do */
+    for (uint32_t seed = 1; seed <= 20; seed++) {
+        fill_garbage(buf, sizeof buf, seed, 0);
+        write_file(fx, "garbage2.obj", (const char *)buf, sizeof buf);
+        vkrt_mesh m;
+        vkrt_error err = {{0}};
+        if (vkrt_obj_load(fx->path, &m, &err))
+            vkrt_mesh_free(&m);
+        else
+            assert_int_equal(strncmp(err.msg, fx->path, strlen(fx->path)), 0);
+    }
+    /* "v 0 0 0\n" in UTF-16LE with a BOM, and big-endian without one */
+    const char le[] = "\xff\xfev\0 \0000\0 \0000\0 \0000\0\n\0";
+    write_file(fx, "utf16le.obj", le, sizeof le - 1);
+    assert_load_fails(fx->path, ": looks like UTF-16 text; save it as UTF-8");
+    const char be[] = "\0v\0 \0000\0 \0000\0 \0000\0\n\0f\0 \0001\0 \0001\0 \0001\0\n";
+    write_file(fx, "utf16be.obj", be, sizeof be - 1);
+    assert_load_fails(fx->path, ": looks like UTF-16 text");
+}
+
+static void utf8_bom_is_skipped(void **state)
+{
+    vkrt_mesh m = load_ok(write_file(*state, "bom.obj", "\xef\xbb\xbfv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 0));
+    assert_int_equal(m.triangle_count, 1);
+    vkrt_mesh_free(&m);
+}
+
+static void missing_mtl_is_a_warning(void **state)
+{
+    const char *text = "mtllib nothere.mtl\nusemtl red\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    vkrt_mesh m = load_ok(write_file(*state, "nomtl.obj", text, 0));
+    assert_int_equal(m.triangle_count, 1);
+    assert_int_equal(m.material[0], -1);
+    assert_int_equal(m.material_count, 0);
+    assert_non_null(strstr(m.warnings, "nothere.mtl"));
+    vkrt_mesh_free(&m);
+}
+
+static void mtl_fields_are_parsed(void **state)
+{
+    fixture *fx = *state;
+    write_file(fx, "tex.png", "not really a png", 0);
+    write_file(fx, "m.mtl",
+               "newmtl shiny\r\n"
+               "Kd 0.1 0.2 0.3\r\nKs 0.4 0.5 0.6\r\nKe 7 8 9\r\nNs 250\r\nNi 1.45\r\nd 0.5\r\nillum 5\r\n"
+               "map_Kd tex.png\r\n"
+               "\r\nnewmtl plain\r\n",
+               0);
+    const char *text = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl plain\nf 1 2 3\nusemtl shiny\nf 1 3 2\n";
+    vkrt_mesh m = load_ok(write_file(fx, "mtl.obj", text, 0));
+    assert_int_equal(m.triangle_count, 2);
+    assert_int_equal(m.material_count, 2);
+    const vkrt_mtl *shiny = &m.materials[m.material[1]];
+    const vkrt_mtl *plain = &m.materials[m.material[0]];
+    assert_string_equal(shiny->name, "shiny");
+    assert_vec3(shiny->kd, 0.1f, 0.2f, 0.3f);
+    assert_vec3(shiny->ks, 0.4f, 0.5f, 0.6f);
+    assert_vec3(shiny->ke, 7, 8, 9);
+    assert_close(shiny->ns, 250);
+    assert_close(shiny->ni, 1.45f);
+    assert_close(shiny->d, 0.5f);
+    assert_int_equal(shiny->illum, 5);
+    char want[600];
+    snprintf(want, sizeof want, "%s/tex.png", fx->dir);
+    assert_string_equal(shiny->map_kd, want);
+    /* absent fields take the defaults documented in obj_load.h */
+    assert_string_equal(plain->name, "plain");
+    assert_vec3(plain->kd, 0.8f, 0.8f, 0.8f);
+    assert_vec3(plain->ks, 0, 0, 0);
+    assert_vec3(plain->ke, 0, 0, 0);
+    assert_close(plain->ns, 0);
+    assert_close(plain->ni, 1);
+    assert_close(plain->d, 1);
+    assert_int_equal(plain->illum, 2);
+    assert_null(plain->map_kd);
+    vkrt_mesh_free(&m);
+}
+
+/* ------------------------------------------------------------------------ shared scenes */
+
+static const char *scenes_dir(void)
+{
+    const char *dir = getenv("VKRT_SCENES_DIR");
+    struct stat st;
+    if (!dir || !*dir || stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
+        printf("VKRT_SCENES_DIR %s; skipping shared-scene tests\n", dir ? "is not a folder" : "unset");
+        return NULL;
+    }
+    return dir;
+}
+
+typedef struct path_list {
+    char **items;
+    size_t count, cap;
+} path_list;
+
+static void path_list_add(path_list *l, const char *p)
+{
+    if (l->count == l->cap) {
+        l->cap = l->cap ? 2 * l->cap : 64;
+        l->items = realloc(l->items, l->cap * sizeof *l->items);
+        assert_non_null(l->items);
+    }
+    l->items[l->count] = strdup(p);
+    assert_non_null(l->items[l->count]);
+    l->count++;
+}
+
+static void path_list_free(path_list *l)
+{
+    for (size_t i = 0; i < l->count; i++)
+        free(l->items[i]);
+    free(l->items);
+}
+
+static int ends_with(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), k = strlen(suffix);
+    return n >= k && strcmp(s + n - k, suffix) == 0;
+}
+
+static void find_objs(const char *dir, path_list *out)
+{
+    DIR *d = opendir(dir);
+    assert_non_null(d);
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        if (e->d_name[0] == '.')
+            continue;
+        char p[1024];
+        snprintf(p, sizeof p, "%s/%s", dir, e->d_name);
+        struct stat st;
+        if (stat(p, &st) != 0)
+            continue;
+        if (S_ISDIR(st.st_mode))
+            find_objs(p, out);
+        else if (ends_with(p, ".obj"))
+            path_list_add(out, p);
+    }
+    closedir(d);
+}
+
+/* From SOURCE.txt: "  models/x.obj  (N bytes)" is followed by "    triangles (fan): N".
+ * Returns -1 when the file is not listed. */
+static long expected_triangles(const char *suite, const char *relative)
+{
+    char source[1024], line[2048];
+    snprintf(source, sizeof source, "%s/SOURCE.txt", suite);
+    FILE *f = fopen(source, "r");
+    assert_non_null(f);
+    long found = -1;
+    int in_entry = 0;
+    while (found < 0 && fgets(line, sizeof line, f)) {
+        const char *mark = strstr(line, ".obj  (");
+        if (line[0] == ' ' && line[1] == ' ' && line[2] != ' ' && mark) {
+            size_t n = (size_t)(mark + 4 - (line + 2));
+            in_entry = n == strlen(relative) && strncmp(line + 2, relative, n) == 0;
+        } else if (in_entry && strstr(line, "triangles (fan): ")) {
+            found = strtol(strstr(line, "): ") + 3, NULL, 10);
+        }
+    }
+    fclose(f);
+    return found;
+}
+
+/* Files that must fail, and why; every other file must load with SOURCE.txt's count or fail
+ * for a reason in this list. */
+typedef struct expected_failure {
+    const char *file;    /* path relative to the suite */
+    const char *message; /* part of the error */
+} expected_failure;
+
+static const expected_failure EXPECTED_FAILURES[] = {
+    {"models/test-nan.obj", "vertex coordinate is not finite"},            /* nan/inf/1.#IND */
+    {"models/invalid-face-definition.obj", "no triangles"},                /* faces of 1 and 2 corners */
+    {"models/invalid-relative-texture-index.obj", "out of range"},         /* no v records at all */
+    {"models/invalid-relative-vertex-index.obj", "out of range"},          /* f -4 -3 -2 without v */
+    {"models/issue-140-zero-face-idx.obj", "zero value for face index"},   /* index 0 is invalid OBJ */
+    {"models/issue-356-leading-spaces-newmtl.obj", "no triangles"},        /* only a usemtl */
+    {"models/line-prim.obj", "no triangles"},                              /* lines only */
+    {"models/points-prim.obj", "no triangles"},                            /* points only */
+    {"test/models/OBJ/box_UTF16BE.obj", "UTF-16"},                         /* UTF-16 with BOM */
+    {"test/models/OBJ/number_formats.obj", "is not a number"},             /* "3.1+e2" */
+    {"test/models/OBJ/point_cloud.obj", "no triangles"},
+    {"test/models/OBJ/testline.obj", "no triangles"},
+    {"test/models/OBJ/testpoints.obj", "no triangles"},
+};
+
+static const expected_failure *expected_failure_of(const char *relative)
+{
+    for (size_t i = 0; i < sizeof EXPECTED_FAILURES / sizeof EXPECTED_FAILURES[0]; i++)
+        if (strcmp(EXPECTED_FAILURES[i].file, relative) == 0)
+            return &EXPECTED_FAILURES[i];
+    return NULL;
+}
+
+/* Loads one suite file; returns 1 if it loaded. */
+static int check_suite_file(const char *suite, const char *path)
+{
+    const char *relative = path + strlen(suite) + 1;
+    const expected_failure *xf = expected_failure_of(relative);
+    vkrt_mesh m;
+    vkrt_error err = {{0}};
+    if (!vkrt_obj_load(path, &m, &err)) {
+        if (strncmp(err.msg, path, strlen(path)) != 0)
+            fail_msg("error for %s does not start with its path: %s", path, err.msg);
+        if (!xf || !strstr(err.msg, xf->message))
+            fail_msg("unexpected failure: %s", err.msg);
+        printf("  error (expected): %s\n", err.msg);
+        return 0;
+    }
+    if (xf)
+        fail_msg("%s loaded but should fail with \"%s\"", path, xf->message);
+    long want = expected_triangles(suite, relative);
+    if (want < 0)
+        fail_msg("%s is not listed in %s/SOURCE.txt", relative, suite);
+    if ((long)m.triangle_count != want)
+        fail_msg("%s: %u triangles, SOURCE.txt says %ld", path, m.triangle_count, want);
+    vkrt_mesh_free(&m);
+    return 1;
+}
+
+static void run_suite(const char *name)
+{
+    const char *dir = scenes_dir();
+    if (!dir)
+        skip();
+    char suite[1024];
+    snprintf(suite, sizeof suite, "%s/%s", dir, name);
+    path_list files = {0};
+    find_objs(suite, &files);
+    assert_true(files.count > 0);
+    int ok = 0;
+    for (size_t i = 0; i < files.count; i++)
+        ok += check_suite_file(suite, files.items[i]);
+    printf("%s: %zu OBJ files, %d loaded ok, %zu errored\n", name, files.count, ok, files.count - (size_t)ok);
+    path_list_free(&files);
+}
+
+static void tinyobjloader_suite(void **state)
+{
+    (void)state;
+    run_suite("tinyobjloader-parser-tests");
+}
+
+static void assimp_suite(void **state)
+{
+    (void)state;
+    run_suite("assimp-obj-parser-tests");
+}
+
+static int material_named(const vkrt_mesh *m, const char *name)
+{
+    for (uint32_t i = 0; i < m->material_count; i++)
+        if (strcmp(m->materials[i].name, name) == 0)
+            return (int)i;
+    return -1;
+}
+
+static void cornell_box(void **state)
+{
+    (void)state;
+    const char *dir = scenes_dir();
+    if (!dir)
+        skip();
+    char path[1024];
+    snprintf(path, sizeof path, "%s/cornell-box/CornellBox-Original.obj", dir);
+    vkrt_mesh m = load_ok(path);
+    assert_int_equal(m.triangle_count, 36);
+    const char *names[] = {"leftWall", "rightWall", "floor", "ceiling", "backWall", "shortBox", "tallBox", "light"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
+        if (material_named(&m, names[i]) < 0)
+            fail_msg("material %s missing", names[i]);
+    const vkrt_mtl *light = &m.materials[material_named(&m, "light")];
+    assert_vec3(light->ke, 17, 12, 4);
+    assert_vec3(m.materials[material_named(&m, "leftWall")].kd, 0.63f, 0.065f, 0.05f);
+    int light_triangles = 0;
+    for (uint32_t t = 0; t < m.triangle_count; t++) {
+        assert_true(m.material[t] >= 0);
+        light_triangles += m.material[t] == material_named(&m, "light");
+    }
+    assert_int_equal(light_triangles, 2);
+    vkrt_mesh_free(&m);
+}
+
+static void stanford_bunny(void **state)
+{
+    (void)state;
+    const char *dir = scenes_dir();
+    if (!dir)
+        skip();
+    char path[1024];
+    snprintf(path, sizeof path, "%s/stanford-bunny/stanford-bunny.obj", dir);
+    vkrt_mesh m = load_ok(path);
+    assert_int_equal(m.triangle_count, 69451);
+    assert_null(m.normals);
+    for (size_t i = 0; i < (size_t)m.triangle_count * 9; i++)
+        assert_true(isfinite(m.positions[i]));
+    vkrt_mesh_free(&m);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup_teardown(quad_becomes_fan, make_dir, remove_dir),
+        cmocka_unit_test_setup_teardown(big_polygon_keeps_all_corners, make_dir, remove_dir),
+        cmocka_unit_test_setup_teardown(negative_indices, make_dir, remove_dir),
+        cmocka_unit_test_setup_teardown(geometric_normal_for_faces_without, make_dir, remove_dir),
+        cmocka_unit_test_setup_teardown(unusable_file_normal_becomes_geometric, make_dir, remove_dir),
+        cmocka_unit_test_setup_teardown(references_to_absent_normals_are_dropped, make_dir, remove_dir),
+        cmocka_unit_test_setup_teardown(crlf_line_endings, make_dir, remove_dir),
+        cmocka_unit_test_setup_teardown(non_finite_vertex_names_line, make_dir, remove_dir),
+        cmocka_unit_test_setup_teardown(out_of_range_index_names_line, make_dir, remove_dir),
+        cmocka_unit_test_setup_teardown(empty_and_triangle_free_files_fail, make_dir, remove_dir),
+        cmocka_unit_test_setup_teardown(binary_garbage_fails_cleanly, make_dir, remove_dir),
+        cmocka_unit_test_setup_teardown(utf8_bom_is_skipped, make_dir, remove_dir),
+        cmocka_unit_test_setup_teardown(missing_mtl_is_a_warning, make_dir, remove_dir),
+        cmocka_unit_test_setup_teardown(mtl_fields_are_parsed, make_dir, remove_dir),
+        cmocka_unit_test(tinyobjloader_suite),
+        cmocka_unit_test(assimp_suite),
+        cmocka_unit_test(cornell_box),
+        cmocka_unit_test(stanford_bunny),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
