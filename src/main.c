@@ -128,7 +128,7 @@ static int run_render(const vkrt_options *opts)
     if (!opts->quiet) {
         uint32_t frames = scene.config.camera_count;
         fprintf(stderr,
-                "vkrt: %s | %u triangles | %u frame%s | %.1f ms/frame | %.2f Mrays/s\n", device,
+                "vkrt: %s | %u triangles | %u frame%s | %.1f ms/frame | %.3g Mrays/s\n", device,
                 scene.mesh.triangle_count, frames, frames == 1 ? "" : "s",
                 1e3 * totals.seconds / frames,
                 totals.seconds > 0 ? totals.rays / totals.seconds * 1e-6 : 0.0);

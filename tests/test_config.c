@@ -189,8 +189,8 @@ static void test_path_resolution(void **state)
     assert_string_equal(cfg.output, "scenes/a/out/f%04d.png");
     vkrt_config_free(&cfg);
 
-    parse_ok("geometry m.obj\n" CAMERA, "", &cfg);
-    assert_string_equal(cfg.geometry, "m.obj");
+    parse_ok("geometry o'brien.obj\n" CAMERA, "", &cfg);
+    assert_string_equal(cfg.geometry, "o'brien.obj");
     vkrt_config_free(&cfg);
 
     parse_ok("geometry m.obj\n" CAMERA, "/", &cfg);
@@ -385,6 +385,7 @@ static const bad_case bad_cases[] = {
     {"geometry my model.obj\n", "t.cfg:1: ", "geometry needs 1 path, got 2 parts"},
     {"geometry \"my model.obj\"\n", "t.cfg:1: ", "quotes are not supported"},
     {G "materials a b\n", "t.cfg:2: ", "paths may not contain spaces"},
+    {G "materials 'a b'\n", "t.cfg:2: ", "quotes are not supported"},
     /* lights */
     {G "light spot 0 0 0 0 -1 0 30\n", "t.cfg:2: ", "light spot needs 10 numbers, got 7"},
     {G "light spot 0 0 0 0 -1 0 30 1 1 1 1\n", "t.cfg:2: ", "light spot needs 10 numbers, got 11"},

@@ -235,8 +235,9 @@ static bool check_path(parser *p, const tokens *t, const char *what)
     char buf[SHOWN_TOKEN_BYTES + 4];
     if (t->count < 2)
         return fail(p, "%s needs a path", what);
-    /* Quotes would suggest that spaces work; say plainly that they do not. */
-    if (strchr(t->tok[1], '"') || strchr(t->tok[1], '\''))
+    /* Quotes would suggest that spaces work; say plainly that they do not. A single quote
+     * inside a name ("o'brien.obj") is an ordinary character. */
+    if (strchr(t->tok[1], '"') || t->tok[1][0] == '\'')
         return fail(p, "%s: quotes are not supported; paths may not contain spaces", what);
     if (t->count > 2)
         return fail(p, "%s needs 1 path, got %d parts: unexpected '%s' (paths may not contain "
