@@ -66,8 +66,8 @@ typedef struct vkrt_config {
 bool vkrt_config_load(const char *path, vkrt_config *cfg, vkrt_error *err);
 
 /* Parses scene.cfg text already in memory; name is used in messages, base_dir (may be "" or NULL
- * for the current folder) resolves relative paths. Same contract as vkrt_config_load. text need
- * not be NUL-free: parsing stops at the first NUL or at size bytes. */
+ * for the current folder) resolves relative paths. Same contract as vkrt_config_load. size bytes
+ * are read; a NUL byte among them is an error ("not a text line"), never a silent end. */
 bool vkrt_config_parse(const char *text, size_t size, const char *name, const char *base_dir,
                        vkrt_config *cfg, vkrt_error *err);
 

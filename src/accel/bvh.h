@@ -1,0 +1,51 @@
+/*
+ * bvh.h: a bounding volume hierarchy over triangles, built on the CPU with the binned surface
+ * area heuristic, flattened into 32-byte nodes that the kernels walk as they are.
+ */
+#ifndef VKRT_BVH_H
+#define VKRT_BVH_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "../error.h"
+
+/* One node, 32 bytes, the layout the kernels read (glsl/shared.h BvhNode has the same bytes).
+ * count == 0: an inner node whose two children are nodes[left_first] and nodes[left_first + 1]
+ * (siblings are adjacent, so one index serves both). count > 0: a leaf holding triangles
+ * left_first .. left_first + count - 1 of the BVH's triangle order (prim_order). */
+typedef struct bvh_node {
+    float lo[3];
+    uint32_t left_first;
+    float hi[3];
+    uint32_t count;
+} bvh_node;
+
+typedef struct bvh_build_desc {
+    uint32_t max_leaf_size;   /* a node with more triangles is always split; 0: 8 */
+    uint32_t bins;            /* SAH bins per axis; 0: 16 */
+    uint32_t threads;         /* build threads; 0: 2 (this machine's cores) */
+    float traversal_cost;     /* SAH cost of visiting a node, relative to one triangle test; 0: 1 */
+} bvh_build_desc;
+
+typedef struct bvh {
+    bvh_node *nodes;          /* nodes[0] is the root */
+    uint32_t node_count;
+    uint32_t *prim_order;     /* prim_order[i]: the original index of the i-th triangle in BVH order */
+    uint32_t prim_count;
+    uint32_t leaf_count;
+    uint32_t max_depth;       /* of the deepest leaf; the root has depth 0 */
+    float sah_cost;           /* SAH cost of the whole tree, relative to the root's area */
+    double build_ms;          /* wall-clock build time */
+} bvh;
+
+/* Builds a BVH over triangle_count triangles (positions: 9 floats each, all finite; degenerate
+ * triangles are allowed). Uses desc->threads threads. desc may be NULL for all defaults. On
+ * failure returns false with err set and *out zeroed. */
+bool bvh_build(bvh *out, const float *positions, uint32_t triangle_count,
+               const bvh_build_desc *desc, vkrt_error *err);
+
+/* Frees what bvh_build allocated and zeroes *b. Safe on a zeroed struct. */
+void bvh_free(bvh *b);
+
+#endif
