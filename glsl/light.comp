@@ -9,8 +9,7 @@
  * added to the ray's pixel: one ray per pixel per pass, so no atomics are needed yet.
  */
 #include "lib/bindings.glsl"
-#include "lib/intersect.glsl"
-#include "lib/traverse_brute.glsl"
+#include "lib/traverse.glsl"
 
 const float PI = 3.14159265358979;
 const float FAR = 3.4e38;

@@ -84,6 +84,29 @@ VKRT_STRUCT(FrameParams) {
     vec4 environment; /* rgb radiance of rays that miss */
     uvec4 image;      /* x: width, y: height, z: index of this sample pass, w: samples per pixel */
     uvec4 counts;     /* x: triangles, y: lights, z: rays in this wavefront, w: frame seed */
+    uvec4 range;      /* brute force: x..y-1 are the triangles this dispatch tests; z != 0: merge
+                         with the hits of earlier dispatches (see traverse_brute.glsl) */
+};
+
+/* A BVH node, 32 bytes (src/accel/bvh.h, bvh_node, has the same bytes). lo.w and hi.w hold uint
+ * bits (floatBitsToUint): lo.w is the left child (inner node; the right child follows it) or the
+ * first triangle (leaf), hi.w is the triangle count, 0 for inner nodes. */
+VKRT_STRUCT(BvhNode) {
+    vec4 lo;
+    vec4 hi;
+};
+
+/* Which structure trace walks; a specialization constant of the trace and light kernels. */
+#define VKRT_TRAVERSE_BRUTE 0u
+#define VKRT_TRAVERSE_GRID 1u
+#define VKRT_TRAVERSE_BVH 2u
+
+/* The uniform grid's frame (src/accel/grid.h): cell c = x + dims.x * (y + dims.y * z). */
+VKRT_STRUCT(GridInfo) {
+    vec4 lo;          /* xyz: grid bounds min */
+    vec4 hi;          /* xyz: grid bounds max */
+    vec4 cell_size;   /* xyz: (hi - lo) / dims */
+    uvec4 dims;       /* xyz: cells per axis, w: cell count */
 };
 
 /* Counters the kernels update with atomics; the host reads them after a frame. */

@@ -1,12 +1,10 @@
 /*
  * trace.comp: closest hit of every ray in the wavefront.
  *
- * The traversal is included from lib/; which structure it walks is the renderer's choice
- * (brute force for now).
+ * Which structure the traversal walks is a specialization constant (lib/traverse.glsl).
  */
 #include "lib/bindings.glsl"
-#include "lib/intersect.glsl"
-#include "lib/traverse_brute.glsl"
+#include "lib/traverse.glsl"
 
 void main()
 {
@@ -14,5 +12,10 @@ void main()
     if (index >= frame.counts.z)
         return;
     Ray ray = rays[index];
-    hits[index] = trace_closest(ray.origin.xyz, ray.direction.xyz, ray.origin.w, ray.direction.w);
+    /* A later brute-force block continues from the closest hit of the earlier ones. */
+    Hit previous = Hit(ray.direction.w, 0.0, 0.0, VKRT_NO_HIT);
+    if (frame.range.z != 0u)
+        previous = hits[index];
+    Hit hit = trace_closest(ray.origin.xyz, ray.direction.xyz, ray.origin.w, previous.t);
+    hits[index] = hit.triangle != VKRT_NO_HIT ? hit : previous;
 }

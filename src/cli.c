@@ -9,6 +9,8 @@
 const char *vkrt_usage(void)
 {
     return "usage: vkrt render SCENE.cfg [options]   render every frame (camera) of a scene\n"
+           "       vkrt bench SCENE.cfg... [--accel A] [--json OUT.json] [--width W --height H]\n"
+           "                                         time primary and shadow rays per structure\n"
            "       vkrt --list-devices               list Vulkan devices\n"
            "       vkrt --help | --version\n"
            "\n"
@@ -18,6 +20,9 @@ const char *vkrt_usage(void)
            "  --width W         image width in pixels (overrides `resolution`)\n"
            "  --height H        image height in pixels\n"
            "  --spp N           samples per pixel (overrides `samples`)\n"
+           "  --accel A         auto | brute | grid | bvh (overrides `accel`)\n"
+           "  --verbose         say which acceleration structure was chosen and why, and its\n"
+           "                    build statistics\n"
            "  --exposure STOPS  scale PNG output by 2^STOPS before the sRGB curve (EXR unchanged)\n"
            "  --device N        Vulkan device (see --list-devices); default: the first discrete\n"
            "                    GPU, else the first device\n"
@@ -101,6 +106,19 @@ bool vkrt_options_parse(int argc, char **argv, vkrt_options *opts, vkrt_error *e
             if (!parse_float(arg, value, &opts->exposure, err))
                 return false;
             ++i;
+        } else if (strcmp(arg, "--accel") == 0) {
+            if (!value || !vkrt_accel_parse(value, &opts->accel))
+                return vkrt_error_set(err, "--accel: '%s' is not one of auto, brute, grid, bvh",
+                                      value ? value : "");
+            opts->accel_given = true;
+            ++i;
+        } else if (strcmp(arg, "--json") == 0) {
+            if (!value)
+                return vkrt_error_set(err, "--json needs a path");
+            opts->json = value;
+            ++i;
+        } else if (strcmp(arg, "--verbose") == 0) {
+            opts->verbose = true;
         } else if (strcmp(arg, "--quiet") == 0) {
             opts->quiet = true;
         } else if (strcmp(arg, "--validation") == 0) {
@@ -108,11 +126,18 @@ bool vkrt_options_parse(int argc, char **argv, vkrt_options *opts, vkrt_error *e
         } else if (arg[0] == '-' && arg[1]) {
             return vkrt_error_set(err, "unknown option '%s' (see vkrt --help)", arg);
         } else if (opts->command == VKRT_COMMAND_NONE) {
-            if (strcmp(arg, "render") != 0)
+            if (strcmp(arg, "render") == 0)
+                opts->command = VKRT_COMMAND_RENDER;
+            else if (strcmp(arg, "bench") == 0)
+                opts->command = VKRT_COMMAND_BENCH;
+            else
                 return vkrt_error_set(err, "unknown command '%s' (see vkrt --help)", arg);
-            opts->command = VKRT_COMMAND_RENDER;
         } else if (!opts->scene_path) {
             opts->scene_path = arg;
+            opts->scene_paths[opts->scene_count++] = arg;
+        } else if (opts->command == VKRT_COMMAND_BENCH &&
+                   opts->scene_count < sizeof opts->scene_paths / sizeof *opts->scene_paths) {
+            opts->scene_paths[opts->scene_count++] = arg;
         } else {
             return vkrt_error_set(err, "unexpected argument '%s'", arg);
         }
@@ -120,6 +145,8 @@ bool vkrt_options_parse(int argc, char **argv, vkrt_options *opts, vkrt_error *e
     if (opts->command == VKRT_COMMAND_NONE)
         return vkrt_error_set(err, "no command given (see vkrt --help)");
     if (!opts->scene_path)
-        return vkrt_error_set(err, "render needs a scene file: vkrt render SCENE.cfg");
+        return vkrt_error_set(err, "%s needs a scene file: vkrt %s SCENE.cfg",
+                              opts->command == VKRT_COMMAND_BENCH ? "bench" : "render",
+                              opts->command == VKRT_COMMAND_BENCH ? "bench" : "render");
     return true;
 }

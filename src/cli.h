@@ -8,10 +8,12 @@
 #include <stdint.h>
 
 #include "error.h"
+#include "scene/config.h"
 
 typedef enum vkrt_command {
     VKRT_COMMAND_NONE = 0,
     VKRT_COMMAND_RENDER,
+    VKRT_COMMAND_BENCH,
     VKRT_COMMAND_HELP,
     VKRT_COMMAND_VERSION,
     VKRT_COMMAND_LIST_DEVICES,
@@ -19,13 +21,19 @@ typedef enum vkrt_command {
 
 typedef struct vkrt_options {
     vkrt_command command;
-    const char *scene_path;   /* render: the scene.cfg */
+    const char *scene_path;   /* render: the scene.cfg; bench: the first of scene_paths */
+    const char *scene_paths[64]; /* bench: every scene.cfg given */
+    uint32_t scene_count;
+    const char *json;         /* bench --json: where to write the results */
     const char *output;       /* -o: overrides the scene's output; NULL when not given */
     uint32_t width, height;   /* 0 when not given */
     uint32_t samples;         /* --spp; 0 when not given */
     int device;               /* --device; -1 picks the default */
     float exposure;           /* --exposure, stops, PNG only */
+    vkrt_accel_kind accel;    /* --accel; VKRT_ACCEL_AUTO when not given (the scene's choice holds) */
+    bool accel_given;
     bool quiet;
+    bool verbose;
     bool validation;          /* --validation, or VKRT_VALIDATION=1 in the environment */
 } vkrt_options;
 

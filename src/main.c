@@ -9,6 +9,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "bench.h"
 #include "cli.h"
 #include "error.h"
 #include "gpu/context.h"
@@ -59,18 +60,42 @@ typedef struct render_totals {
     uint64_t rays;
 } render_totals;
 
+static void print_accel_stats(FILE *out, const vkrt_accel_stats *s)
+{
+    fprintf(out, "vkrt: accel %s: %s\n", vkrt_accel_name(s->kind), s->reason);
+    if (s->kind == VKRT_ACCEL_BVH)
+        fprintf(out,
+                "vkrt: BVH: %u nodes, %u leaves, %.2f triangles per leaf, depth %u, SAH cost %.1f, "
+                "%.2f MiB, built in %.1f ms\n",
+                s->nodes, s->leaves, s->triangles_per_leaf, s->max_depth, s->sah_cost,
+                s->bytes / 1048576.0, s->build_ms);
+    else if (s->kind == VKRT_ACCEL_GRID)
+        fprintf(out,
+                "vkrt: grid: %ux%ux%u = %u cells, %u occupied, %.2f triangles per occupied cell, "
+                "%.2f MiB, built in %.1f ms\n",
+                s->grid_dims[0], s->grid_dims[1], s->grid_dims[2], s->nodes, s->leaves,
+                s->triangles_per_leaf, s->bytes / 1048576.0, s->build_ms);
+    if (s->choose_ms > 0)
+        fprintf(out, "vkrt: choosing took %.1f ms\n", s->choose_ms);
+}
+
 static bool render_frames(const vkrt_options *opts, const vkrt_scene *scene, const char *output,
-                          gpu_context *ctx, render_totals *totals, vkrt_error *err)
+                          gpu_context *ctx, render_totals *totals, vkrt_accel_stats *accel,
+                          vkrt_error *err)
 {
     const vkrt_config *cfg = &scene->config;
     vkrt_render_desc desc = {
         .width = opts->width ? opts->width : cfg->width,
         .height = opts->height ? opts->height : cfg->height,
         .samples = opts->samples ? opts->samples : cfg->samples,
+        .accel = opts->accel_given ? opts->accel : cfg->accel,
     };
     vkrt_renderer renderer;
     if (!vkrt_renderer_create(&renderer, ctx, scene, &desc, err))
         return false;
+    *accel = renderer.accel.stats;
+    if (opts->verbose)
+        print_accel_stats(stderr, accel);
     float *rgb = malloc((size_t)desc.width * desc.height * 3 * sizeof *rgb);
     bool ok = rgb != NULL;
     if (!ok)
@@ -111,8 +136,9 @@ static int run_render(const vkrt_options *opts)
     gpu_context ctx;
     gpu_context_desc ctx_desc = {.device_index = opts->device, .validation = opts->validation};
     render_totals totals = {0};
+    vkrt_accel_stats accel = {0};
     bool ok = gpu_context_create(&ctx, &ctx_desc, &err) &&
-              render_frames(opts, &scene, output, &ctx, &totals, &err);
+              render_frames(opts, &scene, output, &ctx, &totals, &accel, &err);
     char device[256];
     snprintf(device, sizeof device, "%s", ctx.properties.deviceName);
     gpu_context_destroy(&ctx);
@@ -128,8 +154,9 @@ static int run_render(const vkrt_options *opts)
     if (!opts->quiet) {
         uint32_t frames = scene.config.camera_count;
         fprintf(stderr,
-                "vkrt: %s | %u triangles | %u frame%s | %.1f ms/frame | %.3g Mrays/s\n", device,
-                scene.mesh.triangle_count, frames, frames == 1 ? "" : "s",
+                "vkrt: %s | %u triangles | accel %s | %u frame%s | %.1f ms/frame | %.3g Mrays/s\n",
+                device, scene.mesh.triangle_count, vkrt_accel_name(accel.kind), frames,
+                frames == 1 ? "" : "s",
                 1e3 * totals.seconds / frames,
                 totals.seconds > 0 ? totals.rays / totals.seconds * 1e-6 : 0.0);
     }
@@ -160,6 +187,8 @@ int main(int argc, char **argv)
         return 0;
     case VKRT_COMMAND_RENDER:
         return run_render(&opts);
+    case VKRT_COMMAND_BENCH:
+        return vkrt_bench_run(&opts);
     default:
         return 2;
     }

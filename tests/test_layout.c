@@ -28,6 +28,8 @@ typedef struct Probe {
     Light light;
     FrameParams params;
     Counters counters;
+    BvhNode node;
+    GridInfo grid;
     Hit hit_pair[2];
     Ray ray_pair[2];
 } Probe;
@@ -53,9 +55,11 @@ static const field fields[] = {
     FIELD(light, info, UVEC4),
     FIELD(params, eye, VEC4), FIELD(params, right, VEC4), FIELD(params, up, VEC4),
     FIELD(params, forward, VEC4), FIELD(params, environment, VEC4), FIELD(params, image, UVEC4),
-    FIELD(params, counts, UVEC4),
+    FIELD(params, counts, UVEC4), FIELD(params, range, UVEC4),
     FIELD(counters, rays_traced, U32), FIELD(counters, pad0, U32), FIELD(counters, pad1, U32),
     FIELD(counters, pad2, U32),
+    FIELD(node, lo, VEC4), FIELD(node, hi, VEC4),
+    FIELD(grid, lo, VEC4), FIELD(grid, hi, VEC4), FIELD(grid, cell_size, VEC4), FIELD(grid, dims, UVEC4),
     {"hit_pair[1].triangle", offsetof(Probe, hit_pair) + sizeof(Hit) + offsetof(Hit, triangle), U32},
     {"hit_pair[1].t", offsetof(Probe, hit_pair) + sizeof(Hit) + offsetof(Hit, t), F32},
     {"ray_pair[1].info", offsetof(Probe, ray_pair) + sizeof(Ray) + offsetof(Ray, info), UVEC4},
@@ -74,7 +78,8 @@ static char *probe_kernel(void)
                              "layout(std430, binding = 0) buffer Out {\n"
                              "  Ray ray; Hit hit; Triangle triangle; TriangleNormals normals;\n"
                              "  Material material; Light light; FrameParams params;\n"
-                             "  Counters counters; Hit hit_pair[2]; Ray ray_pair[2];\n"
+                             "  Counters counters; BvhNode node; GridInfo grid;\n"
+                             "  Hit hit_pair[2]; Ray ray_pair[2];\n"
                              "};\n"
                              "void main() {\n"
                              "  if (gl_GlobalInvocationID.x != 0u) return;\n");
@@ -151,6 +156,7 @@ static void test_push_constant_layout(void **state)
     /* The uvec4 members hold integers, not float bit patterns: set them as such. */
     pushed.image = (uvec4){101, 102, 103, 104};
     pushed.counts = (uvec4){201, 202, 203, 204};
+    pushed.range = (uvec4){301, 302, 303, 304};
     gpu_buffer buf;
     assert_true(gpu_buffer_create(&ctx, &buf, sizeof(FrameParams), "params", &err));
     assert_true(gpu_buffer_zero(&ctx, &buf, &err));
@@ -178,9 +184,11 @@ static void test_sizes(void **state)
     assert_int_equal(sizeof(TriangleNormals), 48);
     assert_int_equal(sizeof(Material), 16);
     assert_int_equal(sizeof(Light), 64);
-    assert_int_equal(sizeof(FrameParams), 112);
+    assert_int_equal(sizeof(FrameParams), 128);
     assert_true(sizeof(FrameParams) <= 128); /* the push constant size every device offers */
     assert_int_equal(sizeof(Counters), 16);
+    assert_int_equal(sizeof(BvhNode), 32);
+    assert_int_equal(sizeof(GridInfo), 64);
 }
 
 int main(void)

@@ -23,6 +23,17 @@ layout(std430, set = 0, binding = 6) readonly buffer LightBuffer { Light lights[
 layout(std430, set = 0, binding = 7) buffer ImageBuffer { vec4 image[]; };
 layout(std430, set = 0, binding = 8) buffer CounterBuffer { Counters counters; };
 
+/* The acceleration structure: binding 9 is the grid's frame, binding 10 the BVH's nodes or the
+ * grid's cell starts (one binding, two views: only the chosen structure's is read), binding 11 the
+ * grid's triangle references. */
+layout(std430, set = 0, binding = 9) readonly buffer GridInfoBuffer { GridInfo grid; };
+layout(std430, set = 0, binding = 10) readonly buffer BvhNodeBuffer { BvhNode bvh_nodes[]; };
+layout(std430, set = 0, binding = 10) readonly buffer GridCellBuffer { uint grid_cell_start[]; };
+layout(std430, set = 0, binding = 11) readonly buffer GridRefBuffer { uint grid_refs[]; };
+
+/* Which structure trace_closest and trace_any walk (VKRT_TRAVERSE_*). */
+layout(constant_id = 2) const uint ACCEL_KIND = VKRT_TRAVERSE_BRUTE;
+
 layout(push_constant) uniform FramePush { FrameParams frame; };
 
 /* This invocation's item index; large dispatches fold into y (see gpu_dispatch). */

@@ -13,6 +13,9 @@
 #ifndef VKRT_INTERSECT_GLSL
 #define VKRT_INTERSECT_GLSL
 
+/* |det| below this fraction of the largest edge-function product is rounding noise (2^-18). */
+const float RELIABLE_DET_FRACTION = 1.0 / 262144.0;
+
 /* Per-ray constants of the watertight test: the axis permutation and the shear. */
 struct RayShear {
     vec3 origin;
@@ -62,7 +65,17 @@ bool intersect_triangle(RayShear s, vec3 p0, vec3 p1, vec3 p2, float tmin, float
     if ((eu < 0.0 || ev < 0.0 || ew < 0.0) && (eu > 0.0 || ev > 0.0 || ew > 0.0))
         return false;
     float det = eu + ev + ew;
-    if (det == 0.0)
+    /* Each edge function carries a rounding error of a few ULPs of its largest product. When the
+     * ray lies nearly in the plane of a triangle far from it (the sheared triangle degenerates
+     * to a sliver whose line passes by the ray), all three functions are below that error, their
+     * signs are noise, and the test above can accept a triangle the ray passes thousands of units
+     * away from: brute force in tests/test_accel.c found such false hits on the stadium scene.
+     * A real hit puts the triangle around the ray, where the products are no larger than the
+     * triangle's size squared, so this rejects only rays that graze its plane within about 1e-5
+     * radians. The paper's double-precision fallback covers exact zeros only, not this. */
+    float largest = max(max(max(abs(cx * by), abs(cy * bx)), max(abs(ax * cy), abs(ay * cx))),
+                        max(abs(bx * ay), abs(by * ax)));
+    if (abs(det) <= largest * RELIABLE_DET_FRACTION)
         return false;
 
     /* Scaled distance; compared before the division, which is the expensive part. */

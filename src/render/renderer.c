@@ -11,6 +11,7 @@
 
 #include "../../glsl/shared.h"
 #include "../gpu/shader.h"
+#include "../gpu/timer.h"
 #include "kernel_sources.h"
 
 /* Binding numbers of glsl/lib/bindings.glsl; keep both in the same order. */
@@ -24,6 +25,9 @@ enum {
     BINDING_LIGHTS,
     BINDING_IMAGE,
     BINDING_COUNTERS,
+    BINDING_GRID_INFO,
+    BINDING_ACCEL_NODES,
+    BINDING_GRID_REFS,
     BINDING_COUNT,
 };
 
@@ -31,11 +35,15 @@ enum {
  * tuned by measurement with the faster traversals. */
 static const uint32_t default_workgroup_size = 64;
 
+/* Triangles per brute-force dispatch. Mesa's llvmpipe ends an invocation's loops after 65535
+ * iterations in all (glsl/lib/traverse_brute.glsl), so brute force goes in blocks below that. */
+static const uint32_t brute_force_block = 32768;
+
 /* Albedo of triangles without a material: the .mtl default Kd. */
 static const float default_albedo = 0.8f;
 
 /* Specialization constant ids shared with glsl/lib/bindings.glsl (0 is the workgroup size). */
-enum { SPEC_HAS_NORMALS = 1 };
+enum { SPEC_HAS_NORMALS = 1, SPEC_ACCEL_KIND = 2 };
 
 static bool upload(vkrt_renderer *r, gpu_buffer *buf, const void *data, size_t size,
                    const char *what, vkrt_error *err)
@@ -56,14 +64,17 @@ static bool upload_geometry(vkrt_renderer *r, const vkrt_mesh *mesh, vkrt_error 
         goto done;
     }
     for (uint32_t i = 0; i < n; ++i) {
-        const float *p = mesh->positions + 9 * (size_t)i;
+        /* Triangles go up in the structure's order (a BVH's leaf order), attributes with them. */
+        uint32_t from = vkrt_accel_original_triangle(&r->accel, i);
+        const float *p = mesh->positions + 9 * (size_t)from;
         tris[i].v0 = (vec4){p[0], p[1], p[2], 0};
         tris[i].v1 = (vec4){p[3], p[4], p[5], 0};
         tris[i].v2 = (vec4){p[6], p[7], p[8], 0};
         /* The default material sits after the OBJ's own. */
-        material[i] = mesh->material[i] < 0 ? mesh->material_count : (uint32_t)mesh->material[i];
+        material[i] =
+            mesh->material[from] < 0 ? mesh->material_count : (uint32_t)mesh->material[from];
         if (normals) {
-            const float *q = mesh->normals + 9 * (size_t)i;
+            const float *q = mesh->normals + 9 * (size_t)from;
             normals[i].n0 = (vec4){q[0], q[1], q[2], 0};
             normals[i].n1 = (vec4){q[3], q[4], q[5], 0};
             normals[i].n2 = (vec4){q[6], q[7], q[8], 0};
@@ -107,6 +118,9 @@ static float radians(float degrees)
 static bool upload_lights(vkrt_renderer *r, const vkrt_config *cfg, vkrt_error *err)
 {
     r->light_count = cfg->light_count;
+    r->light_kinds = calloc(cfg->light_count ? cfg->light_count : 1, sizeof *r->light_kinds);
+    if (!r->light_kinds)
+        return vkrt_error_set(err, "out of memory");
     Light *lights = calloc(cfg->light_count ? cfg->light_count : 1, sizeof *lights);
     if (!lights)
         return vkrt_error_set(err, "out of memory");
@@ -131,6 +145,7 @@ static bool upload_lights(vkrt_renderer *r, const vkrt_config *cfg, vkrt_error *
             [VKRT_LIGHT_SPOT] = VKRT_LIGHT_KIND_SPOT,
         };
         g->info = (uvec4){kinds[l->kind], 0, 0, 0};
+        r->light_kinds[i] = kinds[l->kind];
     }
     bool ok = upload(r, &r->lights, lights, cfg->light_count * sizeof *lights, "lights", err);
     free(lights);
@@ -164,13 +179,25 @@ static bool create_kernel(vkrt_renderer *r, gpu_pipeline *pipe, const char *path
     return ok;
 }
 
+static uint32_t gpu_accel_kind(vkrt_accel_kind kind)
+{
+    return kind == VKRT_ACCEL_BVH    ? VKRT_TRAVERSE_BVH
+           : kind == VKRT_ACCEL_GRID ? VKRT_TRAVERSE_GRID
+                                     : VKRT_TRAVERSE_BRUTE;
+}
+
 static bool create_kernels(vkrt_renderer *r, bool has_normals, uint32_t workgroup_size,
                            vkrt_error *err)
 {
-    gpu_spec_constant spec[] = {{SPEC_HAS_NORMALS, has_normals}};
-    return create_kernel(r, &r->raygen, "raygen.comp", workgroup_size, spec, 1, err) &&
-           create_kernel(r, &r->trace, "trace.comp", workgroup_size, spec, 1, err) &&
-           create_kernel(r, &r->light, "light.comp", workgroup_size, spec, 1, err);
+    gpu_spec_constant spec[] = {
+        {SPEC_HAS_NORMALS, has_normals},
+        {SPEC_ACCEL_KIND, gpu_accel_kind(r->accel.stats.kind)},
+    };
+    const uint32_t count = sizeof spec / sizeof *spec;
+    return create_kernel(r, &r->raygen, "raygen.comp", workgroup_size, spec, count, err) &&
+           create_kernel(r, &r->trace, "trace.comp", workgroup_size, spec, count, err) &&
+           create_kernel(r, &r->light, "light.comp", workgroup_size, spec, count, err) &&
+           create_kernel(r, &r->occlusion, "occlusion.comp", workgroup_size, spec, count, err);
 }
 
 bool vkrt_renderer_create(vkrt_renderer *r, gpu_context *ctx, const vkrt_scene *scene,
@@ -186,6 +213,8 @@ bool vkrt_renderer_create(vkrt_renderer *r, gpu_context *ctx, const vkrt_scene *
     uint32_t workgroup_size = desc->workgroup_size ? desc->workgroup_size : default_workgroup_size;
 
     if (!gpu_storage_set_create(ctx, &r->set, BINDING_COUNT, sizeof(FrameParams), err) ||
+        !vkrt_accel_gpu_create(&r->accel, ctx, desc->accel, scene->mesh.positions,
+                               scene->mesh.triangle_count, err) ||
         !upload_geometry(r, &scene->mesh, err) || !upload_materials(r, &scene->mesh, err) ||
         !upload_lights(r, &scene->config, err) || !create_frame_buffers(r, err) ||
         !create_kernels(r, scene->mesh.normals != NULL, workgroup_size, err)) {
@@ -202,6 +231,9 @@ bool vkrt_renderer_create(vkrt_renderer *r, gpu_context *ctx, const vkrt_scene *
         [BINDING_LIGHTS] = &r->lights,
         [BINDING_IMAGE] = &r->image,
         [BINDING_COUNTERS] = &r->counters,
+        [BINDING_GRID_INFO] = &r->accel.info,
+        [BINDING_ACCEL_NODES] = &r->accel.nodes,
+        [BINDING_GRID_REFS] = &r->accel.refs,
     };
     for (uint32_t i = 0; i < BINDING_COUNT; ++i)
         gpu_storage_set_bind(ctx, &r->set, i, bound[i]);
@@ -242,6 +274,29 @@ static void camera_params(const vkrt_renderer *r, const vkrt_config_camera *came
     params->up = (vec4){up[0] * tan_half, up[1] * tan_half, up[2] * tan_half, 0};
 }
 
+/* llvmpipe's 65535 loop iterations per invocation (see brute_force_block) also bound the light
+ * kernel, whose brute-force shadow rays each loop over every triangle: refuse rather than render
+ * shadows that silently miss triangles. */
+static bool check_loop_budget(const vkrt_renderer *r, vkrt_error *err)
+{
+    const uint32_t llvmpipe_loop_budget = 65535;
+    if (r->accel.stats.kind != VKRT_ACCEL_BRUTE ||
+        strncmp(r->ctx->properties.deviceName, "llvmpipe", 8) != 0)
+        return true;
+    uint64_t shadow_lights = 0;
+    for (uint32_t i = 0; i < r->light_count; ++i)
+        shadow_lights += r->light_kinds[i] != VKRT_LIGHT_KIND_AMBIENT;
+    uint64_t iterations = (uint64_t)r->triangle_count * shadow_lights;
+    if (iterations > llvmpipe_loop_budget - r->light_count)
+        return vkrt_error_set(err,
+                              "brute force with %u triangles and %u shadowing lights needs %llu "
+                              "loop iterations per pixel; lavapipe (llvmpipe) stops shaders after "
+                              "%u: use accel grid or bvh",
+                              r->triangle_count, (unsigned)shadow_lights,
+                              (unsigned long long)iterations, llvmpipe_loop_budget);
+    return true;
+}
+
 static double now_seconds(void)
 {
     struct timespec ts;
@@ -249,10 +304,32 @@ static double now_seconds(void)
     return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
+/* Records the closest-hit or any-hit trace of `count` rays; brute force in triangle blocks. */
+static void record_trace(vkrt_renderer *r, VkCommandBuffer cmd, FrameParams *params, bool any_hit,
+                         uint32_t count)
+{
+    const gpu_pipeline *pipe = any_hit ? &r->occlusion : &r->trace;
+    uint32_t n = r->triangle_count;
+    if (r->accel.stats.kind != VKRT_ACCEL_BRUTE) {
+        params->range = (uvec4){0, n, 0, 0};
+        gpu_dispatch(cmd, pipe, &r->set, params, count);
+        return;
+    }
+    for (uint32_t first = 0; first < n || first == 0; first += brute_force_block) {
+        uint32_t end = n - first < brute_force_block ? n : first + brute_force_block;
+        params->range = (uvec4){first, end, first > 0, 0};
+        gpu_dispatch(cmd, pipe, &r->set, params, count);
+        if (end >= n)
+            break;
+    }
+}
+
 bool vkrt_renderer_render(vkrt_renderer *r, const vkrt_config_camera *camera, uint32_t frame_index,
                           float *rgb, vkrt_frame_stats *stats, vkrt_error *err)
 {
     uint32_t pixels = r->width * r->height;
+    if (!check_loop_budget(r, err))
+        return false;
     FrameParams params = {0};
     camera_params(r, camera, &params);
     params.environment = (vec4){r->environment[0], r->environment[1], r->environment[2], 0};
@@ -274,7 +351,9 @@ bool vkrt_renderer_render(vkrt_renderer *r, const vkrt_config_camera *camera, ui
     for (uint32_t s = 0; s < r->samples; ++s) {
         params.image.z = s;
         gpu_dispatch(cmd, &r->raygen, &r->set, &params, pixels);
-        gpu_dispatch(cmd, &r->trace, &r->set, &params, pixels);
+        record_trace(r, cmd, &params, false, pixels);
+        /* The light kernel's shadow rays see every triangle at once. */
+        params.range = (uvec4){0, r->triangle_count, 0, 0};
         gpu_dispatch(cmd, &r->light, &r->set, &params, pixels);
     }
     double start = now_seconds();
@@ -305,10 +384,71 @@ bool vkrt_renderer_render(vkrt_renderer *r, const vkrt_config_camera *camera, ui
     return ok;
 }
 
+bool vkrt_renderer_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool any_hit,
+                         Hit *hits, double *gpu_ms, vkrt_error *err)
+{
+    size_t capacity = (size_t)r->width * r->height;
+    if (count > capacity)
+        return vkrt_error_set(err, "%u rays exceed the renderer's %zu", count, capacity);
+    FrameParams params = {0};
+    params.counts = (uvec4){r->triangle_count, r->light_count, count, 0};
+    gpu_timer timer = {0};
+    if (!gpu_buffer_upload(r->ctx, &r->rays, rays, count * sizeof *rays, err) ||
+        (gpu_ms && !gpu_timer_create(r->ctx, &timer, 2, err)))
+        return false;
+    VkCommandBuffer cmd;
+    bool ok = gpu_commands_begin(r->ctx, &cmd, err);
+    if (ok) {
+        if (gpu_ms) {
+            gpu_timer_reset(cmd, &timer);
+            gpu_timer_write(cmd, &timer, 0);
+        }
+        record_trace(r, cmd, &params, any_hit, count);
+        if (gpu_ms)
+            gpu_timer_write(cmd, &timer, 1);
+        ok = gpu_commands_submit(r->ctx, err) &&
+             (!gpu_ms || gpu_timer_ms(r->ctx, &timer, 0, 1, gpu_ms, err)) &&
+             gpu_buffer_download(r->ctx, &r->hits, hits, count * sizeof *hits, err);
+    }
+    gpu_timer_destroy(r->ctx, &timer);
+    if (!ok)
+        return false;
+    if (!any_hit)
+        for (uint32_t i = 0; i < count; ++i)
+            if (hits[i].triangle != VKRT_NO_HIT)
+                hits[i].triangle = vkrt_accel_original_triangle(&r->accel, hits[i].triangle);
+    return true;
+}
+
+void vkrt_renderer_primary_rays(const vkrt_renderer *r, const vkrt_config_camera *camera,
+                                Ray *rays)
+{
+    FrameParams p;
+    camera_params(r, camera, &p);
+    for (uint32_t y = 0; y < r->height; ++y)
+        for (uint32_t x = 0; x < r->width; ++x) {
+            /* The pixel centre, as raygen.comp does for one sample per pixel. */
+            float sx = 2.0f * (x + 0.5f) / r->width - 1.0f;
+            float sy = 1.0f - 2.0f * (y + 0.5f) / r->height;
+            float d[3] = {p.forward.x + sx * p.right.x + sy * p.up.x,
+                          p.forward.y + sx * p.right.y + sy * p.up.y,
+                          p.forward.z + sx * p.right.z + sy * p.up.z};
+            normalize3(d);
+            uint32_t i = y * r->width + x;
+            rays[i] = (Ray){
+                .origin = {p.eye.x, p.eye.y, p.eye.z, 0},
+                .direction = {d[0], d[1], d[2], 3.4e38f},
+                .importance = {1, 1, 1, 0},
+                .info = {i, 0, 0, 0},
+            };
+        }
+}
+
 void vkrt_renderer_destroy(vkrt_renderer *r)
 {
     if (!r->ctx)
         return;
+    gpu_pipeline_destroy(r->ctx, &r->occlusion);
     gpu_pipeline_destroy(r->ctx, &r->light);
     gpu_pipeline_destroy(r->ctx, &r->trace);
     gpu_pipeline_destroy(r->ctx, &r->raygen);
@@ -317,6 +457,8 @@ void vkrt_renderer_destroy(vkrt_renderer *r)
                              &r->triangle_material, &r->normals, &r->triangles};
     for (size_t i = 0; i < sizeof buffers / sizeof *buffers; ++i)
         gpu_buffer_destroy(r->ctx, buffers[i]);
+    vkrt_accel_gpu_destroy(&r->accel, r->ctx);
+    free(r->light_kinds);
     gpu_storage_set_destroy(r->ctx, &r->set);
     memset(r, 0, sizeof *r);
 }

@@ -17,11 +17,17 @@
 #include "../gpu/context.h"
 #include "../gpu/pipeline.h"
 #include "../scene/scene.h"
+#include "accel_gpu.h"
+
+/* The structs of glsl/shared.h; declared here so users of vkrt_renderer_trace need not include it. */
+typedef struct Ray Ray;
+typedef struct Hit Hit;
 
 typedef struct vkrt_render_desc {
     uint32_t width, height;   /* required */
     uint32_t samples;         /* samples per pixel; 0 means 1 */
     uint32_t workgroup_size;  /* 0 means 64 */
+    vkrt_accel_kind accel;    /* auto (0) chooses from the scene */
 } vkrt_render_desc;
 
 typedef struct vkrt_frame_stats {
@@ -33,11 +39,13 @@ typedef struct vkrt_frame_stats {
 typedef struct vkrt_renderer {
     gpu_context *ctx;
     gpu_storage_set set;
-    gpu_pipeline raygen, trace, light;
+    vkrt_accel_gpu accel;     /* the structure, its statistics and the triangle order */
+    gpu_pipeline raygen, trace, light, occlusion;
     gpu_buffer rays, hits, triangles, normals, triangle_material, materials, lights, image,
         counters;
     uint32_t width, height, samples;
     uint32_t triangle_count, light_count;
+    uint32_t *light_kinds;    /* VKRT_LIGHT_KIND_* per light, kept for the loop budget check */
     float environment[3];
 } vkrt_renderer;
 
@@ -50,6 +58,18 @@ bool vkrt_renderer_create(vkrt_renderer *r, gpu_context *ctx, const vkrt_scene *
  * first), averaged over the samples. stats may be NULL. */
 bool vkrt_renderer_render(vkrt_renderer *r, const vkrt_config_camera *camera, uint32_t frame_index,
                           float *rgb, vkrt_frame_stats *stats, vkrt_error *err);
+
+/* Traces count rays (count <= width * height of the renderer) with the renderer's structure: to
+ * their closest hits, or (any_hit) to whether anything blocks them (hit.triangle 0 or
+ * VKRT_NO_HIT). Closest-hit triangles are reported as original (OBJ order) indices. When gpu_ms
+ * is not NULL it receives the trace dispatch's GPU time from timestamps. For tests and bench. */
+bool vkrt_renderer_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool any_hit,
+                         Hit *hits, double *gpu_ms, vkrt_error *err);
+
+/* Fills width * height rays through the pixel centres of camera, as raygen does at one sample
+ * per pixel. */
+void vkrt_renderer_primary_rays(const vkrt_renderer *r, const vkrt_config_camera *camera,
+                                Ray *rays);
 
 /* Frees everything the renderer created. Safe on a zeroed renderer. */
 void vkrt_renderer_destroy(vkrt_renderer *r);

@@ -1,0 +1,19 @@
+/*
+ * occlusion.comp: any-hit tracing of every ray in the wavefront (shadow rays). Writes the hit
+ * record's triangle as 0 when something blocks the ray, VKRT_NO_HIT when the way is clear.
+ */
+#include "lib/bindings.glsl"
+#include "lib/traverse.glsl"
+
+void main()
+{
+    uint index = invocation_index();
+    if (index >= frame.counts.z)
+        return;
+    /* A later brute-force block has nothing to add to a ray already blocked. */
+    if (frame.range.z != 0u && hits[index].triangle != VKRT_NO_HIT)
+        return;
+    Ray ray = rays[index];
+    bool blocked = trace_any(ray.origin.xyz, ray.direction.xyz, ray.origin.w, ray.direction.w);
+    hits[index] = Hit(ray.direction.w, 0.0, 0.0, blocked ? 0u : VKRT_NO_HIT);
+}

@@ -1,0 +1,790 @@
+/*
+ * bvh.c: the CPU builder behind bvh.h, a binned surface area heuristic (SAH) BVH after Wald,
+ * "On fast construction of SAH-based bounding volume hierarchies" (IEEE Symposium on Interactive
+ * Ray Tracing 2007).
+ *
+ * How it works:
+ *  1. Every triangle gets a reference record (its exact float bounding box and its index); the
+ *     records are computed in parallel, one contiguous chunk per thread.
+ *  2. Each node bins the centroids of its box records along the 3 axes into K bins over the
+ *     node's centroid bounds, sweeps the bins for the cheapest SAH split
+ *     (traversal_cost + (A_left N_left + A_right N_right) / A_parent, one triangle test costs 1)
+ *     and partitions its record range in place. The records themselves move, not indices into
+ *     them, so binning reads memory sequentially.
+ *  3. Parallelism is a pool of desc->threads threads (the caller's thread included) sharing a
+ *     stack of jobs. A job over more than SPAWN_MIN_PRIMS triangles splits its node and pushes
+ *     its two children as new jobs; a smaller job builds its whole subtree alone, depth first,
+ *     into its own slice of a scratch node array (the slice of a range [b, e) is nodes
+ *     [2b, 2e), which never overlaps another job's, so no locking is needed).
+ *  4. One serial pass stitches the jobs together in depth-first order. Every node's sibling pair
+ *     is allocated when the node splits and the left subtree is laid out before the right one,
+ *     both inside a job and across jobs, so the output is the same for any thread count and any
+ *     scheduling: the build is deterministic.
+ *
+ * Node bounds are the exact unions of the triangles' float vertex coordinates (no padding): the
+ * kernels must treat a ray that touches a box face as entering it.
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include "bvh.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+/* Defaults of bvh_build_desc's zero fields (bvh.h documents them). */
+enum { DEFAULT_MAX_LEAF = 8, DEFAULT_BINS = 16, DEFAULT_THREADS = 2 };
+#define DEFAULT_TRAVERSAL_COST 1.0f
+
+/* Limits on the descriptor: bins live in fixed per-thread arrays. */
+enum { MIN_BINS = 2, MAX_BINS = 256, MAX_THREADS = 64 };
+
+/* A node this small is a leaf without looking at the SAH. */
+enum { ALWAYS_LEAF_PRIMS = 1 };
+
+/* A small node gets at most max(count, SMALL_NODE_MIN_BINS) bins: with a few triangles, most of
+ * 16 bins would be empty, and clearing and sweeping them dominated the build time (the bottom
+ * levels hold most nodes). count bins still separate the two extreme centroids and give count - 1
+ * candidate planes, close to the exact sweep's count - 1. */
+enum { SMALL_NODE_MIN_BINS = 4 };
+
+/* Jobs over more triangles than this split one node and hand both children back to the pool;
+ * smaller ones build their subtree alone. Small enough that a 70k-triangle mesh yields dozens of
+ * jobs for load balance, large enough that job overhead (a lock, a copy) stays negligible. */
+enum { SPAWN_MIN_PRIMS = 2048 };
+
+/* bvh_node.count of an inner node (bvh.h). */
+enum { INNER_NODE_COUNT = 0 };
+
+#define MS_PER_S 1e3
+#define MS_PER_NS 1e-6
+
+#define MINF(a, b) ((a) < (b) ? (a) : (b))
+#define MAXF(a, b) ((a) > (b) ? (a) : (b))
+
+/* A box in 4 lanes, so that growing one compiles to one SIMD min and one SIMD max; lane 3 is
+ * padding whose value means nothing. */
+typedef struct aabb {
+    float lo[4], hi[4];
+} aabb;
+
+/* One triangle's exact bounds and original index, 32 bytes; the build permutes these. Loaded as
+ * 4 lanes, lo's lane 3 is the index (meaningless as a float) and hi's is zero. */
+typedef struct prim_ref {
+    float lo[3];
+    uint32_t index;
+    float hi[3];
+    uint32_t pad;
+} prim_ref;
+
+_Static_assert(sizeof(prim_ref) == 32 && offsetof(prim_ref, hi) == 16, "prim_ref lanes");
+
+/* A ref in lanes: its bounds and its centroid (lanes 0..2 meaningful). */
+typedef struct ref_lanes {
+    float lo[4], hi[4], c[4];
+} ref_lanes;
+
+/* Refs alternate between this many bin sets, merged before the sweep: consecutive triangles of a
+ * mesh often land in the same bin, and one set would chain each update on the previous store. */
+enum { BIN_SETS = 2 };
+
+/* What one node's split decision says. */
+typedef struct split_result {
+    bool split;
+    uint32_t mid;          /* left child: [begin, mid), right child: [mid, end) */
+    aabb bounds[2];        /* exact bounds of the children */
+    aabb cbounds[2];       /* centroid bounds of the children */
+} split_result;
+
+/* A node still to be built: its place, its range of refs, its bounds. */
+typedef struct pending_node {
+    uint32_t node;         /* index in the job's local node array */
+    uint32_t begin, end;
+    uint32_t depth;
+    aabb bounds, cbounds;
+} pending_node;
+
+enum job_kind { JOB_LOCAL, JOB_SPLIT };
+
+typedef struct build_job {
+    pending_node root;     /* root.node unused */
+    enum job_kind kind;
+    uint32_t child[2];     /* JOB_SPLIT: job indices of the children */
+    uint32_t local_nodes;  /* JOB_LOCAL: node count in scratch_nodes[2 * root.begin ...] */
+    uint32_t max_depth;    /* JOB_LOCAL: of its deepest leaf */
+} build_job;
+
+/* Read-only parameters and shared arrays of one build. */
+typedef struct build_ctx {
+    uint32_t max_leaf;
+    uint32_t bins;
+    float traversal_cost;
+    prim_ref *refs;
+    bvh_node *scratch_nodes; /* 2 * prim_count: job slices */
+} build_ctx;
+
+/* Per-thread scratch: bins and the depth-first stack of a local build. */
+typedef struct thread_scratch {
+    aabb bins[BIN_SETS][3][MAX_BINS];
+    uint32_t counts[BIN_SETS][3][MAX_BINS];
+    float right_area[MAX_BINS];
+    uint32_t right_count[MAX_BINS];
+    pending_node *stack;   /* capacity prim_count: pending ranges are disjoint and non-empty */
+} thread_scratch;
+
+/* The job pool: a LIFO stack of job indices guarded by one mutex. */
+typedef struct job_pool {
+    const build_ctx *ctx;
+    pthread_mutex_t lock;
+    pthread_cond_t wake;
+    build_job *jobs;       /* capacity 2 * prim_count - 1: jobs form a binary tree over ranges */
+    uint32_t job_count;
+    uint32_t *stack;
+    uint32_t stack_len;
+    uint32_t unfinished;   /* jobs queued or running; 0 ends the workers */
+} job_pool;
+
+typedef struct worker_arg {
+    job_pool *pool;
+    thread_scratch *scratch;
+} worker_arg;
+
+/* ------------------------------------------------------------------------ boxes */
+
+static inline void aabb_empty(aabb *b)
+{
+    for (int k = 0; k < 4; k++) {
+        b->lo[k] = INFINITY;
+        b->hi[k] = -INFINITY;
+    }
+}
+
+static inline void aabb_grow_box(aabb *b, const float lo[4], const float hi[4])
+{
+    for (int k = 0; k < 4; k++) {
+        b->lo[k] = MINF(b->lo[k], lo[k]);
+        b->hi[k] = MAXF(b->hi[k], hi[k]);
+    }
+}
+
+static inline void aabb_grow_point(aabb *b, const float p[4])
+{
+    aabb_grow_box(b, p, p);
+}
+
+/* Half the surface area; the SAH only uses ratios, so the factor 2 does not matter. */
+static inline float half_area(const aabb *b)
+{
+    float dx = b->hi[0] - b->lo[0], dy = b->hi[1] - b->lo[1], dz = b->hi[2] - b->lo[2];
+    return dx * dy + dy * dz + dz * dx;
+}
+
+/* Every centroid of the build comes from here (the centroid bounds, the binning, the
+ * partitioning), so they agree bit for bit. Halving before adding keeps huge coordinates from
+ * overflowing. */
+static inline void ref_load(const prim_ref *r, ref_lanes *l)
+{
+    memcpy(l->lo, (const char *)r + offsetof(prim_ref, lo), sizeof l->lo);
+    memcpy(l->hi, (const char *)r + offsetof(prim_ref, hi), sizeof l->hi);
+    for (int k = 0; k < 4; k++)
+        l->c[k] = l->lo[k] * 0.5f + l->hi[k] * 0.5f;
+}
+
+/* Binning and partitioning both call this, so they agree on every triangle's bin. The clamps
+ * keep the conversion defined even if rounding strays outside [0, last]. */
+static inline uint32_t bin_of(float c, float lo, float scale, uint32_t last)
+{
+    float f = (c - lo) * scale;
+    f = MAXF(f, 0.0f);
+    f = MINF(f, (float)last);
+    return (uint32_t)f;
+}
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * MS_PER_S + (double)ts.tv_nsec * MS_PER_NS;
+}
+
+/* ------------------------------------------------------------------------ triangle records */
+
+typedef struct ref_chunk {
+    const float *positions;
+    prim_ref *refs;
+    uint32_t begin, end;
+    aabb bounds, cbounds;
+    uint32_t first_bad;    /* first triangle with a non-finite coordinate, or end */
+} ref_chunk;
+
+static void *make_refs(void *arg)
+{
+    ref_chunk *c = arg;
+    aabb_empty(&c->bounds);
+    aabb_empty(&c->cbounds);
+    c->first_bad = c->end;
+    for (uint32_t i = c->begin; i < c->end; i++) {
+        const float *v = c->positions + (size_t)i * 9;
+        prim_ref *r = &c->refs[i];
+        bool finite = true;
+        for (int a = 0; a < 3; a++) {
+            finite = finite && isfinite(v[a]) && isfinite(v[3 + a]) && isfinite(v[6 + a]);
+            r->lo[a] = MINF(MINF(v[a], v[3 + a]), v[6 + a]);
+            r->hi[a] = MAXF(MAXF(v[a], v[3 + a]), v[6 + a]);
+        }
+        if (!finite && c->first_bad == c->end)
+            c->first_bad = i;
+        r->index = i;
+        r->pad = 0;
+        ref_lanes l;
+        ref_load(r, &l);
+        aabb_grow_box(&c->bounds, l.lo, l.hi);
+        aabb_grow_point(&c->cbounds, l.c);
+    }
+    return NULL;
+}
+
+/* Fills refs in parallel and returns the root bounds; false if a coordinate is not finite. */
+static bool build_refs(const float *positions, uint32_t n, uint32_t threads, prim_ref *refs,
+                       aabb *bounds, aabb *cbounds, vkrt_error *err)
+{
+    ref_chunk chunks[MAX_THREADS];
+    pthread_t tid[MAX_THREADS];
+    bool started[MAX_THREADS] = { false };
+    for (uint32_t t = 0; t < threads; t++) {
+        chunks[t] = (ref_chunk){ .positions = positions, .refs = refs,
+                                 .begin = (uint32_t)((uint64_t)n * t / threads),
+                                 .end = (uint32_t)((uint64_t)n * (t + 1) / threads) };
+    }
+    /* A thread that cannot start costs speed, not correctness: this thread does its chunk. */
+    for (uint32_t t = 1; t < threads; t++)
+        started[t] = pthread_create(&tid[t], NULL, make_refs, &chunks[t]) == 0;
+    make_refs(&chunks[0]);
+    for (uint32_t t = 1; t < threads; t++) {
+        if (started[t])
+            pthread_join(tid[t], NULL);
+        else
+            make_refs(&chunks[t]);
+    }
+    aabb_empty(bounds);
+    aabb_empty(cbounds);
+    for (uint32_t t = 0; t < threads; t++) {
+        if (chunks[t].first_bad < chunks[t].end)
+            return vkrt_error_set(err, "bvh: triangle %u has a non-finite vertex coordinate",
+                                  chunks[t].first_bad);
+        aabb_grow_box(bounds, chunks[t].bounds.lo, chunks[t].bounds.hi);
+        aabb_grow_box(cbounds, chunks[t].cbounds.lo, chunks[t].cbounds.hi);
+    }
+    return true;
+}
+
+/* ------------------------------------------------------------------------ one node's split */
+
+typedef struct bin_split {
+    int axis;              /* -1: no split with both sides non-empty */
+    uint32_t bin;          /* left side: bins [0, bin) */
+    float scale;           /* of bin_of on axis */
+    float cost;            /* A_left N_left + A_right N_right */
+} bin_split;
+
+/* Bins the centroids of refs[begin, end) on every axis where the centroid bounds have a usable
+ * extent (positive and finite). Other axes get scale 0 and lo 0, so their refs all fall into bin
+ * 0 without a branch (finite centroid times 0), and are not swept. */
+static void fill_bins(thread_scratch *s, const prim_ref *refs, uint32_t begin, uint32_t end,
+                      const aabb *cb, uint32_t nb, float scale[3], bool active[3])
+{
+    float lo[3];
+    for (int a = 0; a < 3; a++) {
+        float extent = cb->hi[a] - cb->lo[a];
+        scale[a] = (float)nb / extent;
+        active[a] = extent > 0.0f && isfinite(extent) && isfinite(scale[a]);
+        lo[a] = active[a] ? cb->lo[a] : 0.0f;
+        scale[a] = active[a] ? scale[a] : 0.0f;
+        for (int set = 0; set < BIN_SETS; set++) {
+            for (uint32_t k = 0; k < nb; k++)
+                aabb_empty(&s->bins[set][a][k]);
+            memset(s->counts[set][a], 0, nb * sizeof s->counts[set][a][0]);
+        }
+    }
+    for (uint32_t i = begin; i < end; i++) {
+        ref_lanes l;
+        ref_load(&refs[i], &l);
+        int set = (int)(i % BIN_SETS);
+        /* the three bin indices first: they are independent, the updates then overlap */
+        uint32_t k0 = bin_of(l.c[0], lo[0], scale[0], nb - 1);
+        uint32_t k1 = bin_of(l.c[1], lo[1], scale[1], nb - 1);
+        uint32_t k2 = bin_of(l.c[2], lo[2], scale[2], nb - 1);
+        aabb_grow_box(&s->bins[set][0][k0], l.lo, l.hi);
+        aabb_grow_box(&s->bins[set][1][k1], l.lo, l.hi);
+        aabb_grow_box(&s->bins[set][2][k2], l.lo, l.hi);
+        s->counts[set][0][k0]++;
+        s->counts[set][1][k1]++;
+        s->counts[set][2][k2]++;
+    }
+    for (int set = 1; set < BIN_SETS; set++) {
+        for (int a = 0; a < 3; a++) {
+            for (uint32_t k = 0; k < nb; k++) {
+                aabb_grow_box(&s->bins[0][a][k], s->bins[set][a][k].lo, s->bins[set][a][k].hi);
+                s->counts[0][a][k] += s->counts[set][a][k];
+            }
+        }
+    }
+}
+
+/* Sweeps one axis's bins: right-to-left areas first, then left to right for the costs.
+ * Strict < keeps the first of equal costs, so the choice is reproducible. */
+static void sweep_axis(thread_scratch *s, int a, uint32_t nb, bin_split *best)
+{
+    const aabb *bins = s->bins[0][a];
+    const uint32_t *counts = s->counts[0][a];
+    aabb acc;
+    aabb_empty(&acc);
+    uint32_t cnt = 0;
+    for (uint32_t k = nb - 1; k > 0; k--) {
+        aabb_grow_box(&acc, bins[k].lo, bins[k].hi);
+        cnt += counts[k];
+        s->right_count[k] = cnt;
+        s->right_area[k] = cnt ? half_area(&acc) : 0.0f;
+    }
+    aabb_empty(&acc);
+    cnt = 0;
+    for (uint32_t k = 1; k < nb; k++) {
+        aabb_grow_box(&acc, bins[k - 1].lo, bins[k - 1].hi);
+        cnt += counts[k - 1];
+        if (cnt == 0 || s->right_count[k] == 0)
+            continue;
+        float cost = half_area(&acc) * (float)cnt + s->right_area[k] * (float)s->right_count[k];
+        if (cost < best->cost) {
+            best->cost = cost;
+            best->axis = a;
+            best->bin = k;
+        }
+    }
+}
+
+static bin_split find_bin_split(const build_ctx *ctx, thread_scratch *s, const prim_ref *refs,
+                                uint32_t begin, uint32_t end, const aabb *cb)
+{
+    uint32_t count = end - begin;
+    uint32_t nb = MINF(ctx->bins, MAXF(count, (uint32_t)SMALL_NODE_MIN_BINS));
+    float scale[3];
+    bool active[3];
+    fill_bins(s, refs, begin, end, cb, nb, scale, active);
+    bin_split best = { .axis = -1, .cost = INFINITY };
+    for (int a = 0; a < 3; a++) {
+        if (active[a])
+            sweep_axis(s, a, nb, &best);
+    }
+    if (best.axis >= 0)
+        best.scale = scale[best.axis];
+    return best;
+}
+
+/* Partitions refs[begin, end) in place: bins below split->bin go left. Collects the children's
+ * bounds on the way, so they are exact. Returns the first index of the right side. */
+static uint32_t partition_refs(prim_ref *refs, uint32_t begin, uint32_t end, const aabb *cb,
+                               const bin_split *split, uint32_t nb, split_result *out)
+{
+    int a = split->axis;
+    aabb lb, lcb, rb, rcb; /* locals, not out->..[side]: they stay in registers */
+    aabb_empty(&lb);
+    aabb_empty(&lcb);
+    aabb_empty(&rb);
+    aabb_empty(&rcb);
+    uint32_t i = begin, j = end; /* [begin, i) left, [j, end) right */
+    while (i < j) {
+        prim_ref *r = &refs[i];
+        ref_lanes l;
+        ref_load(r, &l);
+        if (bin_of(l.c[a], cb->lo[a], split->scale, nb - 1) < split->bin) {
+            aabb_grow_box(&lb, l.lo, l.hi);
+            aabb_grow_point(&lcb, l.c);
+            i++;
+        } else {
+            aabb_grow_box(&rb, l.lo, l.hi);
+            aabb_grow_point(&rcb, l.c);
+            j--;
+            prim_ref tmp = refs[j];
+            refs[j] = *r;
+            *r = tmp;
+        }
+    }
+    out->bounds[0] = lb;
+    out->cbounds[0] = lcb;
+    out->bounds[1] = rb;
+    out->cbounds[1] = rcb;
+    return i;
+}
+
+/* The bounds of a range, for the median split. */
+static void range_bounds(const prim_ref *refs, uint32_t begin, uint32_t end, aabb *b, aabb *cb)
+{
+    aabb_empty(b);
+    aabb_empty(cb);
+    for (uint32_t i = begin; i < end; i++) {
+        ref_lanes l;
+        ref_load(&refs[i], &l);
+        aabb_grow_box(b, l.lo, l.hi);
+        aabb_grow_point(cb, l.c);
+    }
+}
+
+/* Splits the range in the middle of its order: the fallback when binning finds no split with
+ * both sides non-empty (all centroids equal, or extents that overflow) and the node is too big
+ * for a leaf. Halving the count makes the recursion terminate. */
+static void median_split(const prim_ref *refs, uint32_t begin, uint32_t end, split_result *out)
+{
+    out->split = true;
+    out->mid = begin + (end - begin) / 2;
+    range_bounds(refs, begin, out->mid, &out->bounds[0], &out->cbounds[0]);
+    range_bounds(refs, out->mid, end, &out->bounds[1], &out->cbounds[1]);
+}
+
+/* Decides leaf or split for one node and, on a split, partitions its range.
+ * Costs are compared unnormalised, times A_parent: split when
+ * traversal_cost * A + A_l N_l + A_r N_r < N * A, which also behaves for a flat (A = 0) node. */
+static void split_node(const build_ctx *ctx, thread_scratch *s, const pending_node *n,
+                       split_result *out)
+{
+    uint32_t count = n->end - n->begin;
+    out->split = false;
+    if (count <= ALWAYS_LEAF_PRIMS)
+        return;
+    bool must_split = count > ctx->max_leaf;
+    bin_split b = find_bin_split(ctx, s, ctx->refs, n->begin, n->end, &n->cbounds);
+    float area = half_area(&n->bounds);
+    bool worth = b.axis >= 0 && ctx->traversal_cost * area + b.cost < (float)count * area;
+    if (b.axis >= 0 && (must_split || worth)) {
+        uint32_t nb = MINF(ctx->bins, MAXF(count, (uint32_t)SMALL_NODE_MIN_BINS));
+        out->mid = partition_refs(ctx->refs, n->begin, n->end, &n->cbounds, &b, nb, out);
+        out->split = out->mid > n->begin && out->mid < n->end;
+        if (out->split)
+            return;
+    }
+    if (must_split)
+        median_split(ctx->refs, n->begin, n->end, out);
+}
+
+/* ------------------------------------------------------------------------ building */
+
+static void set_node_bounds(bvh_node *node, const aabb *b)
+{
+    memcpy(node->lo, b->lo, sizeof node->lo);
+    memcpy(node->hi, b->hi, sizeof node->hi);
+}
+
+static pending_node child_pending(const pending_node *parent, const split_result *sr, int side,
+                                  uint32_t node)
+{
+    pending_node c = { .node = node, .depth = parent->depth + 1,
+                       .bounds = sr->bounds[side], .cbounds = sr->cbounds[side] };
+    c.begin = side == 0 ? parent->begin : sr->mid;
+    c.end = side == 0 ? sr->mid : parent->end;
+    return c;
+}
+
+/* Builds a job's whole subtree depth first into its scratch slice: local node 0 is its root,
+ * children pairs are allocated in the order nodes split, left subtree before right. */
+static void build_local(const build_ctx *ctx, thread_scratch *s, build_job *job)
+{
+    bvh_node *nodes = ctx->scratch_nodes + 2 * (size_t)job->root.begin;
+    uint32_t used = 1, top = 0, max_depth = 0;
+    s->stack[top] = job->root;
+    s->stack[top++].node = 0;
+    while (top > 0) {
+        pending_node n = s->stack[--top];
+        bvh_node *node = &nodes[n.node];
+        set_node_bounds(node, &n.bounds);
+        split_result sr;
+        split_node(ctx, s, &n, &sr);
+        if (!sr.split) {
+            node->left_first = n.begin;
+            node->count = n.end - n.begin;
+            max_depth = MAXF(max_depth, n.depth);
+            continue;
+        }
+        node->left_first = used;
+        node->count = INNER_NODE_COUNT;
+        s->stack[top++] = child_pending(&n, &sr, 1, used + 1); /* popped after the left one */
+        s->stack[top++] = child_pending(&n, &sr, 0, used);
+        used += 2;
+    }
+    job->kind = JOB_LOCAL;
+    job->local_nodes = used;
+    job->max_depth = max_depth;
+}
+
+/* Pushes a child job; the caller holds pool->lock. */
+static uint32_t push_job(job_pool *pool, const pending_node *root)
+{
+    uint32_t j = pool->job_count++;
+    pool->jobs[j] = (build_job){ .root = *root };
+    pool->stack[pool->stack_len++] = j;
+    pool->unfinished++;
+    return j;
+}
+
+static void run_job(job_pool *pool, thread_scratch *s, uint32_t j)
+{
+    const build_ctx *ctx = pool->ctx;
+    build_job *job = &pool->jobs[j];
+    if (job->root.end - job->root.begin > SPAWN_MIN_PRIMS) {
+        split_result sr;
+        split_node(ctx, s, &job->root, &sr);
+        if (sr.split) {
+            pending_node left = child_pending(&job->root, &sr, 0, 0);
+            pending_node right = child_pending(&job->root, &sr, 1, 0);
+            job->kind = JOB_SPLIT;
+            pthread_mutex_lock(&pool->lock);
+            job->child[0] = push_job(pool, &left);
+            job->child[1] = push_job(pool, &right);
+            pthread_cond_broadcast(&pool->wake);
+            pthread_mutex_unlock(&pool->lock);
+            return;
+        }
+    }
+    build_local(ctx, s, job);
+}
+
+static void *worker(void *arg)
+{
+    worker_arg *w = arg;
+    job_pool *pool = w->pool;
+    pthread_mutex_lock(&pool->lock);
+    for (;;) {
+        while (pool->stack_len == 0 && pool->unfinished > 0)
+            pthread_cond_wait(&pool->wake, &pool->lock);
+        if (pool->stack_len == 0)
+            break; /* nothing queued, nothing running: the build is done */
+        uint32_t j = pool->stack[--pool->stack_len];
+        pthread_mutex_unlock(&pool->lock);
+        run_job(pool, w->scratch, j);
+        pthread_mutex_lock(&pool->lock);
+        if (--pool->unfinished == 0)
+            pthread_cond_broadcast(&pool->wake);
+    }
+    pthread_mutex_unlock(&pool->lock);
+    return NULL;
+}
+
+/* Runs the pool on `threads` threads, this one included; a thread that cannot start only
+ * slows the build down. */
+static void run_pool(job_pool *pool, thread_scratch **scratch, uint32_t threads)
+{
+    pthread_t tid[MAX_THREADS];
+    worker_arg args[MAX_THREADS];
+    bool started[MAX_THREADS] = { false };
+    for (uint32_t t = 0; t < threads; t++)
+        args[t] = (worker_arg){ .pool = pool, .scratch = scratch[t] };
+    for (uint32_t t = 1; t < threads; t++)
+        started[t] = pthread_create(&tid[t], NULL, worker, &args[t]) == 0;
+    worker(&args[0]);
+    for (uint32_t t = 1; t < threads; t++) {
+        if (started[t])
+            pthread_join(tid[t], NULL);
+    }
+}
+
+/* ------------------------------------------------------------------------ stitching */
+
+typedef struct stitch_item {
+    uint32_t job, pos;
+} stitch_item;
+
+/* Copies a local job's nodes: its root to pos, the rest appended at *used. */
+static void copy_local(const build_ctx *ctx, const build_job *job, bvh_node *out, uint32_t pos,
+                       uint32_t *used)
+{
+    const bvh_node *src = ctx->scratch_nodes + 2 * (size_t)job->root.begin;
+    uint32_t base = *used; /* local node i >= 1 lands at base + i - 1 */
+    for (uint32_t i = 0; i < job->local_nodes; i++) {
+        bvh_node n = src[i];
+        if (n.count == INNER_NODE_COUNT)
+            n.left_first = base + n.left_first - 1;
+        out[i == 0 ? pos : base + i - 1] = n;
+    }
+    *used += job->local_nodes - 1;
+}
+
+/* Lays the job tree out depth first, left before right, as build_local does inside a job.
+ * Returns the node count and the deepest leaf's depth. */
+static uint32_t stitch(const build_ctx *ctx, const job_pool *pool, bvh_node *out,
+                       stitch_item *stack, uint32_t *max_depth)
+{
+    uint32_t used = 1, top = 0;
+    *max_depth = 0;
+    stack[top++] = (stitch_item){ 0, 0 };
+    while (top > 0) {
+        stitch_item it = stack[--top];
+        const build_job *job = &pool->jobs[it.job];
+        if (job->kind == JOB_LOCAL) {
+            copy_local(ctx, job, out, it.pos, &used);
+            *max_depth = MAXF(*max_depth, job->max_depth);
+            continue;
+        }
+        set_node_bounds(&out[it.pos], &job->root.bounds);
+        out[it.pos].left_first = used;
+        out[it.pos].count = INNER_NODE_COUNT;
+        stack[top++] = (stitch_item){ job->child[1], used + 1 };
+        stack[top++] = (stitch_item){ job->child[0], used };
+        used += 2;
+    }
+    return used;
+}
+
+static double node_half_area(const bvh_node *n)
+{
+    double dx = (double)n->hi[0] - n->lo[0], dy = (double)n->hi[1] - n->lo[1];
+    double dz = (double)n->hi[2] - n->lo[2];
+    return dx * dy + dy * dz + dz * dx;
+}
+
+/* The SAH cost of the finished tree, summed in node order so it is reproducible. A tree whose
+ * root box has no area (all triangles on one line or point) weighs every node 1. */
+static float tree_sah(const bvh_node *nodes, uint32_t count, float traversal_cost,
+                      uint32_t *leaves)
+{
+    double root_area = node_half_area(&nodes[0]);
+    double sum = 0.0;
+    *leaves = 0;
+    for (uint32_t i = 0; i < count; i++) {
+        double w = root_area > 0.0 ? node_half_area(&nodes[i]) / root_area : 1.0;
+        if (nodes[i].count == INNER_NODE_COUNT) {
+            sum += traversal_cost * w;
+        } else {
+            sum += nodes[i].count * w;
+            (*leaves)++;
+        }
+    }
+    return (float)sum;
+}
+
+/* ------------------------------------------------------------------------ entry points */
+
+static bool read_desc(const bvh_build_desc *desc, build_ctx *ctx, uint32_t *threads,
+                      vkrt_error *err)
+{
+    bvh_build_desc d = desc ? *desc : (bvh_build_desc){ 0 };
+    ctx->max_leaf = d.max_leaf_size ? d.max_leaf_size : DEFAULT_MAX_LEAF;
+    ctx->bins = d.bins ? d.bins : DEFAULT_BINS;
+    ctx->traversal_cost = d.traversal_cost != 0.0f ? d.traversal_cost : DEFAULT_TRAVERSAL_COST;
+    *threads = d.threads ? d.threads : DEFAULT_THREADS;
+    if (ctx->bins < MIN_BINS || ctx->bins > MAX_BINS)
+        return vkrt_error_set(err, "bvh: bins must be %d..%d, got %u", MIN_BINS, MAX_BINS,
+                              ctx->bins);
+    if (*threads > MAX_THREADS)
+        return vkrt_error_set(err, "bvh: threads must be 1..%d, got %u", MAX_THREADS, *threads);
+    if (!(ctx->traversal_cost > 0.0f) || !isfinite(ctx->traversal_cost))
+        return vkrt_error_set(err, "bvh: traversal_cost must be positive and finite, got %g",
+                              (double)ctx->traversal_cost);
+    return true;
+}
+
+/* Everything a build allocates, freed together. */
+typedef struct build_mem {
+    prim_ref *refs;
+    bvh_node *scratch_nodes;
+    build_job *jobs;
+    uint32_t *job_stack;
+    stitch_item *stitch_stack;
+    thread_scratch *scratch[MAX_THREADS];
+} build_mem;
+
+static void free_mem(build_mem *m)
+{
+    free(m->refs);
+    free(m->scratch_nodes);
+    free(m->jobs);
+    free(m->job_stack);
+    free(m->stitch_stack);
+    for (int t = 0; t < MAX_THREADS; t++) {
+        if (m->scratch[t])
+            free(m->scratch[t]->stack);
+        free(m->scratch[t]);
+    }
+}
+
+static bool alloc_mem(build_mem *m, bvh *out, uint32_t n, uint32_t threads, vkrt_error *err)
+{
+    size_t max_nodes = 2 * (size_t)n - 1;
+    m->refs = malloc(n * sizeof *m->refs);
+    m->scratch_nodes = malloc(2 * (size_t)n * sizeof *m->scratch_nodes);
+    m->jobs = malloc(max_nodes * sizeof *m->jobs);
+    m->job_stack = malloc(max_nodes * sizeof *m->job_stack);
+    m->stitch_stack = malloc(max_nodes * sizeof *m->stitch_stack);
+    out->nodes = malloc(max_nodes * sizeof *out->nodes);
+    out->prim_order = malloc(n * sizeof *out->prim_order);
+    bool ok = m->refs && m->scratch_nodes && m->jobs && m->job_stack && m->stitch_stack &&
+              out->nodes && out->prim_order;
+    for (uint32_t t = 0; ok && t < threads; t++) {
+        m->scratch[t] = malloc(sizeof *m->scratch[t]);
+        ok = m->scratch[t] && (m->scratch[t]->stack = malloc(n * sizeof(pending_node)));
+    }
+    return ok || vkrt_error_set(err, "bvh: out of memory for %u triangles", n);
+}
+
+bool bvh_build(bvh *out, const float *positions, uint32_t triangle_count,
+               const bvh_build_desc *desc, vkrt_error *err)
+{
+    double t0 = now_ms();
+    if (!out)
+        return vkrt_error_set(err, "bvh: no output");
+    memset(out, 0, sizeof *out);
+    build_ctx ctx;
+    uint32_t threads;
+    if (triangle_count == 0)
+        return vkrt_error_set(err, "bvh: no triangles");
+    if (!positions)
+        return vkrt_error_set(err, "bvh: no positions for %u triangles", triangle_count);
+    if (triangle_count > UINT32_MAX / 2)
+        return vkrt_error_set(err, "bvh: %u triangles, at most %u", triangle_count,
+                              UINT32_MAX / 2);
+    if (!read_desc(desc, &ctx, &threads, err))
+        return false;
+
+    build_mem m = { 0 };
+    pending_node root = { .begin = 0, .end = triangle_count };
+    bool ok = alloc_mem(&m, out, triangle_count, threads, err) &&
+              build_refs(positions, triangle_count, threads, m.refs, &root.bounds,
+                         &root.cbounds, err);
+    if (!ok) {
+        free_mem(&m);
+        bvh_free(out);
+        return false;
+    }
+    ctx.refs = m.refs;
+    ctx.scratch_nodes = m.scratch_nodes;
+
+    job_pool pool = { .ctx = &ctx, .jobs = m.jobs, .stack = m.job_stack };
+    pthread_mutex_init(&pool.lock, NULL);
+    pthread_cond_init(&pool.wake, NULL);
+    push_job(&pool, &root);
+    run_pool(&pool, m.scratch, threads);
+    pthread_cond_destroy(&pool.wake);
+    pthread_mutex_destroy(&pool.lock);
+
+    out->node_count = stitch(&ctx, &pool, out->nodes, m.stitch_stack, &out->max_depth);
+    out->prim_count = triangle_count;
+    for (uint32_t i = 0; i < triangle_count; i++)
+        out->prim_order[i] = m.refs[i].index;
+    free_mem(&m);
+    /* Shrinking cannot fail in practice; if it does, the larger block is still valid. */
+    bvh_node *shrunk = realloc(out->nodes, out->node_count * sizeof *out->nodes);
+    if (shrunk)
+        out->nodes = shrunk;
+    out->sah_cost = tree_sah(out->nodes, out->node_count, ctx.traversal_cost, &out->leaf_count);
+    out->build_ms = now_ms() - t0;
+    return true;
+}
+
+void bvh_free(bvh *b)
+{
+    if (!b)
+        return;
+    free(b->nodes);
+    free(b->prim_order);
+    memset(b, 0, sizeof *b);
+}

@@ -1,0 +1,287 @@
+/*
+ * bench.c: `vkrt bench` (see bench.h).
+ *
+ * Rays: primary rays through the pixel centres of the scene's first camera; shadow rays from
+ * each primary hit towards the first point or spot light (or against the first directional
+ * light; without any, towards a point above the scene's bounds). Each trace is run once to warm
+ * up, then timed `timed_runs` times with GPU timestamps around the dispatch alone; the fastest
+ * run is reported (the others measure interference, not the kernel). Brute force traces only a
+ * prefix of the rays when all of them would take too long: its rate is the same per ray.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "bench.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../glsl/shared.h"
+#include "gpu/context.h"
+#include "render/renderer.h"
+#include "scene/scene.h"
+
+static const int timed_runs = 3;
+
+/* Ray-triangle tests brute force may spend per measurement: about a second on lavapipe. */
+static const double brute_force_tests = 2e9;
+
+/* Shadow-ray origins move off the surface as light.comp moves them (lib/intersect.glsl). */
+static void offset_origin(const float p[3], const float n[3], float magnitude, float out[3])
+{
+    float largest = magnitude;
+    for (int i = 0; i < 3; ++i)
+        largest = fmaxf(largest, fabsf(p[i]));
+    float step = fmaxf(1.0f / 65536.0f, 256.0f / 8388608.0f * largest);
+    for (int i = 0; i < 3; ++i)
+        out[i] = p[i] + step * n[i];
+}
+
+/* Where shadow rays go: a point (is_point) or a direction the light travels. */
+typedef struct shadow_target {
+    bool is_point;
+    float v[3];
+} shadow_target;
+
+static shadow_target choose_target(const vkrt_scene *scene)
+{
+    const vkrt_config *cfg = &scene->config;
+    for (uint32_t i = 0; i < cfg->light_count; ++i) {
+        const vkrt_config_light *l = &cfg->lights[i];
+        if (l->kind == VKRT_LIGHT_POINT || l->kind == VKRT_LIGHT_SPOT)
+            return (shadow_target){true, {l->position[0], l->position[1], l->position[2]}};
+        if (l->kind == VKRT_LIGHT_DIRECTIONAL)
+            return (shadow_target){false, {l->direction[0], l->direction[1], l->direction[2]}};
+    }
+    const float *lo = scene->mesh.bounds_min, *hi = scene->mesh.bounds_max;
+    return (shadow_target){true,
+                           {0.5f * (lo[0] + hi[0]), hi[1] + 0.5f * (hi[1] - lo[1]),
+                            0.5f * (lo[2] + hi[2])}};
+}
+
+/* Builds one shadow ray per primary hit; returns how many. */
+static uint32_t make_shadow_rays(const vkrt_scene *scene, const Ray *primary, const Hit *hits,
+                                 uint32_t count, Ray *shadow)
+{
+    shadow_target target = choose_target(scene);
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < count; ++i) {
+        if (hits[i].triangle == VKRT_NO_HIT)
+            continue;
+        const float *v = scene->mesh.positions + 9 * (size_t)hits[i].triangle;
+        float w = 1 - hits[i].u - hits[i].v, p[3], e1[3], e2[3], nrm[3], magnitude = 0;
+        for (int k = 0; k < 3; ++k) {
+            p[k] = w * v[k] + hits[i].u * v[3 + k] + hits[i].v * v[6 + k];
+            e1[k] = v[3 + k] - v[k];
+            e2[k] = v[6 + k] - v[k];
+            magnitude = fmaxf(magnitude, fmaxf(fabsf(v[k]), fmaxf(fabsf(v[3 + k]), fabsf(v[6 + k]))));
+        }
+        nrm[0] = e1[1] * e2[2] - e1[2] * e2[1];
+        nrm[1] = e1[2] * e2[0] - e1[0] * e2[2];
+        nrm[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        float len = sqrtf(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+        const float *d = &primary[i].direction.x;
+        float facing = nrm[0] * d[0] + nrm[1] * d[1] + nrm[2] * d[2] > 0 ? -1.0f : 1.0f;
+        for (int k = 0; k < 3; ++k)
+            nrm[k] *= facing / len;
+        float origin[3], dir[3], tmax = 3.4e38f;
+        offset_origin(p, nrm, magnitude, origin);
+        if (target.is_point) {
+            for (int k = 0; k < 3; ++k)
+                dir[k] = target.v[k] - origin[k];
+            tmax = sqrtf(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+            for (int k = 0; k < 3; ++k)
+                dir[k] /= tmax;
+        } else {
+            for (int k = 0; k < 3; ++k)
+                dir[k] = -target.v[k];
+        }
+        shadow[n++] = (Ray){
+            .origin = {origin[0], origin[1], origin[2], 0},
+            .direction = {dir[0], dir[1], dir[2], tmax},
+            .importance = {1, 1, 1, 0},
+            .info = {i, 0, 0, 0},
+        };
+    }
+    return n;
+}
+
+typedef struct bench_row {
+    const char *scene;
+    vkrt_accel_stats accel;
+    uint32_t triangles, width, height;
+    uint32_t primary_rays, primary_timed, shadow_rays, shadow_timed;
+    double primary_ms, shadow_ms;
+    uint32_t hits, blocked;
+} bench_row;
+
+/* Traces rays once to warm up and timed_runs times; keeps the fastest GPU time. */
+static bool timed_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool any_hit, Hit *hits,
+                        double *best_ms, vkrt_error *err)
+{
+    *best_ms = INFINITY;
+    if (!vkrt_renderer_trace(r, rays, count, any_hit, hits, NULL, err))
+        return false;
+    for (int run = 0; run < timed_runs; ++run) {
+        double ms;
+        if (!vkrt_renderer_trace(r, rays, count, any_hit, hits, &ms, err))
+            return false;
+        *best_ms = fmin(*best_ms, ms);
+    }
+    return true;
+}
+
+static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_render_desc *desc,
+                      bench_row *row, vkrt_error *err)
+{
+    vkrt_renderer r;
+    if (!vkrt_renderer_create(&r, ctx, scene, desc, err))
+        return false;
+    uint32_t pixels = desc->width * desc->height;
+    Ray *primary = malloc(pixels * sizeof *primary), *shadow = malloc(pixels * sizeof *shadow);
+    Hit *hits = malloc(pixels * sizeof *hits);
+    bool ok = primary && shadow && hits;
+    if (!ok)
+        vkrt_error_set(err, "out of memory for %u rays", pixels);
+    row->accel = r.accel.stats;
+    row->triangles = scene->mesh.triangle_count;
+    row->width = desc->width;
+    row->height = desc->height;
+    uint32_t timed = pixels;
+    if (row->accel.kind == VKRT_ACCEL_BRUTE) {
+        double affordable = brute_force_tests / fmax(1.0, scene->mesh.triangle_count);
+        if (affordable < timed)
+            timed = affordable < 1024 ? 1024 : (uint32_t)affordable;
+        if (timed > pixels)
+            timed = pixels;
+    }
+    if (ok) {
+        vkrt_renderer_primary_rays(&r, &scene->config.cameras[0], primary);
+        ok = timed_trace(&r, primary, timed, false, hits, &row->primary_ms, err);
+    }
+    if (ok) {
+        row->primary_rays = pixels;
+        row->primary_timed = timed;
+        uint32_t n = make_shadow_rays(scene, primary, hits, timed, shadow);
+        for (uint32_t i = 0; i < timed; ++i)
+            row->hits += hits[i].triangle != VKRT_NO_HIT;
+        row->shadow_rays = n;
+        row->shadow_timed = n;
+        ok = n == 0 || timed_trace(&r, shadow, n, true, hits, &row->shadow_ms, err);
+        for (uint32_t i = 0; ok && i < n; ++i)
+            row->blocked += hits[i].triangle != VKRT_NO_HIT;
+    }
+    free(primary);
+    free(shadow);
+    free(hits);
+    vkrt_renderer_destroy(&r);
+    return ok;
+}
+
+static double mrays(uint32_t rays, double ms)
+{
+    return ms > 0 ? rays / (ms * 1e3) : 0;
+}
+
+static void print_row(FILE *out, const bench_row *b)
+{
+    fprintf(out, "%-28s %-5s %9u %9.1f %8.2f %10.2f %10.2f %8u %8u\n", b->scene,
+            vkrt_accel_name(b->accel.kind), b->triangles, b->accel.build_ms,
+            b->accel.bytes / 1048576.0, mrays(b->primary_timed, b->primary_ms),
+            mrays(b->shadow_timed, b->shadow_ms), b->hits, b->blocked);
+}
+
+static bool write_json(const char *path, const gpu_context *ctx, const bench_row *rows,
+                       uint32_t count, vkrt_error *err)
+{
+    char tmp[4200];
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    FILE *f = fopen(tmp, "w");
+    if (!f)
+        return vkrt_error_set(err, "%s: cannot write", path);
+    const VkPhysicalDeviceProperties *p = &ctx->properties;
+    fprintf(f, "{\n  \"device\": \"%s\",\n  \"driver_version\": %u,\n  \"api_version\": \"%u.%u.%u\",\n",
+            p->deviceName, p->driverVersion, VK_API_VERSION_MAJOR(p->apiVersion),
+            VK_API_VERSION_MINOR(p->apiVersion), VK_API_VERSION_PATCH(p->apiVersion));
+    fprintf(f, "  \"timed_runs\": %d,\n  \"results\": [\n", timed_runs);
+    for (uint32_t i = 0; i < count; ++i) {
+        const bench_row *b = &rows[i];
+        fprintf(f,
+                "    {\"scene\": \"%s\", \"accel\": \"%s\", \"reason\": \"%s\", \"triangles\": %u, "
+                "\"width\": %u, \"height\": %u, \"build_ms\": %.3f, \"bytes\": %zu, "
+                "\"nodes_or_cells\": %u, \"triangles_per_leaf\": %.3f, "
+                "\"primary_rays_timed\": %u, \"primary_ms\": %.4f, \"primary_mrays_per_s\": %.3f, "
+                "\"shadow_rays_timed\": %u, \"shadow_ms\": %.4f, \"shadow_mrays_per_s\": %.3f, "
+                "\"hits\": %u, \"blocked\": %u}%s\n",
+                b->scene, vkrt_accel_name(b->accel.kind), b->accel.reason, b->triangles, b->width,
+                b->height, b->accel.build_ms, b->accel.bytes, b->accel.nodes,
+                b->accel.triangles_per_leaf, b->primary_timed, b->primary_ms,
+                mrays(b->primary_timed, b->primary_ms), b->shadow_timed, b->shadow_ms,
+                mrays(b->shadow_timed, b->shadow_ms), b->hits, b->blocked,
+                i + 1 < count ? "," : "");
+    }
+    fprintf(f, "  ]\n}\n");
+    if (fclose(f) != 0 || rename(tmp, path) != 0) {
+        remove(tmp);
+        return vkrt_error_set(err, "%s: cannot write", path);
+    }
+    return true;
+}
+
+int vkrt_bench_run(const vkrt_options *opts)
+{
+    vkrt_error err = {{0}};
+    gpu_context ctx;
+    gpu_context_desc ctx_desc = {.device_index = opts->device, .validation = opts->validation};
+    if (!gpu_context_create(&ctx, &ctx_desc, &err)) {
+        fprintf(stderr, "vkrt: %s\n", err.msg);
+        return 1;
+    }
+    static const vkrt_accel_kind all[] = {VKRT_ACCEL_BRUTE, VKRT_ACCEL_GRID, VKRT_ACCEL_BVH};
+    const vkrt_accel_kind *kinds = opts->accel_given ? &opts->accel : all;
+    uint32_t kind_count = opts->accel_given ? 1 : 3;
+    bench_row *rows = calloc((size_t)opts->scene_count * kind_count, sizeof *rows);
+    uint32_t row_count = 0;
+    bool ok = rows != NULL;
+    printf("device: %s\n", ctx.properties.deviceName);
+    printf("%-28s %-5s %9s %9s %8s %10s %10s %8s %8s\n", "scene", "accel", "triangles",
+           "build_ms", "MiB", "primary", "shadow", "hits", "blocked");
+    printf("%-28s %-5s %9s %9s %8s %10s %10s %8s %8s\n", "", "", "", "", "", "Mrays/s", "Mrays/s",
+           "", "");
+    for (uint32_t s = 0; ok && s < opts->scene_count; ++s) {
+        vkrt_scene scene;
+        if (!vkrt_scene_load(opts->scene_paths[s], &scene, &err)) {
+            ok = false;
+            break;
+        }
+        vkrt_render_desc desc = {
+            .width = opts->width ? opts->width : scene.config.width,
+            .height = opts->height ? opts->height : scene.config.height,
+            .samples = 1,
+        };
+        for (uint32_t k = 0; ok && k < kind_count; ++k) {
+            bench_row *row = &rows[row_count];
+            row->scene = opts->scene_paths[s];
+            desc.accel = kinds[k];
+            ok = bench_one(&ctx, &scene, &desc, row, &err);
+            if (ok) {
+                print_row(stdout, row);
+                fflush(stdout);
+                ++row_count;
+            }
+        }
+        vkrt_scene_free(&scene);
+    }
+    if (ok && opts->json)
+        ok = write_json(opts->json, &ctx, rows, row_count, &err);
+    free(rows);
+    gpu_context_destroy(&ctx);
+    if (ok && ctx.validation_messages) {
+        vkrt_error_set(&err, "Vulkan validation reported %u message(s)", ctx.validation_messages);
+        ok = false;
+    }
+    if (!ok) {
+        fprintf(stderr, "vkrt: %s\n", err.msg);
+        return 1;
+    }
+    return 0;
+}

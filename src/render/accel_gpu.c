@@ -1,0 +1,145 @@
+/* accel_gpu.c: build, choose and upload the acceleration structure (see accel_gpu.h). */
+#define _POSIX_C_SOURCE 200809L
+#include "accel_gpu.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "../../glsl/shared.h"
+#include "../accel/bvh.h"
+
+_Static_assert(sizeof(bvh_node) == sizeof(BvhNode), "bvh_node and BvhNode must be the same bytes");
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+static bool upload(gpu_context *ctx, gpu_buffer *buf, const void *data, size_t size,
+                   const char *what, vkrt_error *err)
+{
+    return gpu_buffer_create(ctx, buf, size, what, err) &&
+           gpu_buffer_upload(ctx, buf, data, size, err);
+}
+
+static bool upload_grid(vkrt_accel_gpu *a, gpu_context *ctx, const grid *g, vkrt_error *err)
+{
+    GridInfo info = {
+        .lo = {g->lo[0], g->lo[1], g->lo[2], 0},
+        .hi = {g->hi[0], g->hi[1], g->hi[2], 0},
+        .cell_size = {g->cell_size[0], g->cell_size[1], g->cell_size[2], 0},
+        .dims = {g->dims[0], g->dims[1], g->dims[2], g->cell_count},
+    };
+    size_t starts = ((size_t)g->cell_count + 1) * sizeof(uint32_t);
+    size_t refs = (size_t)g->ref_count * sizeof(uint32_t);
+    if (!upload(ctx, &a->info, &info, sizeof info, "grid frame", err) ||
+        !upload(ctx, &a->nodes, g->cell_start, starts, "grid cells", err) ||
+        !upload(ctx, &a->refs, g->refs, refs, "grid references", err))
+        return false;
+    vkrt_accel_stats *s = &a->stats;
+    s->bytes = sizeof info + starts + refs;
+    s->nodes = g->cell_count;
+    s->leaves = g->occupied_cells;
+    s->triangles_per_leaf = g->occupied_cells ? (double)g->ref_count / g->occupied_cells : 0;
+    memcpy(s->grid_dims, g->dims, sizeof s->grid_dims);
+    s->build_ms = g->build_ms;
+    return true;
+}
+
+static bool build_bvh(vkrt_accel_gpu *a, gpu_context *ctx, const float *positions, uint32_t n,
+                      vkrt_error *err)
+{
+    bvh b;
+    if (!bvh_build(&b, positions, n, NULL, err))
+        return false;
+    /* The traversal keeps one stack entry per level; a deeper tree would lose subtrees. */
+    const uint32_t stack_size = 64;
+    bool ok = b.max_depth < stack_size;
+    if (!ok)
+        vkrt_error_set(err, "BVH of depth %u exceeds the traversal stack of %u", b.max_depth,
+                       stack_size);
+    GridInfo unused = {0};
+    ok = ok && upload(ctx, &a->info, &unused, sizeof unused, "grid frame", err) &&
+         upload(ctx, &a->nodes, b.nodes, b.node_count * sizeof *b.nodes, "BVH nodes", err) &&
+         gpu_buffer_create(ctx, &a->refs, 0, "grid references", err);
+    if (ok) {
+        vkrt_accel_stats *s = &a->stats;
+        s->bytes = b.node_count * sizeof *b.nodes;
+        s->nodes = b.node_count;
+        s->leaves = b.leaf_count;
+        s->triangles_per_leaf = b.leaf_count ? (double)n / b.leaf_count : 0;
+        s->max_depth = b.max_depth;
+        s->sah_cost = b.sah_cost;
+        s->build_ms = b.build_ms;
+        a->prim_order = b.prim_order;
+        b.prim_order = NULL;
+    }
+    bvh_free(&b);
+    return ok;
+}
+
+static bool build_brute(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_error *err)
+{
+    GridInfo unused = {0};
+    return upload(ctx, &a->info, &unused, sizeof unused, "grid frame", err) &&
+           gpu_buffer_create(ctx, &a->nodes, 0, "BVH nodes", err) &&
+           gpu_buffer_create(ctx, &a->refs, 0, "grid references", err);
+}
+
+bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_accel_kind kind,
+                           const float *positions, uint32_t triangle_count, vkrt_error *err)
+{
+    memset(a, 0, sizeof *a);
+    a->triangle_count = triangle_count;
+    vkrt_accel_stats *s = &a->stats;
+    grid g = {0};
+    bool have_grid = false;
+    snprintf(s->reason, sizeof s->reason, "asked for");
+    if (kind == VKRT_ACCEL_AUTO) {
+        double start = now_ms();
+        if (triangle_count > accel_brute_force_limit()) {
+            if (!grid_build(&g, positions, triangle_count, NULL, err))
+                return false;
+            have_grid = true;
+        }
+        accel_choice c = accel_choose(triangle_count, have_grid ? &g : NULL);
+        kind = c.kind;
+        memcpy(s->reason, c.reason, sizeof s->reason);
+        s->choose_ms = now_ms() - start;
+    }
+    s->kind = kind;
+    bool ok;
+    if (kind == VKRT_ACCEL_GRID) {
+        if (!have_grid && !grid_build(&g, positions, triangle_count, NULL, err))
+            return false;
+        have_grid = true;
+        ok = upload_grid(a, ctx, &g, err);
+    } else if (kind == VKRT_ACCEL_BVH) {
+        ok = build_bvh(a, ctx, positions, triangle_count, err);
+    } else {
+        ok = build_brute(a, ctx, err);
+    }
+    if (have_grid)
+        grid_free(&g);
+    if (!ok)
+        vkrt_accel_gpu_destroy(a, ctx);
+    return ok;
+}
+
+void vkrt_accel_gpu_destroy(vkrt_accel_gpu *a, gpu_context *ctx)
+{
+    gpu_buffer_destroy(ctx, &a->refs);
+    gpu_buffer_destroy(ctx, &a->nodes);
+    gpu_buffer_destroy(ctx, &a->info);
+    free(a->prim_order);
+    memset(a, 0, sizeof *a);
+}
+
+uint32_t vkrt_accel_original_triangle(const vkrt_accel_gpu *a, uint32_t i)
+{
+    return a->prim_order && i < a->triangle_count ? a->prim_order[i] : i;
+}

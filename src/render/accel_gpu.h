@@ -1,0 +1,54 @@
+/*
+ * accel_gpu.h: the chosen acceleration structure, built on the CPU and uploaded for the kernels.
+ *
+ * Owns the three buffers of bindings 9-11 (grid frame, BVH nodes or grid cell starts, grid
+ * references) and the triangle order: a BVH stores its triangles in leaf order, so every
+ * per-triangle array the kernels read is uploaded in that order, and prim_order maps back.
+ */
+#ifndef VKRT_ACCEL_GPU_H
+#define VKRT_ACCEL_GPU_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "../accel/choose.h"
+#include "../error.h"
+#include "../gpu/buffer.h"
+#include "../gpu/context.h"
+
+typedef struct vkrt_accel_stats {
+    vkrt_accel_kind kind;       /* what was built (never auto) */
+    char reason[256];           /* why: the auto rule's sentence, or "asked for" */
+    double build_ms;            /* CPU build time */
+    double choose_ms;           /* time to decide (the grid built for auto's statistics) */
+    size_t bytes;               /* GPU memory of the structure, triangles not counted */
+    uint32_t nodes;             /* BVH nodes or grid cells */
+    uint32_t leaves;            /* BVH leaves or occupied grid cells */
+    double triangles_per_leaf;  /* mean triangles per BVH leaf or per occupied grid cell */
+    uint32_t grid_dims[3];
+    uint32_t max_depth;         /* BVH */
+    float sah_cost;             /* BVH */
+} vkrt_accel_stats;
+
+typedef struct vkrt_accel_gpu {
+    gpu_buffer info;            /* GridInfo (a placeholder for other kinds) */
+    gpu_buffer nodes;           /* BvhNode[] or grid cell starts */
+    gpu_buffer refs;            /* grid references (a placeholder for other kinds) */
+    uint32_t *prim_order;       /* NULL for identity order; else prim_order[i] = original index */
+    uint32_t triangle_count;
+    vkrt_accel_stats stats;
+} vkrt_accel_gpu;
+
+/* Builds the structure of kind (auto chooses) over positions (9 floats per triangle) and uploads
+ * it. On failure returns false with err set and nothing left allocated. */
+bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_accel_kind kind,
+                           const float *positions, uint32_t triangle_count, vkrt_error *err);
+
+/* Frees buffers and the order. Safe on a zeroed struct. */
+void vkrt_accel_gpu_destroy(vkrt_accel_gpu *a, gpu_context *ctx);
+
+/* The original index of the triangle stored at position i. */
+uint32_t vkrt_accel_original_triangle(const vkrt_accel_gpu *a, uint32_t i);
+
+#endif
