@@ -45,10 +45,10 @@ enum { MIN_BINS = 2, MAX_BINS = 256, MAX_THREADS = 64 };
 /* A node this small is a leaf without looking at the SAH. */
 enum { ALWAYS_LEAF_PRIMS = 1 };
 
-/* A small node gets at most max(count, SMALL_NODE_MIN_BINS) bins: with a few triangles, most of
- * 16 bins would be empty, and clearing and sweeping them dominated the build time (the bottom
- * levels hold most nodes). count bins still separate the two extreme centroids and give count - 1
- * candidate planes, close to the exact sweep's count - 1. */
+/* A small node gets at most max(count, SMALL_NODE_MIN_BINS) bins (a departure from Wald's fixed
+ * count): with a few triangles most of 16 bins would be empty, yet clearing and sweeping them is
+ * a fixed cost per node, and the bottom levels hold most nodes. count bins still separate the two
+ * extreme centroids and give count - 1 candidate planes, as many as an exact sweep has. */
 enum { SMALL_NODE_MIN_BINS = 4 };
 
 /* Jobs over more triangles than this split one node and hand both children back to the pool;
@@ -87,9 +87,6 @@ typedef struct ref_lanes {
     float lo[4], hi[4], c[4];
 } ref_lanes;
 
-/* Refs alternate between this many bin sets, merged before the sweep: consecutive triangles of a
- * mesh often land in the same bin, and one set would chain each update on the previous store. */
-enum { BIN_SETS = 2 };
 
 /* What one node's split decision says. */
 typedef struct split_result {
@@ -128,8 +125,8 @@ typedef struct build_ctx {
 
 /* Per-thread scratch: bins and the depth-first stack of a local build. */
 typedef struct thread_scratch {
-    aabb bins[BIN_SETS][3][MAX_BINS];
-    uint32_t counts[BIN_SETS][3][MAX_BINS];
+    aabb bins[3][MAX_BINS];
+    uint32_t counts[3][MAX_BINS];
     float right_area[MAX_BINS];
     uint32_t right_count[MAX_BINS];
     pending_node *stack;   /* capacity prim_count: pending ranges are disjoint and non-empty */
@@ -303,34 +300,23 @@ static void fill_bins(thread_scratch *s, const prim_ref *refs, uint32_t begin, u
         active[a] = extent > 0.0f && isfinite(extent) && isfinite(scale[a]);
         lo[a] = active[a] ? cb->lo[a] : 0.0f;
         scale[a] = active[a] ? scale[a] : 0.0f;
-        for (int set = 0; set < BIN_SETS; set++) {
-            for (uint32_t k = 0; k < nb; k++)
-                aabb_empty(&s->bins[set][a][k]);
-            memset(s->counts[set][a], 0, nb * sizeof s->counts[set][a][0]);
-        }
+        for (uint32_t k = 0; k < nb; k++)
+            aabb_empty(&s->bins[a][k]);
+        memset(s->counts[a], 0, nb * sizeof s->counts[a][0]);
     }
     for (uint32_t i = begin; i < end; i++) {
         ref_lanes l;
         ref_load(&refs[i], &l);
-        int set = (int)(i % BIN_SETS);
         /* the three bin indices first: they are independent, the updates then overlap */
         uint32_t k0 = bin_of(l.c[0], lo[0], scale[0], nb - 1);
         uint32_t k1 = bin_of(l.c[1], lo[1], scale[1], nb - 1);
         uint32_t k2 = bin_of(l.c[2], lo[2], scale[2], nb - 1);
-        aabb_grow_box(&s->bins[set][0][k0], l.lo, l.hi);
-        aabb_grow_box(&s->bins[set][1][k1], l.lo, l.hi);
-        aabb_grow_box(&s->bins[set][2][k2], l.lo, l.hi);
-        s->counts[set][0][k0]++;
-        s->counts[set][1][k1]++;
-        s->counts[set][2][k2]++;
-    }
-    for (int set = 1; set < BIN_SETS; set++) {
-        for (int a = 0; a < 3; a++) {
-            for (uint32_t k = 0; k < nb; k++) {
-                aabb_grow_box(&s->bins[0][a][k], s->bins[set][a][k].lo, s->bins[set][a][k].hi);
-                s->counts[0][a][k] += s->counts[set][a][k];
-            }
-        }
+        aabb_grow_box(&s->bins[0][k0], l.lo, l.hi);
+        aabb_grow_box(&s->bins[1][k1], l.lo, l.hi);
+        aabb_grow_box(&s->bins[2][k2], l.lo, l.hi);
+        s->counts[0][k0]++;
+        s->counts[1][k1]++;
+        s->counts[2][k2]++;
     }
 }
 
@@ -338,8 +324,8 @@ static void fill_bins(thread_scratch *s, const prim_ref *refs, uint32_t begin, u
  * Strict < keeps the first of equal costs, so the choice is reproducible. */
 static void sweep_axis(thread_scratch *s, int a, uint32_t nb, bin_split *best)
 {
-    const aabb *bins = s->bins[0][a];
-    const uint32_t *counts = s->counts[0][a];
+    const aabb *bins = s->bins[a];
+    const uint32_t *counts = s->counts[a];
     aabb acc;
     aabb_empty(&acc);
     uint32_t cnt = 0;
