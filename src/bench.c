@@ -113,6 +113,7 @@ typedef struct bench_row {
     uint32_t primary_rays, primary_timed, shadow_rays, shadow_timed;
     double primary_ms, shadow_ms;
     uint32_t hits, blocked;
+    double grid_density;
 } bench_row;
 
 /* Traces rays once to warm up and timed_runs times; keeps the fastest GPU time. */
@@ -157,6 +158,10 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
     }
     if (ok) {
         vkrt_renderer_primary_rays(&r, &scene->config.cameras[0], primary);
+        /* A subset for brute force: every stride-th ray, so it sees the whole image. */
+        uint32_t stride = pixels / timed;
+        for (uint32_t i = 0; stride > 1 && i < timed; ++i)
+            primary[i] = primary[i * stride];
         ok = timed_trace(&r, primary, timed, false, hits, &row->primary_ms, err);
     }
     if (ok) {
@@ -212,12 +217,12 @@ static bool write_json(const char *path, const gpu_context *ctx, const bench_row
                 "\"nodes_or_cells\": %u, \"triangles_per_leaf\": %.3f, "
                 "\"primary_rays_timed\": %u, \"primary_ms\": %.4f, \"primary_mrays_per_s\": %.3f, "
                 "\"shadow_rays_timed\": %u, \"shadow_ms\": %.4f, \"shadow_mrays_per_s\": %.3f, "
-                "\"hits\": %u, \"blocked\": %u}%s\n",
+                "\"hits\": %u, \"blocked\": %u, \"grid_density\": %g}%s\n",
                 b->scene, vkrt_accel_name(b->accel.kind), b->accel.reason, b->triangles, b->width,
                 b->height, b->accel.build_ms, b->accel.bytes, b->accel.nodes,
                 b->accel.triangles_per_leaf, b->primary_timed, b->primary_ms,
                 mrays(b->primary_timed, b->primary_ms), b->shadow_timed, b->shadow_ms,
-                mrays(b->shadow_timed, b->shadow_ms), b->hits, b->blocked,
+                mrays(b->shadow_timed, b->shadow_ms), b->hits, b->blocked, b->grid_density,
                 i + 1 < count ? "," : "");
     }
     fprintf(f, "  ]\n}\n");
@@ -258,10 +263,12 @@ int vkrt_bench_run(const vkrt_options *opts)
             .width = opts->width ? opts->width : scene.config.width,
             .height = opts->height ? opts->height : scene.config.height,
             .samples = 1,
+            .grid_density = opts->grid_density,
         };
         for (uint32_t k = 0; ok && k < kind_count; ++k) {
             bench_row *row = &rows[row_count];
             row->scene = opts->scene_paths[s];
+            row->grid_density = opts->grid_density;
             desc.accel = kinds[k];
             ok = bench_one(&ctx, &scene, &desc, row, &err);
             if (ok) {

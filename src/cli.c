@@ -10,6 +10,7 @@ const char *vkrt_usage(void)
 {
     return "usage: vkrt render SCENE.cfg [options]   render every frame (camera) of a scene\n"
            "       vkrt bench SCENE.cfg... [--accel A] [--json OUT.json] [--width W --height H]\n"
+           "                  [--grid-density CELLS_PER_TRIANGLE]\n"
            "                                         time primary and shadow rays per structure\n"
            "       vkrt --list-devices               list Vulkan devices\n"
            "       vkrt --help | --version\n"
@@ -111,6 +112,12 @@ bool vkrt_options_parse(int argc, char **argv, vkrt_options *opts, vkrt_error *e
                 return vkrt_error_set(err, "--accel: '%s' is not one of auto, brute, grid, bvh",
                                       value ? value : "");
             opts->accel_given = true;
+            ++i;
+        } else if (strcmp(arg, "--grid-density") == 0) {
+            if (!parse_float(arg, value, &opts->grid_density, err))
+                return false;
+            if (opts->grid_density <= 0 || opts->grid_density > 1000)
+                return vkrt_error_set(err, "--grid-density: '%s' is not in (0, 1000]", value);
             ++i;
         } else if (strcmp(arg, "--json") == 0) {
             if (!value)

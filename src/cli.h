@@ -25,6 +25,7 @@ typedef struct vkrt_options {
     const char *scene_paths[64]; /* bench: every scene.cfg given */
     uint32_t scene_count;
     const char *json;         /* bench --json: where to write the results */
+    float grid_density;       /* bench --grid-density: cells per triangle; 0: the default */
     const char *output;       /* -o: overrides the scene's output; NULL when not given */
     uint32_t width, height;   /* 0 when not given */
     uint32_t samples;         /* --spp; 0 when not given */

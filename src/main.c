@@ -72,9 +72,9 @@ static void print_accel_stats(FILE *out, const vkrt_accel_stats *s)
     else if (s->kind == VKRT_ACCEL_GRID)
         fprintf(out,
                 "vkrt: grid: %ux%ux%u = %u cells, %u occupied, %.2f triangles per occupied cell, "
-                "%.2f MiB, built in %.1f ms\n",
+                "fullest cell %u, %.2f MiB, built in %.1f ms\n",
                 s->grid_dims[0], s->grid_dims[1], s->grid_dims[2], s->nodes, s->leaves,
-                s->triangles_per_leaf, s->bytes / 1048576.0, s->build_ms);
+                s->triangles_per_leaf, s->max_cell_refs, s->bytes / 1048576.0, s->build_ms);
     if (s->choose_ms > 0)
         fprintf(out, "vkrt: choosing took %.1f ms\n", s->choose_ms);
 }
@@ -159,6 +159,8 @@ static int run_render(const vkrt_options *opts)
                 frames == 1 ? "" : "s",
                 1e3 * totals.seconds / frames,
                 totals.seconds > 0 ? totals.rays / totals.seconds * 1e-6 : 0.0);
+        if (!opts->verbose)
+            fprintf(stderr, "vkrt: accel %s: %s\n", vkrt_accel_name(accel.kind), accel.reason);
     }
     vkrt_scene_free(&scene);
     return 0;

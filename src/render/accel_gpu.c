@@ -46,6 +46,7 @@ static bool upload_grid(vkrt_accel_gpu *a, gpu_context *ctx, const grid *g, vkrt
     s->leaves = g->occupied_cells;
     s->triangles_per_leaf = g->occupied_cells ? (double)g->ref_count / g->occupied_cells : 0;
     memcpy(s->grid_dims, g->dims, sizeof s->grid_dims);
+    s->max_cell_refs = g->max_cell_refs;
     s->build_ms = g->build_ms;
     return true;
 }
@@ -91,8 +92,10 @@ static bool build_brute(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_error *err)
 }
 
 bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_accel_kind kind,
-                           const float *positions, uint32_t triangle_count, vkrt_error *err)
+                           float grid_density, const float *positions, uint32_t triangle_count,
+                           vkrt_error *err)
 {
+    grid_build_desc grid_desc = {.density = grid_density};
     memset(a, 0, sizeof *a);
     a->triangle_count = triangle_count;
     vkrt_accel_stats *s = &a->stats;
@@ -102,6 +105,7 @@ bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_accel_kind 
     if (kind == VKRT_ACCEL_AUTO) {
         double start = now_ms();
         if (triangle_count > accel_brute_force_limit()) {
+            /* The rule's thresholds were measured at the default density. */
             if (!grid_build(&g, positions, triangle_count, NULL, err))
                 return false;
             have_grid = true;
@@ -114,7 +118,11 @@ bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_accel_kind 
     s->kind = kind;
     bool ok;
     if (kind == VKRT_ACCEL_GRID) {
-        if (!have_grid && !grid_build(&g, positions, triangle_count, NULL, err))
+        if (have_grid && grid_density > 0) {
+            grid_free(&g);
+            have_grid = false;
+        }
+        if (!have_grid && !grid_build(&g, positions, triangle_count, &grid_desc, err))
             return false;
         have_grid = true;
         ok = upload_grid(a, ctx, &g, err);

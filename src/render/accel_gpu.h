@@ -27,6 +27,7 @@ typedef struct vkrt_accel_stats {
     uint32_t leaves;            /* BVH leaves or occupied grid cells */
     double triangles_per_leaf;  /* mean triangles per BVH leaf or per occupied grid cell */
     uint32_t grid_dims[3];
+    uint32_t max_cell_refs;     /* grid: the fullest cell's triangles */
     uint32_t max_depth;         /* BVH */
     float sah_cost;             /* BVH */
 } vkrt_accel_stats;
@@ -41,9 +42,10 @@ typedef struct vkrt_accel_gpu {
 } vkrt_accel_gpu;
 
 /* Builds the structure of kind (auto chooses) over positions (9 floats per triangle) and uploads
- * it. On failure returns false with err set and nothing left allocated. */
+ * it. grid_density 0 uses the grid's default density (it is a knob for measuring). On failure returns false with err set and nothing left allocated. */
 bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_accel_kind kind,
-                           const float *positions, uint32_t triangle_count, vkrt_error *err);
+                           float grid_density, const float *positions, uint32_t triangle_count,
+                           vkrt_error *err);
 
 /* Frees buffers and the order. Safe on a zeroed struct. */
 void vkrt_accel_gpu_destroy(vkrt_accel_gpu *a, gpu_context *ctx);

@@ -213,7 +213,7 @@ bool vkrt_renderer_create(vkrt_renderer *r, gpu_context *ctx, const vkrt_scene *
     uint32_t workgroup_size = desc->workgroup_size ? desc->workgroup_size : default_workgroup_size;
 
     if (!gpu_storage_set_create(ctx, &r->set, BINDING_COUNT, sizeof(FrameParams), err) ||
-        !vkrt_accel_gpu_create(&r->accel, ctx, desc->accel, scene->mesh.positions,
+        !vkrt_accel_gpu_create(&r->accel, ctx, desc->accel, desc->grid_density, scene->mesh.positions,
                                scene->mesh.triangle_count, err) ||
         !upload_geometry(r, &scene->mesh, err) || !upload_materials(r, &scene->mesh, err) ||
         !upload_lights(r, &scene->config, err) || !create_frame_buffers(r, err) ||

@@ -28,6 +28,7 @@ typedef struct vkrt_render_desc {
     uint32_t samples;         /* samples per pixel; 0 means 1 */
     uint32_t workgroup_size;  /* 0 means 64 */
     vkrt_accel_kind accel;    /* auto (0) chooses from the scene */
+    float grid_density;       /* cells per triangle of a grid; 0: the default */
 } vkrt_render_desc;
 
 typedef struct vkrt_frame_stats {
