@@ -3,10 +3,13 @@
  *
  * Rays: primary rays through the pixel centres of the scene's first camera; shadow rays from
  * each primary hit towards the first point or spot light (or against the first directional
- * light; without any, towards a point above the scene's bounds). Each trace is run once to warm
- * up, then timed `timed_runs` times with GPU timestamps around the dispatch alone; the fastest
- * run is reported (the others measure interference, not the kernel). Brute force traces only a
- * prefix of the rays when all of them would take too long: its rate is the same per ray.
+ * light; without any, towards a point above the scene's bounds). Each trace runs back to back
+ * in one submission, warm-up runs worth warmup_ms of GPU time then timed_runs runs, with GPU
+ * timestamps between them; the median of the timed runs is reported, with the fastest and slowest
+ * in the JSON. (Runs with host work between them, as a first version did, let the H100's clocks
+ * fall in the gaps: the same dispatch then took 0.7 to 3 ms.)
+ * Brute force traces an evenly spread subset of the rays when all of them would take too long:
+ * its rate is the same per ray.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "bench.h"
@@ -20,7 +23,12 @@
 #include "render/renderer.h"
 #include "scene/scene.h"
 
-static const int timed_runs = 3;
+enum { timed_runs = 11, min_warmup_runs = 2, max_warmup_runs = 4000 };
+
+/* GPU time of back-to-back warm-up runs before the timed ones. The H100 needs this long at full
+ * load before its clocks settle: with 16 runs of a quarter millisecond after a second of idle
+ * host work, the same grid trace measured 5x slower than after a long one. */
+static const double warmup_ms = 300.0;
 
 /* Ray-triangle tests brute force may spend per measurement: about a second on lavapipe, which
  * does some 1.6e8 of them per second on two cores. */
@@ -106,30 +114,49 @@ static uint32_t make_shadow_rays(const vkrt_scene *scene, const Ray *primary, co
     return n;
 }
 
+/* GPU times of one trace: median, fastest and slowest of timed_runs after the warm-up. */
+typedef struct trace_times {
+    double median_ms, min_ms, max_ms;
+} trace_times;
+
 typedef struct bench_row {
     const char *scene;
     vkrt_accel_stats accel;
     uint32_t triangles, width, height;
     uint32_t primary_rays, primary_timed, shadow_rays, shadow_timed;
-    double primary_ms, shadow_ms;
+    trace_times primary, shadow;
+    double primary_ms, shadow_ms; /* medians */
     uint32_t hits, blocked;
     double grid_density;
 } bench_row;
 
-/* Traces rays once to warm up and timed_runs times; keeps the fastest GPU time. */
-static bool timed_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool any_hit, Hit *hits,
-                        double *best_ms, vkrt_error *err)
+static int compare_doubles(const void *a, const void *b)
 {
-    *best_ms = INFINITY;
-    if (!vkrt_renderer_trace(r, rays, count, any_hit, hits, NULL, err))
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+static bool timed_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool any_hit, Hit *hits,
+                        trace_times *times, vkrt_error *err)
+{
+    /* A probe sizes the warm-up: enough runs to keep the GPU busy for warmup_ms. */
+    double probe;
+    if (!vkrt_renderer_trace(r, rays, count, any_hit, hits, 1, &probe, err))
         return false;
-    for (int run = 0; run < timed_runs; ++run) {
-        double ms;
-        if (!vkrt_renderer_trace(r, rays, count, any_hit, hits, &ms, err))
-            return false;
-        *best_ms = fmin(*best_ms, ms);
+    uint32_t warmup = probe > 0 ? (uint32_t)fmin(max_warmup_runs, ceil(warmup_ms / probe)) : 1;
+    if (warmup < min_warmup_runs)
+        warmup = min_warmup_runs;
+    double *ms = malloc((warmup + timed_runs) * sizeof *ms);
+    if (!ms)
+        return vkrt_error_set(err, "out of memory");
+    bool ok = vkrt_renderer_trace(r, rays, count, any_hit, hits, warmup + timed_runs, ms, err);
+    if (ok) {
+        double *timed = ms + warmup;
+        qsort(timed, timed_runs, sizeof *timed, compare_doubles);
+        *times = (trace_times){timed[timed_runs / 2], timed[0], timed[timed_runs - 1]};
     }
-    return true;
+    free(ms);
+    return ok;
 }
 
 static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_render_desc *desc,
@@ -162,7 +189,8 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
         uint32_t stride = pixels / timed;
         for (uint32_t i = 0; stride > 1 && i < timed; ++i)
             primary[i] = primary[i * stride];
-        ok = timed_trace(&r, primary, timed, false, hits, &row->primary_ms, err);
+        ok = timed_trace(&r, primary, timed, false, hits, &row->primary, err);
+        row->primary_ms = row->primary.median_ms;
     }
     if (ok) {
         row->primary_rays = pixels;
@@ -172,7 +200,8 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
             row->hits += hits[i].triangle != VKRT_NO_HIT;
         row->shadow_rays = n;
         row->shadow_timed = n;
-        ok = n == 0 || timed_trace(&r, shadow, n, true, hits, &row->shadow_ms, err);
+        ok = n == 0 || timed_trace(&r, shadow, n, true, hits, &row->shadow, err);
+        row->shadow_ms = row->shadow.median_ms;
         for (uint32_t i = 0; ok && i < n; ++i)
             row->blocked += hits[i].triangle != VKRT_NO_HIT;
     }
@@ -208,20 +237,24 @@ static bool write_json(const char *path, const gpu_context *ctx, const bench_row
     fprintf(f, "{\n  \"device\": \"%s\",\n  \"driver_version\": %u,\n  \"api_version\": \"%u.%u.%u\",\n",
             p->deviceName, p->driverVersion, VK_API_VERSION_MAJOR(p->apiVersion),
             VK_API_VERSION_MINOR(p->apiVersion), VK_API_VERSION_PATCH(p->apiVersion));
-    fprintf(f, "  \"timed_runs\": %d,\n  \"results\": [\n", timed_runs);
+    fprintf(f, "  \"warmup_ms\": %.0f,\n  \"timed_runs\": %d,\n  \"statistic\": \"median\",\n"
+               "  \"results\": [\n", warmup_ms, timed_runs);
     for (uint32_t i = 0; i < count; ++i) {
         const bench_row *b = &rows[i];
         fprintf(f,
                 "    {\"scene\": \"%s\", \"accel\": \"%s\", \"reason\": \"%s\", \"triangles\": %u, "
                 "\"width\": %u, \"height\": %u, \"build_ms\": %.3f, \"bytes\": %zu, "
                 "\"nodes_or_cells\": %u, \"triangles_per_leaf\": %.3f, "
-                "\"primary_rays_timed\": %u, \"primary_ms\": %.4f, \"primary_mrays_per_s\": %.3f, "
-                "\"shadow_rays_timed\": %u, \"shadow_ms\": %.4f, \"shadow_mrays_per_s\": %.3f, "
+                "\"primary_rays_timed\": %u, \"primary_ms\": %.4f, \"primary_ms_min\": %.4f, "
+                "\"primary_ms_max\": %.4f, \"primary_mrays_per_s\": %.3f, "
+                "\"shadow_rays_timed\": %u, \"shadow_ms\": %.4f, \"shadow_ms_min\": %.4f, "
+                "\"shadow_ms_max\": %.4f, \"shadow_mrays_per_s\": %.3f, "
                 "\"hits\": %u, \"blocked\": %u, \"grid_density\": %g}%s\n",
                 b->scene, vkrt_accel_name(b->accel.kind), b->accel.reason, b->triangles, b->width,
                 b->height, b->accel.build_ms, b->accel.bytes, b->accel.nodes,
-                b->accel.triangles_per_leaf, b->primary_timed, b->primary_ms,
-                mrays(b->primary_timed, b->primary_ms), b->shadow_timed, b->shadow_ms,
+                b->accel.triangles_per_leaf, b->primary_timed, b->primary_ms, b->primary.min_ms,
+                b->primary.max_ms, mrays(b->primary_timed, b->primary_ms), b->shadow_timed,
+                b->shadow_ms, b->shadow.min_ms, b->shadow.max_ms,
                 mrays(b->shadow_timed, b->shadow_ms), b->hits, b->blocked, b->grid_density,
                 i + 1 < count ? "," : "");
     }

@@ -87,7 +87,7 @@ static void trace_with(gpu_context *ctx, const vkrt_scene *scene, vkrt_accel_kin
     vkrt_render_desc desc = {.width = count, .height = 1, .accel = kind};
     if (!vkrt_renderer_create(&r, ctx, scene, &desc, &err))
         fail_msg("renderer (%s): %s", vkrt_accel_name(kind), err.msg);
-    if (!vkrt_renderer_trace(&r, rays, count, any_hit, hits, NULL, &err))
+    if (!vkrt_renderer_trace(&r, rays, count, any_hit, hits, 1, NULL, &err))
         fail_msg("trace (%s): %s", vkrt_accel_name(kind), err.msg);
     if (built)
         *built = r.accel.stats.kind;

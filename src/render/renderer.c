@@ -385,30 +385,37 @@ bool vkrt_renderer_render(vkrt_renderer *r, const vkrt_config_camera *camera, ui
 }
 
 bool vkrt_renderer_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool any_hit,
-                         Hit *hits, double *gpu_ms, vkrt_error *err)
+                         Hit *hits, uint32_t repeats, double *gpu_ms, vkrt_error *err)
 {
     size_t capacity = (size_t)r->width * r->height;
     if (count > capacity)
         return vkrt_error_set(err, "%u rays exceed the renderer's %zu", count, capacity);
+    if (repeats == 0)
+        repeats = 1;
     FrameParams params = {0};
     params.counts = (uvec4){r->triangle_count, r->light_count, count, 0};
     gpu_timer timer = {0};
     if (!gpu_buffer_upload(r->ctx, &r->rays, rays, count * sizeof *rays, err) ||
-        (gpu_ms && !gpu_timer_create(r->ctx, &timer, 2, err)))
+        (gpu_ms && !gpu_timer_create(r->ctx, &timer, repeats + 1, err)))
         return false;
     VkCommandBuffer cmd;
     bool ok = gpu_commands_begin(r->ctx, &cmd, err);
     if (ok) {
+        /* Back to back in one submission, so the GPU never idles between repeats (its clocks
+         * would fall, and each timing would measure the climb back). */
         if (gpu_ms) {
             gpu_timer_reset(cmd, &timer);
             gpu_timer_write(cmd, &timer, 0);
         }
-        record_trace(r, cmd, &params, any_hit, count);
-        if (gpu_ms)
-            gpu_timer_write(cmd, &timer, 1);
-        ok = gpu_commands_submit(r->ctx, err) &&
-             (!gpu_ms || gpu_timer_ms(r->ctx, &timer, 0, 1, gpu_ms, err)) &&
-             gpu_buffer_download(r->ctx, &r->hits, hits, count * sizeof *hits, err);
+        for (uint32_t i = 0; i < repeats; ++i) {
+            record_trace(r, cmd, &params, any_hit, count);
+            if (gpu_ms)
+                gpu_timer_write(cmd, &timer, i + 1);
+        }
+        ok = gpu_commands_submit(r->ctx, err);
+        for (uint32_t i = 0; ok && gpu_ms && i < repeats; ++i)
+            ok = gpu_timer_ms(r->ctx, &timer, i, i + 1, &gpu_ms[i], err);
+        ok = ok && gpu_buffer_download(r->ctx, &r->hits, hits, count * sizeof *hits, err);
     }
     gpu_timer_destroy(r->ctx, &timer);
     if (!ok)

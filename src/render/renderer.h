@@ -62,10 +62,11 @@ bool vkrt_renderer_render(vkrt_renderer *r, const vkrt_config_camera *camera, ui
 
 /* Traces count rays (count <= width * height of the renderer) with the renderer's structure: to
  * their closest hits, or (any_hit) to whether anything blocks them (hit.triangle 0 or
- * VKRT_NO_HIT). Closest-hit triangles are reported as original (OBJ order) indices. When gpu_ms
- * is not NULL it receives the trace dispatch's GPU time from timestamps. For tests and bench. */
+ * VKRT_NO_HIT). Closest-hit triangles are reported as original (OBJ order) indices. The trace
+ * runs `repeats` times (0 means 1) back to back in one submission; when gpu_ms is not NULL it
+ * receives each run's GPU time from timestamps (repeats entries). For tests and bench. */
 bool vkrt_renderer_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool any_hit,
-                         Hit *hits, double *gpu_ms, vkrt_error *err);
+                         Hit *hits, uint32_t repeats, double *gpu_ms, vkrt_error *err);
 
 /* Fills width * height rays through the pixel centres of camera, as raygen does at one sample
  * per pixel. */
