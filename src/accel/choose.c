@@ -1,13 +1,15 @@
 /*
- * choose.c: the rule behind `accel auto` (see choose.h; measurements in docs/performance.md).
+ * choose.c: the rule behind `accel auto` (see choose.h; measurements in docs/performance.md and
+ * bench/results/).
  *
- * Measured with `vkrt bench` on lavapipe and on an H100 (bench/results/): with the current
- * kernels the uniform grid traces primary rays as fast as the BVH or faster on the bunny, Sponza,
- * Sibenik and Lost Empire, and the BVH wins by 60x to 190x on the teapot-in-a-stadium scene,
- * where a few cells hold most of the triangles. What separates them is not the fullest cell alone
- * (Sibenik has a cell of 1545 triangles and still suits the grid: few rays pass through it) but
- * how much of the scene sits in crowded cells: there the grid tests every triangle of a cell for
- * each ray that crosses it, while a BVH keeps subdividing.
+ * Measured with `vkrt bench`: on the H100 the BVH traced primary and shadow rays 1.2 to 2.1 times
+ * faster than the grid on the bunny, Sponza, Sibenik, Lost Empire and the teapot, and 190 times
+ * faster on the teapot-in-a-stadium scene. On lavapipe, per primary-plus-shadow ray, the two
+ * were within 3% of each other on the bunny, Sponza and Lost Empire, the BVH 14% ahead on
+ * Sibenik and the grid 29% on the teapot; the grid built two to three times faster, and the BVH
+ * was again about 100 times faster in the stadium. What separates the
+ * stadium is how much of the scene sits in crowded cells: there the grid tests every triangle of
+ * a cell for each ray that crosses it, while a BVH keeps subdividing.
  */
 #include "choose.h"
 
@@ -20,9 +22,9 @@ static const uint32_t brute_force_limit = 64;
 /* A cell is crowded when it holds more than this many times the mean of the occupied cells. */
 static const double crowded_ratio = 16.0;
 
-/* The scene is uneven when more than this share of all references lies in crowded cells. Measured
- * shares (docs/performance.md): the stadium 0.54; Sibenik 0.11, Sponza 0.085, the bunny, the
- * teapot and Lost Empire 0. */
+/* The scene is uneven when more than this share of all references lies in crowded cells.
+ * Measured shares at the default density: the stadium 0.5; Sibenik 0.11, Sponza 0.085, the bunny,
+ * the teapot and Lost Empire about 0. */
 static const double uneven_share = 0.25;
 
 uint32_t accel_brute_force_limit(void)
@@ -30,13 +32,25 @@ uint32_t accel_brute_force_limit(void)
     return brute_force_limit;
 }
 
-accel_choice accel_choose(uint32_t triangle_count, const grid *g)
+bool accel_choice_needs_grid(uint32_t triangle_count, bool cpu_device)
+{
+    return cpu_device && triangle_count > brute_force_limit;
+}
+
+accel_choice accel_choose(uint32_t triangle_count, bool cpu_device, const grid *g)
 {
     accel_choice c = {0};
-    if (triangle_count <= brute_force_limit || !g) {
+    if (triangle_count <= brute_force_limit) {
         c.kind = VKRT_ACCEL_BRUTE;
         snprintf(c.reason, sizeof c.reason, "%u triangles (at most %u): brute force", triangle_count,
                  brute_force_limit);
+        return c;
+    }
+    if (!cpu_device || !g) {
+        c.kind = VKRT_ACCEL_BVH;
+        snprintf(c.reason, sizeof c.reason,
+                 "%u triangles on a GPU: BVH (it outran the grid on every scene measured)",
+                 triangle_count);
         return c;
     }
     double mean = g->occupied_cells ? (double)g->ref_count / g->occupied_cells : 0.0;
@@ -47,11 +61,12 @@ accel_choice accel_choose(uint32_t triangle_count, const grid *g)
             crowded_refs += refs;
     }
     double share = g->ref_count ? (double)crowded_refs / g->ref_count : 0.0;
-    c.kind = share > uneven_share ? VKRT_ACCEL_BVH : VKRT_ACCEL_GRID;
+    bool uneven = share > uneven_share;
+    c.kind = uneven ? VKRT_ACCEL_BVH : VKRT_ACCEL_GRID;
     snprintf(c.reason, sizeof c.reason,
              "%s: %.1f%% of the grid's references lie in cells holding over %.0fx the mean %.1f "
-             "(limit %.0f%%): %s",
-             share > uneven_share ? "uneven" : "even", 100 * share, crowded_ratio, mean,
-             100 * uneven_share, share > uneven_share ? "BVH" : "grid");
+             "(limit %.0f%%), on a CPU device: %s",
+             uneven ? "uneven" : "even", 100 * share, crowded_ratio, mean, 100 * uneven_share,
+             uneven ? "BVH" : "grid");
     return c;
 }

@@ -1,14 +1,18 @@
 /*
  * choose.h: which acceleration structure a scene needs (`accel auto`).
  *
- * The choice looks at the scene, not at a clock: the triangle count, and how unevenly the
- * triangles fill space, read off the uniform grid's occupancy (building it is O(n) and cheap).
- * Brute force for a handful of triangles; the grid when the triangles are spread evenly over its
- * cells; the BVH otherwise (the teapot-in-a-stadium case, where a few cells hold most of them).
+ * The choice looks at the scene and the kind of device, not at a clock. Brute force for a handful
+ * of triangles. Above that, how unevenly the triangles fill space, read off the uniform grid's
+ * occupancy (O(n) to build): a scene with much of its geometry in a few crowded cells (the
+ * teapot in a stadium) gets the BVH everywhere. An evenly spread scene gets the grid on a CPU
+ * device, where it traced about as fast as the BVH (each ahead on some scenes) and builds two to
+ * three times faster, and the BVH on a GPU, where it traced 1.2 to 2.1 times faster than the grid
+ * on every scene measured (docs/performance.md).
  */
 #ifndef VKRT_ACCEL_CHOOSE_H
 #define VKRT_ACCEL_CHOOSE_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "../scene/config.h"
@@ -22,8 +26,12 @@ typedef struct accel_choice {
 /* At or below this many triangles brute force is chosen without building anything. */
 uint32_t accel_brute_force_limit(void);
 
-/* Chooses for a scene of triangle_count triangles whose grid (built with the default density) is
- * g; g may be NULL when triangle_count <= accel_brute_force_limit(). */
-accel_choice accel_choose(uint32_t triangle_count, const grid *g);
+/* True when the choice for this scene and device needs the grid's statistics: above the brute
+ * force limit on a CPU device. (On a GPU the BVH wins either way, so no grid is built.) */
+bool accel_choice_needs_grid(uint32_t triangle_count, bool cpu_device);
+
+/* Chooses for a scene of triangle_count triangles on a CPU or GPU device. g is the scene's grid at
+ * the default density when accel_choice_needs_grid said so, else NULL. */
+accel_choice accel_choose(uint32_t triangle_count, bool cpu_device, const grid *g);
 
 #endif

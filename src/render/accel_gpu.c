@@ -104,13 +104,14 @@ bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_accel_kind 
     snprintf(s->reason, sizeof s->reason, "asked for");
     if (kind == VKRT_ACCEL_AUTO) {
         double start = now_ms();
-        if (triangle_count > accel_brute_force_limit()) {
+        bool cpu_device = ctx->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+        if (accel_choice_needs_grid(triangle_count, cpu_device)) {
             /* The rule's thresholds were measured at the default density. */
             if (!grid_build(&g, positions, triangle_count, NULL, err))
                 return false;
             have_grid = true;
         }
-        accel_choice c = accel_choose(triangle_count, have_grid ? &g : NULL);
+        accel_choice c = accel_choose(triangle_count, cpu_device, have_grid ? &g : NULL);
         kind = c.kind;
         memcpy(s->reason, c.reason, sizeof s->reason);
         s->choose_ms = now_ms() - start;
