@@ -191,10 +191,29 @@ static void test_sizes(void **state)
     assert_int_equal(sizeof(GridInfo), 64);
 }
 
+/* A buffer past one storage buffer's range (a scene too big for it) is refused with a message
+ * that names it, its size and the device's limit, and nothing is left allocated. */
+static void test_buffer_over_the_limit(void **state)
+{
+    (void)state;
+    gpu_context ctx;
+    fixture_context_create(&ctx);
+    vkrt_error err = {{0}};
+    gpu_buffer buf;
+    size_t too_big = (size_t)ctx.properties.limits.maxStorageBufferRange + 16;
+    assert_false(gpu_buffer_create(&ctx, &buf, too_big, "triangles", &err));
+    print_message("%s\n", err.msg);
+    assert_non_null(strstr(err.msg, "triangles needs"));
+    assert_non_null(strstr(err.msg, "maxStorageBufferRange"));
+    assert_null(buf.buffer);
+    fixture_context_destroy(&ctx);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sizes),
+        cmocka_unit_test(test_buffer_over_the_limit),
         cmocka_unit_test(test_buffer_layout),
         cmocka_unit_test(test_push_constant_layout),
     };

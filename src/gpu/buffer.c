@@ -59,10 +59,10 @@ bool gpu_buffer_create(gpu_context *ctx, gpu_buffer *buf, size_t size, const cha
     const VkPhysicalDeviceLimits *limits = &ctx->properties.limits;
     if (size > limits->maxStorageBufferRange) {
         memset(buf, 0, sizeof *buf);
-        return vkrt_error_set(err, "%s needs %.1f MiB, more than one storage buffer on %s allows "
-                                   "(maxStorageBufferRange %.1f MiB)",
-                              what, size / 1048576.0, ctx->properties.deviceName,
-                              limits->maxStorageBufferRange / 1048576.0);
+        return vkrt_error_set(err, "%s needs %zu bytes (%.1f MiB), more than one storage buffer on "
+                                   "%s allows (maxStorageBufferRange %u bytes)",
+                              what, size, size / 1048576.0, ctx->properties.deviceName,
+                              limits->maxStorageBufferRange);
     }
     if (!create_with_memory(ctx, buf, size,
                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
