@@ -29,6 +29,8 @@ const char *vkrt_usage(void)
            "                    GPU, else the first device\n"
            "  --validation      enable Vulkan validation layers (also VKRT_VALIDATION=1); any\n"
            "                    validation message makes the run fail\n"
+           "  --resume          skip frames whose output files are already complete (a\n"
+           "                    flythrough interrupted by Ctrl-C, a crash or a lost device)\n"
            "  --quiet           no summary on stderr\n"
            "  --list-devices    list Vulkan devices and exit\n"
            "  --help, --version\n";
@@ -124,6 +126,8 @@ bool vkrt_options_parse(int argc, char **argv, vkrt_options *opts, vkrt_error *e
                 return vkrt_error_set(err, "--json needs a path");
             opts->json = value;
             ++i;
+        } else if (strcmp(arg, "--resume") == 0) {
+            opts->resume = true;
         } else if (strcmp(arg, "--verbose") == 0) {
             opts->verbose = true;
         } else if (strcmp(arg, "--quiet") == 0) {

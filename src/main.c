@@ -4,6 +4,7 @@
  * Only this file decides how the process exits.
  */
 #define _POSIX_C_SOURCE 200809L
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,6 +14,7 @@
 #include "cli.h"
 #include "error.h"
 #include "gpu/context.h"
+#include "output/image_check.h"
 #include "output/image_write.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
@@ -58,7 +60,19 @@ static bool check_output(const char *output, uint32_t frames, vkrt_error *err)
 typedef struct render_totals {
     double seconds;
     uint64_t rays;
+    uint32_t rendered, skipped;
+    bool interrupted;
 } render_totals;
+
+/* Set by SIGINT or SIGTERM; frames are checked between, so the frame being written finishes (or
+ * fails) cleanly and --resume can pick up after it. */
+static volatile sig_atomic_t stop_requested;
+
+static void request_stop(int signal_number)
+{
+    (void)signal_number;
+    stop_requested = 1;
+}
 
 static void print_accel_stats(FILE *out, const vkrt_accel_stats *s)
 {
@@ -101,14 +115,25 @@ static bool render_frames(const vkrt_options *opts, const vkrt_scene *scene, con
     if (!ok)
         vkrt_error_set(err, "out of memory for a %ux%u image", desc.width, desc.height);
     for (uint32_t f = 0; ok && f < cfg->camera_count; ++f) {
+        if (stop_requested) {
+            totals->interrupted = true;
+            break;
+        }
         vkrt_frame_stats stats;
         char path[4096];
-        ok = vkrt_renderer_render(&renderer, &cfg->cameras[f], f, rgb, &stats, err) &&
-             vkrt_frame_path(path, sizeof path, output, f, err) &&
+        ok = vkrt_frame_path(path, sizeof path, output, f, err);
+        if (ok && opts->resume && vkrt_image_is_complete(path, desc.width, desc.height)) {
+            ++totals->skipped;
+            continue;
+        }
+        if (ok)
+            vkrt_image_remove_stale_temporaries(path);
+        ok = ok && vkrt_renderer_render(&renderer, &cfg->cameras[f], f, rgb, &stats, err) &&
              vkrt_image_write(path, desc.width, desc.height, rgb, opts->exposure, err);
         if (ok) {
             totals->seconds += stats.seconds;
             totals->rays += stats.primary_rays + stats.shadow_rays;
+            ++totals->rendered;
         }
     }
     free(rgb);
@@ -133,6 +158,8 @@ static int run_render(const vkrt_options *opts)
         return 1;
     }
 
+    signal(SIGINT, request_stop);
+    signal(SIGTERM, request_stop);
     gpu_context ctx;
     gpu_context_desc ctx_desc = {.device_index = opts->device, .validation = opts->validation};
     render_totals totals = {0};
@@ -151,13 +178,22 @@ static int run_render(const vkrt_options *opts)
         vkrt_scene_free(&scene);
         return 1;
     }
+    if (totals.interrupted) {
+        fprintf(stderr, "vkrt: interrupted after %u of %u frames; run again with --resume to "
+                        "finish\n",
+                totals.rendered + totals.skipped, scene.config.camera_count);
+        vkrt_scene_free(&scene);
+        return 130;
+    }
+    if (!opts->quiet && totals.skipped)
+        fprintf(stderr, "vkrt: resumed: %u of %u frames were already complete\n", totals.skipped,
+                scene.config.camera_count);
     if (!opts->quiet) {
-        uint32_t frames = scene.config.camera_count;
+        uint32_t frames = totals.rendered;
         fprintf(stderr,
                 "vkrt: %s | %u triangles | accel %s | %u frame%s | %.1f ms/frame | %.3g Mrays/s\n",
                 device, scene.mesh.triangle_count, vkrt_accel_name(accel.kind), frames,
-                frames == 1 ? "" : "s",
-                1e3 * totals.seconds / frames,
+                frames == 1 ? "" : "s", frames ? 1e3 * totals.seconds / frames : 0.0,
                 totals.seconds > 0 ? totals.rays / totals.seconds * 1e-6 : 0.0);
         if (!opts->verbose)
             fprintf(stderr, "vkrt: accel %s: %s\n", vkrt_accel_name(accel.kind), accel.reason);

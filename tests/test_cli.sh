@@ -44,6 +44,7 @@ resolution 16 16
 light point 278 500 279 250000 250000 250000
 camera eye 278 273 -800 look 278 273 0 up 0 1 0 fov 40
 camera eye 300 273 -800 look 278 273 0 up 0 1 0 fov 40
+camera eye 320 273 -800 look 278 273 0 up 0 1 0 fov 40
 output fly%02d.png
 CFG
 "$vkrt" render "$tmp/fly.cfg" --quiet
@@ -53,6 +54,49 @@ check "frame 1 written" test -s "$tmp/fly01.png"
 "$vkrt" render "$tmp/fly.cfg" -o "$tmp/single.png" 2>"$tmp/err"
 check "two cameras without a frame number is refused" test $? -ne 0
 check "and says why" grep -q "frame number" "$tmp/err"
+
+# --resume: frame 0 complete, frame 1 missing, frame 2 cut short, a stale temporary beside it.
+"$vkrt" render "$tmp/fly.cfg" --quiet -o "$tmp/r%d.png"
+cp "$tmp/r0.png" "$tmp/r0.saved"
+rm "$tmp/r1.png"
+head -c 300 "$tmp/r2.png" >"$tmp/cut" && mv "$tmp/cut" "$tmp/r2.png"
+: >"$tmp/r2.png.tmp-12345"
+"$vkrt" render "$tmp/fly.cfg" --resume -o "$tmp/r%d.png" 2>"$tmp/err"
+check "resume exits 0" test $? -eq 0
+check "resume skips exactly the complete frame" grep -q "resumed: 1 of 3 frames were already complete" "$tmp/err"
+check "resume re-renders the cut frame" test "$(wc -c <"$tmp/r2.png")" -gt 300
+check "resume renders the missing frame" test -s "$tmp/r1.png"
+check "resume removes stale temporaries" test ! -e "$tmp/r2.png.tmp-12345"
+check "resume leaves the complete frame alone" cmp -s "$tmp/r0.png" "$tmp/r0.saved"
+
+# Ctrl-C in the middle of a flythrough: exit 130 after a whole frame, then --resume finishes.
+{
+    echo "geometry $src/scenes/cornell/cornell.obj"
+    echo "resolution 160 160"
+    echo "samples 4"
+    echo "light point 278 500 279 250000 250000 250000"
+    i=0
+    while [ $i -lt 60 ]; do
+        echo "camera eye $((200 + i)) 273 -800 look 278 273 0 up 0 1 0 fov 40"
+        i=$((i + 1))
+    done
+    echo "output long%02d.png"
+} >"$tmp/long.cfg"
+"$vkrt" render "$tmp/long.cfg" --quiet 2>"$tmp/err" &
+pid=$!
+waited=0
+while [ ! -e "$tmp/long01.png" ] && [ $waited -lt 600 ]; do sleep 0.05; waited=$((waited + 1)); done
+kill -INT $pid
+wait $pid
+status=$?
+check "interrupted render exits 130" test $status -eq 130
+check "and says how to continue" grep -q "resume" "$tmp/err"
+done_frames=$(ls "$tmp" | grep -c '^long.*png$')
+check "some but not all frames were written" test "$done_frames" -gt 0 -a "$done_frames" -lt 60
+"$vkrt" render "$tmp/long.cfg" --resume 2>"$tmp/err"
+check "resume after the interrupt exits 0" test $? -eq 0
+check "all 60 frames exist" test "$(ls "$tmp" | grep -c '^long.*png$')" -eq 60
+check "no temporaries remain" sh -c "! ls '$tmp' | grep -q 'tmp-'"
 
 # Bad input: one line on stderr, non-zero exit, nothing written.
 expect_error() { # expect_error NAME CFG PATTERN
