@@ -311,6 +311,7 @@ static const char *frame_pattern_problem(const char *pattern, bool *two_numbers)
 
 static bool kw_geometry(parser *p, const tokens *t)
 {
+    p->cfg->geometry_line = p->line;
     return parse_path(p, t, "geometry", false, &p->cfg->geometry);
 }
 

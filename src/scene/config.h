@@ -46,6 +46,7 @@ typedef struct vkrt_config_camera {
 typedef struct vkrt_config {
     char *path;            /* the scene.cfg itself, as given */
     char *geometry;        /* OBJ path, resolved against the scene.cfg's folder */
+    int geometry_line;     /* the line that named it, for messages about the OBJ */
     char *materials;       /* material file, resolved; NULL when absent (the OBJ's .mtl is used) */
     char *output;          /* output path or frame pattern, resolved; NULL when absent */
     uint32_t width, height;   /* default 640 x 480 */

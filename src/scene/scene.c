@@ -18,6 +18,8 @@ bool vkrt_scene_load(const char *path, vkrt_scene *scene, vkrt_error *err)
         return false;
     }
     if (!vkrt_obj_load(scene->config.geometry, &scene->mesh, err)) {
+        /* Say which scene file asked for the OBJ: the OBJ's own message follows. */
+        vkrt_error_prefix(err, "%s:%d: geometry", path, scene->config.geometry_line);
         vkrt_config_free(&scene->config);
         return false;
     }
