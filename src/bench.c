@@ -315,11 +315,10 @@ int vkrt_bench_run(const vkrt_options *opts)
     if (ok && opts->json)
         ok = write_json(opts->json, &ctx, rows, row_count, &err);
     free(rows);
-    gpu_context_destroy(&ctx);
-    if (ok && ctx.validation_messages) {
-        vkrt_error_set(&err, "Vulkan validation reported %u message(s)", ctx.validation_messages);
-        ok = false;
-    }
+    if (ok)
+        ok = gpu_context_finish(&ctx, &err);
+    else
+        gpu_context_destroy(&ctx);
     if (!ok) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
         return 1;

@@ -168,11 +168,10 @@ static int run_render(const vkrt_options *opts)
               render_frames(opts, &scene, output, &ctx, &totals, &accel, &err);
     char device[256];
     snprintf(device, sizeof device, "%s", ctx.properties.deviceName);
-    gpu_context_destroy(&ctx);
-    if (ok && ctx.validation_messages) {
-        vkrt_error_set(&err, "Vulkan validation reported %u message(s)", ctx.validation_messages);
-        ok = false;
-    }
+    if (ok)
+        ok = gpu_context_finish(&ctx, &err);
+    else
+        gpu_context_destroy(&ctx);
     if (!ok) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
         vkrt_scene_free(&scene);

@@ -7,15 +7,12 @@
  * Mesa's llvmpipe (lavapipe) ends an invocation's loops after 65535 iterations in all, silently:
  * a brute-force loop over the bunny's 69,451 triangles skipped every one past index 65534 (found
  * by tests/test_accel.c). So the host splits brute force into dispatches over blocks of
- * triangles (frame.range), each continuing from the hits of the last; inner loops over a grid
- * cell's references are split into blocks of LOOP_BLOCK too, for devices without such a limit.
+ * triangles (frame.range), each continuing from the hits of the last.
  */
 #ifndef VKRT_TRAVERSE_BRUTE_GLSL
 #define VKRT_TRAVERSE_BRUTE_GLSL
 
 /* Closest hit in (tmin, tmax); hit.triangle == VKRT_NO_HIT on a miss. */
-const uint LOOP_BLOCK = 32768u;
-
 /* Closest hit among triangles frame.range.x .. frame.range.y - 1 in (tmin, tmax). */
 Hit brute_closest(RayShear s, float tmin, float tmax)
 {

@@ -29,15 +29,21 @@ vec3 safe_inverse(vec3 d)
                       abs(d.z) < tiny ? (d.z < 0.0 ? -tiny : tiny) : d.z);
 }
 
-/* Entry distance of the ray into the box within [tmin, tmax], or +inf when it misses. */
-float box_entry(vec3 lo, vec3 hi, vec3 origin, vec3 inv_dir, float tmin, float tmax)
+/* Where the ray enters and leaves the box, clipped to [tmin, tmax]: the slab test. The box is
+ * missed when x > y. */
+vec2 slab_interval(vec3 lo, vec3 hi, vec3 origin, vec3 inv_dir, float tmin, float tmax)
 {
     vec3 t0 = (lo - origin) * inv_dir;
     vec3 t1 = (hi - origin) * inv_dir;
     vec3 tn = min(t0, t1), tf = max(t0, t1);
-    float enter = max(max(tn.x, tn.y), max(tn.z, tmin));
-    float exit = min(min(tf.x, tf.y), min(tf.z, tmax)) * BOX_EXIT_SCALE;
-    return enter <= exit ? enter : uintBitsToFloat(0x7f800000u);
+    return vec2(max(max(tn.x, tn.y), max(tn.z, tmin)), min(min(tf.x, tf.y), min(tf.z, tmax)));
+}
+
+/* Entry distance of the ray into the box within [tmin, tmax], or +inf when it misses. */
+float box_entry(vec3 lo, vec3 hi, vec3 origin, vec3 inv_dir, float tmin, float tmax)
+{
+    vec2 span = slab_interval(lo, hi, origin, inv_dir, tmin, tmax);
+    return span.x <= span.y * BOX_EXIT_SCALE ? span.x : uintBitsToFloat(0x7f800000u);
 }
 
 /* The closest hit (any_hit false) or the first hit found (any_hit true) in (tmin, tmax). */

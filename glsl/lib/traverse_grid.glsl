@@ -6,7 +6,9 @@
  * visited; such a hit is kept as a candidate, and the walk ends only when the closest candidate
  * lies within the current cell's extent along the ray: no later cell can hold a closer hit then.
  * Direction components of 0 never step along their axis. Needs bindings.glsl, intersect.glsl and
- * traverse_bvh.glsl (for safe_inverse) and traverse_brute.glsl (LOOP_BLOCK) included first.
+ * traverse_bvh.glsl (for safe_inverse and slab_interval) included first. On lavapipe, whose loops
+ * end after 65535 iterations per invocation (traverse_brute.glsl), a ray crossing cells of more
+ * than that many references in all would lose hits; the grid is chosen only for even scenes.
  */
 #ifndef VKRT_TRAVERSE_GRID_GLSL
 #define VKRT_TRAVERSE_GRID_GLSL
@@ -17,11 +19,8 @@ Hit grid_traverse(RayShear s, vec3 dir, float tmin, float tmax, bool any_hit)
     Hit hit = Hit(tmax, 0.0, 0.0, VKRT_NO_HIT);
     vec3 origin = s.origin;
     vec3 inv_dir = safe_inverse(dir);
-    vec3 t0 = (grid.lo.xyz - origin) * inv_dir;
-    vec3 t1 = (grid.hi.xyz - origin) * inv_dir;
-    vec3 tn = min(t0, t1), tf = max(t0, t1);
-    float t_enter = max(max(tn.x, tn.y), max(tn.z, tmin));
-    float t_exit = min(min(tf.x, tf.y), min(tf.z, tmax));
+    vec2 span = slab_interval(grid.lo.xyz, grid.hi.xyz, origin, inv_dir, tmin, tmax);
+    float t_enter = span.x, t_exit = span.y;
     if (t_enter > t_exit)
         return hit;
 
@@ -40,19 +39,15 @@ Hit grid_traverse(RayShear s, vec3 dir, float tmin, float tmax, bool any_hit)
 
     while (true) {
         uint index = uint(cell.x) + grid.dims.x * (uint(cell.y) + grid.dims.y * uint(cell.z));
-        uint begin = grid_cell_start[index], end = grid_cell_start[index + 1u];
-        /* Blocks of LOOP_BLOCK: lavapipe ends a loop after 65535 iterations (traverse_brute). */
-        for (uint block = begin; block < end; block += LOOP_BLOCK) {
-            uint block_end = min(end, block + LOOP_BLOCK);
-            for (uint r = block; r < block_end; ++r) {
-                uint i = grid_refs[r];
-                Triangle tri = triangles[i];
-                float t, u, v;
-                if (intersect_triangle(s, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tmin, hit.t, t, u, v)) {
-                    hit = Hit(t, u, v, i);
-                    if (any_hit)
-                        return hit;
-                }
+        uint end = grid_cell_start[index + 1u];
+        for (uint r = grid_cell_start[index]; r < end; ++r) {
+            uint i = grid_refs[r];
+            Triangle tri = triangles[i];
+            float t, u, v;
+            if (intersect_triangle(s, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tmin, hit.t, t, u, v)) {
+                hit = Hit(t, u, v, i);
+                if (any_hit)
+                    return hit;
             }
         }
         float cell_exit = min(t_next.x, min(t_next.y, t_next.z));

@@ -250,9 +250,22 @@ void gpu_context_destroy(gpu_context *ctx)
     }
     if (ctx->instance)
         vkDestroyInstance(ctx->instance, NULL);
+    /* What validation said outlives the context: it is the verdict on the whole run. */
     uint32_t messages = ctx->validation_messages;
+    char first[sizeof ctx->first_validation_message];
+    memcpy(first, ctx->first_validation_message, sizeof first);
     memset(ctx, 0, sizeof *ctx);
     ctx->validation_messages = messages;
+    memcpy(ctx->first_validation_message, first, sizeof first);
+}
+
+bool gpu_context_finish(gpu_context *ctx, vkrt_error *err)
+{
+    gpu_context_destroy(ctx);
+    if (ctx->validation_messages)
+        return vkrt_error_set(err, "Vulkan validation reported %u message(s); the first: %s",
+                              ctx->validation_messages, ctx->first_validation_message);
+    return true;
 }
 
 static const char *device_type_name(VkPhysicalDeviceType type)

@@ -45,6 +45,10 @@ bool gpu_context_create(gpu_context *ctx, const gpu_context_desc *desc, vkrt_err
  * context. */
 void gpu_context_destroy(gpu_context *ctx);
 
+/* Destroys the context like gpu_context_destroy, then returns false with a message if the
+ * validation layers reported anything during its life (they are the last word on a run). */
+bool gpu_context_finish(gpu_context *ctx, vkrt_error *err);
+
 /* Prints one line per Vulkan physical device: index, name, type, API version. */
 bool gpu_list_devices(FILE *out, vkrt_error *err);
 
