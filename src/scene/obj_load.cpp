@@ -4,7 +4,7 @@
  * tinyobjloader does the parsing (faces, negative indices, mtllib/usemtl, the .mtl syntax), but it
  * is lenient in ways a renderer cannot afford and it keeps no line numbers, so this file wraps it:
  *
- *  1. The file is read once into memory. UTF-16 (BOM or NUL-interleaved text) and other files with
+ *  1. The file is read once into memory (or the caller's text is copied). UTF-16 (BOM or NUL-interleaved text) and other files with
  *     NUL bytes are refused up front; a UTF-8 BOM is skipped.
  *  2. A pre-scan walks the lines exactly as tinyobjloader does (LF, CRLF and lone CR all end a line;
  *     leading blanks skipped) and records the line of every v, vn, vt and f record, the vertex count
@@ -16,6 +16,10 @@
  *       - vt: the coordinates present (up to two) get the same check; a missing v defaults to 0.
  *       - vn: a normal that is not three finite numbers, or has zero length, is treated as absent:
  *         the triangles using it get their geometric normal and a warning is recorded.
+ *       - any number of a v, vt or vn record whose exponent has more than 9 significant digits is
+ *         an error: rc10 would overflow an int reading it (undefined behaviour, found by fuzzing).
+ *     Records vkrt ignores and rc10 parses unsafely ("vw" skin weights, "t" tags) are then blanked
+ *     in place (same offsets, same line numbers) so tinyobjloader never reads them.
  *  3. tinyobjloader parses the same bytes (through an istream over the buffer) with triangulation
  *     off. Its num_face_vertices is an unsigned char, so faces of more than 255 vertices come back
  *     with a wrapped count; the pre-scan's counts are used instead, and the two are cross-checked.
@@ -28,7 +32,8 @@
  * only exists there) and which fields were actually present (tinyobjloader's defaults differ from
  * the ones obj_load.h documents, e.g. Kd 0 vs 0.8, illum 0 vs 2).
  *
- * All C++ exceptions stop at vkrt_obj_load; all output arrays are malloc'ed for the C side.
+ * vkrt_obj_parse takes the same path from text in memory (vkrt_obj_load reads the file and hands
+ * its bytes over). All C++ exceptions stop at those two entry points; all output arrays are malloc'ed for the C side.
  */
 #include <tiny_obj_loader.h>
 
@@ -124,7 +129,7 @@ public:
 /* -------------------------------------------------------------------------- line walking */
 
 struct Span {
-    const char *b, *e;
+    const char *b = nullptr, *e = nullptr;
     size_t len() const { return static_cast<size_t>(e - b); }
 };
 
@@ -224,6 +229,26 @@ bool names_non_finite(const Span &t)
            s.find("#QNAN") != std::string::npos; /* MSVC's printf of nan/inf */
 }
 
+/* rc10's tryParseDouble accumulates the exponent in an int, checking for overflow one digit too
+ * late, so an exponent of ten or more significant digits ("1e-2147483649") is undefined behaviour
+ * there. Such a number is no coordinate anyone writes; it is refused before tinyobjloader runs. */
+bool exponent_too_long(const Span &t)
+{
+    const char *p = t.b;
+    while (p < t.e && *p != 'e' && *p != 'E')
+        p++;
+    if (p < t.e)
+        p++;
+    if (p < t.e && (*p == '+' || *p == '-'))
+        p++;
+    while (p < t.e && *p == '0') /* leading zeros add nothing to the value */
+        p++;
+    size_t digits = 0;
+    while (p < t.e && *p >= '0' && *p <= '9')
+        p++, digits++;
+    return digits > 9;
+}
+
 Number classify_number(const Span &t)
 {
     if (!is_plain_decimal(t))
@@ -303,19 +328,37 @@ uint32_t count_tokens(Span rest)
     return n;
 }
 
+/* Every token of a v, vt or vn record goes through tinyobjloader's number parser (v also reads
+ * up to three colour values), so none may carry an exponent it cannot hold; see exponent_too_long. */
+bool scan_exponents(const char *path, uint32_t line, Span rest, vkrt_error *err)
+{
+    Span t;
+    while (next_token(&rest, &t))
+        if (exponent_too_long(t)) {
+            int n = static_cast<int>(t.len() < QUOTE_MAX ? t.len() : QUOTE_MAX);
+            return vkrt_error_set(err, "%s:%u: number '%.*s' has an exponent of more than 9 digits",
+                                  path, line, n, t.b);
+        }
+    return true;
+}
+
 /* Classifies one line (leading blanks already skipped) and records what it is. */
 bool scan_line(const char *path, const std::string &text, uint32_t number, Span line, ObjScan *scan,
                vkrt_error *err)
 {
     if (has_keyword(line, "v")) {
         scan->v_line.push_back(number);
-        return scan_vertex(path, number, Span{line.b + 2, line.e}, err);
+        return scan_vertex(path, number, Span{line.b + 2, line.e}, err) &&
+               scan_exponents(path, number, Span{line.b + 2, line.e}, err);
     }
     if (has_keyword(line, "vt")) {
         scan->vt_line.push_back(number);
-        return scan_texcoord(path, number, Span{line.b + 3, line.e}, err);
+        return scan_texcoord(path, number, Span{line.b + 3, line.e}, err) &&
+               scan_exponents(path, number, Span{line.b + 3, line.e}, err);
     }
     if (has_keyword(line, "vn")) {
+        if (!scan_exponents(path, number, Span{line.b + 3, line.e}, err))
+            return false;
         scan->vn_line.push_back(number);
         bool usable = normal_is_usable(Span{line.b + 3, line.e});
         scan->vn_usable.push_back(usable);
@@ -344,6 +387,25 @@ bool prescan(const char *path, const std::string &text, size_t start, ObjScan *s
             return false;
     }
     return true;
+}
+
+/* Records vkrt has no use for, which rc10 parses unsafely: "vw" skin weights (a joint id such as
+ * 8.9e9 is cast from float to int, undefined behaviour) and "t" tags (their numbers go through
+ * the same exponent parser as above, unchecked). Blanking them in place keeps every offset and line
+ * number while tinyobjloader sees only empty lines. */
+bool is_ignored_record(const Span &line) { return has_keyword(line, "vw") || has_keyword(line, "t"); }
+
+void blank_ignored_records(std::string *text, size_t start)
+{
+    char *base = &(*text)[0];
+    LineWalker walker(base + start, base + text->size());
+    Span line;
+    while (walker.next(&line)) {
+        while (line.b < line.e && is_blank(*line.b))
+            line.b++;
+        if (is_ignored_record(line))
+            memset(base + (line.b - base), ' ', line.len());
+    }
 }
 
 /* ------------------------------------------------------------------------------ materials */
@@ -858,20 +920,25 @@ bool parse_with_tinyobj(const char *path, const std::string &text, size_t start,
     return true;
 }
 
-bool load(const char *path, vkrt_mesh *mesh, vkrt_error *err)
+/* The common path of vkrt_obj_load and vkrt_obj_parse: *text_in is the whole OBJ (the caller's own
+ * copy: ignored records are blanked in it), path names it in messages, and mtl_folder is where
+ * mtllib files are looked up (nullptr: .mtl files are not read). */
+bool parse(const char *path, std::string *text_in, const std::string *mtl_folder, vkrt_mesh *mesh,
+           vkrt_error *err)
 {
-    std::string text;
+    const std::string &text = *text_in;
     size_t start = 0;
     ObjScan scan;
-    if (!read_whole_file(path, &text, err) || !check_encoding(path, text, &start, err) ||
-        !prescan(path, text, start, &scan, err))
+    if (!check_encoding(path, text, &start, err) || !prescan(path, text, start, &scan, err))
         return false;
+    blank_ignored_records(text_in, start);
 
-    std::string obj_folder = folder_of(path), warnings;
+    std::string obj_folder = mtl_folder ? *mtl_folder : std::string(), warnings;
     MtlReader reader(obj_folder);
     Parsed p;
     std::vector<Face> faces;
-    if (!parse_with_tinyobj(path, text, start, &p, &reader, &warnings, err) ||
+    /* Without a reader tinyobjloader skips mtllib lines, so no material (and no file) is touched. */
+    if (!parse_with_tinyobj(path, text, start, &p, mtl_folder ? &reader : nullptr, &warnings, err) ||
         !check_parsed_values(path, p, scan, err))
         return false;
     drop_references_to_absent_attributes(&p, &warnings);
@@ -896,6 +963,35 @@ bool load(const char *path, vkrt_mesh *mesh, vkrt_error *err)
     return true;
 }
 
+bool load(const char *path, vkrt_mesh *mesh, vkrt_error *err)
+{
+    std::string text;
+    if (!read_whole_file(path, &text, err))
+        return false;
+    std::string folder = folder_of(path);
+    return parse(path, &text, &folder, mesh, err);
+}
+
+/* Runs body (a load or parse into mesh) with every C++ exception turned into a message about name,
+ * and mesh freed on any failure, so nothing C++ crosses into the C side. */
+template <typename Body>
+bool guarded(const char *name, vkrt_mesh *mesh, vkrt_error *err, Body body)
+{
+    bool ok = false;
+    try {
+        ok = body();
+    } catch (const std::bad_alloc &) {
+        ok = vkrt_error_set(err, "%s: out of memory", name);
+    } catch (const std::exception &e) {
+        ok = vkrt_error_set(err, "%s: %s", name, e.what());
+    } catch (...) {
+        ok = vkrt_error_set(err, "%s: unexpected error while loading", name);
+    }
+    if (!ok)
+        vkrt_mesh_free(mesh);
+    return ok;
+}
+
 } // namespace
 
 extern "C" bool vkrt_obj_load(const char *path, vkrt_mesh *mesh, vkrt_error *err)
@@ -905,19 +1001,25 @@ extern "C" bool vkrt_obj_load(const char *path, vkrt_mesh *mesh, vkrt_error *err
     memset(mesh, 0, sizeof *mesh);
     if (!path)
         return vkrt_error_set(err, "(null): no OBJ path given");
-    bool ok = false;
-    try {
-        ok = load(path, mesh, err);
-    } catch (const std::bad_alloc &) {
-        ok = vkrt_error_set(err, "%s: out of memory", path);
-    } catch (const std::exception &e) {
-        ok = vkrt_error_set(err, "%s: %s", path, e.what());
-    } catch (...) {
-        ok = vkrt_error_set(err, "%s: unexpected error while loading", path);
-    }
-    if (!ok)
-        vkrt_mesh_free(mesh);
-    return ok;
+    return guarded(path, mesh, err, [&] { return load(path, mesh, err); });
+}
+
+extern "C" bool vkrt_obj_parse(const char *text, size_t size, const char *name, const char *base_dir,
+                               vkrt_mesh *mesh, vkrt_error *err)
+{
+    if (!name)
+        name = "(obj)";
+    if (!mesh)
+        return vkrt_error_set(err, "%s: no mesh to load into", name);
+    memset(mesh, 0, sizeof *mesh);
+    if (!text && size > 0)
+        return vkrt_error_set(err, "%s: no OBJ text given", name);
+    return guarded(name, mesh, err, [&] {
+        /* One copy: the scanner and tinyobjloader's stream both work on a std::string. */
+        std::string copy(size ? text : "", size);
+        std::string folder = base_dir ? base_dir : "";
+        return parse(name, &copy, base_dir ? &folder : nullptr, mesh, err);
+    });
 }
 
 extern "C" void vkrt_mesh_free(vkrt_mesh *mesh)

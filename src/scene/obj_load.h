@@ -11,6 +11,7 @@
 #define VKRT_OBJ_LOAD_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "../error.h"
@@ -46,7 +47,15 @@ typedef struct vkrt_mesh {
  * A file with no triangles is an error. */
 bool vkrt_obj_load(const char *path, vkrt_mesh *mesh, vkrt_error *err);
 
-/* Frees what vkrt_obj_load allocated and zeroes *mesh. Safe on a zeroed struct. */
+/* Parses OBJ text already in memory (size bytes; NUL bytes among them are an error, as in a file),
+ * with the same checks, messages and contract as vkrt_obj_load. name stands for the path in
+ * messages (NULL: "(obj)"). base_dir is the folder mtllib names are resolved against ("" for the
+ * current folder); NULL means no .mtl is read at all: mtllib lines are ignored and every triangle
+ * gets the default material, so the parse touches no file (what a fuzzer wants). */
+bool vkrt_obj_parse(const char *text, size_t size, const char *name, const char *base_dir,
+                    vkrt_mesh *mesh, vkrt_error *err);
+
+/* Frees what vkrt_obj_load or vkrt_obj_parse allocated and zeroes *mesh. Safe on a zeroed struct. */
 void vkrt_mesh_free(vkrt_mesh *mesh);
 
 #endif
