@@ -8,12 +8,12 @@
 void main()
 {
     uint index = invocation_index();
-    if (index >= frame.counts.z)
+    if (index >= dispatch_ray_count())
         return;
     /* A later brute-force block has nothing to add to a ray already blocked. */
     if (frame.range.z != 0u && hits[index].triangle != VKRT_NO_HIT)
         return;
-    Ray ray = rays[index];
+    Ray ray = load_ray(index);
     bool blocked = trace_any(ray.origin.xyz, ray.direction.xyz, ray.origin.w, ray.direction.w);
     hits[index] = Hit(ray.direction.w, 0.0, 0.0, blocked ? 0u : VKRT_NO_HIT);
 }

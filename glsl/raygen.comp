@@ -39,5 +39,6 @@ void main()
     ray.direction = vec4(dir, 3.4e38);
     ray.importance = vec4(1.0, 1.0, 1.0, 0.0);
     ray.info = uvec4(index, seed, 0u, 0u);
+    ray.payload = vec4(0.0);
     rays[index] = ray;
 }

@@ -30,13 +30,19 @@ typedef uint32_t uint;
 #define VKRT_LIGHT_KIND_POINT 2u
 #define VKRT_LIGHT_KIND_SPOT 3u
 
+/* Flags of Ray.info.w. */
+#define VKRT_RAY_DEAD 1u       /* a slot a shader reserved but did not fill, or whose importance fell
+                                  under the threshold: traced by nobody, shaded by nobody */
+
 /* One ray of the wavefront with its "image reconstruction information" (the seed's term):
- * which pixel it adds to, how much (importance), its random stream and its depth. */
+ * which pixel it adds to, how much (importance), its random stream, its depth, and a payload that
+ * material shaders pass from a hit to the rays it casts (and the environment shader reads). */
 VKRT_STRUCT(Ray) {
     vec4 origin;      /* xyz origin, w: tmin */
     vec4 direction;   /* xyz unit direction, w: tmax */
     vec4 importance;  /* rgb throughput towards the pixel, w unused */
-    uvec4 info;       /* x: pixel index, y: random seed, z: depth, w: flags (unused yet) */
+    uvec4 info;       /* x: pixel index, y: random seed, z: depth, w: VKRT_RAY_* flags */
+    vec4 payload;     /* the material's own; zero for primary rays */
 };
 
 /* The closest hit of a ray: barycentrics u (of v1) and v (of v2), or triangle == VKRT_NO_HIT. */
@@ -61,9 +67,24 @@ VKRT_STRUCT(TriangleNormals) {
     vec4 n2;
 };
 
-/* What the built-in Lambert shade reads of a material. */
+/* Per-triangle texture coordinates; uploaded only when a material of the scene reads textures. */
+VKRT_STRUCT(TriangleTexcoords) {
+    vec4 uv01;        /* xy: uv of v0, zw: uv of v1 */
+    vec4 uv2;         /* xy: uv of v2 */
+};
+
+/* A material as the shading kernels see it: its shader (a case of the generated kernel), up to 16
+ * numeric parameters and up to 8 textures (indices into the texture table). */
+#define VKRT_MATERIAL_PARAMS 16u
+#define VKRT_MATERIAL_TEXTURES 8u
+#define VKRT_NO_TEXTURE 0xFFFFFFFFu
+#define VKRT_MATERIAL_USES_LIGHTS 1u   /* its shader reads light samples: the light kernel traces
+                                          shadow rays for its hits (and for no others) */
 VKRT_STRUCT(Material) {
-    vec4 diffuse;     /* rgb: Kd (albedo), w unused */
+    vec4 params[4];   /* parameter i is params[i / 4][i % 4] */
+    uvec4 textures[2];/* texture of slot k is textures[k / 4][k % 4], or VKRT_NO_TEXTURE */
+    uvec4 info;       /* x: shader index in the generated kernel, y: VKRT_MATERIAL_* flags,
+                         z: texture count, w unused */
 };
 
 /* A light in GPU form. Spot lights fall off linearly in angle from beam_angle (full intensity)
@@ -77,15 +98,31 @@ VKRT_STRUCT(Light) {
 
 /* Everything a frame's kernels need besides buffers; sent as push constants (<= 128 bytes). */
 VKRT_STRUCT(FrameParams) {
-    vec4 eye;         /* xyz camera position */
+    vec4 eye;         /* xyz camera position, w: importance under which a cast ray is dropped */
     vec4 right;       /* camera right axis scaled by tan(fov/2) * aspect */
     vec4 up;          /* camera up axis scaled by tan(fov/2) */
     vec4 forward;     /* unit view direction */
-    vec4 environment; /* rgb radiance of rays that miss */
     uvec4 image;      /* x: width, y: height, z: index of this sample pass, w: samples per pixel */
-    uvec4 counts;     /* x: triangles, y: lights, z: rays in this wavefront, w: frame seed */
+    uvec4 counts;     /* x: triangles, y: lights, z: rays in this dispatch or VKRT_RAYS_OF_WAVE,
+                         w: frame seed */
     uvec4 range;      /* brute force: x..y-1 are the triangles this dispatch tests; z != 0: merge
-                         with the hits of earlier dispatches (see traverse_brute.glsl) */
+                         with the hits of earlier dispatches (see traverse_brute.glsl); w: light
+                         visibility words per ray */
+    uvec4 wave;       /* x: which ray buffer holds this depth's rays (0: A, 1: B; children go to
+                         the other), y: depth, z: max depth, w: ray capacity of each buffer */
+};
+
+/* counts.z: the dispatch covers the rays of wave[depth] (indirect), not a count from the host. */
+#define VKRT_RAYS_OF_WAVE 0xFFFFFFFFu
+
+/* One generation of rays: the indirect dispatch that covers it and how many rays it asked for.
+ * ray_count may exceed the capacity: then the rays past it were not stored, and the host grows
+ * the buffers and renders the frame again (see src/render/renderer.c). */
+VKRT_STRUCT(WaveState) {
+    uint groups_x;
+    uint groups_y;
+    uint groups_z;
+    uint ray_count;
 };
 
 /* A BVH node, 32 bytes (src/accel/bvh.h, bvh_node, has the same bytes). lo.w and hi.w hold uint
@@ -94,6 +131,17 @@ VKRT_STRUCT(FrameParams) {
 VKRT_STRUCT(BvhNode) {
     vec4 lo;
     vec4 hi;
+};
+
+/* A texture in the texel buffer (src/scene/texture.h fills these; glsl/lib/texture.glsl reads them).
+ * Texels are rows from the top of the image, each row left to right. */
+#define VKRT_TEXTURE_SRGB 1u   /* RGBA8 texels whose rgb is sRGB-encoded (colour maps) */
+#define VKRT_TEXTURE_HALF 2u   /* two uints per texel: RGBA as half floats (HDR images) */
+VKRT_STRUCT(TextureInfo) {
+    uint offset;      /* index of the texture's first uint in the texel buffer */
+    uint width;
+    uint height;
+    uint flags;       /* VKRT_TEXTURE_*; without HALF a texel is one uint, RGBA8 (r in the low byte) */
 };
 
 /* Which structure trace walks; a specialization constant of the trace and light kernels. */
@@ -111,8 +159,12 @@ VKRT_STRUCT(GridInfo) {
 
 /* Counters the kernels update with atomics; the host reads them after a frame. */
 VKRT_STRUCT(Counters) {
-    uint rays_traced;   /* primary, shadow and (later) secondary rays, all counted */
-    uint pad0;
+    uint shadow_rays;       /* shadow rays traced */
+    uint secondary_rays;    /* rays cast by materials and traced */
+    uint max_wave;          /* the largest ray_count of any wave this frame */
+    uint overcast;          /* rays a shader cast beyond what its count_rays said */
+    uint overcast_material; /* 1 + the material of the last such cast, 0 if none */
+    uint nonfinite;         /* shading results that were NaN or infinite, dropped, not added */
     uint pad1;
     uint pad2;
 };

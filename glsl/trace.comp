@@ -1,7 +1,8 @@
 /*
  * trace.comp: closest hit of every ray in the wavefront.
  *
- * Which structure the traversal walks is a specialization constant (lib/traverse.glsl).
+ * Which structure the traversal walks is a specialization constant (lib/traverse.glsl). Dead rays
+ * (slots a shader left unused) get no hit and cost one load.
  */
 #include "lib/bindings.glsl"
 #include "lib/traverse.glsl"
@@ -9,13 +10,17 @@
 void main()
 {
     uint index = invocation_index();
-    if (index >= frame.counts.z)
+    if (index >= dispatch_ray_count())
         return;
-    Ray ray = rays[index];
+    Ray ray = load_ray(index);
     /* A later brute-force block continues from the closest hit of the earlier ones. */
     Hit previous = Hit(ray.direction.w, 0.0, 0.0, VKRT_NO_HIT);
     if (frame.range.z != 0u)
         previous = hits[index];
+    if ((ray.info.w & VKRT_RAY_DEAD) != 0u) {
+        hits[index] = previous;
+        return;
+    }
     Hit hit = trace_closest(ray.origin.xyz, ray.direction.xyz, ray.origin.w, previous.t);
     hits[index] = hit.triangle != VKRT_NO_HIT ? hit : previous;
 }

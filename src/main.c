@@ -132,8 +132,19 @@ static bool render_frames(const vkrt_options *opts, const vkrt_scene *scene, con
              vkrt_image_write(path, desc.width, desc.height, rgb, opts->exposure, err);
         if (ok) {
             totals->seconds += stats.seconds;
-            totals->rays += stats.primary_rays + stats.shadow_rays;
+            totals->rays += stats.primary_rays + stats.shadow_rays + stats.secondary_rays;
             ++totals->rendered;
+            if (stats.dropped_rays && !opts->quiet)
+                fprintf(stderr, "vkrt: warning: frame %u: %llu rays did not fit the largest ray "
+                                "buffers the device allows (%u rays) and were not traced\n",
+                        f, (unsigned long long)stats.dropped_rays, stats.ray_capacity);
+            if (stats.nonfinite && !opts->quiet)
+                fprintf(stderr, "vkrt: warning: frame %u: %u shading results were NaN or "
+                                "infinite and were dropped\n",
+                        f, stats.nonfinite);
+            if (opts->verbose && stats.attempts > 1)
+                fprintf(stderr, "vkrt: frame %u: ray buffers grew to %u rays (%u attempts)\n", f,
+                        stats.ray_capacity, stats.attempts);
         }
     }
     free(rgb);

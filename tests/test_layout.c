@@ -30,8 +30,12 @@ typedef struct Probe {
     Counters counters;
     BvhNode node;
     GridInfo grid;
+    TriangleTexcoords texcoords;
+    WaveState wave;
+    TextureInfo texture;
     Hit hit_pair[2];
     Ray ray_pair[2];
+    Material material_pair[2];
 } Probe;
 
 typedef enum { F32, U32, VEC4, UVEC4 } field_type;
@@ -46,24 +50,36 @@ typedef struct field {
 
 static const field fields[] = {
     FIELD(ray, origin, VEC4), FIELD(ray, direction, VEC4), FIELD(ray, importance, VEC4),
-    FIELD(ray, info, UVEC4),
+    FIELD(ray, info, UVEC4), FIELD(ray, payload, VEC4),
     FIELD(hit, t, F32), FIELD(hit, u, F32), FIELD(hit, v, F32), FIELD(hit, triangle, U32),
     FIELD(triangle, v0, VEC4), FIELD(triangle, v1, VEC4), FIELD(triangle, v2, VEC4),
     FIELD(normals, n0, VEC4), FIELD(normals, n1, VEC4), FIELD(normals, n2, VEC4),
-    FIELD(material, diffuse, VEC4),
+    FIELD(material, params[0], VEC4), FIELD(material, params[3], VEC4),
+    FIELD(material, textures[0], UVEC4), FIELD(material, textures[1], UVEC4),
+    FIELD(material, info, UVEC4),
     FIELD(light, position, VEC4), FIELD(light, direction, VEC4), FIELD(light, colour, VEC4),
     FIELD(light, info, UVEC4),
     FIELD(params, eye, VEC4), FIELD(params, right, VEC4), FIELD(params, up, VEC4),
-    FIELD(params, forward, VEC4), FIELD(params, environment, VEC4), FIELD(params, image, UVEC4),
-    FIELD(params, counts, UVEC4), FIELD(params, range, UVEC4),
-    FIELD(counters, rays_traced, U32), FIELD(counters, pad0, U32), FIELD(counters, pad1, U32),
-    FIELD(counters, pad2, U32),
+    FIELD(params, forward, VEC4), FIELD(params, image, UVEC4),
+    FIELD(params, counts, UVEC4), FIELD(params, range, UVEC4), FIELD(params, wave, UVEC4),
+    FIELD(counters, shadow_rays, U32), FIELD(counters, secondary_rays, U32),
+    FIELD(counters, max_wave, U32), FIELD(counters, overcast, U32),
+    FIELD(counters, overcast_material, U32), FIELD(counters, nonfinite, U32),
+    FIELD(counters, pad1, U32), FIELD(counters, pad2, U32),
+    FIELD(texcoords, uv01, VEC4), FIELD(texcoords, uv2, VEC4),
+    FIELD(wave, groups_x, U32), FIELD(wave, groups_y, U32), FIELD(wave, groups_z, U32),
+    FIELD(wave, ray_count, U32),
+    FIELD(texture, offset, U32), FIELD(texture, width, U32), FIELD(texture, height, U32),
+    FIELD(texture, flags, U32),
     FIELD(node, lo, VEC4), FIELD(node, hi, VEC4),
     FIELD(grid, lo, VEC4), FIELD(grid, hi, VEC4), FIELD(grid, cell_size, VEC4), FIELD(grid, dims, UVEC4),
     {"hit_pair[1].triangle", offsetof(Probe, hit_pair) + sizeof(Hit) + offsetof(Hit, triangle), U32},
     {"hit_pair[1].t", offsetof(Probe, hit_pair) + sizeof(Hit) + offsetof(Hit, t), F32},
     {"ray_pair[1].info", offsetof(Probe, ray_pair) + sizeof(Ray) + offsetof(Ray, info), UVEC4},
     {"ray_pair[1].origin", offsetof(Probe, ray_pair) + sizeof(Ray) + offsetof(Ray, origin), VEC4},
+    {"ray_pair[1].payload", offsetof(Probe, ray_pair) + sizeof(Ray) + offsetof(Ray, payload), VEC4},
+    {"material_pair[1].info", offsetof(Probe, material_pair) + sizeof(Material) + offsetof(Material, info), UVEC4},
+    {"material_pair[1].params[1]", offsetof(Probe, material_pair) + sizeof(Material) + offsetof(Material, params[1]), VEC4},
 };
 static const size_t field_count = sizeof fields / sizeof *fields;
 
@@ -79,7 +95,8 @@ static char *probe_kernel(void)
                              "  Ray ray; Hit hit; Triangle triangle; TriangleNormals normals;\n"
                              "  Material material; Light light; FrameParams params;\n"
                              "  Counters counters; BvhNode node; GridInfo grid;\n"
-                             "  Hit hit_pair[2]; Ray ray_pair[2];\n"
+                             "  TriangleTexcoords texcoords; WaveState wave; TextureInfo texture;\n"
+                             "  Hit hit_pair[2]; Ray ray_pair[2]; Material material_pair[2];\n"
                              "};\n"
                              "void main() {\n"
                              "  if (gl_GlobalInvocationID.x != 0u) return;\n");
@@ -157,6 +174,7 @@ static void test_push_constant_layout(void **state)
     pushed.image = (uvec4){101, 102, 103, 104};
     pushed.counts = (uvec4){201, 202, 203, 204};
     pushed.range = (uvec4){301, 302, 303, 304};
+    pushed.wave = (uvec4){401, 402, 403, 404};
     gpu_buffer buf;
     assert_true(gpu_buffer_create(&ctx, &buf, sizeof(FrameParams), "params", &err));
     assert_true(gpu_buffer_zero(&ctx, &buf, &err));
@@ -178,15 +196,18 @@ static void test_push_constant_layout(void **state)
 static void test_sizes(void **state)
 {
     (void)state;
-    assert_int_equal(sizeof(Ray), 64);
+    assert_int_equal(sizeof(Ray), 80);
     assert_int_equal(sizeof(Hit), 16);
     assert_int_equal(sizeof(Triangle), 48);
     assert_int_equal(sizeof(TriangleNormals), 48);
-    assert_int_equal(sizeof(Material), 16);
+    assert_int_equal(sizeof(Material), 112);
+    assert_int_equal(sizeof(TriangleTexcoords), 32);
+    assert_int_equal(sizeof(WaveState), 16);
+    assert_int_equal(sizeof(TextureInfo), 16);
     assert_int_equal(sizeof(Light), 64);
     assert_int_equal(sizeof(FrameParams), 128);
     assert_true(sizeof(FrameParams) <= 128); /* the push constant size every device offers */
-    assert_int_equal(sizeof(Counters), 16);
+    assert_int_equal(sizeof(Counters), 32);
     assert_int_equal(sizeof(BvhNode), 32);
     assert_int_equal(sizeof(GridInfo), 64);
 }

@@ -91,7 +91,31 @@ static bool occluded(const vkrt_mesh *mesh, d3 o, d3 d, double tmax)
     return false;
 }
 
-static d3 shade(const vkrt_scene *scene, d3 o, d3 d)
+/* Fresnel reflectance of unpolarised light from index n1 into n2 at cos_i; 1 past the critical
+ * angle. */
+static double fresnel(double cos_i, double n1, double n2)
+{
+    double sin_t = n1 / n2 * sqrt(fmax(0, 1 - cos_i * cos_i));
+    if (sin_t >= 1)
+        return 1;
+    double cos_t = sqrt(1 - sin_t * sin_t);
+    double rs = (n1 * cos_i - n2 * cos_t) / (n1 * cos_i + n2 * cos_t);
+    double rp = (n1 * cos_t - n2 * cos_i) / (n1 * cos_t + n2 * cos_i);
+    return 0.5 * (rs * rs + rp * rp);
+}
+
+static d3 mul(d3 a, d3 b) { return make(a.x * b.x, a.y * b.y, a.z * b.z); }
+static double largest(d3 a) { return fmax(a.x, fmax(a.y, a.z)); }
+
+/* The importance under which the renderer drops a cast ray (renderer.c, default_min_importance). */
+static const double min_importance = 1e-3;
+
+/* Radiance along the ray o + t d, as docs/materials.md defines the built-ins (no vn in these
+ * scenes, so normals are the triangles' own): Lambert lit by the lights for diffuse surfaces
+ * (.mtl illum 0-2), plus a reflection weighted Ks for mirrors (illum 3, 5), Fresnel-weighted
+ * reflection and refraction for glass (illum 4, 6, 7). depth counts bounces left; importance is
+ * the ray's throughput, for the renderer's threshold. */
+static d3 shade(const vkrt_scene *scene, d3 o, d3 d, int depth, d3 importance)
 {
     const vkrt_config *cfg = &scene->config;
     const vkrt_mesh *mesh = &scene->mesh;
@@ -102,19 +126,43 @@ static d3 shade(const vkrt_scene *scene, d3 o, d3 d)
     const float *v = mesh->positions + 9 * tri;
     d3 p = add(o, scale(d, t));
     d3 n = normalize(cross(sub(from_floats(v + 3), from_floats(v)), sub(from_floats(v + 6), from_floats(v))));
-    if (dot(n, d) > 0)
+    bool front = dot(n, d) < 0;
+    if (!front)
         n = scale(n, -1);
     int32_t m = mesh->material[tri];
-    d3 kd = m < 0 ? make(0.8, 0.8, 0.8) : from_floats(mesh->materials[m].kd);
+    const vkrt_mtl *mtl = m < 0 ? NULL : &mesh->materials[m];
+    int illum = mtl ? mtl->illum : 2;
     /* A fixed relative epsilon: enough for this scene of unit-scale numbers in the hundreds. */
     double extent = fmax(fmax(fabs(p.x), fabs(p.y)), fmax(fabs(p.z), 1.0));
-    d3 origin = add(p, scale(n, 1e-4 * extent));
+    double eps = 1e-4 * extent;
     d3 sum = make(0, 0, 0);
+    if (illum == 4 || illum == 6 || illum == 7) {
+        double ni = mtl->ni > 0 ? mtl->ni : 1.5;
+        double n1 = front ? 1 : ni, n2 = front ? ni : 1;
+        double cos_i = -dot(d, n);
+        double r = fresnel(cos_i, n1, n2);
+        if (depth > 0) {
+            d3 refl = add(d, scale(n, 2 * cos_i));
+            d3 w = scale(importance, r);
+            if (largest(w) >= min_importance)
+                sum = add(sum, scale(shade(scene, add(p, scale(n, eps)), refl, depth - 1, w), r));
+            if (r < 1) {
+                double eta = n1 / n2, k = 1 - eta * eta * (1 - cos_i * cos_i);
+                d3 refr = normalize(add(scale(d, eta), scale(n, eta * cos_i - sqrt(k))));
+                w = scale(importance, 1 - r);
+                if (largest(w) >= min_importance)
+                    sum = add(sum, scale(shade(scene, sub(p, scale(n, eps)), refr, depth - 1, w), 1 - r));
+            }
+        }
+        return sum;
+    }
+    d3 kd = mtl ? from_floats(mtl->kd) : make(0.8, 0.8, 0.8);
+    d3 origin = add(p, scale(n, eps));
     for (uint32_t i = 0; i < cfg->light_count; ++i) {
         const vkrt_config_light *l = &cfg->lights[i];
         d3 colour = from_floats(l->colour);
         if (l->kind == VKRT_LIGHT_AMBIENT) {
-            sum = add(sum, make(kd.x * colour.x, kd.y * colour.y, kd.z * colour.z));
+            sum = add(sum, mul(kd, colour));
             continue;
         }
         d3 wi;
@@ -139,8 +187,15 @@ static d3 shade(const vkrt_scene *scene, d3 o, d3 d)
             continue;
         if (occluded(mesh, origin, wi, dist))
             continue;
-        d3 c = scale(e, cos_theta / M_PI);
-        sum = add(sum, make(kd.x * c.x, kd.y * c.y, kd.z * c.z));
+        sum = add(sum, mul(kd, scale(e, cos_theta / M_PI)));
+    }
+    if ((illum == 3 || illum == 5) && depth > 0) {
+        d3 ks = from_floats(mtl->ks);
+        d3 w = mul(importance, ks);
+        if (largest(w) >= min_importance) {
+            d3 refl = add(d, scale(n, -2 * dot(d, n)));
+            sum = add(sum, mul(ks, shade(scene, origin, refl, depth - 1, w)));
+        }
     }
     return sum;
 }
@@ -160,7 +215,7 @@ static void reference_render(const vkrt_scene *scene, uint32_t w, uint32_t h, fl
             double sx = (2 * (x + 0.5) / w - 1) * tan_half * aspect;
             double sy = (1 - 2 * (y + 0.5) / h) * tan_half;
             d3 d = normalize(add(forward, add(scale(right, sx), scale(up, sy))));
-            d3 c = shade(scene, eye, d);
+            d3 c = shade(scene, eye, d, (int)scene->config.max_depth, make(1, 1, 1));
             float *out = rgb + 3 * ((size_t)y * w + x);
             out[0] = (float)c.x;
             out[1] = (float)c.y;
@@ -267,6 +322,60 @@ static void test_cornell_all_lights(void **state)
     fclose(f);
     compare_with_reference(path);
     unlink(path);
+    rmdir(dir);
+}
+
+/* The Cornell box with its short block made of glass and its tall block a mirror (the OBJ's faces
+ * 5-9 and 10-14): one mirror and one glass bounce, and more, against the reference. */
+static void test_cornell_mirror_and_glass(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/vkrt-render-XXXXXX", path[4200], line[512];
+    assert_non_null(mkdtemp(dir));
+    snprintf(path, sizeof path, "%s/box.obj", dir);
+    FILE *in = fopen(cornell_obj, "r"), *out = fopen(path, "w");
+    assert_true(in && out);
+    int face = 0;
+    while (fgets(line, sizeof line, in)) {
+        if (strncmp(line, "mtllib", 6) == 0) {
+            fputs("mtllib box.mtl\n", out);
+            continue;
+        }
+        if (strncmp(line, "f ", 2) == 0) {
+            if (face == 5)
+                fputs("usemtl glass\n", out);
+            else if (face == 10)
+                fputs("usemtl mirror\n", out);
+            ++face;
+        }
+        fputs(line, out);
+    }
+    fclose(in);
+    fclose(out);
+    assert_int_equal(face, 15);
+    snprintf(path, sizeof path, "%s/box.mtl", dir);
+    out = fopen(path, "w");
+    assert_non_null(out);
+    fputs("newmtl white\nKd 0.73 0.73 0.73\nnewmtl red\nKd 0.63 0.065 0.05\n"
+          "newmtl green\nKd 0.14 0.45 0.091\n"
+          "newmtl mirror\nKd 0.1 0.1 0.1\nKs 0.8 0.8 0.8\nillum 3\n"
+          "newmtl glass\nKd 0 0 0\nNi 1.5\nillum 7\n",
+          out);
+    fclose(out);
+    snprintf(path, sizeof path, "%s/scene.cfg", dir);
+    out = fopen(path, "w");
+    assert_non_null(out);
+    fputs("geometry box.obj\nmax-depth 4\nenvironment 0.1 0.2 0.3\n"
+          "light ambient 0.03 0.03 0.03\nlight point 278 500 279.5  250000 250000 250000\n"
+          "camera eye 278 273 -800 look 278 273 0 up 0 1 0 fov 39.3077\n",
+          out);
+    fclose(out);
+    compare_with_reference(path);
+    static const char *const files[] = {"box.obj", "box.mtl", "scene.cfg"};
+    for (int i = 0; i < 3; ++i) {
+        snprintf(path, sizeof path, "%s/%s", dir, files[i]);
+        unlink(path);
+    }
     rmdir(dir);
 }
 
@@ -389,6 +498,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_cornell_point_light),
         cmocka_unit_test(test_cornell_all_lights),
+        cmocka_unit_test(test_cornell_mirror_and_glass),
         cmocka_unit_test(test_scale_and_offset),
     };
     return cmocka_run_group_tests(tests, find_cornell, NULL);

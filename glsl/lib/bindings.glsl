@@ -12,8 +12,16 @@ layout(local_size_x_id = 0) in;
 
 /* Set when the OBJ had normals and the TriangleNormals buffer is real. */
 layout(constant_id = 1) const bool HAS_NORMALS = false;
+/* Set when a material reads textures and the TriangleTexcoords buffer is real. */
+layout(constant_id = 3) const bool HAS_TEXCOORDS = false;
+/* The workgroup size of the wave kernels, for the kernel that writes their indirect dispatches. */
+layout(constant_id = 4) const uint WAVE_WORKGROUP_SIZE = 64u;
 
+/* Rays live in two buffers, A and B: one depth's rays in one, the rays they cast in the other
+ * (frame.wave.x says which is which). Two bindings rather than two halves of one buffer, so each
+ * can be as large as maxStorageBufferRange (128 MiB on lavapipe). */
 layout(std430, set = 0, binding = 0) buffer RayBuffer { Ray rays[]; };
+layout(std430, set = 0, binding = 12) buffer RayBufferB { Ray rays_b[]; };
 layout(std430, set = 0, binding = 1) buffer HitBuffer { Hit hits[]; };
 layout(std430, set = 0, binding = 2) readonly buffer TriangleBuffer { Triangle triangles[]; };
 layout(std430, set = 0, binding = 3) readonly buffer NormalBuffer { TriangleNormals triangle_normals[]; };
@@ -21,6 +29,7 @@ layout(std430, set = 0, binding = 4) readonly buffer TriangleMaterialBuffer { ui
 layout(std430, set = 0, binding = 5) readonly buffer MaterialBuffer { Material materials[]; };
 layout(std430, set = 0, binding = 6) readonly buffer LightBuffer { Light lights[]; };
 layout(std430, set = 0, binding = 7) buffer ImageBuffer { vec4 image[]; };
+layout(std430, set = 0, binding = 7) buffer ImageWords { uint image_words[]; };
 layout(std430, set = 0, binding = 8) buffer CounterBuffer { Counters counters; };
 
 /* The acceleration structure: binding 9 is the grid's frame, binding 10 the BVH's nodes or the
@@ -31,6 +40,16 @@ layout(std430, set = 0, binding = 10) readonly buffer BvhNodeBuffer { BvhNode bv
 layout(std430, set = 0, binding = 10) readonly buffer GridCellBuffer { uint grid_cell_start[]; };
 layout(std430, set = 0, binding = 11) readonly buffer GridRefBuffer { uint grid_refs[]; };
 
+/* The wave machinery: one WaveState per depth, light visibility bits (frame.range.w words per
+ * ray, bit k of word k / 32 set when light k reaches the hit), and for each ray the first slot and
+ * number of the rays its material casts. */
+layout(std430, set = 0, binding = 13) buffer WaveBuffer { WaveState waves[]; };
+layout(std430, set = 0, binding = 14) buffer VisibilityBuffer { uint light_visibility[]; };
+layout(std430, set = 0, binding = 15) buffer SlotBuffer { uvec2 ray_slots[]; };
+layout(std430, set = 0, binding = 16) readonly buffer TexcoordBuffer { TriangleTexcoords triangle_texcoords[]; };
+layout(std430, set = 0, binding = 17) readonly buffer TextureInfoBuffer { TextureInfo texture_infos[]; };
+layout(std430, set = 0, binding = 18) readonly buffer TexelBuffer { uint texels[]; };
+
 /* Which structure trace_closest and trace_any walk (VKRT_TRAVERSE_*). */
 layout(constant_id = 2) const uint ACCEL_KIND = VKRT_TRAVERSE_BRUTE;
 
@@ -40,6 +59,34 @@ layout(push_constant) uniform FramePush { FrameParams frame; };
 uint invocation_index()
 {
     return gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+}
+
+/* How many rays this dispatch covers: the host's count, or this depth's wave (clamped to the
+ * buffers' capacity: rays past it were never stored). */
+uint dispatch_ray_count()
+{
+    if (frame.counts.z != VKRT_RAYS_OF_WAVE)
+        return frame.counts.z;
+    return min(waves[frame.wave.y].ray_count, frame.wave.w);
+}
+
+/* Ray i of this depth, from the buffer frame.wave.x names. */
+Ray load_ray(uint i)
+{
+    /* Not a ?: expression: the two blocks' Ray are distinct SPIR-V types, and glslang would
+     * select between them without converting (invalid SPIR-V). */
+    if (frame.wave.x == 0u)
+        return rays[i];
+    return rays_b[i];
+}
+
+/* Stores a ray cast at this depth into slot i of the other buffer. */
+void store_child_ray(uint i, Ray ray)
+{
+    if (frame.wave.x == 0u)
+        rays_b[i] = ray;
+    else
+        rays[i] = ray;
 }
 
 #endif

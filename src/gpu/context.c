@@ -183,6 +183,44 @@ static bool create_device(gpu_context *ctx, vkrt_error *err)
      * reading other memory. */
     ctx->robust_buffer_access = supported.robustBufferAccess == VK_TRUE;
     VkPhysicalDeviceFeatures enabled = {.robustBufferAccess = supported.robustBufferAccess};
+
+    /* Float atomic adds let many rays add to one pixel at once (lavapipe and NVIDIA have them);
+     * without them the shading kernel falls back to compare-and-swap loops. */
+    uint32_t extension_count = 0;
+    GPU_CHECK(vkEnumerateDeviceExtensionProperties(ctx->physical, NULL, &extension_count, NULL));
+    VkExtensionProperties *extensions = calloc(extension_count ? extension_count : 1,
+                                               sizeof *extensions);
+    if (!extensions)
+        return vkrt_error_set(err, "out of memory");
+    VkResult listed =
+        vkEnumerateDeviceExtensionProperties(ctx->physical, NULL, &extension_count, extensions);
+    bool has_atomic_float = false;
+    for (uint32_t i = 0; listed == VK_SUCCESS && i < extension_count; ++i)
+        has_atomic_float |=
+            strcmp(extensions[i].extensionName, VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME) == 0;
+    free(extensions);
+    if (listed != VK_SUCCESS)
+        return vkrt_error_set(err, "vkEnumerateDeviceExtensionProperties failed (%d)", listed);
+    VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomic_float = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT,
+    };
+    if (has_atomic_float) {
+        VkPhysicalDeviceFeatures2 features2 = {
+            .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2,
+            .pNext = &atomic_float,
+        };
+        vkGetPhysicalDeviceFeatures2(ctx->physical, &features2);
+    }
+    ctx->float_atomics = has_atomic_float && atomic_float.shaderBufferFloat32AtomicAdd;
+    /* For testing the fallback on a device that has them. */
+    const char *no_float_atomics = getenv("VKRT_NO_FLOAT_ATOMICS");
+    if (no_float_atomics && *no_float_atomics && strcmp(no_float_atomics, "0") != 0)
+        ctx->float_atomics = false;
+    VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomic_float_on = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT,
+        .shaderBufferFloat32AtomicAdd = VK_TRUE,
+    };
+    const char *device_extensions[] = {VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME};
     float priority = 1.0f;
     VkDeviceQueueCreateInfo queue_info = {
         .sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO,
@@ -195,6 +233,9 @@ static bool create_device(gpu_context *ctx, vkrt_error *err)
         .queueCreateInfoCount = 1,
         .pQueueCreateInfos = &queue_info,
         .pEnabledFeatures = &enabled,
+        .pNext = ctx->float_atomics ? &atomic_float_on : NULL,
+        .enabledExtensionCount = ctx->float_atomics ? 1 : 0,
+        .ppEnabledExtensionNames = device_extensions,
     };
     GPU_CHECK(vkCreateDevice(ctx->physical, &info, NULL, &ctx->device));
     vkGetDeviceQueue(ctx->device, ctx->queue_family, 0, &ctx->queue);

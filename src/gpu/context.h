@@ -33,6 +33,7 @@ typedef struct gpu_context {
     VkCommandBuffer command_buffer; /* for gpu_commands_begin / gpu_commands_submit */
     VkFence fence;
     bool robust_buffer_access;
+    bool float_atomics;          /* VK_EXT_shader_atomic_float's shaderBufferFloat32AtomicAdd is on */
     uint32_t validation_messages;   /* messages the validation layers reported so far */
     bool messenger_quiet;
     char first_validation_message[512];

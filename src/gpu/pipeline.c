@@ -182,13 +182,35 @@ void gpu_dispatch(VkCommandBuffer cmd, const gpu_pipeline *pipe, const gpu_stora
     uint32_t groups_y = groups_x ? (groups + groups_x - 1) / groups_x : 0;
     if (groups)
         vkCmdDispatch(cmd, groups_x, groups_y, 1);
+    gpu_dispatch_barrier(cmd);
+}
+
+void gpu_dispatch_barrier(VkCommandBuffer cmd)
+{
+    /* Later dispatches may read what this one wrote as buffers, as indirect dispatch arguments,
+     * or through transfers. */
     VkMemoryBarrier barrier = {
         .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
         .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
         .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
-                         VK_ACCESS_TRANSFER_READ_BIT,
+                         VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT,
     };
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0,
-                         1, &barrier, 0, NULL, 0, NULL);
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
+                             VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+                         0, 1, &barrier, 0, NULL, 0, NULL);
+}
+
+void gpu_dispatch_indirect(VkCommandBuffer cmd, const gpu_pipeline *pipe,
+                           const gpu_storage_set *set, const void *push, const gpu_buffer *args,
+                           VkDeviceSize offset)
+{
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipe->pipeline);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, set->pipeline_layout, 0, 1,
+                            &set->set, 0, NULL);
+    if (set->push_size)
+        vkCmdPushConstants(cmd, set->pipeline_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
+                           set->push_size, push);
+    vkCmdDispatchIndirect(cmd, args->buffer, offset);
+    gpu_dispatch_barrier(cmd);
 }

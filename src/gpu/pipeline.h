@@ -64,4 +64,15 @@ void gpu_pipeline_destroy(gpu_context *ctx, gpu_pipeline *pipe);
 void gpu_dispatch(VkCommandBuffer cmd, const gpu_pipeline *pipe, const gpu_storage_set *set,
                   const void *push, uint32_t items);
 
+/* Records a dispatch whose workgroup counts (3 uints) the GPU wrote into args at offset, with
+ * push constants and the same barrier as gpu_dispatch. The kernel must stop invocations past its
+ * item count itself. */
+void gpu_dispatch_indirect(VkCommandBuffer cmd, const gpu_pipeline *pipe,
+                           const gpu_storage_set *set, const void *push, const gpu_buffer *args,
+                           VkDeviceSize offset);
+
+/* The barrier every dispatch ends with: shader writes become visible to later shader reads and
+ * writes, transfers and indirect argument reads. */
+void gpu_dispatch_barrier(VkCommandBuffer cmd);
+
 #endif

@@ -5,6 +5,7 @@
 #include "renderer.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -13,6 +14,7 @@
 #include "../gpu/shader.h"
 #include "../gpu/timer.h"
 #include "kernel_sources.h"
+#include "material_kernel.h"
 
 /* Binding numbers of glsl/lib/bindings.glsl; keep both in the same order. */
 enum {
@@ -28,6 +30,13 @@ enum {
     BINDING_GRID_INFO,
     BINDING_ACCEL_NODES,
     BINDING_GRID_REFS,
+    BINDING_RAYS_B,
+    BINDING_WAVES,
+    BINDING_VISIBILITY,
+    BINDING_SLOTS,
+    BINDING_TEXCOORDS,
+    BINDING_TEXTURE_INFOS,
+    BINDING_TEXELS,
     BINDING_COUNT,
 };
 
@@ -39,11 +48,15 @@ static const uint32_t default_workgroup_size = 64;
  * iterations in all (glsl/lib/traverse_brute.glsl), so brute force goes in blocks below that. */
 static const uint32_t brute_force_block = 32768;
 
-/* Albedo of triangles without a material: the .mtl default Kd. */
-static const float default_albedo = 0.8f;
+/* A cast ray whose importance (largest channel) falls under this is not traced: it could change
+ * its pixel by less than a thousandth of the light that reaches it. */
+static const float default_min_importance = 1e-3f;
+
+/* The ray buffers may take at most this share of the device's largest memory heap. */
+static const uint32_t ray_memory_share = 4;
 
 /* Specialization constant ids shared with glsl/lib/bindings.glsl (0 is the workgroup size). */
-enum { SPEC_HAS_NORMALS = 1, SPEC_ACCEL_KIND = 2 };
+enum { SPEC_HAS_NORMALS = 1, SPEC_ACCEL_KIND = 2, SPEC_HAS_TEXCOORDS = 3, SPEC_WAVE_WORKGROUP = 4 };
 
 static bool upload(vkrt_renderer *r, gpu_buffer *buf, const void *data, size_t size,
                    const char *what, vkrt_error *err)
@@ -52,13 +65,16 @@ static bool upload(vkrt_renderer *r, gpu_buffer *buf, const void *data, size_t s
            gpu_buffer_upload(r->ctx, buf, data, size, err);
 }
 
-static bool upload_geometry(vkrt_renderer *r, const vkrt_mesh *mesh, vkrt_error *err)
+static bool upload_geometry(vkrt_renderer *r, const vkrt_mesh *mesh,
+                            const vkrt_scene_materials *mats, vkrt_error *err)
 {
     uint32_t n = mesh->triangle_count;
+    bool want_texcoords = mats->reads_texcoords && mesh->texcoords;
     Triangle *tris = calloc(n, sizeof *tris);
     uint32_t *material = calloc(n, sizeof *material);
     TriangleNormals *normals = mesh->normals ? calloc(n, sizeof *normals) : NULL;
-    bool ok = tris && material && (normals || !mesh->normals);
+    TriangleTexcoords *texcoords = want_texcoords ? calloc(n, sizeof *texcoords) : NULL;
+    bool ok = tris && material && (normals || !mesh->normals) && (texcoords || !want_texcoords);
     if (!ok) {
         vkrt_error_set(err, "out of memory for %u triangles", n);
         goto done;
@@ -70,43 +86,79 @@ static bool upload_geometry(vkrt_renderer *r, const vkrt_mesh *mesh, vkrt_error 
         tris[i].v0 = (vec4){p[0], p[1], p[2], 0};
         tris[i].v1 = (vec4){p[3], p[4], p[5], 0};
         tris[i].v2 = (vec4){p[6], p[7], p[8], 0};
-        /* The default material sits after the OBJ's own. */
-        material[i] =
-            mesh->material[from] < 0 ? mesh->material_count : (uint32_t)mesh->material[from];
+        material[i] = mats->triangle_material[from];
         if (normals) {
             const float *q = mesh->normals + 9 * (size_t)from;
             normals[i].n0 = (vec4){q[0], q[1], q[2], 0};
             normals[i].n1 = (vec4){q[3], q[4], q[5], 0};
             normals[i].n2 = (vec4){q[6], q[7], q[8], 0};
         }
+        if (texcoords) {
+            const float *t = mesh->texcoords + 6 * (size_t)from;
+            texcoords[i].uv01 = (vec4){t[0], t[1], t[2], t[3]};
+            texcoords[i].uv2 = (vec4){t[4], t[5], 0, 0};
+        }
     }
     ok = upload(r, &r->triangles, tris, n * sizeof *tris, "triangles", err) &&
          upload(r, &r->triangle_material, material, n * sizeof *material, "triangle materials",
                 err);
-    /* Without normals the kernels never read this binding; a minimal buffer keeps it valid. */
+    /* Attributes no kernel will read get a minimal buffer that keeps their binding valid. */
     if (ok)
         ok = normals ? upload(r, &r->normals, normals, n * sizeof *normals, "normals", err)
                      : gpu_buffer_create(r->ctx, &r->normals, 0, "normals", err);
+    if (ok)
+        ok = texcoords ? upload(r, &r->texcoords, texcoords, n * sizeof *texcoords,
+                                "texture coordinates", err)
+                       : gpu_buffer_create(r->ctx, &r->texcoords, 0, "texture coordinates", err);
 done:
     free(tris);
     free(material);
     free(normals);
+    free(texcoords);
     return ok;
 }
 
-static bool upload_materials(vkrt_renderer *r, const vkrt_mesh *mesh, vkrt_error *err)
+static bool upload_materials(vkrt_renderer *r, const vkrt_scene_materials *mats,
+                             const vkrt_material_kernel *kernel, vkrt_error *err)
 {
-    uint32_t count = mesh->material_count + 1;
-    Material *materials = calloc(count, sizeof *materials);
-    if (!materials)
+    Material *materials = calloc(mats->count, sizeof *materials);
+    r->material_names = calloc(mats->count, sizeof *r->material_names);
+    if (!materials || !r->material_names) {
+        free(materials);
         return vkrt_error_set(err, "out of memory");
-    for (uint32_t i = 0; i < mesh->material_count; ++i) {
-        const float *kd = mesh->materials[i].kd;
-        materials[i].diffuse = (vec4){kd[0], kd[1], kd[2], 0};
     }
-    materials[count - 1].diffuse = (vec4){default_albedo, default_albedo, default_albedo, 0};
-    bool ok = upload(r, &r->materials, materials, count * sizeof *materials, "materials", err);
+    r->material_count = mats->count;
+    for (uint32_t i = 0; i < mats->count; ++i) {
+        const vkrt_scene_material *m = &mats->list[i];
+        Material *g = &materials[i];
+        for (uint32_t k = 0; k < VKRT_MATERIAL_PARAM_COUNT; ++k)
+            (&g->params[k / 4].x)[k % 4] = m->params[k];
+        for (uint32_t k = 0; k < VKRT_MATERIAL_TEXTURE_SLOTS; ++k)
+            (&g->textures[k / 4].x)[k % 4] = m->textures[k];
+        g->info = (uvec4){m->shader,
+                          kernel->shader_uses_lights[m->shader] ? VKRT_MATERIAL_USES_LIGHTS : 0,
+                          m->texture_count, 0};
+        size_t len = strlen(m->name) + strlen(m->referrer) + 8;
+        r->material_names[i] = malloc(len);
+        if (!r->material_names[i]) {
+            free(materials);
+            return vkrt_error_set(err, "out of memory");
+        }
+        snprintf(r->material_names[i], len, "'%s' (%s)", m->name, m->referrer);
+    }
+    bool ok = upload(r, &r->materials, materials, mats->count * sizeof *materials, "materials",
+                     err);
     free(materials);
+    const vkrt_texture_set *tex = &mats->textures;
+    if (ok && tex->count) {
+        ok = upload(r, &r->texture_infos, tex->info, tex->count * sizeof *tex->info,
+                    "texture table", err) &&
+             upload(r, &r->texels, tex->texels, tex->texel_words * sizeof *tex->texels,
+                    "texels (all textures together)", err);
+    } else if (ok) {
+        ok = gpu_buffer_create(r->ctx, &r->texture_infos, 0, "texture table", err) &&
+             gpu_buffer_create(r->ctx, &r->texels, 0, "texels", err);
+    }
     return ok;
 }
 
@@ -152,13 +204,91 @@ static bool upload_lights(vkrt_renderer *r, const vkrt_config *cfg, vkrt_error *
     return ok;
 }
 
+/* The most rays a ray buffer may hold: each buffer within maxStorageBufferRange, all the
+ * per-ray buffers together within a share of the largest device-local heap. */
+static uint32_t max_ray_capacity(const vkrt_renderer *r)
+{
+    const VkPhysicalDeviceLimits *limits = &r->ctx->properties.limits;
+    uint64_t by_range = limits->maxStorageBufferRange / sizeof(Ray);
+    uint64_t words = r->light_words ? r->light_words : 1;
+    uint64_t by_visibility = limits->maxStorageBufferRange / (4 * words);
+    VkDeviceSize heap = 0;
+    for (uint32_t i = 0; i < r->ctx->memory.memoryHeapCount; ++i)
+        if ((r->ctx->memory.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT) &&
+            r->ctx->memory.memoryHeaps[i].size > heap)
+            heap = r->ctx->memory.memoryHeaps[i].size;
+    uint64_t per_ray = 2 * sizeof(Ray) + sizeof(Hit) + 4 * words + 2 * sizeof(uint32_t);
+    uint64_t by_memory = heap / ray_memory_share / per_ray;
+    uint64_t cap = by_range < by_visibility ? by_range : by_visibility;
+    cap = by_memory < cap ? by_memory : cap;
+    return cap > UINT32_MAX / 2 ? UINT32_MAX / 2 : (uint32_t)cap;
+}
+
+static void destroy_ray_buffers(vkrt_renderer *r)
+{
+    gpu_buffer *buffers[] = {&r->rays, &r->rays_b, &r->hits, &r->visibility, &r->slots};
+    for (size_t i = 0; i < sizeof buffers / sizeof *buffers; ++i)
+        gpu_buffer_destroy(r->ctx, buffers[i]);
+}
+
+/* The buffers with one entry per ray of a depth, for r->capacity rays. */
+static bool create_ray_buffers(vkrt_renderer *r, vkrt_error *err)
+{
+    size_t n = r->capacity;
+    size_t words = r->light_words ? r->light_words : 1;
+    char what[64];
+    snprintf(what, sizeof what, "ray buffer (%zu rays)", n);
+    return gpu_buffer_create(r->ctx, &r->rays, n * sizeof(Ray), what, err) &&
+           gpu_buffer_create(r->ctx, &r->rays_b, n * sizeof(Ray), what, err) &&
+           gpu_buffer_create(r->ctx, &r->hits, n * sizeof(Hit), "hit buffer", err) &&
+           gpu_buffer_create(r->ctx, &r->visibility, n * words * sizeof(uint32_t),
+                             "light visibility buffer", err) &&
+           gpu_buffer_create(r->ctx, &r->slots, n * 2 * sizeof(uint32_t), "ray slot buffer", err);
+}
+
 static bool create_frame_buffers(vkrt_renderer *r, vkrt_error *err)
 {
     size_t pixels = (size_t)r->width * r->height;
-    return gpu_buffer_create(r->ctx, &r->rays, pixels * sizeof(Ray), "ray buffer", err) &&
-           gpu_buffer_create(r->ctx, &r->hits, pixels * sizeof(Hit), "hit buffer", err) &&
+    return create_ray_buffers(r, err) &&
            gpu_buffer_create(r->ctx, &r->image, pixels * sizeof(vec4), "image", err) &&
-           gpu_buffer_create(r->ctx, &r->counters, sizeof(Counters), "counters", err);
+           gpu_buffer_create(r->ctx, &r->counters, sizeof(Counters), "counters", err) &&
+           gpu_buffer_create(r->ctx, &r->waves, (r->max_depth + 2) * sizeof(WaveState),
+                             "wave buffer", err);
+}
+
+static void bind_all(vkrt_renderer *r)
+{
+    const gpu_buffer *bound[BINDING_COUNT] = {
+        [BINDING_RAYS] = &r->rays,
+        [BINDING_HITS] = &r->hits,
+        [BINDING_TRIANGLES] = &r->triangles,
+        [BINDING_NORMALS] = &r->normals,
+        [BINDING_TRIANGLE_MATERIAL] = &r->triangle_material,
+        [BINDING_MATERIALS] = &r->materials,
+        [BINDING_LIGHTS] = &r->lights,
+        [BINDING_IMAGE] = &r->image,
+        [BINDING_COUNTERS] = &r->counters,
+        [BINDING_GRID_INFO] = &r->accel.info,
+        [BINDING_ACCEL_NODES] = &r->accel.nodes,
+        [BINDING_GRID_REFS] = &r->accel.refs,
+        [BINDING_RAYS_B] = &r->rays_b,
+        [BINDING_WAVES] = &r->waves,
+        [BINDING_VISIBILITY] = &r->visibility,
+        [BINDING_SLOTS] = &r->slots,
+        [BINDING_TEXCOORDS] = &r->texcoords,
+        [BINDING_TEXTURE_INFOS] = &r->texture_infos,
+        [BINDING_TEXELS] = &r->texels,
+    };
+    for (uint32_t i = 0; i < BINDING_COUNT; ++i)
+        gpu_storage_set_bind(r->ctx, &r->set, i, bound[i]);
+}
+
+static bool make_pipeline(vkrt_renderer *r, gpu_pipeline *pipe, const char *path,
+                          const uint32_t *spirv, size_t words, uint32_t workgroup_size,
+                          const gpu_spec_constant *spec, uint32_t spec_count, vkrt_error *err)
+{
+    return gpu_pipeline_create(r->ctx, pipe, &r->set, spirv, words, workgroup_size, spec,
+                               spec_count, path, err);
 }
 
 static bool create_kernel(vkrt_renderer *r, gpu_pipeline *pipe, const char *path,
@@ -173,8 +303,22 @@ static bool create_kernel(vkrt_renderer *r, gpu_pipeline *pipe, const char *path
     size_t words;
     if (!gpu_shader_compile(&sources, path, &spirv, &words, err))
         return false;
-    bool ok = gpu_pipeline_create(r->ctx, pipe, &r->set, spirv, words, workgroup_size, spec,
-                                  spec_count, path, err);
+    bool ok = make_pipeline(r, pipe, path, spirv, words, workgroup_size, spec, spec_count, err);
+    free(spirv);
+    return ok;
+}
+
+static bool create_material_kernel(vkrt_renderer *r, gpu_pipeline *pipe, const char *path,
+                                   const vkrt_material_kernel *kernel,
+                                   const vkrt_scene_materials *mats, uint32_t workgroup_size,
+                                   const gpu_spec_constant *spec, uint32_t spec_count,
+                                   vkrt_error *err)
+{
+    uint32_t *spirv;
+    size_t words;
+    if (!vkrt_material_kernel_compile(kernel, mats, path, &spirv, &words, err))
+        return false;
+    bool ok = make_pipeline(r, pipe, path, spirv, words, workgroup_size, spec, spec_count, err);
     free(spirv);
     return ok;
 }
@@ -186,18 +330,26 @@ static uint32_t gpu_accel_kind(vkrt_accel_kind kind)
                                      : VKRT_TRAVERSE_BRUTE;
 }
 
-static bool create_kernels(vkrt_renderer *r, bool has_normals, uint32_t workgroup_size,
-                           vkrt_error *err)
+static bool create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoords,
+                           uint32_t workgroup_size, const vkrt_material_kernel *kernel,
+                           const vkrt_scene_materials *mats, vkrt_error *err)
 {
     gpu_spec_constant spec[] = {
         {SPEC_HAS_NORMALS, has_normals},
         {SPEC_ACCEL_KIND, gpu_accel_kind(r->accel.stats.kind)},
+        {SPEC_HAS_TEXCOORDS, has_texcoords},
+        {SPEC_WAVE_WORKGROUP, workgroup_size},
     };
     const uint32_t count = sizeof spec / sizeof *spec;
     return create_kernel(r, &r->raygen, "raygen.comp", workgroup_size, spec, count, err) &&
            create_kernel(r, &r->trace, "trace.comp", workgroup_size, spec, count, err) &&
            create_kernel(r, &r->light, "light.comp", workgroup_size, spec, count, err) &&
-           create_kernel(r, &r->occlusion, "occlusion.comp", workgroup_size, spec, count, err);
+           create_kernel(r, &r->occlusion, "occlusion.comp", workgroup_size, spec, count, err) &&
+           create_kernel(r, &r->prepare, "prepare.comp", 1, spec, count, err) &&
+           create_material_kernel(r, &r->count, "count.comp", kernel, mats, workgroup_size, spec,
+                                  count, err) &&
+           create_material_kernel(r, &r->shade, "shade.comp", kernel, mats, workgroup_size, spec,
+                                  count, err);
 }
 
 bool vkrt_renderer_create(vkrt_renderer *r, gpu_context *ctx, const vkrt_scene *scene,
@@ -208,35 +360,61 @@ bool vkrt_renderer_create(vkrt_renderer *r, gpu_context *ctx, const vkrt_scene *
     r->width = desc->width;
     r->height = desc->height;
     r->samples = desc->samples ? desc->samples : 1;
+    r->max_depth = desc->max_depth ? desc->max_depth : scene->config.max_depth;
+    r->min_importance = desc->min_importance > 0 ? desc->min_importance : default_min_importance;
     r->triangle_count = scene->mesh.triangle_count;
-    memcpy(r->environment, scene->config.environment, sizeof r->environment);
+    r->light_words = (scene->config.light_count + 31) / 32;
     uint32_t workgroup_size = desc->workgroup_size ? desc->workgroup_size : default_workgroup_size;
 
-    if (!gpu_storage_set_create(ctx, &r->set, BINDING_COUNT, sizeof(FrameParams), err) ||
-        !vkrt_accel_gpu_create(&r->accel, ctx, desc->accel, desc->grid_density, scene->mesh.positions,
-                               scene->mesh.triangle_count, err) ||
-        !upload_geometry(r, &scene->mesh, err) || !upload_materials(r, &scene->mesh, err) ||
-        !upload_lights(r, &scene->config, err) || !create_frame_buffers(r, err) ||
-        !create_kernels(r, scene->mesh.normals != NULL, workgroup_size, err)) {
+    /* A scene assembled in memory (tests, bench) may come without resolved materials: then every
+     * triangle is the default diffuse. */
+    const vkrt_scene_materials *mats = &scene->materials;
+    vkrt_scene_materials own = {0};
+    vkrt_material_kernel kernel = {0};
+    bool ok = true;
+    if (!mats->list) {
+        vkrt_mesh plain = scene->mesh;
+        plain.material_count = 0;
+        int32_t *none = malloc((plain.triangle_count ? plain.triangle_count : 1) * sizeof *none);
+        ok = none != NULL;
+        for (uint32_t i = 0; ok && i < plain.triangle_count; ++i)
+            none[i] = -1;
+        plain.material = none;
+        ok = ok && vkrt_scene_materials_resolve(&scene->config, &plain, NULL, &own, err);
+        free(none);
+        if (!ok && err && !err->msg[0])
+            vkrt_error_set(err, "out of memory");
+        mats = &own;
+    }
+    uint64_t pixels = (uint64_t)r->width * r->height;
+    r->max_capacity = max_ray_capacity(r);
+    if (ok && pixels > r->max_capacity)
+        ok = vkrt_error_set(err,
+                            "%ux%u needs %llu rays per buffer (%.0f MiB each); %s allows at most "
+                            "%u: render a smaller image",
+                            r->width, r->height, (unsigned long long)pixels,
+                            pixels * sizeof(Ray) / 1048576.0, ctx->properties.deviceName,
+                            r->max_capacity);
+    r->capacity = desc->ray_capacity > pixels ? desc->ray_capacity : (uint32_t)pixels;
+    if (r->capacity > r->max_capacity)
+        r->capacity = r->max_capacity;
+    bool has_texcoords = mats->reads_texcoords && scene->mesh.texcoords;
+    ok = ok && gpu_storage_set_create(ctx, &r->set, BINDING_COUNT, sizeof(FrameParams), err) &&
+         vkrt_accel_gpu_create(&r->accel, ctx, desc->accel, desc->grid_density,
+                               scene->mesh.positions, scene->mesh.triangle_count, err) &&
+         vkrt_material_kernel_create(&kernel, mats, ctx->float_atomics, err) &&
+         upload_geometry(r, &scene->mesh, mats, err) &&
+         upload_materials(r, mats, &kernel, err) && upload_lights(r, &scene->config, err) &&
+         create_frame_buffers(r, err) &&
+         create_kernels(r, scene->mesh.normals != NULL, has_texcoords, workgroup_size, &kernel,
+                        mats, err);
+    vkrt_material_kernel_destroy(&kernel);
+    vkrt_scene_materials_free(&own);
+    if (!ok) {
         vkrt_renderer_destroy(r);
         return false;
     }
-    const gpu_buffer *bound[BINDING_COUNT] = {
-        [BINDING_RAYS] = &r->rays,
-        [BINDING_HITS] = &r->hits,
-        [BINDING_TRIANGLES] = &r->triangles,
-        [BINDING_NORMALS] = &r->normals,
-        [BINDING_TRIANGLE_MATERIAL] = &r->triangle_material,
-        [BINDING_MATERIALS] = &r->materials,
-        [BINDING_LIGHTS] = &r->lights,
-        [BINDING_IMAGE] = &r->image,
-        [BINDING_COUNTERS] = &r->counters,
-        [BINDING_GRID_INFO] = &r->accel.info,
-        [BINDING_ACCEL_NODES] = &r->accel.nodes,
-        [BINDING_GRID_REFS] = &r->accel.refs,
-    };
-    for (uint32_t i = 0; i < BINDING_COUNT; ++i)
-        gpu_storage_set_bind(ctx, &r->set, i, bound[i]);
+    bind_all(r);
     return true;
 }
 
@@ -304,38 +482,71 @@ static double now_seconds(void)
     return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
-/* Records the closest-hit or any-hit trace of `count` rays; brute force in triangle blocks. */
+/* Records the closest-hit or any-hit trace of the rays params covers: `count` of them, or with
+ * indirect set, the wave of params->wave.y; brute force in triangle blocks. */
 static void record_trace(vkrt_renderer *r, VkCommandBuffer cmd, FrameParams *params, bool any_hit,
-                         uint32_t count)
+                         uint32_t count, bool indirect)
 {
     const gpu_pipeline *pipe = any_hit ? &r->occlusion : &r->trace;
+    VkDeviceSize wave_offset = (VkDeviceSize)params->wave.y * sizeof(WaveState);
     uint32_t n = r->triangle_count;
-    if (r->accel.stats.kind != VKRT_ACCEL_BRUTE) {
-        params->range = (uvec4){0, n, 0, 0};
-        gpu_dispatch(cmd, pipe, &r->set, params, count);
-        return;
-    }
-    for (uint32_t first = 0; first < n || first == 0; first += brute_force_block) {
-        uint32_t end = n - first < brute_force_block ? n : first + brute_force_block;
-        params->range = (uvec4){first, end, first > 0, 0};
-        gpu_dispatch(cmd, pipe, &r->set, params, count);
+    for (uint32_t first = 0;; first += brute_force_block) {
+        bool brute = r->accel.stats.kind == VKRT_ACCEL_BRUTE;
+        uint32_t end = !brute || n - first < brute_force_block ? n : first + brute_force_block;
+        params->range.x = brute ? first : 0;
+        params->range.y = end;
+        params->range.z = first > 0;
+        if (indirect)
+            gpu_dispatch_indirect(cmd, pipe, &r->set, params, &r->waves, wave_offset);
+        else
+            gpu_dispatch(cmd, pipe, &r->set, params, count);
         if (end >= n)
             break;
     }
+    params->range.x = 0;
+    params->range.y = n;
+    params->range.z = 0;
 }
 
-bool vkrt_renderer_render(vkrt_renderer *r, const vkrt_config_camera *camera, uint32_t frame_index,
-                          float *rgb, vkrt_frame_stats *stats, vkrt_error *err)
+/* Sets every wave's ray count to zero but the first, which covers the primary rays. */
+static void record_wave_reset(vkrt_renderer *r, VkCommandBuffer cmd, uint32_t workgroup_size)
+{
+    /* The previous pass's last dispatches read the waves (as indirect arguments too). */
+    VkMemoryBarrier before = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+        .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
+        .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+    };
+    vkCmdPipelineBarrier(cmd,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+                         VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &before, 0, NULL, 0, NULL);
+    uint32_t pixels = r->width * r->height;
+    uint32_t groups = (pixels + workgroup_size - 1) / workgroup_size;
+    uint32_t groups_x = groups < 65535 ? groups : 65535;
+    WaveState waves[64] = {{0}};
+    size_t bytes = (r->max_depth + 2) * sizeof(WaveState);
+    for (size_t offset = 0; offset < bytes; offset += sizeof waves) {
+        size_t chunk = bytes - offset < sizeof waves ? bytes - offset : sizeof waves;
+        if (offset == 0)
+            waves[0] = (WaveState){groups_x, (groups + groups_x - 1) / groups_x, 1, pixels};
+        vkCmdUpdateBuffer(cmd, r->waves.buffer, offset, chunk, waves);
+        waves[0] = (WaveState){0};
+    }
+    VkMemoryBarrier after = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+        .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+        .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                         VK_ACCESS_INDIRECT_COMMAND_READ_BIT,
+    };
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+                         0, 1, &after, 0, NULL, 0, NULL);
+}
+
+/* Records and runs one whole frame; counters hold its statistics afterwards. */
+static bool run_frame(vkrt_renderer *r, FrameParams params, double *seconds, vkrt_error *err)
 {
     uint32_t pixels = r->width * r->height;
-    if (!check_loop_budget(r, err))
-        return false;
-    FrameParams params = {0};
-    camera_params(r, camera, &params);
-    params.environment = (vec4){r->environment[0], r->environment[1], r->environment[2], 0};
-    params.image = (uvec4){r->width, r->height, 0, r->samples};
-    params.counts = (uvec4){r->triangle_count, r->light_count, pixels, frame_index};
-
     VkCommandBuffer cmd;
     if (!gpu_commands_begin(r->ctx, &cmd, err))
         return false;
@@ -349,24 +560,91 @@ bool vkrt_renderer_render(vkrt_renderer *r, const vkrt_config_camera *camera, ui
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                          0, 1, &cleared, 0, NULL, 0, NULL);
     for (uint32_t s = 0; s < r->samples; ++s) {
+        record_wave_reset(r, cmd, r->raygen.workgroup_size);
         params.image.z = s;
+        params.counts.z = pixels;
+        params.wave = (uvec4){0, 0, r->max_depth, r->capacity};
         gpu_dispatch(cmd, &r->raygen, &r->set, &params, pixels);
-        record_trace(r, cmd, &params, false, pixels);
-        /* The light kernel's shadow rays see every triangle at once. */
-        params.range = (uvec4){0, r->triangle_count, 0, 0};
-        gpu_dispatch(cmd, &r->light, &r->set, &params, pixels);
+        params.counts.z = VKRT_RAYS_OF_WAVE;
+        for (uint32_t depth = 0; depth <= r->max_depth; ++depth) {
+            params.wave.x = depth & 1;
+            params.wave.y = depth;
+            VkDeviceSize wave = (VkDeviceSize)depth * sizeof(WaveState);
+            record_trace(r, cmd, &params, false, 0, true);
+            gpu_dispatch_indirect(cmd, &r->light, &r->set, &params, &r->waves, wave);
+            if (depth < r->max_depth) {
+                gpu_dispatch_indirect(cmd, &r->count, &r->set, &params, &r->waves, wave);
+                gpu_dispatch(cmd, &r->prepare, &r->set, &params, 1);
+            }
+            gpu_dispatch_indirect(cmd, &r->shade, &r->set, &params, &r->waves, wave);
+        }
     }
     double start = now_seconds();
     if (!gpu_commands_submit(r->ctx, err))
-        return vkrt_error_prefix(err, "rendering frame %u", frame_index);
-    double seconds = now_seconds() - start;
+        return false;
+    *seconds = now_seconds() - start;
+    return true;
+}
+
+/* Grows the ray buffers to hold `needed` rays: at least double, never past the device's limit. */
+static bool grow_ray_buffers(vkrt_renderer *r, uint64_t needed, vkrt_error *err)
+{
+    uint64_t capacity = r->capacity;
+    while (capacity < needed)
+        capacity *= 2;
+    if (capacity > r->max_capacity)
+        capacity = r->max_capacity;
+    destroy_ray_buffers(r);
+    r->capacity = (uint32_t)capacity;
+    if (!create_ray_buffers(r, err))
+        return vkrt_error_prefix(err, "growing the ray buffers to %u rays", r->capacity);
+    bind_all(r);
+    return true;
+}
+
+bool vkrt_renderer_render(vkrt_renderer *r, const vkrt_config_camera *camera, uint32_t frame_index,
+                          float *rgb, vkrt_frame_stats *stats, vkrt_error *err)
+{
+    uint32_t pixels = r->width * r->height;
+    if (!check_loop_budget(r, err))
+        return false;
+    FrameParams params = {0};
+    camera_params(r, camera, &params);
+    params.eye.w = r->min_importance;
+    params.image = (uvec4){r->width, r->height, 0, r->samples};
+    params.counts = (uvec4){r->triangle_count, r->light_count, pixels, frame_index};
+    params.range = (uvec4){0, r->triangle_count, 0, r->light_words};
+
+    Counters counters;
+    double seconds = 0;
+    uint32_t attempts = 0;
+    for (;;) {
+        ++attempts;
+        if (!run_frame(r, params, &seconds, err) ||
+            !gpu_buffer_download(r->ctx, &r->counters, &counters, sizeof counters, err))
+            return vkrt_error_prefix(err, "rendering frame %u", frame_index);
+        if (counters.overcast) {
+            uint32_t m = counters.overcast_material - 1;
+            return vkrt_error_set(err,
+                                  "material %s cast more rays than its count_rays returned (%u "
+                                  "rays not traced): count_rays must return exactly the number of "
+                                  "cast_ray calls shade makes",
+                                  m < r->material_count ? r->material_names[m] : "?",
+                                  counters.overcast);
+        }
+        /* A wave asked for more rays than the buffers hold: the frame is incomplete. Grow and
+         * render it again; the random streams make the second picture the one a large buffer
+         * would have given. */
+        if (counters.max_wave <= r->capacity || r->capacity >= r->max_capacity)
+            break;
+        if (!grow_ray_buffers(r, counters.max_wave, err))
+            return false;
+    }
 
     vec4 *image = malloc((size_t)pixels * sizeof *image);
     if (!image)
         return vkrt_error_set(err, "out of memory reading back %u pixels", pixels);
-    Counters counters;
-    bool ok = gpu_buffer_download(r->ctx, &r->image, image, (size_t)pixels * sizeof *image, err) &&
-              gpu_buffer_download(r->ctx, &r->counters, &counters, sizeof counters, err);
+    bool ok = gpu_buffer_download(r->ctx, &r->image, image, (size_t)pixels * sizeof *image, err);
     if (ok) {
         float scale = 1.0f / (float)r->samples;
         for (uint32_t i = 0; i < pixels; ++i) {
@@ -377,7 +655,13 @@ bool vkrt_renderer_render(vkrt_renderer *r, const vkrt_config_camera *camera, ui
         if (stats) {
             stats->seconds = seconds;
             stats->primary_rays = (uint64_t)pixels * r->samples;
-            stats->shadow_rays = counters.rays_traced;
+            stats->shadow_rays = counters.shadow_rays;
+            stats->secondary_rays = counters.secondary_rays;
+            stats->attempts = attempts;
+            stats->ray_capacity = r->capacity;
+            stats->dropped_rays =
+                counters.max_wave > r->capacity ? counters.max_wave - r->capacity : 0;
+            stats->nonfinite = counters.nonfinite;
         }
     }
     free(image);
@@ -387,13 +671,14 @@ bool vkrt_renderer_render(vkrt_renderer *r, const vkrt_config_camera *camera, ui
 bool vkrt_renderer_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool any_hit,
                          Hit *hits, uint32_t repeats, double *gpu_ms, vkrt_error *err)
 {
-    size_t capacity = (size_t)r->width * r->height;
+    size_t capacity = r->capacity;
     if (count > capacity)
         return vkrt_error_set(err, "%u rays exceed the renderer's %zu", count, capacity);
     if (repeats == 0)
         repeats = 1;
     FrameParams params = {0};
     params.counts = (uvec4){r->triangle_count, r->light_count, count, 0};
+    params.wave = (uvec4){0, 0, 0, r->capacity};
     gpu_timer timer = {0};
     if (!gpu_buffer_upload(r->ctx, &r->rays, rays, count * sizeof *rays, err) ||
         (gpu_ms && !gpu_timer_create(r->ctx, &timer, repeats + 1, err)))
@@ -408,7 +693,7 @@ bool vkrt_renderer_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool
             gpu_timer_write(cmd, &timer, 0);
         }
         for (uint32_t i = 0; i < repeats; ++i) {
-            record_trace(r, cmd, &params, any_hit, count);
+            record_trace(r, cmd, &params, any_hit, count, false);
             if (gpu_ms)
                 gpu_timer_write(cmd, &timer, i + 1);
         }
@@ -455,17 +740,22 @@ void vkrt_renderer_destroy(vkrt_renderer *r)
 {
     if (!r->ctx)
         return;
-    gpu_pipeline_destroy(r->ctx, &r->occlusion);
-    gpu_pipeline_destroy(r->ctx, &r->light);
-    gpu_pipeline_destroy(r->ctx, &r->trace);
-    gpu_pipeline_destroy(r->ctx, &r->raygen);
-    gpu_buffer *buffers[] = {&r->counters, &r->image,     &r->hits,
-                             &r->rays,     &r->lights,    &r->materials,
-                             &r->triangle_material, &r->normals, &r->triangles};
+    gpu_pipeline *pipelines[] = {&r->shade, &r->prepare, &r->count,  &r->occlusion,
+                                 &r->light, &r->trace,   &r->raygen};
+    for (size_t i = 0; i < sizeof pipelines / sizeof *pipelines; ++i)
+        gpu_pipeline_destroy(r->ctx, pipelines[i]);
+    destroy_ray_buffers(r);
+    gpu_buffer *buffers[] = {&r->counters,      &r->image,          &r->waves,
+                             &r->lights,        &r->materials,      &r->triangle_material,
+                             &r->normals,       &r->texcoords,      &r->triangles,
+                             &r->texture_infos, &r->texels};
     for (size_t i = 0; i < sizeof buffers / sizeof *buffers; ++i)
         gpu_buffer_destroy(r->ctx, buffers[i]);
     vkrt_accel_gpu_destroy(&r->accel, r->ctx);
     free(r->light_kinds);
+    for (uint32_t i = 0; r->material_names && i < r->material_count; ++i)
+        free(r->material_names[i]);
+    free(r->material_names);
     gpu_storage_set_destroy(r->ctx, &r->set);
     memset(r, 0, sizeof *r);
 }

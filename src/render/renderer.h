@@ -1,10 +1,14 @@
 /*
  * renderer.h: the wavefront renderer. Uploads a scene once, then renders frames from cameras.
  *
- * One frame is, per sample pass: raygen (one primary ray per pixel) -> trace (closest hit) ->
- * light (direct light with shadow rays, Lambert shade, add to the pixel). All passes of a frame
- * are recorded into one command buffer: the host waits once per frame, never per dispatch.
- * The same object serves `vkrt render` (and later `view` and `bench`).
+ * One frame is, per sample pass: raygen (one primary ray per pixel), then per depth up to
+ * max-depth: trace (closest hit) -> light (shadow rays, one visibility bit per light) -> count
+ * (each material's count_rays, atomics reserve slots for the next depth) -> prepare (the next
+ * depth's indirect dispatch) -> shade (materials add to pixels and cast into the slots). All
+ * passes of a frame go into one command buffer: the host waits once per frame, never per bounce.
+ * When a depth asked for more rays than the buffers hold, the host grows them (at least doubling,
+ * never shrinking) and renders the frame again; the image is the same as with large buffers.
+ * The same object serves `vkrt render`, `view` and `bench`.
  */
 #ifndef VKRT_RENDERER_H
 #define VKRT_RENDERER_H
@@ -29,25 +33,37 @@ typedef struct vkrt_render_desc {
     uint32_t workgroup_size;  /* 0 means 64 */
     vkrt_accel_kind accel;    /* auto (0) chooses from the scene */
     float grid_density;       /* cells per triangle of a grid; 0: the default */
+    uint32_t max_depth;       /* generations of secondary rays; 0: the scene's max-depth */
+    uint32_t ray_capacity;    /* rays per buffer to start with; 0 (or below the pixel count):
+                                 one per pixel. Tests start small to force growth. */
+    float min_importance;     /* a cast ray weaker than this is dropped; 0: the default 1e-3 */
 } vkrt_render_desc;
 
 typedef struct vkrt_frame_stats {
-    double seconds;           /* GPU submission to completion, host clock */
+    double seconds;           /* GPU submission to completion, host clock, of the last attempt */
     uint64_t primary_rays;
     uint64_t shadow_rays;
+    uint64_t secondary_rays;
+    uint32_t attempts;        /* 1, or more when the ray buffers had to grow */
+    uint32_t ray_capacity;    /* rays per buffer after the frame */
+    uint64_t dropped_rays;    /* rays past the largest buffers the device allows (then 0 < ...) */
+    uint32_t nonfinite;       /* NaN or infinite shading results dropped */
 } vkrt_frame_stats;
 
 typedef struct vkrt_renderer {
     gpu_context *ctx;
     gpu_storage_set set;
     vkrt_accel_gpu accel;     /* the structure, its statistics and the triangle order */
-    gpu_pipeline raygen, trace, light, occlusion;
-    gpu_buffer rays, hits, triangles, normals, triangle_material, materials, lights, image,
-        counters;
-    uint32_t width, height, samples;
-    uint32_t triangle_count, light_count;
+    gpu_pipeline raygen, trace, light, occlusion, count, prepare, shade;
+    gpu_buffer rays, rays_b, hits, triangles, normals, texcoords, triangle_material, materials,
+        lights, image, counters, waves, visibility, slots, texture_infos, texels;
+    uint32_t width, height, samples, max_depth;
+    uint32_t triangle_count, light_count, light_words;
+    uint32_t capacity, max_capacity; /* rays per ray buffer: now, and the most the device allows */
+    float min_importance;
     uint32_t *light_kinds;    /* VKRT_LIGHT_KIND_* per light, kept for the loop budget check */
-    float environment[3];
+    char **material_names;    /* per uploaded material, "name (file:line)", for messages */
+    uint32_t material_count;
 } vkrt_renderer;
 
 /* Uploads the scene's geometry, materials and lights, compiles the kernels and creates the

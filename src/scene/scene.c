@@ -1,4 +1,4 @@
-/* scene.c: loading a scene.cfg and its OBJ together (see scene.h). */
+/* scene.c: loading a scene.cfg with everything it names (see scene.h). */
 #include "scene.h"
 
 #include <string.h>
@@ -8,19 +8,21 @@ bool vkrt_scene_load(const char *path, vkrt_scene *scene, vkrt_error *err)
     memset(scene, 0, sizeof *scene);
     if (!vkrt_config_load(path, &scene->config, err))
         return false;
-    if (scene->config.materials) {
-        /* User GLSL materials need the generated shading kernel of the wavefront pipeline,
-         * which this version does not have; refusing is better than rendering them wrong. */
-        vkrt_error_set(err, "%s: 'materials' (user shader materials) is not supported by this "
-                            "version; remove the line to use the OBJ's .mtl",
-                       path);
-        vkrt_config_free(&scene->config);
-        return false;
-    }
     if (!vkrt_obj_load(scene->config.geometry, &scene->mesh, err)) {
         /* Say which scene file asked for the OBJ: the OBJ's own message follows. */
         vkrt_error_prefix(err, "%s:%d: geometry", path, scene->config.geometry_line);
-        vkrt_config_free(&scene->config);
+        vkrt_scene_free(scene);
+        return false;
+    }
+    if (scene->config.materials &&
+        !vkrt_material_file_load(scene->config.materials, &scene->material_file, err)) {
+        vkrt_scene_free(scene);
+        return false;
+    }
+    if (!vkrt_scene_materials_resolve(&scene->config, &scene->mesh,
+                                      scene->config.materials ? &scene->material_file : NULL,
+                                      &scene->materials, err)) {
+        vkrt_scene_free(scene);
         return false;
     }
     return true;
@@ -28,6 +30,9 @@ bool vkrt_scene_load(const char *path, vkrt_scene *scene, vkrt_error *err)
 
 void vkrt_scene_free(vkrt_scene *scene)
 {
+    vkrt_scene_materials_free(&scene->materials);
+    vkrt_material_file_free(&scene->material_file);
     vkrt_mesh_free(&scene->mesh);
     vkrt_config_free(&scene->config);
+    memset(scene, 0, sizeof *scene);
 }

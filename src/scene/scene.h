@@ -1,5 +1,6 @@
 /*
- * scene.h: a loaded scene: its scene.cfg and the OBJ it names. Pure CPU, no Vulkan.
+ * scene.h: a loaded scene: its scene.cfg, the OBJ it names, its material file, and the materials,
+ * shaders and textures its triangles use. Pure CPU, no Vulkan.
  */
 #ifndef VKRT_SCENE_H
 #define VKRT_SCENE_H
@@ -8,15 +9,20 @@
 
 #include "../error.h"
 #include "config.h"
+#include "material_file.h"
+#include "materials.h"
 #include "obj_load.h"
 
 typedef struct vkrt_scene {
     vkrt_config config;
     vkrt_mesh mesh;
+    vkrt_material_file material_file;  /* empty when scene.cfg names none */
+    vkrt_scene_materials materials;
 } vkrt_scene;
 
-/* Loads the scene.cfg at path and the OBJ it names. On failure returns false with err naming the
- * file and line, and *scene left empty. */
+/* Loads the scene.cfg at path, the OBJ it names, the material file and every shader and texture
+ * the used materials need. On failure returns false with err naming the file and line, and
+ * *scene left empty. */
 bool vkrt_scene_load(const char *path, vkrt_scene *scene, vkrt_error *err);
 
 /* Frees the scene and zeroes it. Safe on a zeroed scene. */

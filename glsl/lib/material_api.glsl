@@ -1,0 +1,184 @@
+/*
+ * material_api.glsl: the functions material shaders call (docs/materials.md documents them), and
+ * the per-invocation state behind them. Included by the generated material module, which the
+ * count and shade kernels include; a shader never includes anything itself.
+ *
+ * The state lives in globals rather than in parameters so that the API stays small: a shader
+ * writes add_radiance(c) and cast_ray(s, d, w), and the kernel knows which ray, pixel, material
+ * and slots those belong to.
+ */
+#ifndef VKRT_MATERIAL_API_GLSL
+#define VKRT_MATERIAL_API_GLSL
+
+#include "bindings.glsl"
+#include "rng.glsl"
+#include "surface.glsl"
+#include "texture.glsl"
+
+/* The most rays one hit may cast; count_rays answers above it are cut to it. */
+#define VKRT_MAX_CAST 64u
+
+/* Which material is being shaded (index into materials[]), and the ray that hit it. */
+uint vkrt_material;
+uint vkrt_ray_index;
+Ray vkrt_ray;
+uint vkrt_rng;
+/* Radiance the shader added, towards the arriving ray; the kernel weights it by importance. */
+vec3 vkrt_radiance;
+/* The slots reserved for this hit's rays: [vkrt_cast_first, + vkrt_cast_reserved). */
+bool vkrt_casting;
+uint vkrt_cast_first;
+uint vkrt_cast_reserved;
+uint vkrt_cast_done;
+
+/* ---- Parameters and textures of the material ---------------------------------------------- */
+
+/* Numeric parameter i (0..15) of the material file's line, or of the .mtl mapping. */
+float param(uint i)
+{
+    return i < VKRT_MATERIAL_PARAMS ? materials[vkrt_material].params[i >> 2u][i & 3u] : 0.0;
+}
+
+vec3 param3(uint i)
+{
+    return vec3(param(i), param(i + 1u), param(i + 2u));
+}
+
+bool has_texture(uint slot)
+{
+    return slot < VKRT_MATERIAL_TEXTURES &&
+           materials[vkrt_material].textures[slot >> 2u][slot & 3u] != VKRT_NO_TEXTURE;
+}
+
+/* Texture slot (0..7) of the material at uv, bilinear with wrap-around, linear RGBA (colour maps
+ * are decoded from sRGB); vec4(1) when the slot has no texture, so a missing map multiplies away. */
+vec4 material_texture(uint slot, vec2 uv)
+{
+    if (!has_texture(slot))
+        return vec4(1.0);
+    return texture_sample(materials[vkrt_material].textures[slot >> 2u][slot & 3u], uv);
+}
+
+/* ---- Random numbers ------------------------------------------------------------------------ */
+
+/* Uniform in [0, 1). count_rays and shade of one hit see the same sequence, so a shader may decide
+ * at random how many rays to cast if it draws the same numbers in the same order in both. */
+float random()
+{
+    vkrt_rng = pcg_hash(vkrt_rng);
+    return rng_float(vkrt_rng);
+}
+
+/* ---- Lights ---------------------------------------------------------------------------------- */
+
+uint light_count()
+{
+    return frame.counts.y;
+}
+
+/* Light i at s: true when it reaches s (in front of the surface and not shadowed), with the unit
+ * direction towards it and the irradiance it brings to a surface facing it (multiply by
+ * dot(s.normal, to_light) for the irradiance on s). Ambient lights are never sampled here: see
+ * ambient_light. The shadow ray was traced by the light kernel; this reads its answer. */
+bool light_sample(Surface s, uint i, out vec3 to_light, out vec3 irradiance)
+{
+    float distance_to_light;
+    if (!light_geometry(s, i, to_light, distance_to_light, irradiance))
+        return false;
+    uint word = light_visibility[vkrt_ray_index * frame.range.w + (i >> 5u)];
+    return (word & (1u << (i & 31u))) != 0u;
+}
+
+/* The summed radiance of the ambient lights: light arriving from every direction, unshadowed. */
+vec3 ambient_light()
+{
+    vec3 sum = vec3(0.0);
+    for (uint i = 0u; i < frame.counts.y; ++i)
+        if (lights[i].info.x == VKRT_LIGHT_KIND_AMBIENT)
+            sum += lights[i].colour.rgb;
+    return sum;
+}
+
+/* Radiance a Lambertian surface of the given albedo reflects towards the viewer under all the
+ * lights: sum of (albedo / pi) * E * cos(theta) over visible lights, plus albedo * ambient. */
+vec3 diffuse_light(Surface s, vec3 albedo)
+{
+    vec3 sum = albedo * ambient_light();
+    for (uint i = 0u; i < frame.counts.y; ++i) {
+        vec3 to_light, irradiance;
+        if (light_sample(s, i, to_light, irradiance))
+            sum += albedo * (1.0 / PI) * irradiance * dot(s.normal, to_light);
+    }
+    return sum;
+}
+
+/* ---- Output ---------------------------------------------------------------------------------- */
+
+/* Adds radiance leaving the surface towards the arriving ray (the kernel weights it by the ray's
+ * importance and adds it to the pixel). */
+void add_radiance(vec3 radiance)
+{
+    vkrt_radiance += radiance;
+}
+
+/* Casts a ray from s in direction (unit length) carrying weight times the arriving ray's
+ * importance, and payload. A hit may cast exactly as many rays as its count_rays returned; more
+ * are not traced and are reported as an error of the material. */
+void cast_ray_payload(Surface s, vec3 direction, vec3 weight, vec4 payload)
+{
+    if (!vkrt_casting)
+        return;
+    if (vkrt_cast_done >= vkrt_cast_reserved) {
+        /* The last depth reserves nothing on purpose: there the casts are simply the end. */
+        if (frame.wave.y < frame.wave.z) {
+            atomicAdd(counters.overcast, 1u);
+            atomicExchange(counters.overcast_material, vkrt_material + 1u);
+        }
+        return;
+    }
+    uint k = vkrt_cast_done++;
+    uint slot = vkrt_cast_first + k;
+    if (slot >= frame.wave.w)
+        return; /* past the buffers: the host sees the wave's size, grows them, renders again */
+    Ray child;
+    child.origin = vec4(surface_origin(s, direction), 0.0);
+    child.direction = vec4(direction, FAR);
+    child.importance = vec4(vkrt_ray.importance.rgb * weight, 0.0);
+    child.info = uvec4(vkrt_ray.info.x, rng_child_seed(vkrt_ray.info.y, k), vkrt_ray.info.z + 1u, 0u);
+    child.payload = payload;
+    float strongest = max(child.importance.r, max(child.importance.g, child.importance.b));
+    if (!(strongest >= frame.eye.w))
+        child.info.w = VKRT_RAY_DEAD;
+    store_child_ray(slot, child);
+}
+
+void cast_ray(Surface s, vec3 direction, vec3 weight)
+{
+    cast_ray_payload(s, direction, weight, vkrt_ray.payload);
+}
+
+/* ---- Helpers ------------------------------------------------------------------------------- */
+
+/* Fresnel reflectance of an unpolarised ray meeting a dielectric boundary at cos_i (cosine of the
+ * angle to the normal, >= 0), eta = n_transmitted / n_incident. 1 under total internal reflection. */
+float fresnel_dielectric(float cos_i, float eta)
+{
+    float sin_t2 = (1.0 - cos_i * cos_i) / (eta * eta);
+    if (sin_t2 >= 1.0)
+        return 1.0;
+    float cos_t = sqrt(1.0 - sin_t2);
+    float rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    float rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    return 0.5 * (rs * rs + rp * rp);
+}
+
+/* A unit vector with cosine-weighted density about n (for diffuse bounces). */
+vec3 cosine_direction(vec3 n, float u1, float u2)
+{
+    float r = sqrt(u1), phi = 2.0 * PI * u2;
+    vec3 t = normalize(abs(n.x) > 0.5 ? cross(n, vec3(0.0, 1.0, 0.0)) : cross(n, vec3(1.0, 0.0, 0.0)));
+    vec3 b = cross(n, t);
+    return normalize(r * cos(phi) * t + r * sin(phi) * b + sqrt(max(0.0, 1.0 - u1)) * n);
+}
+
+#endif

@@ -1,0 +1,42 @@
+/*
+ * mtl.glsl: what the built-in materials share. They all read parameters in the layout the .mtl
+ * mapping fills (docs/materials.md has the table), so one .mtl material maps to any of them:
+ *   0-2 Kd (diffuse albedo)   3 transparency (1 - d)   4-6 Ks (specular)   7 Ns (Phong exponent)
+ *   8-10 Ke (emission)        11 Ni (index of refraction)   12-14 Tf (transmission filter)
+ * and texture slot 0 is map_Kd (colour), slot 1 map_d (coverage).
+ */
+#ifndef VKRT_MTL_GLSL
+#define VKRT_MTL_GLSL
+
+vec3 mtl_diffuse(Surface s)
+{
+    return param3(0u) * material_texture(0u, s.uv).rgb;
+}
+
+/* Coverage of the surface in [0, 1]: d times map_d. Below 1 the rest of the light goes through,
+ * as for leaves cut out of a quad by an alpha map. */
+float mtl_coverage(Surface s)
+{
+    float coverage = 1.0 - param(3u);
+    if (has_texture(1u))
+        coverage *= material_texture(1u, s.uv).r;
+    return clamp(coverage, 0.0, 1.0);
+}
+
+/* The ray that carries on through an uncovered part of the surface: 1 ray where coverage < 1. */
+uint mtl_see_through_count(Surface s)
+{
+    return mtl_coverage(s) < 1.0 ? 1u : 0u;
+}
+
+/* Casts the see-through ray (weight 1 - coverage) where coverage < 1; returns the coverage, by
+ * which the caller scales what the surface itself reflects. Shadow rays ignore coverage. */
+float mtl_see_through(Surface s)
+{
+    float coverage = mtl_coverage(s);
+    if (coverage < 1.0)
+        cast_ray(s, s.incoming, vec3(1.0 - coverage));
+    return coverage;
+}
+
+#endif

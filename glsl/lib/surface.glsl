@@ -1,0 +1,126 @@
+/*
+ * surface.glsl: what a hit looks like to lights and materials, and the light geometry that the
+ * light kernel (which traces the shadow rays) and the shading kernel (which uses them) share.
+ */
+#ifndef VKRT_SURFACE_GLSL
+#define VKRT_SURFACE_GLSL
+
+#include "bindings.glsl"
+#include "intersect.glsl"
+
+const float PI = 3.14159265358979;
+const float FAR = 3.4e38;
+
+/* A hit as material shaders see it (docs/materials.md). Normals face the side the ray came from:
+ * surfaces are two-sided, and front_face says which side was hit. */
+struct Surface {
+    vec3 position;
+    vec3 normal;            /* shading normal (interpolated when the OBJ has normals), unit */
+    vec3 geometric_normal;  /* the triangle's plane normal, unit */
+    vec3 incoming;          /* unit direction of the arriving ray, pointing into the surface */
+    vec2 uv;                /* texture coordinates, (0, 0) when the OBJ has none */
+    bool front_face;        /* true when the ray hit the side the triangle's winding faces */
+    uint depth;             /* 0 for camera rays, +1 per bounce */
+    vec3 importance;        /* the arriving ray's throughput to the pixel, for information */
+    vec4 payload;           /* the arriving ray's payload */
+    uint material;          /* index of the material (internal) */
+    float magnitude;        /* largest coordinate of the triangle, for origin offsets (internal) */
+};
+
+Surface surface_at(Ray ray, Hit hit)
+{
+    Triangle tri = triangles[hit.triangle];
+    float w = 1.0 - hit.u - hit.v;
+    Surface s;
+    s.position = w * tri.v0.xyz + hit.u * tri.v1.xyz + hit.v * tri.v2.xyz;
+    vec3 ng = normalize(cross(tri.v1.xyz - tri.v0.xyz, tri.v2.xyz - tri.v0.xyz));
+    s.front_face = dot(ng, ray.direction.xyz) < 0.0;
+    if (!s.front_face)
+        ng = -ng;
+    s.geometric_normal = ng;
+    s.normal = ng;
+    if (HAS_NORMALS) {
+        TriangleNormals tn = triangle_normals[hit.triangle];
+        vec3 ns = w * tn.n0.xyz + hit.u * tn.n1.xyz + hit.v * tn.n2.xyz;
+        if (dot(ns, ns) > 0.0) {
+            ns = normalize(ns);
+            s.normal = dot(ns, ng) < 0.0 ? -ns : ns;
+        }
+    }
+    s.uv = vec2(0.0);
+    if (HAS_TEXCOORDS) {
+        TriangleTexcoords tc = triangle_texcoords[hit.triangle];
+        s.uv = w * tc.uv01.xy + hit.u * tc.uv01.zw + hit.v * tc.uv2.xy;
+    }
+    s.incoming = ray.direction.xyz;
+    s.depth = ray.info.z;
+    s.importance = ray.importance.rgb;
+    s.payload = ray.payload;
+    s.material = triangle_material[hit.triangle];
+    s.magnitude = triangle_magnitude(tri.v0.xyz, tri.v1.xyz, tri.v2.xyz);
+    return s;
+}
+
+/* A ray origin just off the surface on the side direction d leaves towards. */
+vec3 surface_origin(Surface s, vec3 d)
+{
+    vec3 n = dot(d, s.geometric_normal) >= 0.0 ? s.geometric_normal : -s.geometric_normal;
+    return offset_ray_origin(s.position, n, s.magnitude);
+}
+
+/* Light i seen from s: the unit direction to it, the distance (FAR for a directional light) and
+ * the irradiance it would bring to a surface at s facing it, before shadowing; all measured from
+ * s.position itself. False when it cannot light s at all: ambient, behind the surface (by either
+ * normal: light must not leak to the back through an interpolated normal), or outside a spot's
+ * cone. Spot lights fall off linearly in angle from beam (full) to cutoff (zero), as Mitsuba's. */
+bool light_geometry(Surface s, uint i, out vec3 to_light, out float distance_to_light,
+                    out vec3 irradiance)
+{
+    Light l = lights[i];
+    to_light = vec3(0.0, 0.0, 1.0);
+    distance_to_light = 0.0;
+    irradiance = vec3(0.0);
+    if (l.info.x == VKRT_LIGHT_KIND_AMBIENT)
+        return false;
+    if (l.info.x == VKRT_LIGHT_KIND_DIRECTIONAL) {
+        to_light = -l.direction.xyz;
+        distance_to_light = FAR;
+        irradiance = l.colour.rgb;
+    } else {
+        vec3 d = l.position.xyz - s.position;
+        float d2 = dot(d, d);
+        distance_to_light = sqrt(d2);
+        to_light = d / distance_to_light;
+        irradiance = l.colour.rgb / d2;
+        if (l.info.x == VKRT_LIGHT_KIND_SPOT) {
+            float cos_angle = dot(-to_light, l.direction.xyz);
+            if (cos_angle <= l.direction.w)
+                return false;
+            float angle = acos(clamp(cos_angle, -1.0, 1.0));
+            float cutoff = l.position.w, beam = l.colour.w;
+            if (angle > beam)
+                irradiance *= (cutoff - angle) / (cutoff - beam);
+        }
+    }
+    return dot(s.normal, to_light) > 0.0 && dot(s.geometric_normal, to_light) > 0.0 &&
+           any(greaterThan(irradiance, vec3(0.0)));
+}
+
+/* The shadow ray towards light i from s: it starts just off the lit side of the surface and ends
+ * at the light (a directional light: never). */
+void shadow_ray(Surface s, uint i, vec3 to_light, out vec3 origin, out vec3 direction,
+                out float tmax)
+{
+    origin = offset_ray_origin(s.position, s.geometric_normal, s.magnitude);
+    Light l = lights[i];
+    if (l.info.x == VKRT_LIGHT_KIND_DIRECTIONAL) {
+        direction = to_light;
+        tmax = FAR;
+        return;
+    }
+    vec3 d = l.position.xyz - origin;
+    tmax = length(d);
+    direction = d / tmax;
+}
+
+#endif
