@@ -107,13 +107,6 @@ static void camera_line(char *out, size_t size, const double eye[3], const doubl
              eye[0], eye[1], eye[2], eye[0] + d[0], eye[1] + d[1], eye[2] + d[2]);
 }
 
-static void normalize(double v[3])
-{
-    double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    for (int i = 0; i < 3; ++i)
-        v[i] /= l;
-}
-
 /* Mirror: a camera ray meets a mirror plane y = 0 (reflectance 0.5) at 30 degrees from the
  * normal and reflects onto a probe wall x = 10; the pixel is 0.5 times the point where the mirror
  * law says the reflected ray lands. */
@@ -121,8 +114,8 @@ static void test_mirror_reflects_where_geometry_says(void **state)
 {
     (void)state;
     write_file("m.obj", "mtllib m.mtl\n"
-                        "v -100 0 -100\nv 100 0 -100\nv 100 0 100\nv -100 0 100\n"
-                        "v 10 -100 -100\nv 10 100 -100\nv 10 100 100\nv 10 -100 100\n"
+                        "v -20 0 -20\nv 20 0 -20\nv 20 0 20\nv -20 0 20\n"
+                        "v 10 -20 -20\nv 10 20 -20\nv 10 20 20\nv 10 -20 20\n"
                         "usemtl mirror\nf 1 4 3 2\nusemtl probe\nf 5 6 7 8\n");
     write_file("m.mtl", "newmtl mirror\nKd 0 0 0\nKs 0.5 0.5 0.5\nillum 3\nnewmtl probe\nKd 1 1 1\n");
     write_file("probe.glsl", position_probe);
@@ -138,6 +131,8 @@ static void test_mirror_reflects_where_geometry_says(void **state)
     double hit_x = 5 * tan(M_PI / 6);
     double t = (10 - hit_x) / sin(M_PI / 6);
     double want[3] = {0.5 * 10, 0.5 * (t * cos(M_PI / 6)), 0.5 * 0.25};
+    /* The reflected ray starts 256 float ULPs of 20 (6e-4) off the mirror (docs/architecture.md),
+     * which moves where it lands by about as much. */
     assert_close3(rgb, want, 1e-3, "mirror");
 }
 
@@ -162,9 +157,9 @@ static void test_glass_slab_shifts_as_snell_says(void **state)
     (void)state;
     write_file("g.obj", "mtllib g.mtl\n"
                         /* the slab: top y = 2 facing up, bottom y = 0 facing down */
-                        "v -100 2 -100\nv 100 2 -100\nv 100 2 100\nv -100 2 100\n"
-                        "v -100 0 -100\nv 100 0 -100\nv 100 0 100\nv -100 0 100\n"
-                        "v -100 -3 -100\nv 100 -3 -100\nv 100 -3 100\nv -100 -3 100\n"
+                        "v -20 2 -20\nv 20 2 -20\nv 20 2 20\nv -20 2 20\n"
+                        "v -20 0 -20\nv 20 0 -20\nv 20 0 20\nv -20 0 20\n"
+                        "v -20 -3 -20\nv 20 -3 -20\nv 20 -3 20\nv -20 -3 20\n"
                         "usemtl glass\nf 1 4 3 2\nf 5 6 7 8\nusemtl probe\nf 9 12 11 10\n");
     write_file("g.mtl", "newmtl glass\nKd 0 0 0\nNi 1.5\nillum 7\nnewmtl probe\nKd 1 1 1\n");
     write_file("probe.glsl", position_probe);
@@ -186,6 +181,8 @@ static void test_glass_slab_shifts_as_snell_says(void **state)
     double want[3] = {transmit * x_floor, transmit * -3, transmit * 0.5};
     print_message("glass slab: shift %.6g (straight line would land at x %.6g, refracted %.6g)\n",
                   2 * (tan(a) - tan(b)) * cos(a), 8 * tan(a), x_floor);
+    /* Two origin offsets of 6e-4 (256 ULPs of 20), each moving the path by about as much; a
+     * wrong index or no refraction would miss by 0.7. */
     assert_close3(rgb, want, 2e-3, "glass slab");
 }
 
@@ -305,7 +302,10 @@ static void test_spot_falloff_closed_form(void **state)
             dark += falloff == 0;
             ramp += falloff > 0 && falloff < 1;
             const float *got = rgb + 3 * (y * N + x);
-            if (fabs(got[0] - radiance) > 1e-4 * radiance + 1e-6)
+            /* GLSL leaves acos's precision to the implementation (llvmpipe's is good to about
+             * 1e-4 radians): allow that much angle error on the ramp, 1e-3 of the unfaded value. */
+            double unfaded = 0.5 / M_PI * 100 * 4 / (d * d * d);
+            if (fabs(got[0] - radiance) > 1e-4 * radiance + 1e-3 * unfaded)
                 fail_msg("spot: pixel %d %d (angle %.3f deg) is %.7g, want %.7g", x, y,
                          angle * 180 / M_PI, got[0], radiance);
         }
@@ -313,35 +313,27 @@ static void test_spot_falloff_closed_form(void **state)
     assert_true(lit > 10 && dark > 10 && ramp > 10);
 }
 
-/* Growth: the mirror-and-glass Cornell box starting with buffers of one ray per pixel must grow
- * them (glass doubles the rays) and give the picture large buffers give. */
+/* Growth: a glass slab in front of the whole view doubles the rays at every hit, so buffers that
+ * start at one ray per pixel must grow (at least doubling), and the picture must be the one that
+ * large buffers give. The floor under the slab is lit, so the picture is not black. */
 static void test_ray_buffers_grow_to_the_same_image(void **state)
 {
     (void)state;
-    const char *source = getenv("VKRT_SOURCE_DIR");
-    assert_non_null(source);
-    char path[512];
-    snprintf(path, sizeof path, "%s/scenes/cornell-spheres/scene.cfg", source);
-    vkrt_scene scene;
-    vkrt_error err = {{0}};
-    if (!vkrt_scene_load(path, &scene, &err))
-        fail_msg("%s", err.msg);
-    enum { W = 48, H = 48 };
+    write_file("s.obj", "mtllib s.mtl\n"
+                        "v -20 2 -20\nv 20 2 -20\nv 20 2 20\nv -20 2 20\n"
+                        "v -20 0 -20\nv 20 0 -20\nv 20 0 20\nv -20 0 20\n"
+                        "v -20 -3 -20\nv 20 -3 -20\nv 20 -3 20\nv -20 -3 20\n"
+                        "usemtl glass\nf 1 4 3 2\nf 5 6 7 8\nusemtl floor\nf 9 12 11 10\n");
+    write_file("s.mtl", "newmtl glass\nKd 0 0 0\nNi 1.5\nillum 7\nnewmtl floor\nKd 0.6 0.5 0.4\n");
+    write_file("scene.cfg", "geometry s.obj\nmax-depth 5\nenvironment 0.2 0.3 0.4\n"
+                            "light point 3 6 1  200 200 200\n"
+                            "camera eye 0 8 -4 look 0 0 1 up 0 1 0 fov 40\n");
+    enum { W = 32, H = 32 };
     static float small[W * H * 3], large[W * H * 3];
     vkrt_frame_stats stats[2];
-    for (int run = 0; run < 2; ++run) {
-        gpu_context ctx;
-        fixture_context_create(&ctx);
-        vkrt_render_desc desc = {.width = W, .height = H, .samples = 1,
-                                 .ray_capacity = run == 0 ? 0 : 1u << 20};
-        vkrt_renderer r;
-        if (!vkrt_renderer_create(&r, &ctx, &scene, &desc, &err) ||
-            !vkrt_renderer_render(&r, &scene.config.cameras[0], 0, run == 0 ? small : large,
-                                  &stats[run], &err))
-            fail_msg("%s", err.msg);
-        vkrt_renderer_destroy(&r);
-        fixture_context_destroy(&ctx);
-    }
+    vkrt_render_desc big = {.ray_capacity = 1u << 20};
+    render_ok(W, H, NULL, small, &stats[0]);
+    render_ok(W, H, &big, large, &stats[1]);
     print_message("small buffers: %u attempts, capacity %u; large: %u attempts, capacity %u; "
                   "secondary rays %llu\n",
                   stats[0].attempts, stats[0].ray_capacity, stats[1].attempts,
@@ -350,15 +342,16 @@ static void test_ray_buffers_grow_to_the_same_image(void **state)
     assert_true(stats[0].ray_capacity >= 2 * W * H);
     assert_int_equal(stats[1].attempts, 1);
     assert_int_equal(stats[0].secondary_rays, stats[1].secondary_rays);
+    assert_true(stats[0].secondary_rays > 2 * W * H);
     double sum = 0;
     for (int i = 0; i < W * H * 3; ++i) {
         /* Float atomics add a pixel's contributions in any order: a few ULPs apart. */
         if (fabs(small[i] - large[i]) > 1e-5 * fabs(large[i]) + 1e-7)
             fail_msg("value %d: %.9g with growth, %.9g without", i, small[i], large[i]);
+        assert_true(isfinite(small[i]));
         sum += large[i];
     }
     assert_true(sum / (W * H * 3) > 0.01);
-    vkrt_scene_free(&scene);
 }
 
 /* A shader that casts more rays than it counted is caught and named; nothing is corrupted. */

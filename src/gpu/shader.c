@@ -178,8 +178,11 @@ static void first_errors(const char *log, char *out, size_t out_size)
     for (const char *line = log; line && *line && found < max_errors;) {
         const char *newline = strchr(line, '\n');
         size_t length = newline ? (size_t)(newline - line) : strlen(line);
-        if (length > 7 && strncmp(line, "ERROR: ", 7) == 0 &&
-            !strstr(line, "compilation errors.") && !strstr(line, "compilation error.")) {
+        /* The summary line ("ERROR: 1 compilation errors.") says nothing: skip it. Searched in
+         * a copy of this line alone, or a later line's summary would hide this one. */
+        char text[512];
+        snprintf(text, sizeof text, "%.*s", (int)length, line);
+        if (length > 7 && strncmp(line, "ERROR: ", 7) == 0 && !strstr(text, "compilation error")) {
             int n = snprintf(out + used, out_size - used, "%s%.*s", found ? "; " : "",
                              (int)(length - 7), line + 7);
             if (n < 0 || (size_t)n >= out_size - used)
