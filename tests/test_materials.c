@@ -23,9 +23,12 @@
 #define M_PI 3.14159265358979323846
 #endif
 
+#include <stb_image_write.h>
+
 #include "gpu_fixture.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
+#include "scene/texture.h"
 
 static char dir[64];
 
@@ -354,6 +357,61 @@ static void test_ray_buffers_grow_to_the_same_image(void **state)
     assert_true(sum / (W * H * 3) > 0.01);
 }
 
+/* Textures through the whole path: a quad with uvs 0..1, a 4x4 sRGB texture (map_Kd) and Kd 0.5,
+ * lit only by an ambient light of radiance 1, shows 0.5 * texture(uv) in each pixel: the CPU
+ * reference sampler (src/scene/texture.c) at the uv the pixel centre's ray meets, interpolated
+ * from the corners as the kernels do. The texture repeats twice across the quad, to see the wrap. */
+static void test_textured_quad_matches_the_reference_sampler(void **state)
+{
+    (void)state;
+    unsigned char texels[4 * 4 * 3];
+    for (int i = 0; i < 16; ++i) {
+        texels[3 * i + 0] = (unsigned char)(17 * i);
+        texels[3 * i + 1] = (unsigned char)(255 - 13 * i);
+        texels[3 * i + 2] = (unsigned char)(i % 3 == 0 ? 250 : 20);
+    }
+    char path[256];
+    snprintf(path, sizeof path, "%s/t.png", dir);
+    assert_true(stbi_write_png(path, 4, 4, 3, texels, 4 * 3) != 0);
+    /* The quad z = 0, x and y in [-1, 1], uv = (x + 1, y + 1): two repeats each way. */
+    write_file("q.obj", "mtllib q.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n"
+                        "vt 0 0\nvt 2 0\nvt 2 2\nvt 0 2\nusemtl tex\nf 1/1 2/2 3/3 4/4\n");
+    write_file("q.mtl", "newmtl tex\nKd 0.5 0.5 0.5\nmap_Kd t.png\n");
+    /* fov chosen so the picture spans x, y in [-0.9, 0.9] at z = 0 from 3 away */
+    double fov = 2 * atan(0.9 / 3) * 180 / M_PI;
+    char cfg[512];
+    snprintf(cfg, sizeof cfg, "geometry q.obj\nlight ambient 1 1 1\n"
+                              "camera eye 0 0 3 look 0 0 0 up 0 1 0 fov %.9g\n", fov);
+    write_file("scene.cfg", cfg);
+    enum { N = 24 };
+    float rgb[N * N * 3];
+    render_ok(N, N, NULL, rgb, NULL);
+    vkrt_texture_set set = {0};
+    uint32_t index;
+    vkrt_error err = {{0}};
+    if (!vkrt_texture_set_add(&set, path, VKRT_TEXTURE_COLOUR, "test", &index, &err))
+        fail_msg("%s", err.msg);
+    double max_diff = 0;
+    for (int y = 0; y < N; ++y)
+        for (int x = 0; x < N; ++x) {
+            /* The camera looks down -z with up +y: right is +x. */
+            double px = (2 * (x + 0.5) / N - 1) * 0.9, py = (1 - 2 * (y + 0.5) / N) * 0.9;
+            float want[4];
+            vkrt_texture_sample(&set, index, (float)(px + 1), (float)(py + 1), want);
+            for (int k = 0; k < 3; ++k) {
+                double diff = fabs(rgb[3 * (y * N + x) + k] - 0.5 * want[k]);
+                max_diff = diff > max_diff ? diff : max_diff;
+                /* uv interpolated in float from a ray hit: 1e-5 of a texel moves the sample by
+                 * at most 1e-5 times the largest step between neighbouring texels (< 1). */
+                if (diff > 1e-4)
+                    fail_msg("pixel %d %d channel %d: %.6g, the reference sampler says %.6g", x, y,
+                             k, rgb[3 * (y * N + x) + k], 0.5 * want[k]);
+            }
+        }
+    print_message("textured quad: largest difference %.3g\n", max_diff);
+    vkrt_texture_set_free(&set);
+}
+
 /* A shader that casts more rays than it counted is caught and named; nothing is corrupted. */
 static void test_overcasting_shader_is_reported(void **state)
 {
@@ -408,6 +466,7 @@ int main(void)
         cmocka_unit_test(test_diffuse_radiance_closed_form),
         cmocka_unit_test(test_spot_falloff_closed_form),
         cmocka_unit_test(test_ray_buffers_grow_to_the_same_image),
+        cmocka_unit_test(test_textured_quad_matches_the_reference_sampler),
         cmocka_unit_test(test_overcasting_shader_is_reported),
         cmocka_unit_test(test_shader_syntax_error_names_file_and_line),
     };

@@ -379,6 +379,73 @@ static void mtl_fields_are_parsed(void **state)
     assert_close(plain->d, 1);
     assert_int_equal(plain->illum, 2);
     assert_null(plain->map_kd);
+    assert_vec3(plain->tf, 1, 1, 1);
+    assert_null(plain->map_d);
+    snprintf(want, sizeof want, "%s/m.mtl", fx->dir);
+    assert_string_equal(shiny->mtl_path, want);
+    assert_int_equal(shiny->map_kd_line, 9);
+    vkrt_mesh_free(&m);
+}
+
+/* The fields texture errors need (which .mtl, which line), map_d and Tf, over two .mtl files. */
+static void mtl_texture_lines_and_tf(void **state)
+{
+    fixture *fx = *state;
+    char m_mtl[600], other_mtl[600], want[700];
+    write_file(fx, "m.mtl",
+               "# map_Kd commented.png\r\n"     /* 1 */
+               "newmtl glass\r\n"               /* 2 */
+               "  Tf 0.5 0.25 1\r\n"            /* 3 */
+               "\tmap_Kd first.png\r\n"         /* 4 */
+               "map_d maps\\alpha.png\r\n"      /* 5: Windows separator */
+               "\r\n"                           /* 6 */
+               "map_Kd -s 2 2 1 second.png\r\n" /* 7: the last one wins */
+               "newmtl plain\r\n"               /* 8 */
+               "Kd 0.5 0.5 0.5\r\n",            /* 9 */
+               0);
+    snprintf(m_mtl, sizeof m_mtl, "%s", fx->path);
+    write_file(fx, "other.mtl",
+               "newmtl leaves\n"       /* 1 */
+               "Kt 0.1 0.2 0.3\n"      /* 2: tinyobjloader reads Kt as Tf */
+               "map_d leaves_a.png\n", /* 3 */
+               0);
+    snprintf(other_mtl, sizeof other_mtl, "%s", fx->path);
+    const char *text = "mtllib m.mtl\nmtllib other.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                       "usemtl glass\nf 1 2 3\nusemtl plain\nf 1 3 2\nusemtl leaves\nf 2 1 3\n";
+    vkrt_mesh m = load_ok(write_file(fx, "tex.obj", text, 0));
+    assert_int_equal(m.material_count, 3);
+    const vkrt_mtl *glass = &m.materials[m.material[0]];
+    const vkrt_mtl *plain = &m.materials[m.material[1]];
+    const vkrt_mtl *leaves = &m.materials[m.material[2]];
+    assert_string_equal(glass->name, "glass");
+    assert_string_equal(glass->mtl_path, m_mtl);
+    assert_vec3(glass->tf, 0.5f, 0.25f, 1.0f);
+    snprintf(want, sizeof want, "%s/second.png", fx->dir);
+    assert_string_equal(glass->map_kd, want);
+    assert_int_equal(glass->map_kd_line, 7);
+    snprintf(want, sizeof want, "%s/maps/alpha.png", fx->dir);
+    assert_string_equal(glass->map_d, want);
+    assert_int_equal(glass->map_d_line, 5);
+
+    assert_string_equal(plain->mtl_path, m_mtl);
+    assert_vec3(plain->tf, 1, 1, 1); /* absent: obj_load.h's default, not tinyobjloader's 0 */
+    assert_null(plain->map_kd);
+    assert_null(plain->map_d);
+    assert_int_equal(plain->map_kd_line, 0);
+    assert_int_equal(plain->map_d_line, 0);
+
+    assert_string_equal(leaves->mtl_path, other_mtl);
+    assert_vec3(leaves->tf, 0.1f, 0.2f, 0.3f);
+    assert_null(leaves->map_kd);
+    snprintf(want, sizeof want, "%s/leaves_a.png", fx->dir);
+    assert_string_equal(leaves->map_d, want);
+    assert_int_equal(leaves->map_d_line, 3);
+    vkrt_mesh_free(&m);
+
+    /* without .mtl files (vkrt_obj_parse with no base folder) nothing of the kind is set */
+    vkrt_error err = {{0}};
+    assert_true(vkrt_obj_parse(text, strlen(text), "mem.obj", NULL, &m, &err));
+    assert_int_equal(m.material_count, 0);
     vkrt_mesh_free(&m);
 }
 
@@ -622,6 +689,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(utf8_bom_is_skipped, make_dir, remove_dir),
         cmocka_unit_test_setup_teardown(missing_mtl_is_a_warning, make_dir, remove_dir),
         cmocka_unit_test_setup_teardown(mtl_fields_are_parsed, make_dir, remove_dir),
+        cmocka_unit_test_setup_teardown(mtl_texture_lines_and_tf, make_dir, remove_dir),
         cmocka_unit_test(tinyobjloader_suite),
         cmocka_unit_test(assimp_suite),
         cmocka_unit_test(cornell_box),

@@ -10,9 +10,9 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "config.h"
+#include "text_file.h"
 
 #include <errno.h>
-#include <float.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
@@ -22,14 +22,13 @@
 
 /* Limits. A scene.cfg is short; anything far past these is a mistake or not a scene.cfg. */
 enum {
-    MAX_LINE_BYTES = 4096,
-    MAX_TOKENS = 32, /* the longest valid line (camera) has 15 */
+    MAX_TOKENS = VKRT_TEXT_MAX_TOKENS, /* the longest valid line (camera) has 15 */
     MAX_SIZE = 16384,
     MAX_SAMPLES = 65536,
     MAX_DEPTH = 64,
     MAX_LIGHTS = 65536,
     MAX_CAMERAS = 1000000,
-    SHOWN_TOKEN_BYTES = 60, /* how much of a bad token a message quotes */
+    SHOWN_TOKEN_BYTES = VKRT_TEXT_SHOWN_BYTES,
 };
 
 /* vkrt_config_load refuses bigger files; a binary file named by mistake fails fast. */
@@ -43,10 +42,7 @@ enum {
  * basis, so it is refused as parallel. */
 #define MIN_UP_SINE 1e-4
 
-typedef struct tokens {
-    char *tok[MAX_TOKENS];
-    int count; /* all tokens on the line, even past MAX_TOKENS, so "got N" stays true */
-} tokens;
+typedef vkrt_text_tokens tokens;
 
 typedef struct parser {
     const char *name;     /* the file name shown in messages */
@@ -74,19 +70,10 @@ static bool fail(parser *p, const char *fmt, ...)
     return vkrt_error_set(p->err, "%s:%d: %s", p->name, p->line, msg);
 }
 
-/* A token as a message shows it: cut short (at a UTF-8 boundary) so that one absurd token
- * cannot push the useful part of the message out of the fixed-size buffer. */
+/* A token as a message shows it, cut short if absurdly long (text_file.h). */
 static const char *shown(const char *tok, char buf[SHOWN_TOKEN_BYTES + 4])
 {
-    size_t n = strlen(tok);
-    if (n <= SHOWN_TOKEN_BYTES)
-        return tok;
-    n = SHOWN_TOKEN_BYTES;
-    while (n > 0 && ((unsigned char)tok[n] & 0xC0) == 0x80)
-        n--;
-    memcpy(buf, tok, n);
-    memcpy(buf + n, "...", 4);
-    return buf;
+    return vkrt_text_shown(tok, buf);
 }
 
 /* ---------------------------------------------------------------------------------------------
@@ -97,18 +84,9 @@ static const char *shown(const char *tok, char buf[SHOWN_TOKEN_BYTES + 4])
 static bool parse_float(parser *p, const char *tok, const char *what, float *out)
 {
     char buf[SHOWN_TOKEN_BYTES + 4];
-    char *end;
-    errno = 0;
-    double d = strtod(tok, &end);
-    if (end == tok || *end != '\0')
-        return fail(p, "%s '%s' is not a number", what, shown(tok, buf));
-    /* strtod accepts "nan" and "inf" and turns 1e999 into inf; none of them can be rendered. */
-    if (!isfinite(d))
-        return fail(p, "%s '%s' is not a finite number", what, shown(tok, buf));
-    if (fabs(d) > FLT_MAX)
-        return fail(p, "%s '%s' is too large (the limit is about 3.4e38)", what,
-                    shown(tok, buf));
-    *out = (float)d;
+    const char *why = vkrt_text_float(tok, out);
+    if (why)
+        return fail(p, "%s '%s' %s", what, shown(tok, buf), why);
     return true;
 }
 
@@ -207,28 +185,6 @@ static bool want_numbers(parser *p, const tokens *t, int skip, int want, const c
  * Paths
  * ------------------------------------------------------------------------------------------- */
 
-/* Joins base_dir and path unless path is absolute. The output path is a frame pattern
- * (vkrt_frame_path expands it), so there a '%' in the folder name is written as "%%". */
-static char *join_path(const char *base_dir, const char *path, bool escape_percent)
-{
-    if (path[0] == '/' || base_dir[0] == '\0')
-        return strdup(path);
-    size_t base_len = strlen(base_dir), path_len = strlen(path);
-    char *out = malloc(2 * base_len + 1 + path_len + 1);
-    if (!out)
-        return NULL;
-    size_t n = 0;
-    for (size_t i = 0; i < base_len; i++) {
-        out[n++] = base_dir[i];
-        if (escape_percent && base_dir[i] == '%')
-            out[n++] = '%';
-    }
-    if (out[n - 1] != '/')
-        out[n++] = '/';
-    memcpy(out + n, path, path_len + 1);
-    return out;
-}
-
 /* Checks that the line holds exactly one path after its keyword. */
 static bool check_path(parser *p, const tokens *t, const char *what)
 {
@@ -251,24 +207,9 @@ static bool parse_path(parser *p, const tokens *t, const char *what, bool escape
 {
     if (!check_path(p, t, what))
         return false;
-    *out = join_path(p->base_dir, t->tok[1], escape_percent);
+    *out = vkrt_text_join_path(p->base_dir, t->tok[1], escape_percent);
     if (!*out)
         return fail(p, "out of memory");
-    return true;
-}
-
-static bool ends_with_ignoring_case(const char *s, const char *suffix)
-{
-    size_t n = strlen(s), m = strlen(suffix);
-    if (n < m)
-        return false;
-    for (size_t i = 0; i < m; i++) {
-        char c = s[n - m + i];
-        if (c >= 'A' && c <= 'Z')
-            c = (char)(c - 'A' + 'a');
-        if (c != suffix[i])
-            return false;
-    }
     return true;
 }
 
@@ -326,7 +267,7 @@ static bool kw_output(parser *p, const tokens *t)
     if (!check_path(p, t, "output"))
         return false;
     const char *path = t->tok[1];
-    if (!ends_with_ignoring_case(path, ".png") && !ends_with_ignoring_case(path, ".exr"))
+    if (!vkrt_text_ends_with(path, ".png") && !vkrt_text_ends_with(path, ".exr"))
         return fail(p, "output '%s' must end in .png or .exr", shown(path, buf));
     bool two;
     const char *bad = frame_pattern_problem(path, &two);
@@ -341,6 +282,7 @@ static bool kw_output(parser *p, const tokens *t)
                        "for a literal %%)",
                     shown(path, buf), len > 8 ? 8 : len, bad);
     }
+    /* A frame pattern (vkrt_frame_path expands it): a '%' in the folder is written "%%". */
     return parse_path(p, t, "output", true, &p->cfg->output);
 }
 
@@ -572,75 +514,12 @@ _Static_assert(sizeof keywords / sizeof keywords[0] <= sizeof((parser *)0)->firs
  * Lines
  * ------------------------------------------------------------------------------------------- */
 
-/* Length of the valid UTF-8 sequence at s (at most n bytes), or 0 if invalid. */
-static size_t utf8_sequence(const unsigned char *s, size_t n)
+/* Checks one line (without its '\n') and splits the part before any '#' into tokens. */
+static bool split_line(parser *p, const char *line, size_t len, tokens *t)
 {
-    size_t len;
-    unsigned min;
-    if (s[0] < 0x80)
-        return 1;
-    if (s[0] >= 0xC2 && s[0] <= 0xDF)
-        len = 2, min = 0x80;
-    else if (s[0] >= 0xE0 && s[0] <= 0xEF)
-        len = 3, min = 0x800;
-    else if (s[0] >= 0xF0 && s[0] <= 0xF4)
-        len = 4, min = 0x10000;
-    else
-        return 0;
-    if (len > n)
-        return 0;
-    unsigned cp = s[0] & (0x7F >> len);
-    for (size_t i = 1; i < len; i++) {
-        if ((s[i] & 0xC0) != 0x80)
-            return 0;
-        cp = (cp << 6) | (s[i] & 0x3F);
-    }
-    if (cp < min || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF))
-        return 0;
-    return len;
-}
-
-/* Checks one line (without its '\n') and splits the part before any '#' into tokens in buf. */
-static bool split_line(parser *p, const char *line, size_t len, char *buf, tokens *t)
-{
-    /* Control characters anywhere, comments included, mean this is not a text file. */
-    for (size_t i = 0; i < len; i++) {
-        unsigned char c = (unsigned char)line[i];
-        if (c == '\0')
-            return fail(p, "not a text line (NUL byte at column %zu); is this a scene.cfg?",
-                        i + 1);
-        if ((c < 0x20 && c != '\t' && c != '\r') || c == 0x7F)
-            return fail(p, "not a text line (control character 0x%02X at column %zu)", c,
-                        i + 1);
-    }
-    if (len > MAX_LINE_BYTES)
-        return fail(p, "line is longer than %d bytes", MAX_LINE_BYTES);
-
-    const char *hash = memchr(line, '#', len);
-    size_t used = hash ? (size_t)(hash - line) : len;
-    /* Only the part that is parsed must be UTF-8, so a Latin-1 comment does no harm. */
-    for (size_t i = 0; i < used;) {
-        size_t n = utf8_sequence((const unsigned char *)line + i, used - i);
-        if (n == 0)
-            return fail(p, "not a text line (invalid UTF-8 at column %zu)", i + 1);
-        i += n;
-    }
-
-    memcpy(buf, line, used);
-    buf[used] = '\0';
-    t->count = 0;
-    char *s = buf;
-    for (;;) {
-        s += strspn(s, " \t\r");
-        if (*s == '\0')
-            break;
-        if (t->count < MAX_TOKENS)
-            t->tok[t->count] = s;
-        t->count++;
-        s += strcspn(s, " \t\r");
-        if (*s != '\0')
-            *s++ = '\0';
-    }
+    char why[200];
+    if (!vkrt_text_split(line, len, "scene.cfg", t, why, sizeof why))
+        return fail(p, "%s", why);
     return true;
 }
 
@@ -668,23 +547,16 @@ static bool parse_line(parser *p, const tokens *t)
 
 static bool parse_all(parser *p, const char *text, size_t size)
 {
-    /* Some Windows editors start UTF-8 files with a byte order mark. */
-    if (size >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0) {
-        text += 3;
-        size -= 3;
-    }
-    char buf[MAX_LINE_BYTES + 1];
+    vkrt_text_skip_bom(&text, &size);
     tokens t;
     size_t pos = 0;
     while (pos < size) {
         if (p->line == INT_MAX)
             return fail(p, "too many lines");
         p->line++;
-        const char *line = text + pos;
-        const char *nl = memchr(line, '\n', size - pos);
-        size_t len = nl ? (size_t)(nl - line) : size - pos;
-        pos += len + (nl ? 1 : 0);
-        if (!split_line(p, line, len, buf, &t) || !parse_line(p, &t))
+        size_t len;
+        const char *line = vkrt_text_next_line(text, size, &pos, &len);
+        if (!split_line(p, line, len, &t) || !parse_line(p, &t))
             return false;
     }
     vkrt_config *cfg = p->cfg;
@@ -744,52 +616,15 @@ bool vkrt_config_load(const char *path, vkrt_config *cfg, vkrt_error *err)
     if (!path)
         return vkrt_error_set(err, "scene.cfg: no path given");
 
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return vkrt_error_set(err, "%s: cannot open: %s", path, strerror(errno));
-    /* Read in chunks rather than trusting a size from fstat: it may be a pipe. */
-    size_t size = 0, cap = 0;
-    char *text = NULL;
-    for (;;) {
-        if (size == cap) {
-            if (cap >= MAX_FILE_BYTES) {
-                free(text);
-                fclose(f);
-                return vkrt_error_set(err, "%s: larger than %zu MiB; is this a scene.cfg?", path,
-                                      MAX_FILE_BYTES >> 20);
-            }
-            cap = cap ? 2 * cap : 4096;
-            char *grown = realloc(text, cap);
-            if (!grown) {
-                free(text);
-                fclose(f);
-                return vkrt_error_set(err, "%s: out of memory", path);
-            }
-            text = grown;
-        }
-        size_t n = fread(text + size, 1, cap - size, f);
-        size += n;
-        if (n == 0)
-            break;
-    }
-    if (ferror(f)) {
-        int saved = errno;
-        free(text);
-        fclose(f);
-        return vkrt_error_set(err, "%s: cannot read: %s", path, strerror(saved));
-    }
-    fclose(f);
-
-    /* base_dir is the part before the last '/': "" for a bare name, "/" for a file in root. */
-    const char *slash = strrchr(path, '/');
-    size_t dir_len = slash ? (slash == path ? 1 : (size_t)(slash - path)) : 0;
-    char *dir = malloc(dir_len + 1);
+    char *text;
+    size_t size;
+    if (!vkrt_text_read_file(path, MAX_FILE_BYTES, "scene.cfg", &text, &size, err))
+        return false;
+    char *dir = vkrt_text_dir_of(path);
     if (!dir) {
         free(text);
         return vkrt_error_set(err, "%s: out of memory", path);
     }
-    memcpy(dir, path, dir_len);
-    dir[dir_len] = '\0';
 
     bool ok = vkrt_config_parse(text, size, path, dir, cfg, err);
     free(dir);

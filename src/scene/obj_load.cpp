@@ -28,9 +28,10 @@
  *     that vt/vn references in a file with no vt/vn records at all are dropped with a warning.
  *
  * Materials come through our own tinyobj::MaterialReader so we know which .mtl each came from
- * (map_Kd is resolved against that .mtl's folder, falling back to the OBJ's folder when the file
- * only exists there) and which fields were actually present (tinyobjloader's defaults differ from
- * the ones obj_load.h documents, e.g. Kd 0 vs 0.8, illum 0 vs 2).
+ * (map_Kd and map_d are resolved against that .mtl's folder, falling back to the OBJ's folder when
+ * the file only exists there), which fields were actually present (tinyobjloader's defaults differ
+ * from the ones obj_load.h documents, e.g. Kd 0 vs 0.8, illum 0 vs 2, Tf 0 vs 1), and on which line
+ * of the .mtl each texture was named, so that a missing texture's error can point there.
  *
  * vkrt_obj_parse takes the same path from text in memory (vkrt_obj_load reads the file and hands
  * its bytes over). All C++ exceptions stop at those two entry points; all output arrays are malloc'ed for the C side.
@@ -429,23 +430,29 @@ std::string join_path(const std::string &folder, const std::string &name)
     return folder + "/" + name;
 }
 
-/* Which fields a material's .mtl block set, so absent ones get obj_load.h's defaults. */
+/* Which fields a material's .mtl block set, so absent ones get obj_load.h's defaults, and where
+ * its texture statements are, so texture errors can name the line. */
 struct MtlOrigin {
     std::string folder; /* of the .mtl that defined it */
-    bool kd = true, ks = true, ke = true, ns = true, ni = true, d = true, illum = true;
+    std::string path;   /* the .mtl itself */
+    bool kd = true, ks = true, ke = true, ns = true, ni = true, d = true, illum = true, tf = true;
+    uint32_t map_kd_line = 0, map_d_line = 0;
 };
 
-/* Mirrors tinyobj::LoadMtl's line handling to see which keywords each material block has. The
- * blocks line up with the materials LoadMtl pushes: one per named newmtl, plus the last one. */
-std::vector<MtlOrigin> scan_mtl_fields(const std::string &text, const std::string &folder)
+/* Mirrors tinyobj::LoadMtl's line handling to see which keywords each material block has, and on
+ * which line each texture statement is (tinyobjloader keeps no line numbers). The blocks line up
+ * with the materials LoadMtl pushes: one per named newmtl, plus the last one. */
+std::vector<MtlOrigin> scan_mtl_fields(const std::string &text, const std::string &path)
 {
     std::vector<MtlOrigin> out;
     MtlOrigin cur;
     bool named = false;
-    auto none = [&folder]() {
+    std::string folder = folder_of(path);
+    auto none = [&folder, &path]() {
         MtlOrigin m;
         m.folder = folder;
-        m.kd = m.ks = m.ke = m.ns = m.ni = m.d = m.illum = false;
+        m.path = path;
+        m.kd = m.ks = m.ke = m.ns = m.ni = m.d = m.illum = m.tf = false;
         return m;
     };
     cur = none();
@@ -470,6 +477,12 @@ std::vector<MtlOrigin> scan_mtl_fields(const std::string &text, const std::strin
         cur.ni |= has_keyword(line, "Ni");
         cur.d |= has_keyword(line, "d") || has_keyword(line, "Tr");
         cur.illum |= has_keyword(line, "illum");
+        cur.tf |= has_keyword(line, "Tf") || has_keyword(line, "Kt"); /* LoadMtl reads both */
+        /* LoadMtl assigns the texture name, so a later statement replaces an earlier one. */
+        if (has_keyword(line, "map_Kd"))
+            cur.map_kd_line = walker.number;
+        if (has_keyword(line, "map_d"))
+            cur.map_d_line = walker.number;
     }
     out.push_back(cur);
     return out;
@@ -493,7 +506,7 @@ public:
                 *warn += "material file " + path + " not found\n";
             return false;
         }
-        std::vector<MtlOrigin> fields = scan_mtl_fields(text, folder_of(path));
+        std::vector<MtlOrigin> fields = scan_mtl_fields(text, path);
         size_t before = materials->size();
         MemoryBuffer buffer(text);
         std::istream stream(&buffer);
@@ -503,7 +516,7 @@ public:
             *warn += mtl_warn;
         size_t added = materials->size() - before;
         if (fields.size() != added) /* our mirror disagreed: trust all of tinyobjloader's values */
-            fields.assign(added, MtlOrigin{folder_of(path)});
+            fields.assign(added, MtlOrigin{folder_of(path), path});
         origins.insert(origins.end(), fields.begin(), fields.end());
         return true;
     }
@@ -552,9 +565,16 @@ void convert_material(const tinyobj::material_t &m, const MtlOrigin &o, const st
     out->ni = o.ni ? finite_or(m.ior, 1.0f) : 1.0f;
     out->d = o.d ? finite_or(m.dissolve, 1.0f) : 1.0f;
     out->illum = o.illum ? m.illum : 2;
+    copy3(out->tf, m.transmittance, o.tf, 1.0f);
     out->name = copy_string(m.name);
+    if (!o.path.empty())
+        out->mtl_path = copy_string(o.path);
+    out->map_kd_line = static_cast<int>(o.map_kd_line);
+    out->map_d_line = static_cast<int>(o.map_d_line);
     if (!m.diffuse_texname.empty())
         out->map_kd = copy_string(resolve_texture(m.diffuse_texname, o.folder, obj_folder));
+    if (!m.alpha_texname.empty())
+        out->map_d = copy_string(resolve_texture(m.alpha_texname, o.folder, obj_folder));
 }
 
 void convert_materials(const std::vector<tinyobj::material_t> &materials, const MtlReader &reader,
@@ -567,7 +587,8 @@ void convert_materials(const std::vector<tinyobj::material_t> &materials, const 
         throw std::bad_alloc();
     mesh->material_count = static_cast<uint32_t>(materials.size());
     for (size_t i = 0; i < materials.size(); i++) {
-        MtlOrigin origin = i < reader.origins.size() ? reader.origins[i] : MtlOrigin{obj_folder};
+        MtlOrigin origin =
+            i < reader.origins.size() ? reader.origins[i] : MtlOrigin{obj_folder, std::string()};
         convert_material(materials[i], origin, obj_folder, &mesh->materials[i]);
     }
 }
@@ -1033,6 +1054,8 @@ extern "C" void vkrt_mesh_free(vkrt_mesh *mesh)
     for (uint32_t i = 0; mesh->materials && i < mesh->material_count; i++) {
         free(mesh->materials[i].name);
         free(mesh->materials[i].map_kd);
+        free(mesh->materials[i].map_d);
+        free(mesh->materials[i].mtl_path);
     }
     free(mesh->materials);
     memset(mesh, 0, sizeof *mesh);

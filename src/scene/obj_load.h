@@ -26,7 +26,12 @@ typedef struct vkrt_mtl {
     float ni;      /* index of refraction [1] */
     float d;       /* opacity [1] */
     int illum;     /* illumination model [2] */
+    float tf[3];   /* transmission filter, Tf (or Kt) [1 1 1] */
     char *map_kd;  /* diffuse texture path resolved against the .mtl's folder, or NULL */
+    char *map_d;   /* alpha (coverage) texture path, resolved the same way, or NULL */
+    char *mtl_path;/* the .mtl file the material came from (as the OBJ's mtllib reaches it), or NULL */
+    int map_kd_line, map_d_line; /* line of the map_Kd / map_d statement in mtl_path (the last one,
+                                    which wins), 0 if unknown: texture errors name it */
 } vkrt_mtl;
 
 typedef struct vkrt_mesh {

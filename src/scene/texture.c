@@ -1,0 +1,504 @@
+/*
+ * texture.c: decoding images into the texel buffer (see texture.h), and the CPU reference of the
+ * kernels' sampling (glsl/lib/texture.glsl).
+ *
+ * stb_image's implementation comes from Debian's libstb (dependency('stb') links -lstb), so no
+ * file of vkrt defines STB_IMAGE_IMPLEMENTATION: a second copy would clash with the library's.
+ *
+ * A texture is checked as far as possible before it is decoded: the header gives the size, so an
+ * absurd image or one that would overflow the buffer is refused without allocating for it. It is
+ * then decoded straight into room reserved at the end of the texel array, and only counted (count,
+ * texel_words) once everything has succeeded: a failed add leaves the set's contents as they were
+ * and gives the room back (the arrays may have moved).
+ */
+#define _XOPEN_SOURCE 700 /* realpath, strdup */
+
+#include "texture.h"
+
+#include <assert.h>
+#include <dirent.h>
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+
+#include <stb_image.h>
+
+#include "../../glsl/shared.h"
+
+static_assert(sizeof(vkrt_texture_info) == sizeof(TextureInfo),
+              "vkrt_texture_info must match TextureInfo");
+static_assert(offsetof(vkrt_texture_info, offset) == offsetof(TextureInfo, offset),
+              "TextureInfo.offset");
+static_assert(offsetof(vkrt_texture_info, width) == offsetof(TextureInfo, width),
+              "TextureInfo.width");
+static_assert(offsetof(vkrt_texture_info, height) == offsetof(TextureInfo, height),
+              "TextureInfo.height");
+static_assert(offsetof(vkrt_texture_info, flags) == offsetof(TextureInfo, flags),
+              "TextureInfo.flags");
+
+/* Offsets into the texel buffer are 32-bit uints on the GPU. */
+#define MAX_TEXEL_WORDS ((size_t)UINT32_MAX)
+
+#define MIB (1024.0 * 1024.0)
+
+/* ---------------------------------------------------------------------------------------------
+ * Messages
+ * ------------------------------------------------------------------------------------------- */
+
+static bool fail(vkrt_error *err, const char *referrer, const char *path, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+
+/* "<referrer>: texture '<path>': <reason>", the referrer left out when there is none. */
+static bool fail(vkrt_error *err, const char *referrer, const char *path, const char *fmt, ...)
+{
+    char reason[700];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(reason, sizeof reason, fmt, ap);
+    va_end(ap);
+    if (referrer && *referrer)
+        return vkrt_error_set(err, "%s: texture '%s': %s", referrer, path, reason);
+    return vkrt_error_set(err, "texture '%s': %s", path, reason);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Finding the file
+ * ------------------------------------------------------------------------------------------- */
+
+static bool is_regular_file(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISREG(st.st_mode);
+}
+
+static char *join(const char *folder, const char *name)
+{
+    size_t n = strlen(folder) + 1 + strlen(name) + 1;
+    char *out = malloc(n);
+    if (out)
+        snprintf(out, n, "%s/%s", folder, name);
+    return out;
+}
+
+/* Looks for the one file in path's folder whose name equals path's file name ignoring case.
+ * Returns 1 with the match in *found, 0 if none, or the number of matches when several
+ * (their first two names in names), or -1 if out of memory. */
+static int match_ignoring_case(const char *path, char **found, char names[2][256])
+{
+    const char *slash = strrchr(path, '/');
+    const char *base = slash ? slash + 1 : path;
+    char *folder = slash ? strndup(path, (size_t)(slash - path)) : strdup(".");
+    if (!folder)
+        return -1;
+    if (slash && slash == path) { /* "/name": the root folder */
+        free(folder);
+        folder = strdup("/");
+        if (!folder)
+            return -1;
+    }
+    DIR *d = *base ? opendir(folder) : NULL;
+    int matches = 0;
+    struct dirent *e;
+    while (d && (e = readdir(d))) {
+        if (strcasecmp(e->d_name, base) != 0)
+            continue;
+        char *candidate = join(folder, e->d_name);
+        if (!candidate) {
+            matches = -1;
+            break;
+        }
+        if (!is_regular_file(candidate)) {
+            free(candidate);
+            continue;
+        }
+        if (matches < 2)
+            snprintf(names[matches], sizeof names[0], "%s", e->d_name);
+        if (matches == 0)
+            *found = candidate;
+        else
+            free(candidate);
+        matches++;
+    }
+    if (d)
+        closedir(d);
+    free(folder);
+    if (matches != 1) {
+        free(*found);
+        *found = NULL;
+    }
+    return matches;
+}
+
+/* The file path names: as written, else with backslashes read as '/', else the unique file of its
+ * folder whose name matches ignoring case (see texture.h). Returns a malloc'ed path in *found, or
+ * false with err set. */
+static bool find_file(const char *path, const char *referrer, char **found, vkrt_error *err)
+{
+    *found = NULL;
+    struct stat st;
+    if (stat(path, &st) == 0) {
+        if (!S_ISREG(st.st_mode))
+            return fail(err, referrer, path, "not a regular file");
+        *found = strdup(path);
+        return *found ? true : fail(err, referrer, path, "out of memory");
+    }
+    int stat_errno = errno;
+    if (stat_errno != ENOENT && stat_errno != ENOTDIR)
+        return fail(err, referrer, path, "cannot open: %s", strerror(stat_errno));
+
+    char *slashed = strdup(path);
+    if (!slashed)
+        return fail(err, referrer, path, "out of memory");
+    for (char *c = slashed; *c; c++)
+        if (*c == '\\')
+            *c = '/';
+    if (strcmp(slashed, path) != 0 && is_regular_file(slashed)) {
+        *found = slashed;
+        return true;
+    }
+    char names[2][256];
+    int matches = match_ignoring_case(slashed, found, names);
+    free(slashed);
+    if (matches == 1)
+        return true;
+    if (matches < 0)
+        return fail(err, referrer, path, "out of memory");
+    if (matches > 1)
+        return fail(err, referrer, path,
+                    "not found, and %d files match its name ignoring case ('%s', '%s'%s)", matches,
+                    names[0], names[1], matches > 2 ? ", ..." : "");
+    return fail(err, referrer, path, "cannot open: %s", strerror(stat_errno));
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Texel formats
+ * ------------------------------------------------------------------------------------------- */
+
+/* IEEE half float, rounding to nearest even. Values beyond the half range clamp to its largest
+ * finite value rather than become infinity, so one bright pixel of an HDR image cannot turn a
+ * filtered sample into inf; NaN (which RGBE files cannot hold) becomes 0. RGBE's 8-bit mantissas
+ * fit half's 11 bits, so rounding only happens below half's normal range (2^-14). */
+static uint16_t float_to_half(float f)
+{
+    if (f != f)
+        return 0;
+    f = fminf(fmaxf(f, -65504.0f), 65504.0f);
+    uint32_t x;
+    memcpy(&x, &f, sizeof x);
+    uint32_t sign = (x >> 16) & 0x8000u;
+    uint32_t magnitude = x & 0x7FFFFFFFu;
+    if (magnitude < 0x38800000u) { /* below 2^-14, the smallest normal half: subnormal or zero */
+        float a;
+        memcpy(&a, &magnitude, sizeof a);
+        return (uint16_t)(sign |
+                          (uint32_t)lrintf(a * 16777216.0f)); /* units of 2^-24, exact scale */
+    }
+    uint32_t h =
+        (magnitude - 0x38000000u) >> 13; /* exponent rebiased 127 -> 15, 10 mantissa bits */
+    uint32_t rest = magnitude & 0x1FFFu;
+    if (rest > 0x1000u || (rest == 0x1000u && (h & 1u)))
+        h++;
+    return (uint16_t)(sign | h);
+}
+
+static float half_to_float(uint32_t h)
+{
+    uint32_t exponent = (h >> 10) & 0x1Fu, mantissa = h & 0x3FFu;
+    float f;
+    if (exponent == 0)
+        f = ldexpf((float)mantissa, -24);
+    else if (exponent == 31)
+        f = mantissa ? NAN : INFINITY;
+    else
+        f = ldexpf((float)(mantissa | 0x400u), (int)exponent - 25);
+    return (h & 0x8000u) ? -f : f;
+}
+
+/* 8-bit RGBA (as stbi_load returns with 4 channels) into one uint per texel, r in the low byte
+ * (what unpackUnorm4x8 reads). For coverage, the chosen channel goes to all four. */
+static void pack_rgba8(const unsigned char *px, size_t texels, int alpha_channel, uint32_t *out)
+{
+    for (size_t i = 0; i < texels; i++, px += 4) {
+        if (alpha_channel >= 0)
+            out[i] = px[alpha_channel] * 0x01010101u;
+        else
+            out[i] = (uint32_t)px[0] | (uint32_t)px[1] << 8 | (uint32_t)px[2] << 16 |
+                     (uint32_t)px[3] << 24;
+    }
+}
+
+/* Float RGBA into two uints per texel: r, g in the first (low, high half) and b, a in the second,
+ * what unpackHalf2x16 reads. */
+static void pack_rgba16f(const float *px, size_t texels, int alpha_channel, uint32_t *out)
+{
+    for (size_t i = 0; i < texels; i++, px += 4) {
+        uint32_t c[4];
+        for (int k = 0; k < 4; k++)
+            c[k] = float_to_half(px[alpha_channel >= 0 ? alpha_channel : k]);
+        out[2 * i] = c[0] | c[1] << 16;
+        out[2 * i + 1] = c[2] | c[3] << 16;
+    }
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Adding a texture
+ * ------------------------------------------------------------------------------------------- */
+
+static bool reserve(void **array, size_t count, size_t size)
+{
+    void *p = realloc(*array, count * size);
+    if (!p)
+        return false;
+    *array = p;
+    return true;
+}
+
+/* Grows every array of the set for one more texture of word_count texel words. What the set
+ * holds is unchanged whether or not it succeeds; only its arrays may have grown. */
+static bool reserve_one_more(vkrt_texture_set *set, size_t word_count)
+{
+    size_t n = (size_t)set->count + 1;
+    return reserve((void **)&set->info, n, sizeof *set->info) &&
+           reserve((void **)&set->paths, n, sizeof *set->paths) &&
+           reserve((void **)&set->usages, n, sizeof *set->usages) &&
+           reserve((void **)&set->texels, set->texel_words + word_count, sizeof *set->texels);
+}
+
+/* After a failed decode: hands back the texel room reserved for it (a refused 16384 x 16384 image
+ * would otherwise keep 1 GiB), so a failed add leaves no more memory held than before. */
+static void give_back_room(vkrt_texture_set *set)
+{
+    if (set->texel_words == 0) {
+        free(set->texels);
+        set->texels = NULL;
+        return;
+    }
+    uint32_t *p = realloc(set->texels, set->texel_words * sizeof *p);
+    if (p)
+        set->texels = p;
+}
+
+/* Reads the header of the open image f and checks its size against the limits and the set, then
+ * decodes it into the texels past set->texel_words, filling *info and *word_count. The set's count
+ * and texel_words are left for the caller to advance. */
+static bool decode(vkrt_texture_set *set, FILE *f, vkrt_texture_usage usage, const char *referrer,
+                   const char *path, vkrt_texture_info *info, size_t *word_count, vkrt_error *err)
+{
+    int w = 0, h = 0, channels = 0;
+    if (!stbi_info_from_file(f, &w, &h, &channels))
+        return fail(err, referrer, path,
+                    "not an image vkrt can read (stb_image: %s); use PNG, JPEG, TGA or HDR",
+                    stbi_failure_reason());
+    uint32_t max = VKRT_TEXTURE_MAX_SIZE;
+    if (w <= 0 || h <= 0 || (uint32_t)w > max || (uint32_t)h > max)
+        return fail(err, referrer, path,
+                    "image is %dx%d; textures must be 1 to %u texels wide and tall", w, h, max);
+    bool hdr = stbi_is_hdr_from_file(f) != 0;
+    size_t texels = (size_t)w * (size_t)h;
+    size_t words = texels * (hdr ? 2 : 1);
+    if (words > MAX_TEXEL_WORDS - set->texel_words)
+        return fail(err, referrer, path,
+                    "the textures would pass the 16 GiB that 32-bit texel offsets address");
+    size_t total_bytes = (set->texel_words + words) * sizeof(uint32_t);
+    if (set->max_texel_bytes && total_bytes > set->max_texel_bytes)
+        return fail(err, referrer, path,
+                    "this %dx%d texture takes %.1f MiB; with the %u textures before it the "
+                    "textures would take %.1f MiB, over the limit of %.1f MiB",
+                    w, h, (double)words * sizeof(uint32_t) / MIB, set->count,
+                    (double)total_bytes / MIB, (double)set->max_texel_bytes / MIB);
+    if (!reserve_one_more(set, words))
+        return fail(err, referrer, path, "out of memory for %dx%d texels", w, h);
+
+    int dw = 0, dh = 0, dc = 0;
+    void *pixels = hdr ? (void *)stbi_loadf_from_file(f, &dw, &dh, &dc, 4)
+                       : (void *)stbi_load_from_file(f, &dw, &dh, &dc, 4);
+    if (!pixels)
+        return fail(err, referrer, path, "cannot decode the image (stb_image: %s)",
+                    stbi_failure_reason());
+    if (dw != w || dh != h) {
+        stbi_image_free(pixels);
+        return fail(err, referrer, path, "decoded %dx%d, but its header says %dx%d", dw, dh, w, h);
+    }
+    /* Coverage reads alpha when the image has it (grey+alpha or RGBA), else its first channel. */
+    int alpha_channel = -1;
+    if (usage == VKRT_TEXTURE_ALPHA)
+        alpha_channel = channels == 2 || channels == 4 ? 3 : 0;
+    uint32_t *out = set->texels + set->texel_words;
+    if (hdr)
+        pack_rgba16f(pixels, texels, alpha_channel, out);
+    else
+        pack_rgba8(pixels, texels, alpha_channel, out);
+    stbi_image_free(pixels);
+    /* HDR images are linear already; 8-bit colour maps are sRGB-encoded. */
+    uint32_t flags = 0;
+    if (hdr)
+        flags = VKRT_TEXTURE_HALF;
+    else if (usage == VKRT_TEXTURE_COLOUR)
+        flags = VKRT_TEXTURE_SRGB;
+    *info = (vkrt_texture_info){
+        .offset = (uint32_t)set->texel_words,
+        .width = (uint32_t)w,
+        .height = (uint32_t)h,
+        .flags = flags,
+    };
+    *word_count = words;
+    return true;
+}
+
+bool vkrt_texture_set_add(vkrt_texture_set *set, const char *path, vkrt_texture_usage usage,
+                          const char *referrer, uint32_t *index, vkrt_error *err)
+{
+    if (!path)
+        path = "(null)";
+    if (!set || !index)
+        return fail(err, referrer, path, "no texture set to add to");
+    if (usage != VKRT_TEXTURE_COLOUR && usage != VKRT_TEXTURE_DATA && usage != VKRT_TEXTURE_ALPHA)
+        return fail(err, referrer, path, "unknown usage %d", (int)usage);
+    if (!*path)
+        return fail(err, referrer, path, "empty file name");
+    if (set->count == UINT32_MAX)
+        return fail(err, referrer, path, "too many textures");
+
+    char *found = NULL;
+    if (!find_file(path, referrer, &found, err))
+        return false;
+    /* One file reached by two spellings ("a/../t.png", "t.png", "T.PNG") is one texture. */
+    char *canonical = realpath(found, NULL);
+    if (!canonical) {
+        canonical = found;
+        found = NULL;
+    }
+    for (uint32_t i = 0; i < set->count; i++)
+        if (set->usages[i] == (uint32_t)usage && strcmp(set->paths[i], canonical) == 0) {
+            free(found);
+            free(canonical);
+            *index = i;
+            return true;
+        }
+
+    FILE *f = fopen(found ? found : canonical, "rb");
+    struct stat st;
+    bool ok = false;
+    vkrt_texture_info info;
+    size_t words = 0;
+    if (!f)
+        fail(err, referrer, path, "cannot open: %s", strerror(errno));
+    else if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode))
+        fail(err, referrer, path, "not a regular file");
+    else if (st.st_size == 0)
+        fail(err, referrer, path, "the file is empty");
+    else
+        ok = decode(set, f, usage, referrer, path, &info, &words, err);
+    if (f)
+        fclose(f);
+    free(found);
+    if (!ok) {
+        give_back_room(set);
+        free(canonical);
+        return false;
+    }
+    set->info[set->count] = info;
+    set->paths[set->count] = canonical;
+    set->usages[set->count] = (uint32_t)usage;
+    set->texel_words += words;
+    *index = set->count++;
+    return true;
+}
+
+void vkrt_texture_set_free(vkrt_texture_set *set)
+{
+    if (!set)
+        return;
+    for (uint32_t i = 0; set->paths && i < set->count; i++)
+        free(set->paths[i]);
+    free(set->paths);
+    free(set->info);
+    free(set->usages);
+    free(set->texels);
+    size_t limit = set->max_texel_bytes;
+    memset(set, 0, sizeof *set);
+    set->max_texel_bytes = limit;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Sampling: the same steps as glsl/lib/texture.glsl, in float
+ * ------------------------------------------------------------------------------------------- */
+
+/* The exact sRGB decoding curve (IEC 61966-2-1), not a 2.2 power. */
+static float srgb_to_linear(float c)
+{
+    return c <= 0.04045f ? c / 12.92f : powf((c + 0.055f) / 1.055f, 2.4f);
+}
+
+/* i modulo n for any int i; unsigned, as in the GLSL, where % of negative ints is undefined. */
+static uint32_t wrap(int i, uint32_t n)
+{
+    uint32_t a = i < 0 ? 0u - (uint32_t)i : (uint32_t)i;
+    uint32_t r = a % n;
+    return i < 0 && r ? n - r : r;
+}
+
+void vkrt_texture_texel(const vkrt_texture_set *set, uint32_t index, int x, int y, float rgba[4])
+{
+    if (!set || index >= set->count) {
+        rgba[0] = rgba[1] = rgba[2] = rgba[3] = 0.0f;
+        return;
+    }
+    const vkrt_texture_info *info = &set->info[index];
+    uint32_t i = wrap(y, info->height) * info->width + wrap(x, info->width);
+    if (info->flags & VKRT_TEXTURE_HALF) {
+        const uint32_t *t = &set->texels[info->offset + 2u * i];
+        rgba[0] = half_to_float(t[0] & 0xFFFFu);
+        rgba[1] = half_to_float(t[0] >> 16);
+        rgba[2] = half_to_float(t[1] & 0xFFFFu);
+        rgba[3] = half_to_float(t[1] >> 16);
+        return;
+    }
+    uint32_t t = set->texels[info->offset + i];
+    for (int k = 0; k < 4; k++)
+        rgba[k] = (float)((t >> (8 * k)) & 0xFFu) / 255.0f;
+    if (info->flags & VKRT_TEXTURE_SRGB)
+        for (int k = 0; k < 3; k++)
+            rgba[k] = srgb_to_linear(rgba[k]);
+}
+
+/* GLSL's mix. */
+static float mix(float a, float b, float t)
+{
+    return a * (1.0f - t) + b * t;
+}
+
+void vkrt_texture_sample(const vkrt_texture_set *set, uint32_t index, float u, float v,
+                         float rgba[4])
+{
+    if (!set || index >= set->count) {
+        rgba[0] = rgba[1] = rgba[2] = rgba[3] = 0.0f;
+        return;
+    }
+    const vkrt_texture_info *info = &set->info[index];
+    if (!isfinite(u))
+        u = 0.0f;
+    if (!isfinite(v))
+        v = 0.0f;
+    /* Wrap first, so a large uv keeps its precision; then rows count from the top (OBJ's v = 0
+     * is the bottom), and texel k covers [k, k + 1) with its centre at k + 0.5. */
+    float wu = u - floorf(u), top = 1.0f - v;
+    float wv = top - floorf(top);
+    float x = wu * (float)info->width - 0.5f, y = wv * (float)info->height - 0.5f;
+    float x0 = floorf(x), y0 = floorf(y);
+    float fx = x - x0, fy = y - y0;
+    int ix = (int)x0, iy = (int)y0;
+    float t00[4], t10[4], t01[4], t11[4];
+    vkrt_texture_texel(set, index, ix, iy, t00);
+    vkrt_texture_texel(set, index, ix + 1, iy, t10);
+    vkrt_texture_texel(set, index, ix, iy + 1, t01);
+    vkrt_texture_texel(set, index, ix + 1, iy + 1, t11);
+    for (int k = 0; k < 4; k++)
+        rgba[k] = mix(mix(t00[k], t10[k], fx), mix(t01[k], t11[k], fx), fy);
+}

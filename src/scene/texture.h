@@ -1,0 +1,85 @@
+/*
+ * texture.h: the scene's textures, decoded into the one texel buffer the kernels read.
+ *
+ * Images are read with stb_image (PNG, JPEG, TGA and Radiance HDR; whatever else stb_image
+ * decodes, such as BMP, is accepted too). Every texture of a scene lives in one array of uints
+ * that the renderer uploads as-is, with a TextureInfo per texture saying where it starts, because
+ * Debian's lavapipe has no descriptor indexing to bind an array of images. The layout is fixed by
+ * TextureInfo in glsl/shared.h: rows top first as the file stores them, one uint per texel (RGBA8,
+ * r in the low byte) or, for HDR images, two (RGBA as half floats, flag VKRT_TEXTURE_HALF).
+ * glsl/lib/texture.glsl samples them; vkrt_texture_sample is its reference on the CPU.
+ *
+ * Pure CPU, no Vulkan.
+ */
+#ifndef VKRT_TEXTURE_H
+#define VKRT_TEXTURE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "../error.h"
+
+/* Widest and tallest image accepted: more is a mistake (or an attack) rather than a texture. */
+#define VKRT_TEXTURE_MAX_SIZE 16384u
+
+/* What a texture is used for, which decides how its texels are stored. */
+typedef enum vkrt_texture_usage {
+    VKRT_TEXTURE_COLOUR, /* colour map (map_Kd): 8-bit images are sRGB-encoded, flagged
+                            VKRT_TEXTURE_SRGB so that sampling decodes them to linear */
+    VKRT_TEXTURE_DATA,   /* linear values (parameters, normal-like data), stored as they are */
+    VKRT_TEXTURE_ALPHA,  /* coverage (map_d): the image's alpha channel if it has one, else its
+                            first channel, stored in all four channels, linear */
+} vkrt_texture_usage;
+
+/* The same bytes as TextureInfo in glsl/shared.h, whose VKRT_TEXTURE_* flags it carries
+ * (texture.c checks the size). */
+typedef struct vkrt_texture_info {
+    uint32_t offset; /* index of the texture's first uint in texels */
+    uint32_t width, height;
+    uint32_t flags; /* VKRT_TEXTURE_SRGB, VKRT_TEXTURE_HALF (glsl/shared.h) */
+} vkrt_texture_info;
+
+/* All textures of a scene. Zero-initialise it, set max_texel_bytes if the device has a limit,
+ * then add textures. info, paths and usages have count entries; texels has texel_words. */
+typedef struct vkrt_texture_set {
+    vkrt_texture_info *info;
+    char **paths;     /* the file each texture was read from, canonical (realpath) */
+    uint32_t *usages; /* vkrt_texture_usage of each texture */
+    uint32_t count;
+    uint32_t *texels; /* every texture's texels, one after the other */
+    size_t texel_words;
+    size_t max_texel_bytes; /* the most texels may take in bytes (the storage buffer's range);
+                               0: no limit beyond 32-bit offsets */
+} vkrt_texture_set;
+
+/* Adds the image at path for the given usage and returns its index in *index. An image already in
+ * the set with the same usage (same file after resolving the path) is not read again: its index
+ * is returned. referrer names where the texture was asked for ("scenes/x/x.mtl:12", "mats.txt:3";
+ * NULL leaves it out). On failure returns false, leaves the set's contents as they were, and sets
+ * err to "<referrer>: texture '<path>': <reason>": the file is missing, not an image stb_image
+ * can decode (its reason is quoted), empty, 0 or more than VKRT_TEXTURE_MAX_SIZE wide or tall, or
+ * the set would grow past max_texel_bytes (the message gives the sizes in MiB).
+ *
+ * Finding the file: when path does not exist as written, backslashes are read as '/' (Windows
+ * exporters write "maps\wall.jpg"), and then the file name (not its folders) is matched ignoring
+ * case in its folder, because scenes made on Windows name "SP_LUK.JPG" for a file "sp_luk.JPG".
+ * Only a unique match is taken, silently; several matches are an error that lists them. */
+bool vkrt_texture_set_add(vkrt_texture_set *set, const char *path, vkrt_texture_usage usage,
+                          const char *referrer, uint32_t *index, vkrt_error *err);
+
+/* Frees what the set holds and zeroes it, keeping max_texel_bytes. Safe on a zeroed set. */
+void vkrt_texture_set_free(vkrt_texture_set *set);
+
+/* The CPU reference of texture_sample in glsl/lib/texture.glsl, with the same arithmetic (for
+ * tests): the texture's bilinear sample at uv, with uv in the OBJ convention (v = 0 is the bottom
+ * row), repeating in both directions, as linear RGBA. Texel centres lie at half-integers, and
+ * filtering happens after sRGB decoding. Non-finite uv read as 0. An index past the set gives 0. */
+void vkrt_texture_sample(const vkrt_texture_set *set, uint32_t index, float u, float v,
+                         float rgba[4]);
+
+/* One texel of the texture as linear RGBA, with x and y (x from the left, y from the top row)
+ * wrapped into the image: the CPU reference of texture_texel in glsl/lib/texture.glsl. */
+void vkrt_texture_texel(const vkrt_texture_set *set, uint32_t index, int x, int y, float rgba[4]);
+
+#endif

@@ -1,0 +1,710 @@
+/*
+ * test_texture.c: tests of the texture set (src/scene/texture.h).
+ *
+ * Small images written with stb_image_write into a temporary folder (PNG, TGA, JPEG, HDR) pin
+ * down the texel words, the flags, the sampling (against the closed-form sRGB curve and means of
+ * texels computed here, not by the code under test), the file-name fallbacks and every error.
+ * Then, when $VKRT_SCENES_DIR is set, every texture the .mtl files of the textured shared scenes
+ * name is loaded through the OBJ loader's map_Kd / map_d, as the scene loader does.
+ */
+#define _XOPEN_SOURCE 700
+#include <dirent.h>
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cmocka.h>
+#include <stb_image_write.h>
+
+#include "../glsl/shared.h"
+#include "scene/obj_load.h"
+#include "scene/texture.h"
+
+/* ------------------------------------------------------------------------ helpers */
+
+typedef struct fixture {
+    char dir[64];
+    char path[512]; /* of the last file written */
+} fixture;
+
+static int make_dir(void **state)
+{
+    fixture *fx = calloc(1, sizeof *fx);
+    if (!fx)
+        return -1;
+    strcpy(fx->dir, "/tmp/vkrt_test_texture_XXXXXX");
+    if (!mkdtemp(fx->dir)) {
+        free(fx);
+        return -1;
+    }
+    *state = fx;
+    return 0;
+}
+
+/* Removes dir and what the tests put in it (plain files and one level of sub-folders). */
+static void remove_tree(const char *dir, int depth)
+{
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    while (d && (e = readdir(d))) {
+        char p[700];
+        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, ".."))
+            continue;
+        snprintf(p, sizeof p, "%s/%s", dir, e->d_name);
+        struct stat st;
+        if (depth > 0 && lstat(p, &st) == 0 && S_ISDIR(st.st_mode))
+            remove_tree(p, depth - 1);
+        else
+            unlink(p);
+    }
+    if (d)
+        closedir(d);
+    rmdir(dir);
+}
+
+static int remove_dir(void **state)
+{
+    fixture *fx = *state;
+    remove_tree(fx->dir, 1);
+    free(fx);
+    return 0;
+}
+
+static const char *path_of(fixture *fx, const char *name)
+{
+    snprintf(fx->path, sizeof fx->path, "%s/%s", fx->dir, name);
+    return fx->path;
+}
+
+static const char *write_bytes(fixture *fx, const char *name, const void *data, size_t len)
+{
+    FILE *f = fopen(path_of(fx, name), "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(data, 1, len, f), len);
+    fclose(f);
+    return fx->path;
+}
+
+static const char *write_png(fixture *fx, const char *name, int w, int h, int comp,
+                             const unsigned char *px)
+{
+    assert_true(stbi_write_png(path_of(fx, name), w, h, comp, px, w * comp) != 0);
+    return fx->path;
+}
+
+static uint32_t add_ok(vkrt_texture_set *set, const char *path, vkrt_texture_usage usage)
+{
+    uint32_t index = 12345;
+    vkrt_error err = {{0}};
+    if (!vkrt_texture_set_add(set, path, usage, "test", &index, &err))
+        fail_msg("adding %s failed: %s", path, err.msg);
+    return index;
+}
+
+/* Adds path expecting failure with exactly "test.mtl:7: texture '<path>': <reason...>" where the
+ * reason starts with `reason`; the set must be unchanged. */
+static void add_fails(vkrt_texture_set *set, const char *path, vkrt_texture_usage usage,
+                      const char *reason)
+{
+    vkrt_texture_set before = *set;
+    uint32_t index = 777;
+    vkrt_error err = {{0}};
+    assert_false(vkrt_texture_set_add(set, path, usage, "test.mtl:7", &index, &err));
+    char want[1024];
+    snprintf(want, sizeof want, "test.mtl:7: texture '%s': %s", path, reason);
+    if (strncmp(err.msg, want, strlen(want)) != 0)
+        fail_msg("error \"%s\" does not start with \"%s\"", err.msg, want);
+    assert_int_equal(index, 777);
+    assert_int_equal(set->count, before.count);
+    assert_int_equal(set->texel_words, before.texel_words);
+}
+
+/* The sRGB decoding curve of IEC 61966-2-1, in double: the reference the sampler must match. */
+static double srgb(double c)
+{
+    return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
+}
+
+static void assert_near(double got, double want, double tolerance, const char *what)
+{
+    if (!(fabs(got - want) <= tolerance))
+        fail_msg("%s: got %.9g, want %.9g (tolerance %g)", what, got, want, tolerance);
+}
+
+static void assert_rgba_near(const float got[4], const double want[4], double tolerance,
+                             const char *what)
+{
+    for (int k = 0; k < 4; k++) {
+        char label[200];
+        snprintf(label, sizeof label, "%s, channel %d", what, k);
+        assert_near(got[k], want[k], tolerance, label);
+    }
+}
+
+/* A small RGB image with distinct, uneven values so any mix-up of texels shows. */
+enum { W = 4, H = 3 };
+static unsigned char test_rgb[H][W][3];
+
+static void fill_test_rgb(void)
+{
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++)
+            for (int k = 0; k < 3; k++)
+                test_rgb[y][x][k] = (unsigned char)((37 * x + 91 * y + 59 * k + 13 * x * y) % 256);
+}
+
+/* Texel (x, y) of test_rgb (y from the top) decoded from sRGB, alpha 1, in double. */
+static void expected_texel(int x, int y, double out[4])
+{
+    x = ((x % W) + W) % W;
+    y = ((y % H) + H) % H;
+    for (int k = 0; k < 3; k++)
+        out[k] = srgb(test_rgb[y][x][k] / 255.0);
+    out[3] = 1.0;
+}
+
+/* ------------------------------------------------------------------------ formats and texels */
+
+static void png_texel_words_and_flags(void **state)
+{
+    fixture *fx = *state;
+    unsigned char px[2][3][4];
+    for (int y = 0; y < 2; y++)
+        for (int x = 0; x < 3; x++)
+            for (int k = 0; k < 4; k++)
+                px[y][x][k] = (unsigned char)(10 * y + 3 * x + 100 * (k == 3) + k);
+    const char *path = write_png(fx, "rgba.png", 3, 2, 4, &px[0][0][0]);
+    vkrt_texture_set set = {0};
+    assert_int_equal(add_ok(&set, path, VKRT_TEXTURE_COLOUR), 0);
+    assert_int_equal(add_ok(&set, path, VKRT_TEXTURE_DATA), 1);
+    assert_int_equal(set.count, 2);
+    assert_int_equal(set.texel_words, 12);
+    assert_int_equal(set.info[0].offset, 0);
+    assert_int_equal(set.info[0].width, 3);
+    assert_int_equal(set.info[0].height, 2);
+    assert_int_equal(set.info[0].flags, VKRT_TEXTURE_SRGB);
+    assert_int_equal(set.info[1].offset, 6);
+    assert_int_equal(set.info[1].flags, 0);
+    assert_int_equal(set.usages[0], VKRT_TEXTURE_COLOUR);
+    assert_int_equal(set.usages[1], VKRT_TEXTURE_DATA);
+    char *canonical = realpath(path, NULL);
+    assert_string_equal(set.paths[0], canonical);
+    free(canonical);
+    /* Rows top first as in the file, r in the low byte, for both copies. */
+    for (int t = 0; t < 2; t++)
+        for (int y = 0; y < 2; y++)
+            for (int x = 0; x < 3; x++) {
+                const unsigned char *p = px[y][x];
+                uint32_t want =
+                    p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+                assert_int_equal(set.texels[set.info[t].offset + (uint32_t)(y * 3 + x)], want);
+            }
+    /* DATA is linear: texel = byte / 255, alpha too. */
+    float got[4];
+    vkrt_texture_texel(&set, 1, 2, 1, got);
+    double want[4] = {px[1][2][0] / 255.0, px[1][2][1] / 255.0, px[1][2][2] / 255.0,
+                      px[1][2][3] / 255.0};
+    assert_rgba_near(got, want, 1e-7, "data texel");
+    vkrt_texture_set_free(&set);
+    assert_null(set.info);
+    assert_int_equal(set.count, 0);
+    vkrt_texture_set_free(&set); /* safe on a zeroed set */
+}
+
+/* Every 8-bit level through the COLOUR path against the closed-form curve, alpha untouched. */
+static void srgb_decoding_matches_closed_form(void **state)
+{
+    fixture *fx = *state;
+    unsigned char px[256][4];
+    for (int i = 0; i < 256; i++) {
+        px[i][0] = (unsigned char)i;
+        px[i][1] = (unsigned char)(255 - i);
+        px[i][2] = (unsigned char)((i * 7) % 256);
+        px[i][3] = (unsigned char)((i * 3) % 256);
+    }
+    const char *path = write_png(fx, "levels.png", 256, 1, 4, &px[0][0]);
+    vkrt_texture_set set = {0};
+    uint32_t t = add_ok(&set, path, VKRT_TEXTURE_COLOUR);
+    for (int i = 0; i < 256; i++) {
+        double want[4] = {srgb(px[i][0] / 255.0), srgb(px[i][1] / 255.0), srgb(px[i][2] / 255.0),
+                          px[i][3] / 255.0};
+        float got[4];
+        vkrt_texture_texel(&set, t, i, 0, got);
+        assert_rgba_near(got, want, 2e-7, "sRGB texel");
+        /* at the texel's centre the bilinear sample is the texel */
+        vkrt_texture_sample(&set, t, (i + 0.5f) / 256.0f, 0.5f, got);
+        assert_rgba_near(got, want, 2e-7, "sample at a texel centre");
+    }
+    /* Two known points of the curve, so a mistake shared by srgb() above would show too. */
+    float got[4];
+    vkrt_texture_texel(&set, t, 255, 0, got);
+    assert_near(got[0], 1.0, 1e-7, "sRGB 255");
+    vkrt_texture_texel(&set, t, 10, 0, got); /* 10/255 = 0.0392 < 0.04045: linear segment */
+    assert_near(got[0], 10.0 / 255.0 / 12.92, 1e-9, "sRGB 10");
+    vkrt_texture_texel(&set, t, 128, 0, got);
+    assert_near(got[0], 0.2158605, 1e-6, "sRGB 128"); /* the published value */
+    vkrt_texture_set_free(&set);
+}
+
+static void tga_is_lossless_and_jpeg_close(void **state)
+{
+    fixture *fx = *state;
+    enum { N = 16 };
+    unsigned char px[N][N][3];
+    for (int y = 0; y < N; y++)
+        for (int x = 0; x < N; x++) {
+            px[y][x][0] = (unsigned char)(x * 16);
+            px[y][x][1] = (unsigned char)(y * 16);
+            px[y][x][2] = (unsigned char)(128 + 4 * (x - y));
+        }
+    assert_true(stbi_write_tga(path_of(fx, "grad.tga"), N, N, 3, px) != 0);
+    char tga[512];
+    snprintf(tga, sizeof tga, "%s", fx->path);
+    assert_true(stbi_write_jpg(path_of(fx, "grad.jpg"), N, N, 3, px, 100) != 0);
+    vkrt_texture_set set = {0};
+    uint32_t t = add_ok(&set, tga, VKRT_TEXTURE_DATA);
+    uint32_t j = add_ok(&set, fx->path, VKRT_TEXTURE_DATA);
+    assert_int_equal(set.info[j].offset, N * N);
+    for (int y = 0; y < N; y++)
+        for (int x = 0; x < N; x++) {
+            uint32_t want = px[y][x][0] | (uint32_t)px[y][x][1] << 8 | (uint32_t)px[y][x][2] << 16 |
+                            0xFF000000u;
+            assert_int_equal(set.texels[set.info[t].offset + (uint32_t)(y * N + x)], want);
+            uint32_t got = set.texels[set.info[j].offset + (uint32_t)(y * N + x)];
+            for (int k = 0; k < 3; k++) {
+                int d = (int)((got >> (8 * k)) & 0xFF) - px[y][x][k];
+                if (abs(d) > 6) /* JPEG at quality 100 of a smooth gradient: a few levels */
+                    fail_msg("JPEG texel (%d, %d) channel %d off by %d", x, y, k, d);
+            }
+            assert_int_equal(got >> 24, 0xFF);
+        }
+    vkrt_texture_set_free(&set);
+}
+
+/* Half-float bit patterns written out by hand (sign | exponent + 15 << 10 | mantissa). */
+static void hdr_becomes_half_floats(void **state)
+{
+    fixture *fx = *state;
+    /* Values whose channels share an exponent are exact in RGBE (8-bit mantissas), and then in
+     * half, except below half's normal range (2^-14), where they round to steps of 2^-24. */
+    const float tiny = 0x1p-30f;
+    const float px[2][3][3] = {
+        {{1.0f, 0.5f, 0.25f}, {4.0f, 2.0f, 3.0f}, {255 * tiny, 96 * tiny, 0.0f}},
+        {{0.125f, 0.0625f, 0.09375f}, {100000.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}},
+    };
+    const uint16_t half[2][3][3] = {
+        /* 255 * 2^-30 = 3.98 * 2^-24 rounds to 4 steps; 96 * 2^-30 = 1.5 steps, a tie, to even 2 */
+        {{0x3C00, 0x3800, 0x3400}, {0x4400, 0x4000, 0x4200}, {0x0004, 0x0002, 0x0000}},
+        {{0x3000, 0x2C00, 0x2E00}, {0x7BFF, 0x0000, 0x0000}, {0, 0, 0}}, /* beyond half: 65504 */
+    };
+    assert_true(stbi_write_hdr(path_of(fx, "sky.hdr"), 3, 2, 3, &px[0][0][0]) != 0);
+    vkrt_texture_set set = {0};
+    uint32_t t = add_ok(&set, fx->path, VKRT_TEXTURE_COLOUR);
+    assert_int_equal(set.info[t].flags, VKRT_TEXTURE_HALF); /* linear already: no sRGB flag */
+    assert_int_equal(set.texel_words, 12);
+    for (int y = 0; y < 2; y++)
+        for (int x = 0; x < 3; x++) {
+            const uint32_t *w = &set.texels[2 * (y * 3 + x)];
+            assert_int_equal(w[0], half[y][x][0] | (uint32_t)half[y][x][1] << 16);
+            assert_int_equal(w[1], half[y][x][2] | 0x3C00u << 16); /* alpha 1 */
+        }
+    float got[4];
+    vkrt_texture_sample(&set, t, 0.5f, 0.75f, got); /* texel (1, 0) */
+    const double want[4] = {4, 2, 3, 1};
+    assert_rgba_near(got, want, 0, "HDR sample at a texel centre");
+    vkrt_texture_sample(&set, t, 1.0f / 3.0f, 0.75f, got); /* between (0, 0) and (1, 0) */
+    const double mean[4] = {2.5, 1.25, 1.625, 1};
+    assert_rgba_near(got, mean, 1e-6, "HDR sample between two texels");
+    /* as coverage: its first channel (RGBE has no alpha) in all four */
+    uint32_t a = add_ok(&set, fx->path, VKRT_TEXTURE_ALPHA);
+    assert_int_equal(set.info[a].flags, VKRT_TEXTURE_HALF);
+    const uint32_t *w = &set.texels[set.info[a].offset + 2];
+    assert_int_equal(w[0], 0x44004400u);
+    assert_int_equal(w[1], 0x44004400u);
+    vkrt_texture_set_free(&set);
+}
+
+/* ------------------------------------------------------------------------ sampling */
+
+static void bilinear_sample_and_wrap(void **state)
+{
+    fixture *fx = *state;
+    fill_test_rgb();
+    const char *path = write_png(fx, "test.png", W, H, 3, &test_rgb[0][0][0]);
+    vkrt_texture_set set = {0};
+    uint32_t t = add_ok(&set, path, VKRT_TEXTURE_COLOUR);
+    const double tol = 1e-6;
+    float got[4];
+    double want[4], a[4], b[4], c[4], d[4];
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            /* texel (x, y) from the top has its centre at u = (x + .5) / W, v = 1 - (y + .5) / H */
+            float u = (x + 0.5f) / W, v = 1.0f - (y + 0.5f) / H;
+            expected_texel(x, y, want);
+            vkrt_texture_sample(&set, t, u, v, got);
+            assert_rgba_near(got, want, tol, "texel centre");
+            /* any whole number of repeats, negative or not, is the same place */
+            vkrt_texture_sample(&set, t, u - 3.0f, v + 2.0f, got);
+            assert_rgba_near(got, want, tol, "texel centre, uv - (3, -2)");
+            vkrt_texture_sample(&set, t, u + 5.0f, v - 4.0f, got);
+            assert_rgba_near(got, want, tol, "texel centre, uv + (5, -4)");
+            /* halfway to the right neighbour (wrapping past the last column): the mean after
+             * decoding */
+            expected_texel(x, y, a);
+            expected_texel(x + 1, y, b);
+            vkrt_texture_sample(&set, t, (float)(x + 1) / W, v, got);
+            for (int k = 0; k < 4; k++)
+                want[k] = 0.5 * (a[k] + b[k]);
+            assert_rgba_near(got, want, tol, "halfway between horizontal neighbours");
+            /* halfway to the row below, and to the four around a corner */
+            expected_texel(x, y + 1, c);
+            expected_texel(x + 1, y + 1, d);
+            float v_below = 1.0f - (float)(y + 1) / H;
+            vkrt_texture_sample(&set, t, u, v_below, got);
+            for (int k = 0; k < 4; k++)
+                want[k] = 0.5 * (a[k] + c[k]);
+            assert_rgba_near(got, want, tol, "halfway between vertical neighbours");
+            vkrt_texture_sample(&set, t, (float)(x + 1) / W, v_below, got);
+            for (int k = 0; k < 4; k++)
+                want[k] = 0.25 * (a[k] + b[k] + c[k] + d[k]);
+            assert_rgba_near(got, want, tol, "centre of four texels");
+        }
+    /* u = 0 and u = 1 are the seam between the last and first column */
+    float v0 = 1.0f - 0.5f / H; /* centre of the top row */
+    expected_texel(W - 1, 0, a);
+    expected_texel(0, 0, b);
+    for (int k = 0; k < 4; k++)
+        want[k] = 0.5 * (a[k] + b[k]);
+    vkrt_texture_sample(&set, t, 0.0f, v0, got);
+    assert_rgba_near(got, want, tol, "u = 0");
+    vkrt_texture_sample(&set, t, 1.0f, v0, got);
+    assert_rgba_near(got, want, tol, "u = 1");
+    vkrt_texture_sample(&set, t, -1.0f, v0, got);
+    assert_rgba_near(got, want, tol, "u = -1");
+    /* v = 0 (bottom edge) and v = 1 (top edge) are the seam between the bottom and top rows */
+    expected_texel(0, H - 1, a);
+    expected_texel(0, 0, b);
+    for (int k = 0; k < 4; k++)
+        want[k] = 0.5 * (a[k] + b[k]);
+    vkrt_texture_sample(&set, t, 0.5f / W, 0.0f, got);
+    assert_rgba_near(got, want, tol, "v = 0");
+    vkrt_texture_sample(&set, t, 0.5f / W, 1.0f, got);
+    assert_rgba_near(got, want, tol, "v = 1");
+    /* a quarter of the way from texel (1, 1) to (2, 1): 3/4 of one, 1/4 of the other */
+    expected_texel(1, 1, a);
+    expected_texel(2, 1, b);
+    for (int k = 0; k < 4; k++)
+        want[k] = 0.75 * a[k] + 0.25 * b[k];
+    vkrt_texture_sample(&set, t, 1.75f / W, 1.0f - 1.5f / H, got);
+    assert_rgba_near(got, want, tol, "a quarter of the way");
+    /* non-finite uv read as (0, 0): the four corner texels' mean */
+    vkrt_texture_sample(&set, t, NAN, INFINITY, got);
+    expected_texel(0, 0, a);
+    expected_texel(W - 1, 0, b);
+    expected_texel(0, H - 1, c);
+    expected_texel(W - 1, H - 1, d);
+    for (int k = 0; k < 4; k++)
+        want[k] = 0.25 * (a[k] + b[k] + c[k] + d[k]);
+    assert_rgba_near(got, want, tol, "non-finite uv");
+    /* texel reads wrap in both directions, far out too */
+    vkrt_texture_texel(&set, t, -1, -1, got);
+    expected_texel(W - 1, H - 1, want);
+    assert_rgba_near(got, want, tol, "texel (-1, -1)");
+    vkrt_texture_texel(&set, t, W * 1000 + 2, -H * 77 + 1, got);
+    expected_texel(2, 1, want);
+    assert_rgba_near(got, want, tol, "texel far out");
+    vkrt_texture_texel(&set, t, INT32_MIN, INT32_MIN, got);
+    expected_texel((int)(((int64_t)INT32_MIN % W + W) % W), (int)(((int64_t)INT32_MIN % H + H) % H),
+                   want);
+    assert_rgba_near(got, want, tol, "texel at INT_MIN");
+    /* an index past the set gives 0 */
+    vkrt_texture_sample(&set, 5, 0.5f, 0.5f, got);
+    const double zero[4] = {0, 0, 0, 0};
+    assert_rgba_near(got, zero, 0, "index past the set");
+    vkrt_texture_set_free(&set);
+}
+
+/* ALPHA: the alpha channel where the image has one, else its first channel, in all four. */
+static void alpha_usage_picks_the_channel(void **state)
+{
+    fixture *fx = *state;
+    const unsigned char grey[2] = {10, 200};
+    const unsigned char grey_alpha[2][2] = {{10, 77}, {200, 3}};
+    const unsigned char rgb[2][3] = {{30, 40, 50}, {60, 70, 80}};
+    const unsigned char rgba[2][4] = {{30, 40, 50, 99}, {60, 70, 80, 250}};
+    struct {
+        const char *name;
+        int comp;
+        const unsigned char *px;
+        unsigned char want[2];
+    } cases[] = {
+        {"grey.png", 1, grey, {10, 200}},
+        {"grey_alpha.png", 2, &grey_alpha[0][0], {77, 3}},
+        {"rgb.png", 3, &rgb[0][0], {30, 60}},
+        {"rgba.png", 4, &rgba[0][0], {99, 250}},
+    };
+    vkrt_texture_set set = {0};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        uint32_t t = add_ok(&set, write_png(fx, cases[i].name, 2, 1, cases[i].comp, cases[i].px),
+                            VKRT_TEXTURE_ALPHA);
+        assert_int_equal(set.info[t].flags, 0); /* coverage is linear */
+        for (int x = 0; x < 2; x++) {
+            assert_int_equal(set.texels[set.info[t].offset + (uint32_t)x],
+                             cases[i].want[x] * 0x01010101u);
+            float got[4];
+            vkrt_texture_texel(&set, t, x, 0, got);
+            double v = cases[i].want[x] / 255.0;
+            const double want[4] = {v, v, v, v};
+            assert_rgba_near(got, want, 1e-7, cases[i].name);
+        }
+    }
+    /* a grey image as a colour map expands to grey RGB, opaque */
+    uint32_t c = add_ok(&set, path_of(fx, "grey.png"), VKRT_TEXTURE_COLOUR);
+    assert_int_equal(set.texels[set.info[c].offset + 1], 0xFFC8C8C8u);
+    vkrt_texture_set_free(&set);
+}
+
+/* ------------------------------------------------------------------------ paths */
+
+static void same_file_same_usage_is_loaded_once(void **state)
+{
+    fixture *fx = *state;
+    fill_test_rgb();
+    char path[512], other[700];
+    snprintf(path, sizeof path, "%s", write_png(fx, "tex.png", W, H, 3, &test_rgb[0][0][0]));
+    vkrt_texture_set set = {0};
+    assert_int_equal(add_ok(&set, path, VKRT_TEXTURE_COLOUR), 0);
+    assert_int_equal(add_ok(&set, path, VKRT_TEXTURE_COLOUR), 0);
+    snprintf(other, sizeof other, "%s/./tex.png", fx->dir);
+    assert_int_equal(add_ok(&set, other, VKRT_TEXTURE_COLOUR), 0);
+    assert_int_equal(mkdir(path_of(fx, "sub"), 0700), 0);
+    snprintf(other, sizeof other, "%s/sub/../tex.png", fx->dir);
+    assert_int_equal(add_ok(&set, other, VKRT_TEXTURE_COLOUR), 0);
+    snprintf(other, sizeof other, "%s/TEX.PNG", fx->dir); /* found ignoring case: the same file */
+    assert_int_equal(add_ok(&set, other, VKRT_TEXTURE_COLOUR), 0);
+    assert_int_equal(set.count, 1);
+    assert_int_equal(set.texel_words, W * H);
+    /* another usage is another texture */
+    assert_int_equal(add_ok(&set, path, VKRT_TEXTURE_ALPHA), 1);
+    assert_int_equal(add_ok(&set, other, VKRT_TEXTURE_ALPHA), 1);
+    assert_int_equal(set.count, 2);
+    vkrt_texture_set_free(&set);
+}
+
+static void file_name_case_and_backslashes(void **state)
+{
+    fixture *fx = *state;
+    const unsigned char px[4] = {1, 2, 3, 4};
+    char path[700];
+    write_png(fx, "sp_luk.JPG.png", 1, 1, 4, px);
+    vkrt_texture_set set = {0};
+    vkrt_error err = {{0}};
+    uint32_t index = 99;
+    /* the Windows spelling of the name (as dabrovic-sponza's .mtl has it) */
+    snprintf(path, sizeof path, "%s/SP_LUK.JPG.PNG", fx->dir);
+    assert_true(vkrt_texture_set_add(&set, path, VKRT_TEXTURE_COLOUR, "x.mtl:1", &index, &err));
+    assert_int_equal(index, 0);
+    assert_non_null(strstr(set.paths[0], "/sp_luk.JPG.png"));
+    /* a backslash as folder separator, and the name's case wrong too */
+    assert_int_equal(mkdir(path_of(fx, "maps"), 0700), 0);
+    write_png(fx, "maps/Wall.png", 1, 1, 4, px);
+    snprintf(path, sizeof path, "%s/maps\\WALL.png", fx->dir);
+    assert_true(vkrt_texture_set_add(&set, path, VKRT_TEXTURE_COLOUR, "x.mtl:2", &index, &err));
+    assert_int_equal(index, 1);
+    assert_non_null(strstr(set.paths[1], "/maps/Wall.png"));
+    /* two files that match ignoring case: no guess */
+    write_png(fx, "amb.png", 1, 1, 4, px);
+    write_png(fx, "AMB.png", 1, 1, 4, px);
+    snprintf(path, sizeof path, "%s/Amb.png", fx->dir);
+    add_fails(&set, path, VKRT_TEXTURE_COLOUR,
+              "not found, and 2 files match its name ignoring case");
+    /* the folders themselves must be spelt right */
+    snprintf(path, sizeof path, "%s/MAPS/Wall.png", fx->dir);
+    add_fails(&set, path, VKRT_TEXTURE_COLOUR, "cannot open: No such file or directory");
+    assert_int_equal(set.count, 2);
+    vkrt_texture_set_free(&set);
+}
+
+/* ------------------------------------------------------------------------ errors */
+
+static void errors_name_referrer_and_path(void **state)
+{
+    fixture *fx = *state;
+    const unsigned char px[4] = {1, 2, 3, 4};
+    vkrt_texture_set set = {0};
+    /* start from a set with one texture: failures must leave it as it was */
+    add_ok(&set, write_png(fx, "ok.png", 1, 1, 4, px), VKRT_TEXTURE_COLOUR);
+
+    add_fails(&set, path_of(fx, "missing.png"), VKRT_TEXTURE_COLOUR,
+              "cannot open: No such file or directory");
+    add_fails(&set, write_bytes(fx, "garbage.png", "this is not an image at all\n", 28),
+              VKRT_TEXTURE_COLOUR, "not an image vkrt can read (stb_image: ");
+    add_fails(&set, write_bytes(fx, "empty.png", "", 0), VKRT_TEXTURE_COLOUR, "the file is empty");
+    add_fails(&set, fx->dir, VKRT_TEXTURE_COLOUR, "not a regular file");
+    /* a PNG header claiming a width of 0 (stb_image refuses it itself) */
+    const unsigned char zero_width[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n', 0, 0, 0,
+                                        13,   'I', 'H', 'D', 'R',  0,    0,    0,    0, 0, 0,
+                                        0,    1,   8,   0,   0,    0,    0,    0,    0, 0, 0};
+    add_fails(&set, write_bytes(fx, "zero.png", zero_width, sizeof zero_width), VKRT_TEXTURE_COLOUR,
+              "not an image vkrt can read");
+    /* a real PNG cut short: the header reads, the pixels do not */
+    static unsigned char big[64][64][3];
+    for (int i = 0; i < 64 * 64 * 3; i++)
+        (&big[0][0][0])[i] = (unsigned char)(i * 7919 % 251);
+    write_png(fx, "big.png", 64, 64, 3, &big[0][0][0]);
+    FILE *f = fopen(fx->path, "rb");
+    assert_non_null(f);
+    static unsigned char bytes[1 << 16];
+    size_t n = fread(bytes, 1, sizeof bytes, f);
+    fclose(f);
+    assert_true(n > 200);
+    add_fails(&set, write_bytes(fx, "cut.png", bytes, n / 2), VKRT_TEXTURE_COLOUR,
+              "cannot decode the image (stb_image: ");
+    vkrt_texture_set fresh = {0}; /* the room reserved for the texels is given back */
+    add_fails(&fresh, fx->path, VKRT_TEXTURE_COLOUR, "cannot decode the image (stb_image: ");
+    assert_null(fresh.texels);
+    vkrt_texture_set_free(&fresh);
+    /* one texel wider than allowed */
+    static unsigned char row[VKRT_TEXTURE_MAX_SIZE + 1];
+    add_fails(&set, write_png(fx, "wide.png", VKRT_TEXTURE_MAX_SIZE + 1, 1, 1, row),
+              VKRT_TEXTURE_COLOUR,
+              "image is 16385x1; textures must be 1 to 16384 texels wide and tall");
+    add_fails(&set, write_png(fx, "tall.png", 1, VKRT_TEXTURE_MAX_SIZE + 1, 1, row),
+              VKRT_TEXTURE_DATA, "image is 1x16385;");
+    /* no referrer: the message starts at "texture" */
+    vkrt_error err = {{0}};
+    uint32_t index;
+    assert_false(vkrt_texture_set_add(&set, path_of(fx, "missing.png"), VKRT_TEXTURE_DATA, NULL,
+                                      &index, &err));
+    char want[700];
+    snprintf(want, sizeof want, "texture '%s': cannot open: No such file or directory", fx->path);
+    assert_string_equal(err.msg, want);
+
+    assert_int_equal(set.count, 1);
+    assert_int_equal(set.texel_words, 1);
+    assert_int_equal(set.texels[0], 0x04030201u);
+    vkrt_texture_set_free(&set);
+}
+
+static void size_limit_is_reported_in_mib(void **state)
+{
+    fixture *fx = *state;
+    static unsigned char px[512][512];
+    char first[512], second[512]; /* 1 MiB of texels each */
+    snprintf(first, sizeof first, "%s", write_png(fx, "grey512.png", 512, 512, 1, &px[0][0]));
+    snprintf(second, sizeof second, "%s", write_png(fx, "grey512b.png", 512, 512, 1, &px[0][0]));
+    vkrt_texture_set set = {.max_texel_bytes = 3 << 19}; /* 1.5 MiB */
+    add_ok(&set, first, VKRT_TEXTURE_COLOUR);
+    add_ok(&set, first, VKRT_TEXTURE_COLOUR); /* a repeat costs nothing */
+    add_fails(
+        &set, second, VKRT_TEXTURE_COLOUR,
+        "this 512x512 texture takes 1.0 MiB; with the 1 textures before it the textures would take "
+        "2.0 MiB, over the limit of 1.5 MiB");
+    vkrt_texture_set_free(&set);
+    assert_int_equal(set.max_texel_bytes, 3 << 19); /* free keeps the limit */
+    /* exactly at the limit is fine */
+    set.max_texel_bytes = 2 << 20;
+    add_ok(&set, first, VKRT_TEXTURE_COLOUR);
+    add_ok(&set, second, VKRT_TEXTURE_COLOUR);
+    assert_int_equal(set.texel_words * 4, 2 << 20);
+    vkrt_texture_set_free(&set);
+}
+
+/* ------------------------------------------------------------------------ shared scenes */
+
+static const char *scenes_dir(void)
+{
+    const char *dir = getenv("VKRT_SCENES_DIR");
+    struct stat st;
+    if (!dir || !*dir || stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
+        printf("VKRT_SCENES_DIR %s; skipping shared-scene tests\n",
+               dir ? "is not a folder" : "unset");
+        return NULL;
+    }
+    return dir;
+}
+
+/* Loads every map_Kd (colour) and map_d (coverage) of the scene's OBJ as the scene loader does,
+ * the referrer being the .mtl line that names it; all must load. */
+static void load_scene_textures(const char *scene, const char *obj, uint32_t want_count)
+{
+    const char *dir = scenes_dir();
+    if (!dir)
+        skip();
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s/%s", dir, scene, obj);
+    vkrt_mesh mesh;
+    vkrt_error err = {{0}};
+    if (!vkrt_obj_load(path, &mesh, &err))
+        fail_msg("%s", err.msg);
+    vkrt_texture_set set = {0};
+    uint32_t requests = 0;
+    for (uint32_t i = 0; i < mesh.material_count; i++) {
+        const vkrt_mtl *m = &mesh.materials[i];
+        const char *maps[2] = {m->map_kd, m->map_d};
+        const int lines[2] = {m->map_kd_line, m->map_d_line};
+        for (int k = 0; k < 2; k++) {
+            if (!maps[k])
+                continue;
+            assert_non_null(m->mtl_path);
+            assert_true(lines[k] > 0);
+            char referrer[1100];
+            snprintf(referrer, sizeof referrer, "%s:%d", m->mtl_path, lines[k]);
+            uint32_t index;
+            if (!vkrt_texture_set_add(&set, maps[k], k ? VKRT_TEXTURE_ALPHA : VKRT_TEXTURE_COLOUR,
+                                      referrer, &index, &err))
+                fail_msg("%s", err.msg);
+            requests++;
+        }
+    }
+    printf("%s: %u texture statements, %u textures, %.1f MiB of texels\n", scene, requests,
+           set.count, (double)set.texel_words * 4 / (1024.0 * 1024.0));
+    assert_int_equal(set.count, want_count);
+    vkrt_texture_set_free(&set);
+    vkrt_mesh_free(&mesh);
+}
+
+static void dabrovic_sponza_textures(void **state)
+{
+    (void)state;
+    load_scene_textures("dabrovic-sponza", "sponza.obj", 12);
+}
+
+static void sibenik_cathedral_textures(void **state)
+{
+    (void)state;
+    load_scene_textures("sibenik-cathedral", "sibenik.obj", 3);
+}
+
+static void lost_empire_textures(void **state)
+{
+    (void)state;
+    load_scene_textures("lost-empire", "lost_empire.obj", 3);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup_teardown(png_texel_words_and_flags, make_dir, remove_dir),
+        cmocka_unit_test_setup_teardown(srgb_decoding_matches_closed_form, make_dir, remove_dir),
+        cmocka_unit_test_setup_teardown(tga_is_lossless_and_jpeg_close, make_dir, remove_dir),
+        cmocka_unit_test_setup_teardown(hdr_becomes_half_floats, make_dir, remove_dir),
+        cmocka_unit_test_setup_teardown(bilinear_sample_and_wrap, make_dir, remove_dir),
+        cmocka_unit_test_setup_teardown(alpha_usage_picks_the_channel, make_dir, remove_dir),
+        cmocka_unit_test_setup_teardown(same_file_same_usage_is_loaded_once, make_dir, remove_dir),
+        cmocka_unit_test_setup_teardown(file_name_case_and_backslashes, make_dir, remove_dir),
+        cmocka_unit_test_setup_teardown(errors_name_referrer_and_path, make_dir, remove_dir),
+        cmocka_unit_test_setup_teardown(size_limit_is_reported_in_mib, make_dir, remove_dir),
+        cmocka_unit_test(dabrovic_sponza_textures),
+        cmocka_unit_test(sibenik_cathedral_textures),
+        cmocka_unit_test(lost_empire_textures),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
