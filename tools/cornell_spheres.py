@@ -63,7 +63,7 @@ illum 7
 """
 
 CFG = """\
-# The Cornell box with a mirror sphere (left) and a glass sphere (right).
+# The Cornell box with a glass sphere (left in the picture) and a mirror sphere (right).
 geometry    cornell-spheres.obj
 resolution  512 512
 samples     4
