@@ -189,6 +189,35 @@ static void test_glass_slab_shifts_as_snell_says(void **state)
     assert_close3(rgb, want, 2e-3, "glass slab");
 }
 
+/* The payload example: @absorbing_glass carries the entry point of a ray in its payload, so a
+ * ray crossing a slab of thickness 2 straight down leaves it attenuated by exp(-2 sigma) per
+ * channel (Beer-Lambert), besides the two Fresnel transmittances at normal incidence. The
+ * environment is 1 below the slab and 0 above, so only the transmitted light counts; rays bounced
+ * twice inside fall under the importance threshold. */
+static void test_absorbing_glass_uses_the_payload(void **state)
+{
+    (void)state;
+    write_file("a.obj", "mtllib a.mtl\n"
+                        "v -20 2 -20\nv 20 2 -20\nv 20 2 20\nv -20 2 20\n"
+                        "v -20 0 -20\nv 20 0 -20\nv 20 0 20\nv -20 0 20\n"
+                        "usemtl slab\nf 1 4 3 2\nf 5 6 7 8\n");
+    write_file("a.mtl", "newmtl slab\nKd 1 1 1\n");
+    write_file("below.glsl", "vec3 environment(vec3 d, vec4 payload) { return d.y < 0.0 ? vec3(1.0) : vec3(0.0); }\n");
+    write_file("a.mat", "slab 0 @absorbing_glass 0.5 0.1 0  0 0 0 0  0 0 0  1.5\n"
+                        "environment 0 below.glsl\n");
+    write_file("scene.cfg", "geometry a.obj\nmaterials a.mat\nmax-depth 4\n"
+                            "camera eye 0 5 0 look 0 0 0 up 0 0 1 fov 1\n");
+    float rgb[3];
+    vkrt_render_desc desc = {.min_importance = 0.01f};
+    render_ok(1, 1, &desc, rgb, NULL);
+    double r = (0.5 / 2.5) * (0.5 / 2.5); /* Fresnel at normal incidence, ((n - 1) / (n + 1))^2 */
+    const double sigma[3] = {0.5, 0.1, 0};
+    double want[3];
+    for (int k = 0; k < 3; ++k)
+        want[k] = (1 - r) * (1 - r) * exp(-2 * sigma[k]);
+    assert_close3(rgb, want, 1e-4, "absorbing glass");
+}
+
 /* An environment that shows directions: d + 1 for rays towards +z (or -z), zero otherwise. */
 static void write_direction_environment(bool towards_plus_z)
 {
@@ -463,6 +492,7 @@ int main(void)
         cmocka_unit_test(test_mirror_reflects_where_geometry_says),
         cmocka_unit_test(test_glass_slab_shifts_as_snell_says),
         cmocka_unit_test(test_glass_refraction_and_total_internal_reflection),
+        cmocka_unit_test(test_absorbing_glass_uses_the_payload),
         cmocka_unit_test(test_diffuse_radiance_closed_form),
         cmocka_unit_test(test_spot_falloff_closed_form),
         cmocka_unit_test(test_ray_buffers_grow_to_the_same_image),
