@@ -441,6 +441,46 @@ static void test_textured_quad_matches_the_reference_sampler(void **state)
     vkrt_texture_set_free(&set);
 }
 
+/* Progressive rendering (what the viewer does): the passes of a 4-sample frame added one call at a
+ * time give the picture one call for all four gives. */
+static void test_passes_added_one_by_one_equal_the_whole_frame(void **state)
+{
+    (void)state;
+    const char *source = getenv("VKRT_SOURCE_DIR");
+    assert_non_null(source);
+    char path[512];
+    snprintf(path, sizeof path, "%s/scenes/cornell-spheres/scene.cfg", source);
+    vkrt_scene scene;
+    vkrt_error err = {{0}};
+    if (!vkrt_scene_load(path, &scene, &err))
+        fail_msg("%s", err.msg);
+    enum { W = 24, H = 24 };
+    static float whole[W * H * 3], parts[W * H * 3];
+    gpu_context ctx;
+    fixture_context_create(&ctx);
+    vkrt_render_desc desc = {.width = W, .height = H, .samples = 4};
+    vkrt_renderer r;
+    if (!vkrt_renderer_create(&r, &ctx, &scene, &desc, &err) ||
+        !vkrt_renderer_render(&r, &scene.config.cameras[0], 3, whole, NULL, &err))
+        fail_msg("%s", err.msg);
+    for (uint32_t pass = 0; pass < 4; ++pass)
+        if (!vkrt_renderer_add_samples(&r, &scene.config.cameras[0], 3, pass, 1, NULL, &err))
+            fail_msg("%s", err.msg);
+    if (!vkrt_renderer_read_image(&r, 4, parts, &err))
+        fail_msg("%s", err.msg);
+    assert_false(vkrt_renderer_add_samples(&r, &scene.config.cameras[0], 3, 4, 1, NULL, &err));
+    vkrt_renderer_destroy(&r);
+    fixture_context_destroy(&ctx);
+    double sum = 0;
+    for (int i = 0; i < W * H * 3; ++i) {
+        if (fabs(whole[i] - parts[i]) > 1e-5 * fabs(whole[i]) + 1e-7)
+            fail_msg("value %d: %.9g in one call, %.9g pass by pass", i, whole[i], parts[i]);
+        sum += whole[i];
+    }
+    assert_true(sum / (W * H * 3) > 0.01);
+    vkrt_scene_free(&scene);
+}
+
 /* A shader that casts more rays than it counted is caught and named; nothing is corrupted. */
 static void test_overcasting_shader_is_reported(void **state)
 {
@@ -497,6 +537,7 @@ int main(void)
         cmocka_unit_test(test_spot_falloff_closed_form),
         cmocka_unit_test(test_ray_buffers_grow_to_the_same_image),
         cmocka_unit_test(test_textured_quad_matches_the_reference_sampler),
+        cmocka_unit_test(test_passes_added_one_by_one_equal_the_whole_frame),
         cmocka_unit_test(test_overcasting_shader_is_reported),
         cmocka_unit_test(test_shader_syntax_error_names_file_and_line),
     };

@@ -543,14 +543,17 @@ static void record_wave_reset(vkrt_renderer *r, VkCommandBuffer cmd, uint32_t wo
                          0, 1, &after, 0, NULL, 0, NULL);
 }
 
-/* Records and runs one whole frame; counters hold its statistics afterwards. */
-static bool run_frame(vkrt_renderer *r, FrameParams params, double *seconds, vkrt_error *err)
+/* Records and runs sample passes [first, end) into the image (cleared first when first is 0);
+ * counters hold their statistics afterwards. */
+static bool run_passes(vkrt_renderer *r, FrameParams params, uint32_t first, uint32_t end,
+                       double *seconds, vkrt_error *err)
 {
     uint32_t pixels = r->width * r->height;
     VkCommandBuffer cmd;
     if (!gpu_commands_begin(r->ctx, &cmd, err))
         return false;
-    vkCmdFillBuffer(cmd, r->image.buffer, 0, VK_WHOLE_SIZE, 0);
+    if (first == 0)
+        vkCmdFillBuffer(cmd, r->image.buffer, 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(cmd, r->counters.buffer, 0, VK_WHOLE_SIZE, 0);
     VkMemoryBarrier cleared = {
         .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
@@ -559,7 +562,7 @@ static bool run_frame(vkrt_renderer *r, FrameParams params, double *seconds, vkr
     };
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                          0, 1, &cleared, 0, NULL, 0, NULL);
-    for (uint32_t s = 0; s < r->samples; ++s) {
+    for (uint32_t s = first; s < end; ++s) {
         record_wave_reset(r, cmd, r->raygen.workgroup_size);
         params.image.z = s;
         params.counts.z = pixels;
@@ -602,10 +605,14 @@ static bool grow_ray_buffers(vkrt_renderer *r, uint64_t needed, vkrt_error *err)
     return true;
 }
 
-bool vkrt_renderer_render(vkrt_renderer *r, const vkrt_config_camera *camera, uint32_t frame_index,
-                          float *rgb, vkrt_frame_stats *stats, vkrt_error *err)
+bool vkrt_renderer_add_samples(vkrt_renderer *r, const vkrt_config_camera *camera,
+                               uint32_t frame_index, uint32_t first, uint32_t count,
+                               vkrt_frame_stats *stats, vkrt_error *err)
 {
     uint32_t pixels = r->width * r->height;
+    if (first >= r->samples || count > r->samples - first)
+        return vkrt_error_set(err, "sample passes %u..%u are outside the %u of the renderer", first,
+                              first + count, r->samples);
     if (!check_loop_budget(r, err))
         return false;
     FrameParams params = {0};
@@ -617,10 +624,10 @@ bool vkrt_renderer_render(vkrt_renderer *r, const vkrt_config_camera *camera, ui
 
     Counters counters;
     double seconds = 0;
-    uint32_t attempts = 0;
+    uint32_t attempts = 0, start = first;
     for (;;) {
         ++attempts;
-        if (!run_frame(r, params, &seconds, err) ||
+        if (!run_passes(r, params, start, first + count, &seconds, err) ||
             !gpu_buffer_download(r->ctx, &r->counters, &counters, sizeof counters, err))
             return vkrt_error_prefix(err, "rendering frame %u", frame_index);
         if (counters.overcast) {
@@ -632,40 +639,53 @@ bool vkrt_renderer_render(vkrt_renderer *r, const vkrt_config_camera *camera, ui
                                   m < r->material_count ? r->material_names[m] : "?",
                                   counters.overcast);
         }
-        /* A wave asked for more rays than the buffers hold: the frame is incomplete. Grow and
-         * render it again; the random streams make the second picture the one a large buffer
-         * would have given. */
+        /* A wave asked for more rays than the buffers hold: those passes are incomplete. Grow
+         * and render every pass of the image again from the first (earlier calls' passes are in
+         * the image too, and cannot be taken out); the random streams make the new picture the
+         * one large buffers would have given. */
         if (counters.max_wave <= r->capacity || r->capacity >= r->max_capacity)
             break;
         if (!grow_ray_buffers(r, counters.max_wave, err))
             return false;
+        start = 0;
     }
+    if (stats) {
+        stats->seconds = seconds;
+        stats->primary_rays = (uint64_t)pixels * (first + count - start);
+        stats->shadow_rays = counters.shadow_rays;
+        stats->secondary_rays = counters.secondary_rays;
+        stats->attempts = attempts;
+        stats->ray_capacity = r->capacity;
+        stats->dropped_rays = counters.max_wave > r->capacity ? counters.max_wave - r->capacity : 0;
+        stats->nonfinite = counters.nonfinite;
+    }
+    return true;
+}
 
+bool vkrt_renderer_read_image(vkrt_renderer *r, uint32_t passes, float *rgb, vkrt_error *err)
+{
+    uint32_t pixels = r->width * r->height;
     vec4 *image = malloc((size_t)pixels * sizeof *image);
     if (!image)
         return vkrt_error_set(err, "out of memory reading back %u pixels", pixels);
     bool ok = gpu_buffer_download(r->ctx, &r->image, image, (size_t)pixels * sizeof *image, err);
     if (ok) {
-        float scale = 1.0f / (float)r->samples;
+        float scale = 1.0f / (float)(passes ? passes : 1);
         for (uint32_t i = 0; i < pixels; ++i) {
             rgb[3 * (size_t)i + 0] = image[i].x * scale;
             rgb[3 * (size_t)i + 1] = image[i].y * scale;
             rgb[3 * (size_t)i + 2] = image[i].z * scale;
         }
-        if (stats) {
-            stats->seconds = seconds;
-            stats->primary_rays = (uint64_t)pixels * r->samples;
-            stats->shadow_rays = counters.shadow_rays;
-            stats->secondary_rays = counters.secondary_rays;
-            stats->attempts = attempts;
-            stats->ray_capacity = r->capacity;
-            stats->dropped_rays =
-                counters.max_wave > r->capacity ? counters.max_wave - r->capacity : 0;
-            stats->nonfinite = counters.nonfinite;
-        }
     }
     free(image);
     return ok;
+}
+
+bool vkrt_renderer_render(vkrt_renderer *r, const vkrt_config_camera *camera, uint32_t frame_index,
+                          float *rgb, vkrt_frame_stats *stats, vkrt_error *err)
+{
+    return vkrt_renderer_add_samples(r, camera, frame_index, 0, r->samples, stats, err) &&
+           vkrt_renderer_read_image(r, r->samples, rgb, err);
 }
 
 bool vkrt_renderer_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool any_hit,

@@ -76,6 +76,18 @@ bool vkrt_renderer_create(vkrt_renderer *r, gpu_context *ctx, const vkrt_scene *
 bool vkrt_renderer_render(vkrt_renderer *r, const vkrt_config_camera *camera, uint32_t frame_index,
                           float *rgb, vkrt_frame_stats *stats, vkrt_error *err);
 
+/* Progressive rendering (the viewer): adds sample passes [first, first + count) of the
+ * renderer's `samples` (the stratification of raygen.comp is over all of them) to the frame's
+ * image on the GPU, r->image, which holds the sum of the passes (vec4 per pixel, w unused);
+ * first == 0 clears it first. One submission, one wait. When the ray buffers must grow, every
+ * pass from 0 is rendered again. vkrt_renderer_render is add_samples(0, samples) + read_image. */
+bool vkrt_renderer_add_samples(vkrt_renderer *r, const vkrt_config_camera *camera,
+                               uint32_t frame_index, uint32_t first, uint32_t count,
+                               vkrt_frame_stats *stats, vkrt_error *err);
+
+/* Reads the image back as its sum divided by passes: width * height * 3 floats, top row first. */
+bool vkrt_renderer_read_image(vkrt_renderer *r, uint32_t passes, float *rgb, vkrt_error *err);
+
 /* Traces count rays (count <= width * height of the renderer) with the renderer's structure: to
  * their closest hits, or (any_hit) to whether anything blocks them (hit.triangle 0 or
  * VKRT_NO_HIT). Closest-hit triangles are reported as original (OBJ order) indices. The trace
