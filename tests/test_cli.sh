@@ -118,5 +118,41 @@ printf 'geometry broken.obj\ncamera eye 0 0 1 look 0 0 0 up 0 1 0 fov 40\n' >"$t
 expect_error "broken OBJ" "$tmp/brokenobj.cfg" "broken.obj:3:"
 expect_error "missing scene.cfg" "$tmp/nonexistent.cfg" "nonexistent.cfg"
 
+# Materials and textures: a quad whose material comes from a material file or its .mtl.
+printf 'mtllib q.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl m\nf 1/1 2/2 3/3 4/4\n' >"$tmp/q.obj"
+quad_cfg() { # quad_cfg FILE [materials FILE]: a scene of the quad
+    { echo "geometry q.obj"; [ $# -gt 1 ] && echo "materials $2"; echo "resolution 32 32"
+      echo "camera eye 0 0 3 look 0 0 0 up 0 1 0 fov 40"; } >"$1"
+}
+printf 'newmtl m\nKd 1 1 1\n\nmap_Kd nowhere.png\n' >"$tmp/q.mtl"
+quad_cfg "$tmp/tex.cfg"
+expect_error "missing texture names the .mtl line" "$tmp/tex.cfg" "q.mtl:4: texture '.*nowhere.png'"
+printf 'not an image' >"$tmp/garbage.png"
+printf 'newmtl m\nmap_Kd garbage.png\n' >"$tmp/q.mtl"
+expect_error "a texture that is no image" "$tmp/tex.cfg" "garbage.png.*not an image"
+printf 'newmtl m\nKd 1 1 1\n' >"$tmp/q.mtl"
+printf 'm 0 bad.glsl\n' >"$tmp/bad.mat"
+printf 'uint count_rays(Surface s) { return 0u; }\nvoid shade(Surface s)\n{\n    add_radiance(s.colour);\n}\n' >"$tmp/bad.glsl"
+quad_cfg "$tmp/bad.cfg" bad.mat
+expect_error "shader compile error names material file, shader and line" "$tmp/bad.cfg" "bad.mat:1: material 'm'.*bad.glsl:4:"
+printf 'm 0 missing.glsl\n' >"$tmp/nofile.mat"
+quad_cfg "$tmp/nofile.cfg" nofile.mat
+expect_error "missing shader file" "$tmp/nofile.cfg" "nofile.mat:1: material 'm'.*missing.glsl"
+printf 'm two bad.glsl\n' >"$tmp/syntax.mat"
+quad_cfg "$tmp/syntax.cfg" syntax.mat
+expect_error "malformed material file line" "$tmp/syntax.cfg" "syntax.mat:1:"
+printf 'm 0 @nonesuch\n' >"$tmp/builtin.mat"
+quad_cfg "$tmp/builtin.cfg" builtin.mat
+expect_error "unknown built-in shader" "$tmp/builtin.cfg" "@nonesuch"
+# A shader that never ends: the watchdog stops the frame and names the scene's materials.
+printf 'm 0 spin.glsl\n' >"$tmp/spin.mat"
+printf 'uint count_rays(Surface s) { return 0u; }\nvoid shade(Surface s)\n{\n    vec3 x = s.position;\n    for (uint i = 0u; i < 4000000000u; ++i)\n        x = sin(x * 1.0001 + cos(x.yzx));\n    add_radiance(x);\n}\n' >"$tmp/spin.glsl"
+quad_cfg "$tmp/spin.cfg" spin.mat
+# Enough pixels that llvmpipe, which ends loops after 65535 iterations, still runs for minutes.
+sed -i 's/^resolution .*/resolution 256 256/' "$tmp/spin.cfg"
+export VKRT_GPU_TIMEOUT=1
+expect_error "a shader looping forever meets the watchdog" "$tmp/spin.cfg" "did not finish within 1 s.*'m' (.*spin.mat:1)"
+unset VKRT_GPU_TIMEOUT
+
 echo "$passed passed, $failures failed"
 [ $failures -eq 0 ]

@@ -85,6 +85,11 @@ bool gpu_staging_create(gpu_context *ctx, gpu_buffer *buf, size_t size, vkrt_err
 
 void gpu_buffer_destroy(gpu_context *ctx, gpu_buffer *buf)
 {
+    /* The device may still be running work that uses it (see gpu_context.lost). */
+    if (ctx->lost) {
+        memset(buf, 0, sizeof *buf);
+        return;
+    }
     if (buf->mapped)
         vkUnmapMemory(ctx->device, buf->memory);
     if (buf->buffer)

@@ -175,6 +175,21 @@ static bool find_compute_queue(gpu_context *ctx, vkrt_error *err)
     return true;
 }
 
+/* The watchdog's limit: the caller's, else VKRT_GPU_TIMEOUT (seconds), else 300 s, long enough
+ * for any frame vkrt renders on lavapipe and far past a desktop driver's own reset. */
+static uint64_t watchdog_ns(double seconds)
+{
+    const double default_seconds = 300;
+    if (!(seconds > 0)) {
+        const char *env = getenv("VKRT_GPU_TIMEOUT");
+        char *end;
+        seconds = env ? strtod(env, &end) : 0;
+        if (!env || end == env || !(seconds > 0))
+            seconds = default_seconds;
+    }
+    return seconds > 1e9 ? UINT64_MAX : (uint64_t)(seconds * 1e9);
+}
+
 static bool create_device(gpu_context *ctx, vkrt_error *err)
 {
     VkPhysicalDeviceFeatures supported;
@@ -264,6 +279,7 @@ bool gpu_context_create(gpu_context *ctx, const gpu_context_desc *desc, vkrt_err
 {
     memset(ctx, 0, sizeof *ctx);
     ctx->messenger_quiet = desc->quiet_validation;
+    ctx->timeout_ns = watchdog_ns(desc->timeout_seconds);
     if (!create_instance(ctx, desc->validation, err) || !pick_device(ctx, desc, err) ||
         !find_compute_queue(ctx, err) || !create_device(ctx, err)) {
         gpu_context_destroy(ctx);
@@ -274,6 +290,12 @@ bool gpu_context_create(gpu_context *ctx, const gpu_context_desc *desc, vkrt_err
 
 void gpu_context_destroy(gpu_context *ctx)
 {
+    /* After a timeout or a device loss, waiting for the device could hang for ever, and freeing
+     * what it may still use is undefined: the process's exit reclaims it all. */
+    if (ctx->lost) {
+        memset(ctx, 0, sizeof *ctx);
+        return;
+    }
     if (ctx->device) {
         vkDeviceWaitIdle(ctx->device);
         if (ctx->fence)
@@ -367,7 +389,24 @@ bool gpu_commands_submit(gpu_context *ctx, vkrt_error *err)
         .pCommandBuffers = &ctx->command_buffer,
     };
     GPU_CHECK(vkQueueSubmit(ctx->queue, 1, &submit, ctx->fence));
-    GPU_CHECK(vkWaitForFences(ctx->device, 1, &ctx->fence, VK_TRUE, UINT64_MAX));
+    VkResult waited = vkWaitForFences(ctx->device, 1, &ctx->fence, VK_TRUE, ctx->timeout_ns);
+    if (waited == VK_TIMEOUT) {
+        /* A kernel that never ends (a user's shader looping forever) would hang the program;
+         * Vulkan cannot cancel a submission, so the device is given up. */
+        ctx->lost = true;
+        return vkrt_error_set(err,
+                              "the GPU did not finish within %.3g s (the watchdog's limit; set "
+                              "VKRT_GPU_TIMEOUT=SECONDS to change it): a kernel seems to run "
+                              "forever",
+                              ctx->timeout_ns * 1e-9);
+    }
+    if (waited == VK_ERROR_DEVICE_LOST) {
+        ctx->lost = true;
+        return vkrt_error_set(err, "the GPU was lost (VK_ERROR_DEVICE_LOST) while running the "
+                                   "work: the driver reset it, often because a kernel ran too "
+                                   "long (a shader looping forever) or read out of bounds");
+    }
+    GPU_CHECK(waited);
     return true;
 fail:
     return false;

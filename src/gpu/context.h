@@ -18,6 +18,8 @@ typedef struct gpu_context_desc {
     bool pick_default;   /* true: ignore device_index and pick as above */
     bool validation;     /* enable VK_LAYER_KHRONOS_validation; every message is counted */
     bool quiet_validation; /* count validation messages without printing them */
+    double timeout_seconds; /* how long one submission may run before the watchdog gives up on
+                               it; 0: VKRT_GPU_TIMEOUT from the environment, else 300 s */
 } gpu_context_desc;
 
 typedef struct gpu_context {
@@ -34,6 +36,9 @@ typedef struct gpu_context {
     VkFence fence;
     bool robust_buffer_access;
     bool float_atomics;          /* VK_EXT_shader_atomic_float's shaderBufferFloat32AtomicAdd is on */
+    uint64_t timeout_ns;         /* the watchdog's limit per submission */
+    bool lost;                   /* a submission timed out or the device was lost: the device is
+                                    not waited for again, only left to the process's exit */
     uint32_t validation_messages;   /* messages the validation layers reported so far */
     bool messenger_quiet;
     char first_validation_message[512];

@@ -74,6 +74,11 @@ fail:
 
 void gpu_storage_set_destroy(gpu_context *ctx, gpu_storage_set *set)
 {
+    /* The device may still be running work that uses it (see gpu_context.lost). */
+    if (ctx->lost) {
+        memset(set, 0, sizeof *set);
+        return;
+    }
     if (set->pipeline_layout)
         vkDestroyPipelineLayout(ctx->device, set->pipeline_layout, NULL);
     if (set->pool)
@@ -160,6 +165,11 @@ fail:
 
 void gpu_pipeline_destroy(gpu_context *ctx, gpu_pipeline *pipe)
 {
+    /* The device may still be running work that uses it (see gpu_context.lost). */
+    if (ctx->lost) {
+        memset(pipe, 0, sizeof *pipe);
+        return;
+    }
     if (pipe->pipeline)
         vkDestroyPipeline(ctx->device, pipe->pipeline, NULL);
     memset(pipe, 0, sizeof *pipe);

@@ -35,6 +35,11 @@ fail:
 
 void gpu_timer_destroy(gpu_context *ctx, gpu_timer *t)
 {
+    /* The device may still be running work that uses it (see gpu_context.lost). */
+    if (ctx->lost) {
+        memset(t, 0, sizeof *t);
+        return;
+    }
     if (t->pool)
         vkDestroyQueryPool(ctx->device, t->pool, NULL);
     memset(t, 0, sizeof *t);

@@ -605,6 +605,23 @@ static bool grow_ray_buffers(vkrt_renderer *r, uint64_t needed, vkrt_error *err)
     return true;
 }
 
+/* After a timeout or a lost device, the likeliest culprit is a material shader that never ends:
+ * the message lists the scene's materials (the GPU cannot say which invocation hung). */
+static void name_suspects(const vkrt_renderer *r, vkrt_error *err)
+{
+    char list[600] = "";
+    size_t used = 0;
+    for (uint32_t i = 0; i < r->material_count && used + 2 < sizeof list; ++i) {
+        int n = snprintf(list + used, sizeof list - used, "%s%s", i ? ", " : "",
+                         r->material_names[i]);
+        if (n < 0 || (size_t)n >= sizeof list - used)
+            break;
+        used += (size_t)n;
+    }
+    size_t len = strlen(err->msg);
+    snprintf(err->msg + len, sizeof err->msg - len, "; the scene's materials: %s", list);
+}
+
 bool vkrt_renderer_add_samples(vkrt_renderer *r, const vkrt_config_camera *camera,
                                uint32_t frame_index, uint32_t first, uint32_t count,
                                vkrt_frame_stats *stats, vkrt_error *err)
@@ -628,8 +645,11 @@ bool vkrt_renderer_add_samples(vkrt_renderer *r, const vkrt_config_camera *camer
     for (;;) {
         ++attempts;
         if (!run_passes(r, params, start, first + count, &seconds, err) ||
-            !gpu_buffer_download(r->ctx, &r->counters, &counters, sizeof counters, err))
+            !gpu_buffer_download(r->ctx, &r->counters, &counters, sizeof counters, err)) {
+            if (r->ctx->lost)
+                name_suspects(r, err);
             return vkrt_error_prefix(err, "rendering frame %u", frame_index);
+        }
         if (counters.overcast) {
             uint32_t m = counters.overcast_material - 1;
             return vkrt_error_set(err,
