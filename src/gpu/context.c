@@ -59,7 +59,19 @@ static bool create_instance(gpu_context *ctx, bool validation, vkrt_error *err)
         .pEngineName = "vkrt",
         .apiVersion = VK_API_VERSION_1_1,
     };
-    const char *extensions[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME};
+    const char *extensions[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME,
+                                VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME};
+    /* Synchronization validation (hazards between dispatches, transfers and indirect reads) is
+     * off by default in the layer, and slow; VKRT_SYNC_VALIDATION=1 turns it on (a test does). */
+    const char *sync_env = getenv("VKRT_SYNC_VALIDATION");
+    bool sync = validation && sync_env && *sync_env && strcmp(sync_env, "0") != 0;
+    VkValidationFeatureEnableEXT sync_feature =
+        VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
+    VkValidationFeaturesEXT features = {
+        .sType = VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT,
+        .enabledValidationFeatureCount = 1,
+        .pEnabledValidationFeatures = &sync_feature,
+    };
     VkDebugUtilsMessengerCreateInfoEXT messenger_info = {
         .sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT,
         .messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
@@ -70,14 +82,15 @@ static bool create_instance(gpu_context *ctx, bool validation, vkrt_error *err)
         .pfnUserCallback = on_validation_message,
         .pUserData = ctx,
     };
+    features.pNext = &messenger_info;
     VkInstanceCreateInfo info = {
         .sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO,
         /* Chained so that instance creation and destruction are validated too. */
-        .pNext = validation ? &messenger_info : NULL,
+        .pNext = sync ? (const void *)&features : validation ? (const void *)&messenger_info : NULL,
         .pApplicationInfo = &app,
         .enabledLayerCount = validation ? 1 : 0,
         .ppEnabledLayerNames = &validation_layer,
-        .enabledExtensionCount = validation ? 1 : 0,
+        .enabledExtensionCount = validation ? (sync ? 2 : 1) : 0,
         .ppEnabledExtensionNames = extensions,
     };
     VkResult result = vkCreateInstance(&info, NULL, &ctx->instance);
