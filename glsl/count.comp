@@ -23,7 +23,13 @@ void main()
         vkrt_rng = ray.info.y;
         vkrt_radiance = vec3(0.0);
         vkrt_casting = false;
-        count = min(material_count_rays(materials[s.material].info.x, s), VKRT_MAX_CAST);
+        count = material_count_rays(materials[s.material].info.x, s);
+        if (count > VKRT_MAX_CAST) {
+            /* An error of the material, reported by the host; cast nothing rather than a part. */
+            atomicAdd(counters.overcount, 1u);
+            atomicExchange(counters.overcast_material, s.material + 1u);
+            count = 0u;
+        }
     }
     uint first = count > 0u ? atomicAdd(waves[frame.wave.y + 1u].ray_count, count) : 0u;
     ray_slots[index] = uvec2(first, count);

@@ -165,7 +165,7 @@ VKRT_STRUCT(Counters) {
     uint overcast;          /* rays a shader cast beyond what its count_rays said */
     uint overcast_material; /* 1 + the material of the last such cast, 0 if none */
     uint nonfinite;         /* shading results that were NaN or infinite, dropped, not added */
-    uint pad1;
+    uint overcount;         /* hits whose count_rays asked for more than VKRT_MAX_CAST rays */
     uint pad2;
 };
 

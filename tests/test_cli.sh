@@ -135,6 +135,10 @@ printf 'm 0 bad.glsl\n' >"$tmp/bad.mat"
 printf 'uint count_rays(Surface s) { return 0u; }\nvoid shade(Surface s)\n{\n    add_radiance(s.colour);\n}\n' >"$tmp/bad.glsl"
 quad_cfg "$tmp/bad.cfg" bad.mat
 expect_error "shader compile error names material file, shader and line" "$tmp/bad.cfg" "bad.mat:1: material 'm'.*bad.glsl:4:"
+printf 'uint count_ray(Surface s) { return 0u; }\nvoid shade(Surface s) { }\n' >"$tmp/bad.glsl"
+expect_error "a shader without count_rays is named with what it lacks" "$tmp/bad.cfg" "bad.mat:1: material 'm'.*bad.glsl does not define uint count_rays"
+printf 'uint count_rays(Surface s) { return 65u; }\nvoid shade(Surface s) { }\n' >"$tmp/bad.glsl"
+expect_error "count_rays above 64 is the material's error" "$tmp/bad.cfg" "material 'm'.*more than 64 rays"
 printf 'm 0 missing.glsl\n' >"$tmp/nofile.mat"
 quad_cfg "$tmp/nofile.cfg" nofile.mat
 expect_error "missing shader file" "$tmp/nofile.cfg" "nofile.mat:1: material 'm'.*missing.glsl"

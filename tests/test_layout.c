@@ -65,7 +65,7 @@ static const field fields[] = {
     FIELD(counters, shadow_rays, U32), FIELD(counters, secondary_rays, U32),
     FIELD(counters, max_wave, U32), FIELD(counters, overcast, U32),
     FIELD(counters, overcast_material, U32), FIELD(counters, nonfinite, U32),
-    FIELD(counters, pad1, U32), FIELD(counters, pad2, U32),
+    FIELD(counters, overcount, U32), FIELD(counters, pad2, U32),
     FIELD(texcoords, uv01, VEC4), FIELD(texcoords, uv2, VEC4),
     FIELD(wave, groups_x, U32), FIELD(wave, groups_y, U32), FIELD(wave, groups_z, U32),
     FIELD(wave, ray_count, U32),

@@ -15,7 +15,7 @@
 #include "surface.glsl"
 #include "texture.glsl"
 
-/* The most rays one hit may cast; count_rays answers above it are cut to it. */
+/* The most rays one hit may cast; a count_rays answer above it is an error of the material. */
 #define VKRT_MAX_CAST 64u
 
 /* Which material is being shaded (index into materials[]), and the ray that hit it. */

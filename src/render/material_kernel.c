@@ -163,6 +163,30 @@ bool vkrt_material_kernel_compile(const vkrt_material_kernel *k,
     gpu_shader_sources sources = {.lookup = lookup, .user = (void *)k, .display_prefix = "glsl/"};
     if (gpu_shader_compile(&sources, kernel, spirv, words, err))
         return true;
+    /* A shader that lacks an entry point (or gives it the wrong parameters) fails where the
+     * generated switch calls it, under the renamed name: say which shader and what it lacks. */
+    static const struct {
+        const char *renamed, *wanted;
+    } entries[] = {
+        {"vkrt_count_rays_", "uint count_rays(Surface s)"},
+        {"vkrt_shade_", "void shade(Surface s)"},
+        {"vkrt_environment_", "vec3 environment(vec3 direction, vec4 payload)"},
+    };
+    for (size_t e = 0; e < sizeof entries / sizeof *entries; ++e) {
+        const char *at = strstr(err->msg, entries[e].renamed);
+        unsigned shader;
+        if (at && sscanf(at + strlen(entries[e].renamed), "%u", &shader) == 1 &&
+            shader < materials->shader_count) {
+            const vkrt_shader_source *s = &materials->shaders[shader];
+            char display[1200];
+            if (s->builtin)
+                snprintf(display, sizeof display, "glsl/materials/%s.glsl", s->builtin);
+            else
+                snprintf(display, sizeof display, "%s", s->path);
+            return vkrt_error_set(err, "%s: %s does not define %s (docs/materials.md)",
+                                  s->referrer, display, entries[e].wanted);
+        }
+    }
     /* Blame the material whose shader the first error is in. */
     for (uint32_t i = 0; i < materials->shader_count; ++i) {
         const vkrt_shader_source *s = &materials->shaders[i];

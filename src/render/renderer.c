@@ -52,6 +52,9 @@ static const uint32_t brute_force_block = 32768;
  * its pixel by less than a thousandth of the light that reaches it. */
 static const float default_min_importance = 1e-3f;
 
+/* VKRT_MAX_CAST of glsl/lib/material_api.glsl: the most rays one hit may cast. */
+static const uint32_t max_cast = 64;
+
 /* The ray buffers may take at most this share of the device's largest memory heap. */
 static const uint32_t ray_memory_share = 4;
 
@@ -650,15 +653,19 @@ bool vkrt_renderer_add_samples(vkrt_renderer *r, const vkrt_config_camera *camer
                 name_suspects(r, err);
             return vkrt_error_prefix(err, "rendering frame %u", frame_index);
         }
-        if (counters.overcast) {
-            uint32_t m = counters.overcast_material - 1;
+        uint32_t m = counters.overcast_material - 1;
+        const char *culprit = m < r->material_count ? r->material_names[m] : "?";
+        if (counters.overcount)
+            return vkrt_error_set(err,
+                                  "material %s: count_rays asked for more than %u rays at %u hits; "
+                                  "one hit may cast at most %u",
+                                  culprit, max_cast, counters.overcount, max_cast);
+        if (counters.overcast)
             return vkrt_error_set(err,
                                   "material %s cast more rays than its count_rays returned (%u "
-                                  "rays not traced): count_rays must return exactly the number of "
-                                  "cast_ray calls shade makes",
-                                  m < r->material_count ? r->material_names[m] : "?",
-                                  counters.overcast);
-        }
+                                  "rays not traced): shade may cast at most as many rays as "
+                                  "count_rays returned for the same hit",
+                                  culprit, counters.overcast);
         /* A wave asked for more rays than the buffers hold: those passes are incomplete. Grow
          * and render every pass of the image again from the first (earlier calls' passes are in
          * the image too, and cannot be taken out); the random streams make the new picture the
