@@ -24,6 +24,8 @@ const char *vkrt_usage(void)
            "  --accel A         auto | brute | grid | bvh (overrides `accel`)\n"
            "  --verbose         say which acceleration structure was chosen and why, and its\n"
            "                    build statistics\n"
+           "  --profile         time every dispatch of each frame (GPU timestamps) and print a\n"
+           "                    table per depth and kernel\n"
            "  --exposure STOPS  scale PNG output by 2^STOPS before the sRGB curve (EXR unchanged)\n"
            "  --device N        Vulkan device (see --list-devices); default: the first discrete\n"
            "                    GPU, else the first device\n"
@@ -130,6 +132,8 @@ bool vkrt_options_parse(int argc, char **argv, vkrt_options *opts, vkrt_error *e
             opts->resume = true;
         } else if (strcmp(arg, "--verbose") == 0) {
             opts->verbose = true;
+        } else if (strcmp(arg, "--profile") == 0) {
+            opts->profile = true;
         } else if (strcmp(arg, "--quiet") == 0) {
             opts->quiet = true;
         } else if (strcmp(arg, "--validation") == 0) {

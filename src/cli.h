@@ -35,6 +35,7 @@ typedef struct vkrt_options {
     bool accel_given;
     bool quiet;
     bool verbose;
+    bool profile;             /* render --profile: time every dispatch */
     bool resume;              /* render --resume: skip frames whose files are already complete */
     bool validation;          /* --validation, or VKRT_VALIDATION=1 in the environment */
 } vkrt_options;

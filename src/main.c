@@ -103,6 +103,7 @@ static bool render_frames(const vkrt_options *opts, const vkrt_scene *scene, con
         .height = opts->height ? opts->height : cfg->height,
         .samples = opts->samples ? opts->samples : cfg->samples,
         .accel = opts->accel_given ? opts->accel : cfg->accel,
+        .profile = opts->profile,
     };
     vkrt_renderer renderer;
     if (!vkrt_renderer_create(&renderer, ctx, scene, &desc, err))
@@ -142,6 +143,8 @@ static bool render_frames(const vkrt_options *opts, const vkrt_scene *scene, con
                 fprintf(stderr, "vkrt: warning: frame %u: %u shading results were NaN or "
                                 "infinite and were dropped\n",
                         f, stats.nonfinite);
+            if (stats.profiled && !opts->quiet)
+                vkrt_frame_stats_print_profile(stderr, &stats);
             if (opts->verbose && stats.attempts > 1)
                 fprintf(stderr, "vkrt: frame %u: ray buffers grew to %u rays (%u attempts)\n", f,
                         stats.ray_capacity, stats.attempts);

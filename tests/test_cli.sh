@@ -31,6 +31,10 @@ check "render to PNG exits 0" test $? -eq 0
 check "PNG written" test -s "$tmp/c.png"
 check "PNG has the PNG signature" sh -c "head -c 8 '$tmp/c.png' | od -An -c | grep -q 'P   N   G'"
 check "summary names rays per second" grep -q "Mrays/s" "$tmp/err"
+"$vkrt" render "$src/scenes/cornell-spheres/scene.cfg" --width 16 --height 16 --profile -o "$tmp/p.png" 2>"$tmp/err"
+check "--profile exits 0" test $? -eq 0
+check "--profile prints the share of tracing" grep -q "the frame costs .*x its tracing" "$tmp/err"
+check "--profile has a row per depth" grep -q "^ *8 " "$tmp/err"
 "$vkrt" render "$src/scenes/cornell/scene.cfg" --width 48 --height 32 --quiet -o "$tmp/c.exr" 2>"$tmp/err"
 check "render to EXR exits 0" test $? -eq 0
 check "EXR written" test -s "$tmp/c.exr"

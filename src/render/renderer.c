@@ -365,6 +365,7 @@ bool vkrt_renderer_create(vkrt_renderer *r, gpu_context *ctx, const vkrt_scene *
     r->samples = desc->samples ? desc->samples : 1;
     r->max_depth = desc->max_depth ? desc->max_depth : scene->config.max_depth;
     r->min_importance = desc->min_importance > 0 ? desc->min_importance : default_min_importance;
+    r->profile = desc->profile;
     r->triangle_count = scene->mesh.triangle_count;
     r->light_words = (scene->config.light_count + 31) / 32;
     uint32_t workgroup_size = desc->workgroup_size ? desc->workgroup_size : default_workgroup_size;
@@ -548,13 +549,49 @@ static void record_wave_reset(vkrt_renderer *r, VkCommandBuffer cmd, uint32_t wo
 
 /* Records and runs sample passes [first, end) into the image (cleared first when first is 0);
  * counters hold their statistics afterwards. */
+/* With a profile, a timestamp follows every kernel: which kernel and depth each one closes. */
+typedef struct profile_mark {
+    uint8_t depth, kernel;
+} profile_mark;
+
+typedef struct frame_profile {
+    gpu_timer timer;
+    profile_mark *marks;
+    uint32_t count;
+} frame_profile;
+
+static void mark(VkCommandBuffer cmd, frame_profile *p, uint32_t depth, uint32_t kernel)
+{
+    if (!p)
+        return;
+    p->marks[p->count] = (profile_mark){
+        (uint8_t)(depth < VKRT_PROFILE_DEPTHS ? depth : VKRT_PROFILE_DEPTHS - 1), (uint8_t)kernel};
+    gpu_timer_write(cmd, &p->timer, ++p->count);
+}
+
 static bool run_passes(vkrt_renderer *r, FrameParams params, uint32_t first, uint32_t end,
-                       double *seconds, vkrt_error *err)
+                       double *seconds, vkrt_frame_stats *stats, vkrt_error *err)
 {
     uint32_t pixels = r->width * r->height;
+    frame_profile profile = {0}, *p = NULL;
+    if (r->profile && stats) {
+        uint32_t marks = (end - first) * (1 + 5 * (r->max_depth + 1));
+        profile.marks = calloc(marks, sizeof *profile.marks);
+        if (!profile.marks)
+            return vkrt_error_set(err, "out of memory for a profile");
+        if (!gpu_timer_create(r->ctx, &profile.timer, marks + 1, err)) {
+            free(profile.marks);
+            return false;
+        }
+        p = &profile;
+    }
     VkCommandBuffer cmd;
     if (!gpu_commands_begin(r->ctx, &cmd, err))
-        return false;
+        goto fail;
+    if (p) {
+        gpu_timer_reset(cmd, &p->timer);
+        gpu_timer_write(cmd, &p->timer, 0);
+    }
     if (first == 0)
         vkCmdFillBuffer(cmd, r->image.buffer, 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(cmd, r->counters.buffer, 0, VK_WHOLE_SIZE, 0);
@@ -571,25 +608,86 @@ static bool run_passes(vkrt_renderer *r, FrameParams params, uint32_t first, uin
         params.counts.z = pixels;
         params.wave = (uvec4){0, 0, r->max_depth, r->capacity};
         gpu_dispatch(cmd, &r->raygen, &r->set, &params, pixels);
+        mark(cmd, p, 0, VKRT_KERNEL_RAYGEN);
         params.counts.z = VKRT_RAYS_OF_WAVE;
         for (uint32_t depth = 0; depth <= r->max_depth; ++depth) {
             params.wave.x = depth & 1;
             params.wave.y = depth;
             VkDeviceSize wave = (VkDeviceSize)depth * sizeof(WaveState);
             record_trace(r, cmd, &params, false, 0, true);
+            mark(cmd, p, depth, VKRT_KERNEL_TRACE);
             gpu_dispatch_indirect(cmd, &r->light, &r->set, &params, &r->waves, wave);
+            mark(cmd, p, depth, VKRT_KERNEL_LIGHT);
             if (depth < r->max_depth) {
                 gpu_dispatch_indirect(cmd, &r->count, &r->set, &params, &r->waves, wave);
+                mark(cmd, p, depth, VKRT_KERNEL_COUNT);
                 gpu_dispatch(cmd, &r->prepare, &r->set, &params, 1);
+                mark(cmd, p, depth, VKRT_KERNEL_PREPARE);
             }
             gpu_dispatch_indirect(cmd, &r->shade, &r->set, &params, &r->waves, wave);
+            mark(cmd, p, depth, VKRT_KERNEL_SHADE);
         }
     }
     double start = now_seconds();
     if (!gpu_commands_submit(r->ctx, err))
-        return false;
+        goto fail;
     *seconds = now_seconds() - start;
+    if (p) {
+        memset(stats->kernel_ms, 0, sizeof stats->kernel_ms);
+        stats->profiled = true;
+        for (uint32_t i = 0; i < p->count; ++i) {
+            double ms;
+            if (!gpu_timer_ms(r->ctx, &p->timer, i, i + 1, &ms, err))
+                goto fail;
+            stats->kernel_ms[p->marks[i].depth][p->marks[i].kernel] += ms;
+        }
+        if (!gpu_timer_ms(r->ctx, &p->timer, 0, p->count, &stats->frame_ms, err))
+            goto fail;
+        gpu_timer_destroy(r->ctx, &p->timer);
+        free(p->marks);
+    }
     return true;
+fail:
+    if (p) {
+        gpu_timer_destroy(r->ctx, &p->timer);
+        free(p->marks);
+    }
+    return false;
+}
+
+void vkrt_frame_stats_print_profile(FILE *out, const vkrt_frame_stats *stats)
+{
+    static const char *const names[VKRT_KERNEL_KINDS] = {"raygen", "trace", "light", "count",
+                                                          "prepare", "shade"};
+    fprintf(out, "vkrt: profile (GPU ms, summed over sample passes)\n  depth");
+    for (int k = 0; k < VKRT_KERNEL_KINDS; ++k)
+        fprintf(out, " %9s", names[k]);
+    fprintf(out, "\n");
+    double total[VKRT_KERNEL_KINDS] = {0};
+    for (int d = 0; d < VKRT_PROFILE_DEPTHS; ++d) {
+        double row = 0;
+        for (int k = 0; k < VKRT_KERNEL_KINDS; ++k)
+            row += stats->kernel_ms[d][k];
+        if (row == 0)
+            continue;
+        fprintf(out, "  %5d", d);
+        for (int k = 0; k < VKRT_KERNEL_KINDS; ++k) {
+            fprintf(out, " %9.3f", stats->kernel_ms[d][k]);
+            total[k] += stats->kernel_ms[d][k];
+        }
+        fprintf(out, "\n");
+    }
+    double sum = 0;
+    fprintf(out, "  total");
+    for (int k = 0; k < VKRT_KERNEL_KINDS; ++k) {
+        fprintf(out, " %9.3f", total[k]);
+        sum += total[k];
+    }
+    /* The light kernel is mostly its shadow rays' traversal. */
+    double tracing = total[VKRT_KERNEL_TRACE] + total[VKRT_KERNEL_LIGHT];
+    fprintf(out, "\n  frame %.3f ms (kernels %.3f); trace + light %.3f ms: the frame costs %.2fx "
+                 "its tracing\n",
+            stats->frame_ms, sum, tracing, tracing > 0 ? stats->frame_ms / tracing : 0.0);
 }
 
 /* Grows the ray buffers to hold `needed` rays: at least double, never past the device's limit. */
@@ -647,7 +745,7 @@ bool vkrt_renderer_add_samples(vkrt_renderer *r, const vkrt_config_camera *camer
     uint32_t attempts = 0, start = first;
     for (;;) {
         ++attempts;
-        if (!run_passes(r, params, start, first + count, &seconds, err) ||
+        if (!run_passes(r, params, start, first + count, &seconds, stats, err) ||
             !gpu_buffer_download(r->ctx, &r->counters, &counters, sizeof counters, err)) {
             if (r->ctx->lost)
                 name_suspects(r, err);
@@ -685,6 +783,7 @@ bool vkrt_renderer_add_samples(vkrt_renderer *r, const vkrt_config_camera *camer
         stats->ray_capacity = r->capacity;
         stats->dropped_rays = counters.max_wave > r->capacity ? counters.max_wave - r->capacity : 0;
         stats->nonfinite = counters.nonfinite;
+        stats->profiled = r->profile;
     }
     return true;
 }

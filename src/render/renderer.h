@@ -15,6 +15,7 @@
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "../error.h"
 #include "../gpu/buffer.h"
@@ -37,7 +38,14 @@ typedef struct vkrt_render_desc {
     uint32_t ray_capacity;    /* rays per buffer to start with; 0 (or below the pixel count):
                                  one per pixel. Tests start small to force growth. */
     float min_importance;     /* a cast ray weaker than this is dropped; 0: the default 1e-3 */
+    bool profile;             /* time every dispatch with GPU timestamps (vkrt_frame_stats) */
 } vkrt_render_desc;
+
+/* The kernels of a frame, for profiles. */
+enum { VKRT_KERNEL_RAYGEN, VKRT_KERNEL_TRACE, VKRT_KERNEL_LIGHT, VKRT_KERNEL_COUNT,
+       VKRT_KERNEL_PREPARE, VKRT_KERNEL_SHADE, VKRT_KERNEL_KINDS };
+/* Depths a profile tells apart; deeper ones are added to the last. */
+#define VKRT_PROFILE_DEPTHS 17
 
 typedef struct vkrt_frame_stats {
     double seconds;           /* GPU submission to completion, host clock, of the last attempt */
@@ -48,7 +56,15 @@ typedef struct vkrt_frame_stats {
     uint32_t ray_capacity;    /* rays per buffer after the frame */
     uint64_t dropped_rays;    /* rays past the largest buffers the device allows (then 0 < ...) */
     uint32_t nonfinite;       /* NaN or infinite shading results dropped */
+    bool profiled;            /* the renderer was created with desc.profile: */
+    double kernel_ms[VKRT_PROFILE_DEPTHS][VKRT_KERNEL_KINDS]; /* GPU ms per depth and kernel,
+                                 summed over the sample passes (raygen counts at depth 0) */
+    double frame_ms;          /* GPU ms from the first dispatch to the last */
 } vkrt_frame_stats;
+
+/* Prints a profile (stats->profiled) as a table: a row per depth, a column per kernel, and the
+ * share of the frame spent tracing (closest hits and shadow rays). */
+void vkrt_frame_stats_print_profile(FILE *out, const vkrt_frame_stats *stats);
 
 typedef struct vkrt_renderer {
     gpu_context *ctx;
@@ -61,6 +77,7 @@ typedef struct vkrt_renderer {
     uint32_t triangle_count, light_count, light_words;
     uint32_t capacity, max_capacity; /* rays per ray buffer: now, and the most the device allows */
     float min_importance;
+    bool profile;
     uint32_t *light_kinds;    /* VKRT_LIGHT_KIND_* per light, kept for the loop budget check */
     char **material_names;    /* per uploaded material, "name (file:line)", for messages */
     uint32_t material_count;
