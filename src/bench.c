@@ -3,7 +3,9 @@
  *
  * Rays: primary rays through the pixel centres of the scene's first camera; shadow rays from
  * each primary hit towards the first point or spot light (or against the first directional
- * light; without any, towards a point above the scene's bounds). Each trace runs back to back
+ * light; without any, towards a point above the scene's bounds); diffuse bounce rays from each
+ * primary hit in a cosine-distributed direction about the normal facing the camera (closest hit,
+ * the incoherent rays of a path tracer's first bounce). Each trace runs back to back
  * in one submission, warm-up runs worth warmup_ms of GPU time then timed_runs runs, with GPU
  * timestamps between them; the median of the timed runs is reported, with the fastest and slowest
  * in the JSON. (Runs with host work between them, as a first version did, let the H100's clocks
@@ -68,6 +70,30 @@ static shadow_target choose_target(const vkrt_scene *scene)
 }
 
 /* Builds one shadow ray per primary hit; returns how many. */
+/* The hit of primary ray i: a ray origin just off the surface on the camera's side, and the unit
+ * normal on that side. */
+static void hit_frame(const vkrt_scene *scene, const Ray *primary, const Hit *hits, uint32_t i,
+                      float origin[3], float nrm[3])
+{
+    const float *v = scene->mesh.positions + 9 * (size_t)hits[i].triangle;
+    float w = 1 - hits[i].u - hits[i].v, p[3], e1[3], e2[3], magnitude = 0;
+    for (int k = 0; k < 3; ++k) {
+        p[k] = w * v[k] + hits[i].u * v[3 + k] + hits[i].v * v[6 + k];
+        e1[k] = v[3 + k] - v[k];
+        e2[k] = v[6 + k] - v[k];
+        magnitude = fmaxf(magnitude, fmaxf(fabsf(v[k]), fmaxf(fabsf(v[3 + k]), fabsf(v[6 + k]))));
+    }
+    nrm[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    nrm[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    nrm[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    float len = sqrtf(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+    const float *d = &primary[i].direction.x;
+    float facing = nrm[0] * d[0] + nrm[1] * d[1] + nrm[2] * d[2] > 0 ? -1.0f : 1.0f;
+    for (int k = 0; k < 3; ++k)
+        nrm[k] *= facing / len;
+    offset_origin(p, nrm, magnitude, origin);
+}
+
 static uint32_t make_shadow_rays(const vkrt_scene *scene, const Ray *primary, const Hit *hits,
                                  uint32_t count, Ray *shadow)
 {
@@ -76,24 +102,8 @@ static uint32_t make_shadow_rays(const vkrt_scene *scene, const Ray *primary, co
     for (uint32_t i = 0; i < count; ++i) {
         if (hits[i].triangle == VKRT_NO_HIT)
             continue;
-        const float *v = scene->mesh.positions + 9 * (size_t)hits[i].triangle;
-        float w = 1 - hits[i].u - hits[i].v, p[3], e1[3], e2[3], nrm[3], magnitude = 0;
-        for (int k = 0; k < 3; ++k) {
-            p[k] = w * v[k] + hits[i].u * v[3 + k] + hits[i].v * v[6 + k];
-            e1[k] = v[3 + k] - v[k];
-            e2[k] = v[6 + k] - v[k];
-            magnitude = fmaxf(magnitude, fmaxf(fabsf(v[k]), fmaxf(fabsf(v[3 + k]), fabsf(v[6 + k]))));
-        }
-        nrm[0] = e1[1] * e2[2] - e1[2] * e2[1];
-        nrm[1] = e1[2] * e2[0] - e1[0] * e2[2];
-        nrm[2] = e1[0] * e2[1] - e1[1] * e2[0];
-        float len = sqrtf(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
-        const float *d = &primary[i].direction.x;
-        float facing = nrm[0] * d[0] + nrm[1] * d[1] + nrm[2] * d[2] > 0 ? -1.0f : 1.0f;
-        for (int k = 0; k < 3; ++k)
-            nrm[k] *= facing / len;
-        float origin[3], dir[3], tmax = 3.4e38f;
-        offset_origin(p, nrm, magnitude, origin);
+        float origin[3], nrm[3], dir[3], tmax = 3.4e38f;
+        hit_frame(scene, primary, hits, i, origin, nrm);
         if (target.is_point) {
             for (int k = 0; k < 3; ++k)
                 dir[k] = target.v[k] - origin[k];
@@ -114,6 +124,54 @@ static uint32_t make_shadow_rays(const vkrt_scene *scene, const Ray *primary, co
     return n;
 }
 
+/* A 32-bit hash (the low-bias finaliser of glsl/lib/rng.glsl) to a float in [0, 1). */
+static float hash_float(uint32_t x)
+{
+    x ^= x >> 16;
+    x *= 0x7FEB352Du;
+    x ^= x >> 15;
+    x *= 0x846CA68Bu;
+    x ^= x >> 16;
+    return (float)(x >> 8) * (1.0f / 16777216.0f);
+}
+
+static uint32_t make_diffuse_rays(const vkrt_scene *scene, const Ray *primary, const Hit *hits,
+                                  uint32_t count, Ray *diffuse)
+{
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < count; ++i) {
+        if (hits[i].triangle == VKRT_NO_HIT)
+            continue;
+        float origin[3], nrm[3];
+        hit_frame(scene, primary, hits, i, origin, nrm);
+        /* Cosine-distributed about nrm: a disc sample lifted onto the hemisphere. */
+        float u1 = hash_float(2 * i + 1), u2 = hash_float(2 * i + 2);
+        float r = sqrtf(u1), phi = 6.28318531f * u2;
+        float t[3], b[3];
+        float a[3] = {fabsf(nrm[0]) > 0.5f ? 0.0f : 1.0f, fabsf(nrm[0]) > 0.5f ? 1.0f : 0.0f, 0};
+        t[0] = nrm[1] * a[2] - nrm[2] * a[1];
+        t[1] = nrm[2] * a[0] - nrm[0] * a[2];
+        t[2] = nrm[0] * a[1] - nrm[1] * a[0];
+        float tl = sqrtf(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+        for (int k = 0; k < 3; ++k)
+            t[k] /= tl;
+        b[0] = nrm[1] * t[2] - nrm[2] * t[1];
+        b[1] = nrm[2] * t[0] - nrm[0] * t[2];
+        b[2] = nrm[0] * t[1] - nrm[1] * t[0];
+        float z = sqrtf(fmaxf(0.0f, 1 - u1)), dir[3];
+        for (int k = 0; k < 3; ++k)
+            dir[k] = r * cosf(phi) * t[k] + r * sinf(phi) * b[k] + z * nrm[k];
+        float dl = sqrtf(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+        diffuse[n++] = (Ray){
+            .origin = {origin[0], origin[1], origin[2], 0},
+            .direction = {dir[0] / dl, dir[1] / dl, dir[2] / dl, 3.4e38f},
+            .importance = {1, 1, 1, 0},
+            .info = {i, 0, 0, 0},
+        };
+    }
+    return n;
+}
+
 /* GPU times of one trace: median, fastest and slowest of timed_runs after the warm-up. */
 typedef struct trace_times {
     double median_ms, min_ms, max_ms;
@@ -123,9 +181,9 @@ typedef struct bench_row {
     const char *scene;
     vkrt_accel_stats accel;
     uint32_t triangles, width, height;
-    uint32_t primary_rays, primary_timed, shadow_rays, shadow_timed;
-    trace_times primary, shadow;
-    double primary_ms, shadow_ms; /* medians */
+    uint32_t primary_rays, primary_timed, shadow_rays, shadow_timed, diffuse_timed;
+    trace_times primary, shadow, diffuse;
+    double primary_ms, shadow_ms, diffuse_ms; /* medians */
     uint32_t hits, blocked;
     double grid_density;
 } bench_row;
@@ -200,10 +258,20 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
             row->hits += hits[i].triangle != VKRT_NO_HIT;
         row->shadow_rays = n;
         row->shadow_timed = n;
-        ok = n == 0 || timed_trace(&r, shadow, n, true, hits, &row->shadow, err);
+        Hit *primary_hits = malloc(timed * sizeof *primary_hits);
+        ok = primary_hits != NULL;
+        if (ok)
+            memcpy(primary_hits, hits, timed * sizeof *hits);
+        ok = ok && (n == 0 || timed_trace(&r, shadow, n, true, hits, &row->shadow, err));
         row->shadow_ms = row->shadow.median_ms;
         for (uint32_t i = 0; ok && i < n; ++i)
             row->blocked += hits[i].triangle != VKRT_NO_HIT;
+        /* The shadow buffer is free again: it holds the diffuse rays now. */
+        n = ok ? make_diffuse_rays(scene, primary, primary_hits, timed, shadow) : 0;
+        row->diffuse_timed = n;
+        ok = ok && (n == 0 || timed_trace(&r, shadow, n, false, hits, &row->diffuse, err));
+        row->diffuse_ms = row->diffuse.median_ms;
+        free(primary_hits);
     }
     free(primary);
     free(shadow);
@@ -219,10 +287,11 @@ static double mrays(uint32_t rays, double ms)
 
 static void print_row(FILE *out, const bench_row *b)
 {
-    fprintf(out, "%-28s %-5s %9u %9.1f %8.2f %10.4g %10.4g %8u %8u\n", b->scene,
+    fprintf(out, "%-28s %-5s %9u %9.1f %8.2f %10.4g %10.4g %10.4g %8u %8u\n", b->scene,
             vkrt_accel_name(b->accel.kind), b->triangles, b->accel.build_ms,
             b->accel.bytes / 1048576.0, mrays(b->primary_timed, b->primary_ms),
-            mrays(b->shadow_timed, b->shadow_ms), b->hits, b->blocked);
+            mrays(b->shadow_timed, b->shadow_ms), mrays(b->diffuse_timed, b->diffuse_ms), b->hits,
+            b->blocked);
 }
 
 static bool write_json(const char *path, const gpu_context *ctx, const bench_row *rows,
@@ -249,13 +318,17 @@ static bool write_json(const char *path, const gpu_context *ctx, const bench_row
                 "\"primary_ms_max\": %.4f, \"primary_mrays_per_s\": %.3f, "
                 "\"shadow_rays_timed\": %u, \"shadow_ms\": %.4f, \"shadow_ms_min\": %.4f, "
                 "\"shadow_ms_max\": %.4f, \"shadow_mrays_per_s\": %.3f, "
+                "\"diffuse_rays_timed\": %u, \"diffuse_ms\": %.4f, \"diffuse_ms_min\": %.4f, "
+                "\"diffuse_ms_max\": %.4f, \"diffuse_mrays_per_s\": %.3f, "
                 "\"hits\": %u, \"blocked\": %u, \"grid_density\": %g}%s\n",
                 b->scene, vkrt_accel_name(b->accel.kind), b->accel.reason, b->triangles, b->width,
                 b->height, b->accel.build_ms, b->accel.bytes, b->accel.nodes,
                 b->accel.triangles_per_leaf, b->primary_timed, b->primary_ms, b->primary.min_ms,
                 b->primary.max_ms, mrays(b->primary_timed, b->primary_ms), b->shadow_timed,
                 b->shadow_ms, b->shadow.min_ms, b->shadow.max_ms,
-                mrays(b->shadow_timed, b->shadow_ms), b->hits, b->blocked, b->grid_density,
+                mrays(b->shadow_timed, b->shadow_ms), b->diffuse_timed, b->diffuse_ms,
+                b->diffuse.min_ms, b->diffuse.max_ms, mrays(b->diffuse_timed, b->diffuse_ms),
+                b->hits, b->blocked, b->grid_density,
                 i + 1 < count ? "," : "");
     }
     fprintf(f, "  ]\n}\n");
@@ -282,10 +355,10 @@ int vkrt_bench_run(const vkrt_options *opts)
     uint32_t row_count = 0;
     bool ok = rows != NULL;
     printf("device: %s\n", ctx.properties.deviceName);
-    printf("%-28s %-5s %9s %9s %8s %10s %10s %8s %8s\n", "scene", "accel", "triangles",
-           "build_ms", "MiB", "primary", "shadow", "hits", "blocked");
-    printf("%-28s %-5s %9s %9s %8s %10s %10s %8s %8s\n", "", "", "", "", "", "Mrays/s", "Mrays/s",
-           "", "");
+    printf("%-28s %-5s %9s %9s %8s %10s %10s %10s %8s %8s\n", "scene", "accel", "triangles",
+           "build_ms", "MiB", "primary", "shadow", "diffuse", "hits", "blocked");
+    printf("%-28s %-5s %9s %9s %8s %10s %10s %10s %8s %8s\n", "", "", "", "", "", "Mrays/s",
+           "Mrays/s", "Mrays/s", "", "");
     for (uint32_t s = 0; ok && s < opts->scene_count; ++s) {
         vkrt_scene scene;
         if (!vkrt_scene_load(opts->scene_paths[s], &scene, &err)) {

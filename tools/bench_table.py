@@ -16,9 +16,11 @@ def main():
         run = json.load(f)
     print(f"Device: {run['device']} (Vulkan {run['api_version']}); median of "
           f"{run['timed_runs']} back-to-back timed runs.\n")
+    # Runs before the diffuse bounce rays were measured have no such column.
+    diffuse = all("diffuse_mrays_per_s" in r for r in run["results"])
     print("| scene | triangles | rays | accel | build ms | MiB | primary Mrays/s | "
-          "shadow Mrays/s | hits | shadowed |")
-    print("|---|---:|---|---|---:|---:|---:|---:|---:|---:|")
+          "shadow Mrays/s | " + ("diffuse Mrays/s | " if diffuse else "") + "hits | shadowed |")
+    print("|---|---:|---|---|---:|---:|---:|---:|" + ("---:|" if diffuse else "") + "---:|---:|")
     for r in run["results"]:
         scene = os.path.basename(os.path.dirname(r["scene"])) if r["scene"].endswith(
             "scene.cfg") else os.path.splitext(os.path.basename(r["scene"]))[0]
@@ -27,7 +29,9 @@ def main():
             rays += f" ({r['primary_rays_timed']} timed)"
         print(f"| {scene} | {r['triangles']} | {rays} | {r['accel']} | {r['build_ms']:.1f} | "
               f"{r['bytes'] / 2**20:.2f} | {rate(r['primary_mrays_per_s'])} | "
-              f"{rate(r['shadow_mrays_per_s'])} | {r['hits']} | {r['blocked']} |")
+              f"{rate(r['shadow_mrays_per_s'])} | " +
+              (f"{rate(r['diffuse_mrays_per_s'])} | " if diffuse else "") +
+              f"{r['hits']} | {r['blocked']} |")
 
 
 if __name__ == "__main__":
