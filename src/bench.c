@@ -361,7 +361,8 @@ int vkrt_bench_run(const vkrt_options *opts)
            "Mrays/s", "Mrays/s", "", "");
     for (uint32_t s = 0; ok && s < opts->scene_count; ++s) {
         vkrt_scene scene;
-        if (!vkrt_scene_load(opts->scene_paths[s], &scene, &err)) {
+        /* Tracing reads no material or texture: load the geometry alone. */
+        if (!vkrt_scene_load_geometry(opts->scene_paths[s], &scene, &err)) {
             ok = false;
             break;
         }

@@ -3,7 +3,7 @@
 
 #include <string.h>
 
-bool vkrt_scene_load(const char *path, vkrt_scene *scene, vkrt_error *err)
+bool vkrt_scene_load_geometry(const char *path, vkrt_scene *scene, vkrt_error *err)
 {
     memset(scene, 0, sizeof *scene);
     if (!vkrt_config_load(path, &scene->config, err))
@@ -14,6 +14,13 @@ bool vkrt_scene_load(const char *path, vkrt_scene *scene, vkrt_error *err)
         vkrt_scene_free(scene);
         return false;
     }
+    return true;
+}
+
+bool vkrt_scene_load(const char *path, vkrt_scene *scene, vkrt_error *err)
+{
+    if (!vkrt_scene_load_geometry(path, scene, err))
+        return false;
     if (scene->config.materials &&
         !vkrt_material_file_load(scene->config.materials, &scene->material_file, err)) {
         vkrt_scene_free(scene);

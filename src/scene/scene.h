@@ -25,6 +25,11 @@ typedef struct vkrt_scene {
  * *scene left empty. */
 bool vkrt_scene_load(const char *path, vkrt_scene *scene, vkrt_error *err);
 
+/* Loads only the scene.cfg and its OBJ (with the .mtl's fields, but no material file, shader or
+ * texture): what tracing alone needs (`vkrt bench`). The renderer then shades every triangle with
+ * the default material. Same contract as vkrt_scene_load. */
+bool vkrt_scene_load_geometry(const char *path, vkrt_scene *scene, vkrt_error *err);
+
 /* Frees the scene and zeroes it. Safe on a zeroed scene. */
 void vkrt_scene_free(vkrt_scene *scene);
 
