@@ -9,6 +9,7 @@
 const char *vkrt_usage(void)
 {
     return "usage: vkrt render SCENE.cfg [options]   render every frame (camera) of a scene\n"
+           "       vkrt view SCENE.cfg [options]     fly through a scene in a window\n"
            "       vkrt bench SCENE.cfg... [--accel A] [--json OUT.json] [--width W --height H]\n"
            "                  [--grid-density CELLS_PER_TRIANGLE]\n"
            "                                         time primary and shadow rays per structure\n"
@@ -35,7 +36,26 @@ const char *vkrt_usage(void)
            "                    flythrough interrupted by Ctrl-C, a crash or a lost device)\n"
            "  --quiet           no summary on stderr\n"
            "  --list-devices    list Vulkan devices and exit\n"
-           "  --help, --version\n";
+           "  --help, --version\n"
+           "\n"
+           "view options: --width, --height, --spp, --accel, --exposure, --device, --validation\n"
+           "  as for render; the window opens at the scene's resolution, from its first camera,\n"
+           "  and a still picture gathers samples until it has --spp of them (default: the\n"
+           "  scene's `samples`, at least 16)\n"
+           "  --record FILE     K appends the camera to FILE as a scene.cfg `camera` line\n"
+           "  --script FILE     play key and mouse events from FILE (a testing aid; see\n"
+           "                    docs/viewer.md)\n"
+           "view controls:\n"
+           "  W/S, A/D          move forward/back, left/right (along the view)\n"
+           "  E/Q, Space/C      move up/down\n"
+           "  mouse drag        look around\n"
+           "  scroll, +/-       faster/slower; hold Shift to go 4x faster\n"
+           "  R                 reset to the scene's camera\n"
+           "  F                 frame the whole scene\n"
+           "  P                 screenshot next to the scene: PNG of the window, EXR of the\n"
+           "                    accumulated linear image\n"
+           "  K                 print the camera as a scene.cfg `camera` line (and --record it)\n"
+           "  Esc               quit\n";
 }
 
 static bool parse_u32(const char *option, const char *text, uint32_t min, uint32_t max,
@@ -123,6 +143,14 @@ bool vkrt_options_parse(int argc, char **argv, vkrt_options *opts, vkrt_error *e
             if (opts->grid_density <= 0 || opts->grid_density > 1000)
                 return vkrt_error_set(err, "--grid-density: '%s' is not in (0, 1000]", value);
             ++i;
+        } else if (strcmp(arg, "--script") == 0 || strcmp(arg, "--record") == 0) {
+            if (!value)
+                return vkrt_error_set(err, "%s needs a path", arg);
+            if (arg[2] == 's')
+                opts->script = value;
+            else
+                opts->record = value;
+            ++i;
         } else if (strcmp(arg, "--json") == 0) {
             if (!value)
                 return vkrt_error_set(err, "--json needs a path");
@@ -145,6 +173,8 @@ bool vkrt_options_parse(int argc, char **argv, vkrt_options *opts, vkrt_error *e
                 opts->command = VKRT_COMMAND_RENDER;
             else if (strcmp(arg, "bench") == 0)
                 opts->command = VKRT_COMMAND_BENCH;
+            else if (strcmp(arg, "view") == 0)
+                opts->command = VKRT_COMMAND_VIEW;
             else
                 return vkrt_error_set(err, "unknown command '%s' (see vkrt --help)", arg);
         } else if (!opts->scene_path) {
@@ -159,9 +189,10 @@ bool vkrt_options_parse(int argc, char **argv, vkrt_options *opts, vkrt_error *e
     }
     if (opts->command == VKRT_COMMAND_NONE)
         return vkrt_error_set(err, "no command given (see vkrt --help)");
+    const char *name = opts->command == VKRT_COMMAND_BENCH  ? "bench"
+                       : opts->command == VKRT_COMMAND_VIEW ? "view"
+                                                            : "render";
     if (!opts->scene_path)
-        return vkrt_error_set(err, "%s needs a scene file: vkrt %s SCENE.cfg",
-                              opts->command == VKRT_COMMAND_BENCH ? "bench" : "render",
-                              opts->command == VKRT_COMMAND_BENCH ? "bench" : "render");
+        return vkrt_error_set(err, "%s needs a scene file: vkrt %s SCENE.cfg", name, name);
     return true;
 }

@@ -1,5 +1,5 @@
 /*
- * cli.h: command-line parsing for `vkrt render` (and the commands to come).
+ * cli.h: command-line parsing for `vkrt render`, `view` and `bench`.
  */
 #ifndef VKRT_CLI_H
 #define VKRT_CLI_H
@@ -14,6 +14,7 @@ typedef enum vkrt_command {
     VKRT_COMMAND_NONE = 0,
     VKRT_COMMAND_RENDER,
     VKRT_COMMAND_BENCH,
+    VKRT_COMMAND_VIEW,
     VKRT_COMMAND_HELP,
     VKRT_COMMAND_VERSION,
     VKRT_COMMAND_LIST_DEVICES,
@@ -27,6 +28,8 @@ typedef struct vkrt_options {
     const char *json;         /* bench --json: where to write the results */
     float grid_density;       /* bench --grid-density: cells per triangle; 0: the default */
     const char *output;       /* -o: overrides the scene's output; NULL when not given */
+    const char *script;       /* view --script: events to play (a testing aid); NULL when not given */
+    const char *record;       /* view --record: where K appends camera lines; NULL when not given */
     uint32_t width, height;   /* 0 when not given */
     uint32_t samples;         /* --spp; 0 when not given */
     int device;               /* --device; -1 picks the default */

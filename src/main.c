@@ -18,6 +18,9 @@
 #include "output/image_write.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
+#ifdef VKRT_VIEWER
+#include "view/viewer.h"
+#endif
 
 #ifndef VKRT_VERSION
 #define VKRT_VERSION "unknown"
@@ -240,6 +243,14 @@ int main(int argc, char **argv)
         return run_render(&opts);
     case VKRT_COMMAND_BENCH:
         return vkrt_bench_run(&opts);
+    case VKRT_COMMAND_VIEW:
+#ifdef VKRT_VIEWER
+        return vkrt_view_run(&opts);
+#else
+        fprintf(stderr, "vkrt: this vkrt was built without the viewer: GLFW was not found "
+                        "(Debian: apt-get install libglfw3-dev, then rebuild)\n");
+        return 1;
+#endif
     default:
         return 2;
     }

@@ -1,7 +1,9 @@
 /*
  * context.c: instance, device and queue setup (see context.h).
  *
- * vkrt needs only a compute queue: no window, no surface. Validation messages are counted in the
+ * vkrt renders with a compute queue alone: no window, no surface, so `vkrt render` runs where
+ * there is no display. The viewer adds a surface (desc.create_surface); then the queue family must
+ * also present to it and the device gets VK_KHR_swapchain. Validation messages are counted in the
  * context so that tests can fail on any of them.
  */
 #include "context.h"
@@ -47,7 +49,8 @@ static bool layer_available(const char *name)
     return found;
 }
 
-static bool create_instance(gpu_context *ctx, bool validation, vkrt_error *err)
+static bool create_instance(gpu_context *ctx, bool validation, const gpu_context_desc *desc,
+                            vkrt_error *err)
 {
     if (validation && !layer_available(validation_layer))
         return vkrt_error_set(err, "validation was asked for but %s is not installed "
@@ -59,12 +62,21 @@ static bool create_instance(gpu_context *ctx, bool validation, vkrt_error *err)
         .pEngineName = "vkrt",
         .apiVersion = VK_API_VERSION_1_1,
     };
-    const char *extensions[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME,
-                                VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME};
     /* Synchronization validation (hazards between dispatches, transfers and indirect reads) is
      * off by default in the layer, and slow; VKRT_SYNC_VALIDATION=1 turns it on (a test does). */
     const char *sync_env = getenv("VKRT_SYNC_VALIDATION");
     bool sync = validation && sync_env && *sync_env && strcmp(sync_env, "0") != 0;
+    /* The validation extensions, then the window system's (for the viewer). */
+    const uint32_t max_extensions = 16;
+    const char *extensions[16] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME,
+                                  VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME};
+    uint32_t extension_count = validation ? (sync ? 2 : 1) : 0;
+    uint32_t wanted = desc ? desc->instance_extension_count : 0;
+    if (wanted > max_extensions - 2)
+        return vkrt_error_set(err, "%u instance extensions asked for; at most %u are supported",
+                              wanted, max_extensions - 2);
+    for (uint32_t i = 0; i < wanted; ++i)
+        extensions[extension_count++] = desc->instance_extensions[i];
     VkValidationFeatureEnableEXT sync_feature =
         VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
     VkValidationFeaturesEXT features = {
@@ -90,10 +102,14 @@ static bool create_instance(gpu_context *ctx, bool validation, vkrt_error *err)
         .pApplicationInfo = &app,
         .enabledLayerCount = validation ? 1 : 0,
         .ppEnabledLayerNames = &validation_layer,
-        .enabledExtensionCount = validation ? (sync ? 2 : 1) : 0,
+        .enabledExtensionCount = extension_count,
         .ppEnabledExtensionNames = extensions,
     };
     VkResult result = vkCreateInstance(&info, NULL, &ctx->instance);
+    if (result == VK_ERROR_EXTENSION_NOT_PRESENT && wanted)
+        return vkrt_error_set(err, "vkCreateInstance failed: %s (the Vulkan loader lacks the "
+                                   "window system's surface extensions, such as %s)",
+                              gpu_result_name(result), desc->instance_extensions[wanted - 1]);
     if (result == VK_ERROR_INCOMPATIBLE_DRIVER || result == VK_ERROR_INITIALIZATION_FAILED)
         return vkrt_error_set(err, "no Vulkan driver found (%s); install one, e.g. Debian's "
                                    "mesa-vulkan-drivers for lavapipe",
@@ -168,6 +184,7 @@ static bool pick_device(gpu_context *ctx, const gpu_context_desc *desc, vkrt_err
     return true;
 }
 
+/* A queue family that computes and, with a surface, presents to it. */
 static bool find_compute_queue(gpu_context *ctx, vkrt_error *err)
 {
     uint32_t count = 0;
@@ -177,12 +194,23 @@ static bool find_compute_queue(gpu_context *ctx, vkrt_error *err)
         return vkrt_error_set(err, "out of memory");
     vkGetPhysicalDeviceQueueFamilyProperties(ctx->physical, &count, families);
     ctx->queue_family = UINT32_MAX;
-    for (uint32_t i = 0; i < count; ++i)
-        if (families[i].queueFlags & VK_QUEUE_COMPUTE_BIT) {
+    for (uint32_t i = 0; i < count; ++i) {
+        VkBool32 presents = VK_TRUE;
+        if (ctx->surface &&
+            vkGetPhysicalDeviceSurfaceSupportKHR(ctx->physical, i, ctx->surface, &presents) !=
+                VK_SUCCESS)
+            presents = VK_FALSE;
+        if ((families[i].queueFlags & VK_QUEUE_COMPUTE_BIT) && presents) {
             ctx->queue_family = i;
             break;
         }
+    }
     free(families);
+    if (ctx->queue_family == UINT32_MAX && ctx->surface)
+        return vkrt_error_set(err, "%s has no queue that both computes and presents to the "
+                                   "window; choose another device with --device (see "
+                                   "--list-devices)",
+                              ctx->properties.deviceName);
     if (ctx->queue_family == UINT32_MAX)
         return vkrt_error_set(err, "%s has no compute queue", ctx->properties.deviceName);
     return true;
@@ -248,7 +276,12 @@ static bool create_device(gpu_context *ctx, vkrt_error *err)
         .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT,
         .shaderBufferFloat32AtomicAdd = VK_TRUE,
     };
-    const char *device_extensions[] = {VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME};
+    const char *device_extensions[2];
+    uint32_t device_extension_count = 0;
+    if (ctx->float_atomics)
+        device_extensions[device_extension_count++] = VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME;
+    if (ctx->surface)
+        device_extensions[device_extension_count++] = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
     float priority = 1.0f;
     VkDeviceQueueCreateInfo queue_info = {
         .sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO,
@@ -262,7 +295,7 @@ static bool create_device(gpu_context *ctx, vkrt_error *err)
         .pQueueCreateInfos = &queue_info,
         .pEnabledFeatures = &enabled,
         .pNext = ctx->float_atomics ? &atomic_float_on : NULL,
-        .enabledExtensionCount = ctx->float_atomics ? 1 : 0,
+        .enabledExtensionCount = device_extension_count,
         .ppEnabledExtensionNames = device_extensions,
     };
     GPU_CHECK(vkCreateDevice(ctx->physical, &info, NULL, &ctx->device));
@@ -293,8 +326,11 @@ bool gpu_context_create(gpu_context *ctx, const gpu_context_desc *desc, vkrt_err
     memset(ctx, 0, sizeof *ctx);
     ctx->messenger_quiet = desc->quiet_validation;
     ctx->timeout_ns = watchdog_ns(desc->timeout_seconds);
-    if (!create_instance(ctx, desc->validation, err) || !pick_device(ctx, desc, err) ||
-        !find_compute_queue(ctx, err) || !create_device(ctx, err)) {
+    if (!create_instance(ctx, desc->validation, desc, err) ||
+        (desc->create_surface &&
+         !desc->create_surface(desc->surface_user, ctx->instance, &ctx->surface, err)) ||
+        !pick_device(ctx, desc, err) || !find_compute_queue(ctx, err) ||
+        !create_device(ctx, err)) {
         gpu_context_destroy(ctx);
         return false;
     }
@@ -317,6 +353,8 @@ void gpu_context_destroy(gpu_context *ctx)
             vkDestroyCommandPool(ctx->device, ctx->command_pool, NULL);
         vkDestroyDevice(ctx->device, NULL);
     }
+    if (ctx->surface)
+        vkDestroySurfaceKHR(ctx->instance, ctx->surface, NULL);
     if (ctx->messenger) {
         PFN_vkDestroyDebugUtilsMessengerEXT destroy_messenger =
             (PFN_vkDestroyDebugUtilsMessengerEXT)vkGetInstanceProcAddr(
@@ -358,7 +396,7 @@ static const char *device_type_name(VkPhysicalDeviceType type)
 bool gpu_list_devices(FILE *out, vkrt_error *err)
 {
     gpu_context ctx = {0};
-    if (!create_instance(&ctx, false, err))
+    if (!create_instance(&ctx, false, NULL, err))
         return false;
     VkPhysicalDevice *devices;
     uint32_t count;

@@ -1,6 +1,7 @@
 /*
  * context.h: the Vulkan instance, the chosen physical device, its compute queue and a command
- * buffer for one-shot submissions. Knows nothing of scenes.
+ * buffer for one-shot submissions; for the viewer also a window's surface, which the queue can
+ * present to. Knows nothing of scenes.
  */
 #ifndef VKRT_GPU_CONTEXT_H
 #define VKRT_GPU_CONTEXT_H
@@ -20,6 +21,15 @@ typedef struct gpu_context_desc {
     bool quiet_validation; /* count validation messages without printing them */
     double timeout_seconds; /* how long one submission may run before the watchdog gives up on
                                it; 0: VKRT_GPU_TIMEOUT from the environment, else 300 s */
+    /* For a window (vkrt view); left zero, the context is headless and needs no display. */
+    const char *const *instance_extensions; /* more instance extensions (a window system's) */
+    uint32_t instance_extension_count;
+    /* Called once the instance exists, to create the surface the device must present to. The
+     * context then picks a queue family that both computes and presents to it, enables
+     * VK_KHR_swapchain, and destroys the surface before the instance. */
+    bool (*create_surface)(void *user, VkInstance instance, VkSurfaceKHR *surface,
+                           vkrt_error *err);
+    void *surface_user;
 } gpu_context_desc;
 
 typedef struct gpu_context {
@@ -29,7 +39,8 @@ typedef struct gpu_context {
     VkPhysicalDeviceProperties properties;
     VkPhysicalDeviceMemoryProperties memory;
     VkDevice device;
-    uint32_t queue_family;
+    VkSurfaceKHR surface;        /* desc.create_surface's, or VK_NULL_HANDLE when headless */
+    uint32_t queue_family;       /* computes (and presents to surface, when there is one) */
     VkQueue queue;
     VkCommandPool command_pool;
     VkCommandBuffer command_buffer; /* for gpu_commands_begin / gpu_commands_submit */

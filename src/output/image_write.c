@@ -203,6 +203,28 @@ static bool png_size_fits(uint32_t width, uint32_t height)
     return filtered_bytes <= (uint64_t)INT_MAX;
 }
 
+/* Encodes 8-bit RGB (size already checked) into path through a temporary file. */
+static bool write_png8(const char *path, uint32_t width, uint32_t height, const uint8_t *srgb8,
+                       vkrt_error *err)
+{
+    temp_file tf;
+    if (!temp_file_open(&tf, path, err))
+        return false;
+    png_sink sink = {.fd = tf.fd, .error = 0};
+    int encoded = stbi_write_png_to_func(png_sink_write, &sink, (int)width, (int)height, 3,
+                                         srgb8, (int)width * 3);
+    if (sink.error != 0) {
+        temp_file_discard(&tf);
+        return vkrt_error_set(err, "%s: cannot write: %s", path, strerror(sink.error));
+    }
+    if (!encoded) {
+        /* stb only fails to encode when an allocation fails. */
+        temp_file_discard(&tf);
+        return vkrt_error_set(err, "%s: cannot write: PNG encoding failed (out of memory)", path);
+    }
+    return temp_file_commit(&tf, err);
+}
+
 static bool write_png(const char *path, uint32_t width, uint32_t height, const float *rgb,
                       float exposure, vkrt_error *err)
 {
@@ -217,27 +239,9 @@ static bool write_png(const char *path, uint32_t width, uint32_t height, const f
     float scale = exp2f(exposure);
     for (size_t i = 0; i < value_count; i++)
         srgb8[i] = linear_to_srgb8(rgb[i] * scale);
-
-    temp_file tf;
-    if (!temp_file_open(&tf, path, err)) {
-        free(srgb8);
-        return false;
-    }
-    png_sink sink = {.fd = tf.fd, .error = 0};
-    int encoded = stbi_write_png_to_func(png_sink_write, &sink, (int)width, (int)height, 3,
-                                         srgb8, (int)width * 3);
+    bool ok = write_png8(path, width, height, srgb8, err);
     free(srgb8);
-
-    if (sink.error != 0) {
-        temp_file_discard(&tf);
-        return vkrt_error_set(err, "%s: cannot write: %s", path, strerror(sink.error));
-    }
-    if (!encoded) {
-        /* stb only fails to encode when an allocation fails. */
-        temp_file_discard(&tf);
-        return vkrt_error_set(err, "%s: cannot write: PNG encoding failed (out of memory)", path);
-    }
-    return temp_file_commit(&tf, err);
+    return ok;
 }
 
 /* ---------------------------------------------------------------------------------------------
@@ -444,6 +448,22 @@ bool vkrt_image_write(const char *path, uint32_t width, uint32_t height, const f
     default:
         return vkrt_error_set(err, "%s: unknown image format (use .png or .exr)", path);
     }
+}
+
+bool vkrt_image_write_png8(const char *path, uint32_t width, uint32_t height, const uint8_t *rgb,
+                           vkrt_error *err)
+{
+    if (!path || path[0] == '\0')
+        return vkrt_error_set(err, "cannot write image: empty output path");
+    if (width == 0 || height == 0 || !rgb)
+        return vkrt_error_set(err, "%s: cannot write an empty image (%" PRIu32 "x%" PRIu32 ")",
+                              path, width, height);
+    if (vkrt_image_format_of(path) != VKRT_IMAGE_PNG)
+        return vkrt_error_set(err, "%s: 8-bit pixels are written as PNG only", path);
+    if (!png_size_fits(width, height))
+        return vkrt_error_set(err, "%s: image %" PRIu32 "x%" PRIu32 " is too large for PNG",
+                              path, width, height);
+    return write_png8(path, width, height, rgb, err);
 }
 
 /* ---------------------------------------------------------------------------------------------

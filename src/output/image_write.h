@@ -31,6 +31,12 @@ vkrt_image_format vkrt_image_format_of(const char *path);
 bool vkrt_image_write(const char *path, uint32_t width, uint32_t height, const float *rgb,
                       float exposure, vkrt_error *err);
 
+/* Writes width x height pixels already encoded as 8-bit sRGB (rgb: 3 bytes per pixel, the top
+ * row first) to path, a .png, the same way: a temporary file renamed when complete. For what the
+ * viewer's window shows. */
+bool vkrt_image_write_png8(const char *path, uint32_t width, uint32_t height, const uint8_t *rgb,
+                           vkrt_error *err);
+
 /* Expands a frame pattern: the first printf-style integer conversion in pattern ("%d", "%04d")
  * receives frame; "%%" is a literal percent. A pattern without a conversion is copied unchanged.
  * Any other conversion, or a result longer than out_size, is an error. */

@@ -1,0 +1,115 @@
+#!/bin/sh
+# test_view.sh: `vkrt view` under Xvfb, driven by a --script: it flies (keys held, a mouse drag,
+# a scroll), resizes the window, waits for the image to converge and then some more, takes a
+# screenshot, prints and records the camera, and quits with Escape. Checked:
+#   - a clean exit, with validation on (tests/meson.build) and not one message, swapchain and
+#     presentation included;
+#   - the screenshot (the window's pixels) against `vkrt render` of the printed camera at the
+#     same size and spp;
+#   - from the per-frame log: no frame traced anything while its camera and the spp target were
+#     unchanged, an image was started again only when the camera (or size) changed, and its
+#     passes add up to exactly the target;
+#   - `vkrt view` without a display fails with a message instead of crashing.
+# Exit 77 (skipped) without xvfb-run or in a vkrt built without the viewer.
+set -u
+vkrt=${VKRT_BINARY:?}
+src=${VKRT_SOURCE_DIR:?}
+compare=${VKRT_PNG_COMPARE:?}
+if ! command -v xvfb-run >/dev/null 2>&1; then
+    echo "SKIP: xvfb-run is missing (Debian: apt-get install xvfb xauth)"
+    exit 77
+fi
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+failures=0
+passed=0
+
+check() { # check NAME CONDITION...: counts a pass or prints the failure
+    name=$1; shift
+    if "$@"; then passed=$((passed + 1)); else echo "FAIL: $name"; failures=$((failures + 1)); fi
+}
+
+if DISPLAY= WAYLAND_DISPLAY= "$vkrt" view "$src/scenes/cornell/scene.cfg" 2>"$tmp/err"; then
+    status=0
+else
+    status=$?
+fi
+if grep -q "built without the viewer" "$tmp/err"; then
+    echo "SKIP: this vkrt was built without the viewer (GLFW)"
+    exit 77
+fi
+check "view without a display exits 1" test $status -eq 1
+check "and says it needs a display" grep -q "needs a display" "$tmp/err"
+"$vkrt" --help >"$tmp/help"
+check "--help shows view and its controls" grep -q "vkrt view SCENE.cfg" "$tmp/help"
+check "--help lists --script" grep -q -- "--script FILE" "$tmp/help"
+
+# The Cornell box with a mirror and a glass sphere: secondary rays, small, quick on lavapipe.
+sed -e "s|^geometry .*|geometry $src/scenes/cornell-spheres/cornell-spheres.obj|" \
+    -e '/^output/d' "$src/scenes/cornell-spheres/scene.cfg" >"$tmp/spheres.cfg"
+cat >"$tmp/events.txt" <<'EVENTS'
+# fly forward, look right and up, go faster, strafe left and up; let the image converge; then
+# resize and frame the scene in one frame (the wait after them must see the new image), and
+# hold still
+hold w 4
+drag 40 -15 3
+scroll 4
+hold a 2
+key shift down
+hold e 2
+key shift up
+wait converged
+resize 176 132
+key f
+wait converged
+wait 12
+key p
+key k
+key escape
+EVENTS
+spp=4
+xvfb-run -a -s "-screen 0 1280x1024x24" "$vkrt" view "$tmp/spheres.cfg" --width 160 \
+    --height 120 --spp $spp --script "$tmp/events.txt" --record "$tmp/flight.cfg" \
+    >"$tmp/out" 2>"$tmp/log"
+status=$?
+check "scripted view exits 0" test $status -eq 0
+[ $status -eq 0 ] || cat "$tmp/log"
+check "no validation message" sh -c "! grep -q validation '$tmp/log'"
+check "K printed one camera line" test "$(grep -c '^camera eye' "$tmp/out")" -eq 1
+check "--record appended it" cmp -s "$tmp/out" "$tmp/flight.cfg"
+check "the camera moved" sh -c "! grep -q '^camera eye 278 273 -800 ' '$tmp/out'"
+check "P wrote the window's PNG" test -s "$tmp/spheres-view-000.png"
+check "and the linear EXR" test -s "$tmp/spheres-view-000.exr"
+check "the screenshot was taken converged" grep -q "($spp of $spp samples)" "$tmp/log"
+check "the screenshot has the resized window's size" grep -q "(176x132, as shown)" "$tmp/log"
+
+# The window against `vkrt render` of the printed camera, same size and spp. Both average the
+# same stratified passes from the same random streams; the sums differ only in float atomic
+# order (a few ULPs), and the window's sRGB curve runs in float on the GPU where the PNG
+# writer's runs in double: each moves a value by far less than one 8-bit step, so a channel can
+# land at most one step away (when it sits on a rounding boundary), never two.
+{ grep -v '^camera' "$tmp/spheres.cfg"; cat "$tmp/out"; } >"$tmp/again.cfg"
+"$vkrt" render "$tmp/again.cfg" --width 176 --height 132 --spp $spp -o "$tmp/render.png" --quiet
+check "render of the printed camera exits 0" test $? -eq 0
+"$compare" "$tmp/spheres-view-000.png" "$tmp/render.png" 1 >"$tmp/compared"
+check "the window matches the render to one 8-bit step" test $? -eq 0
+cat "$tmp/compared"
+
+# The log has a line per frame: "vkrt: view: frame F view V passes P/T traced K".
+awk '/^vkrt: view: frame / {
+        v = $6; split($8, pt, "/"); p = pt[1]; t = pt[2]; k = $10
+        if (v == last_v) {
+            if (k > 0 && last_p >= t) { print "frame " $4 ": traced while still and complete"; bad++ }
+            if (p != last_p + k) { print "frame " $4 ": passes do not add up"; bad++ }
+        } else if (p != k) { print "frame " $4 ": a new image does not start from 0"; bad++ }
+        if (p > t) { print "frame " $4 ": more passes than the target"; bad++ }
+        if (k == 0 && p == t) still++
+        last_v = v; last_p = p; frames++
+     }
+     END { printf "%d frames, %d still, %d bad\n", frames, still, bad; exit bad > 0 || still < 12 }' \
+    "$tmp/log" >"$tmp/audit"
+check "nothing traced while the camera and target were unchanged" test $? -eq 0
+cat "$tmp/audit"
+
+echo "$passed passed, $failures failed"
+[ $failures -eq 0 ]
