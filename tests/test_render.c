@@ -452,7 +452,7 @@ static void render_transformed(double scale, double offset, vkrt_accel_kind kind
     rmdir(dir);
 }
 
-/* The Cornell box moved 1e5 from the origin, and scaled by 1e-3 and 1e3, renders as it does at
+/* The Cornell box moved 1e5 from the origin, and scaled by 1e-3, 1e3 and 1e5, renders as it does at
  * its own size. A fixed epsilon fails here: too small far from the origin (self-shadowing acne,
  * dark speckles on lit walls), too large on a small scene (light leaking through contacts). Holes
  * (rays slipping between triangles) would show the environment's pure blue. Edges may shift by a
@@ -461,7 +461,7 @@ static void test_scale_and_offset(void **state)
 {
     (void)state;
     enum { W = 96, H = 96 };
-    static const struct { double scale, offset; } cases[] = {{1, 1e5}, {1e-3, 0}, {1e3, 0}};
+    static const struct { double scale, offset; } cases[] = {{1, 1e5}, {1e-3, 0}, {1e3, 0}, {1e5, 0}};
     static const vkrt_accel_kind kinds[] = {VKRT_ACCEL_GRID, VKRT_ACCEL_BVH};
     float *base = calloc(W * H * 3, sizeof *base), *moved = calloc(W * H * 3, sizeof *moved);
     assert_true(base && moved);
