@@ -6,12 +6,7 @@
 #       build/tests/test_texture_gpu build/tests/test_layout
 # with .bundle/scenes.tar.gz holding ../shared/scenes/{dabrovic-sponza,sibenik-cathedral,
 # lost-empire} (OBJ, MTL and textures) under scenes/, and writes everything under $OUT.
-set -u
-out=${OUT:-/tmp/vkrt-out}
-mkdir -p "$out"
-root=$(pwd)
-(cd .bundle && tar xzf scenes.tar.gz)
-mkdir -p ../shared && ln -sfn "$root/.bundle/scenes" ../shared/scenes
+. bench/gpu-prelude.sh
 export LD_LIBRARY_PATH="$root/.bundle/lib" VKRT_VALIDATION=0 VKRT_SOURCE_DIR="$root" \
     VKRT_SCENES_DIR="$root/.bundle/scenes"
 { .bundle/vkrt --list-devices; nvidia-smi --query-gpu=name,driver_version --format=csv; } \

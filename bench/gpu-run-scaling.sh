@@ -3,12 +3,7 @@
 # 1920 pixels wide, 1 spp, with each structure, the fastest of three `vkrt render` runs (their
 # summary lines), into $OUT/scaling.txt; tools/chart-from-renders --scaling charts it here.
 # Expects `tools/bundle .bundle` and .bundle/scenes.tar.gz with the shared scenes under scenes/.
-set -u
-out=${OUT:-/tmp/vkrt-out}
-mkdir -p "$out"
-root=$(pwd)
-(cd .bundle && tar xzf scenes.tar.gz)
-mkdir -p ../shared && ln -sfn "$root/.bundle/scenes" ../shared/scenes
+. bench/gpu-prelude.sh
 for scene in scenes/cornell/scene.cfg scenes/cornell-spheres/scene.cfg scenes/lights-phong/scene.cfg \
     scenes/shared/cornell-original.cfg scenes/shared/teapot.cfg scenes/shared/bunny.cfg \
     scenes/shared/sponza.cfg scenes/shared/sibenik.cfg scenes/shared/lost-empire.cfg; do

@@ -6,12 +6,7 @@
 #
 # with .bundle/scenes.tar.gz holding the shared scenes' OBJ and MTL files under scenes/ and the
 # teapot stadium (tools/teapot_stadium.py) under stadium/. Writes $OUT/tests.txt.
-set -u
-out=${OUT:-/tmp/vkrt-out}
-mkdir -p "$out"
-root=$(pwd)
-(cd .bundle && tar xzf scenes.tar.gz)
-mkdir -p ../shared && ln -sfn "$root/.bundle/scenes" ../shared/scenes
+. bench/gpu-prelude.sh
 export LD_LIBRARY_PATH="$root/.bundle/lib" VKRT_VALIDATION=0 VKRT_SOURCE_DIR="$root" \
     VKRT_SCENES_DIR="$root/.bundle/scenes" VKRT_STADIUM_CFG="$root/.bundle/stadium/scene.cfg"
 { .bundle/vkrt --list-devices; nvidia-smi --query-gpu=name,driver_version --format=csv; } \

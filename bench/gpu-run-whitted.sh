@@ -3,12 +3,7 @@
 # machine at 1920x1080 with --profile, five frames of one camera in one process (the first
 # pays for the clocks' ramp-up). Expects `tools/bundle .bundle` and .bundle/scenes.tar.gz with
 # scenes/dabrovic-sponza (OBJ, MTL, textures). Writes $OUT/whitted.txt and a picture.
-set -u
-out=${OUT:-/tmp/vkrt-out}
-mkdir -p "$out"
-root=$(pwd)
-(cd .bundle && tar xzf scenes.tar.gz)
-mkdir -p ../shared && ln -sfn "$root/.bundle/scenes" ../shared/scenes
+. bench/gpu-prelude.sh
 nvidia-smi --query-gpu=name,driver_version --format=csv >"$out/whitted.txt" 2>&1
 # The same camera five times: one process, so frames 2-5 show the steady state.
 cfg=scenes/shared/sponza-whitted-5.cfg

@@ -26,63 +26,20 @@
 #include <stb_image_write.h>
 
 #include "gpu_fixture.h"
+#include "scene_dir.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 #include "scene/texture.h"
-
-static char dir[64];
-
-static int make_dir(void **state)
-{
-    (void)state;
-    snprintf(dir, sizeof dir, "/tmp/vkrt-materials-XXXXXX");
-    return mkdtemp(dir) ? 0 : -1;
-}
-
-static int remove_dir(void **state)
-{
-    (void)state;
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    return system(cmd) == 0 ? 0 : -1;
-}
-
-static void write_file(const char *name, const char *text)
-{
-    char path[256];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    FILE *f = fopen(path, "w");
-    assert_non_null(f);
-    fputs(text, f);
-    fclose(f);
-}
 
 /* A probe surface: adds its hit position as radiance. */
 static const char position_probe[] = "uint count_rays(Surface s) { return 0u; }\n"
                                      "void shade(Surface s) { add_radiance(s.position); }\n";
 
-/* Renders scene.cfg of dir at w x h, one sample per pixel centre. False with err on failure. */
+/* Renders the folder's scene.cfg at w x h, one sample per pixel centre. */
 static bool render(uint32_t w, uint32_t h, const vkrt_render_desc *extra, float *rgb,
                    vkrt_frame_stats *stats, vkrt_error *err)
 {
-    char path[256];
-    snprintf(path, sizeof path, "%s/scene.cfg", dir);
-    vkrt_scene scene;
-    if (!vkrt_scene_load(path, &scene, err))
-        return false;
-    gpu_context ctx;
-    fixture_context_create(&ctx);
-    vkrt_render_desc desc = extra ? *extra : (vkrt_render_desc){0};
-    desc.width = w;
-    desc.height = h;
-    desc.samples = 1;
-    vkrt_renderer r;
-    bool ok = vkrt_renderer_create(&r, &ctx, &scene, &desc, err) &&
-              vkrt_renderer_render(&r, &scene.config.cameras[0], 0, rgb, stats, err);
-    vkrt_renderer_destroy(&r);
-    fixture_context_destroy(&ctx);
-    vkrt_scene_free(&scene);
-    return ok;
+    return scene_dir_render(w, h, extra, rgb, stats, err);
 }
 
 static void render_ok(uint32_t w, uint32_t h, const vkrt_render_desc *extra, float *rgb,
@@ -116,18 +73,18 @@ static void camera_line(char *out, size_t size, const double eye[3], const doubl
 static void test_mirror_reflects_where_geometry_says(void **state)
 {
     (void)state;
-    write_file("m.obj", "mtllib m.mtl\n"
+    scene_dir_write("m.obj", "mtllib m.mtl\n"
                         "v -20 0 -20\nv 20 0 -20\nv 20 0 20\nv -20 0 20\n"
                         "v 10 -20 -20\nv 10 20 -20\nv 10 20 20\nv 10 -20 20\n"
                         "usemtl mirror\nf 1 4 3 2\nusemtl probe\nf 5 6 7 8\n");
-    write_file("m.mtl", "newmtl mirror\nKd 0 0 0\nKs 0.5 0.5 0.5\nillum 3\nnewmtl probe\nKd 1 1 1\n");
-    write_file("probe.glsl", position_probe);
-    write_file("m.mat", "probe 0 probe.glsl\n");
+    scene_dir_write("m.mtl", "newmtl mirror\nKd 0 0 0\nKs 0.5 0.5 0.5\nillum 3\nnewmtl probe\nKd 1 1 1\n");
+    scene_dir_write("probe.glsl", position_probe);
+    scene_dir_write("m.mat", "probe 0 probe.glsl\n");
     double eye[3] = {0, 5, 0.25}, d[3] = {sin(M_PI / 6), -cos(M_PI / 6), 0};
     char cam[256], cfg[1024];
     camera_line(cam, sizeof cam, eye, d);
     snprintf(cfg, sizeof cfg, "geometry m.obj\nmaterials m.mat\nmax-depth 2\n%s", cam);
-    write_file("scene.cfg", cfg);
+    scene_dir_write("scene.cfg", cfg);
     float rgb[3];
     render_ok(1, 1, NULL, rgb, NULL);
     /* Down to y = 0: t = 5 / cos 30; reflected (sin 30, cos 30, 0) on to x = 10. */
@@ -158,21 +115,21 @@ static double fresnel(double cos_i, double n1, double n2)
 static void test_glass_slab_shifts_as_snell_says(void **state)
 {
     (void)state;
-    write_file("g.obj", "mtllib g.mtl\n"
+    scene_dir_write("g.obj", "mtllib g.mtl\n"
                         /* the slab: top y = 2 facing up, bottom y = 0 facing down */
                         "v -20 2 -20\nv 20 2 -20\nv 20 2 20\nv -20 2 20\n"
                         "v -20 0 -20\nv 20 0 -20\nv 20 0 20\nv -20 0 20\n"
                         "v -20 -3 -20\nv 20 -3 -20\nv 20 -3 20\nv -20 -3 20\n"
                         "usemtl glass\nf 1 4 3 2\nf 5 6 7 8\nusemtl probe\nf 9 12 11 10\n");
-    write_file("g.mtl", "newmtl glass\nKd 0 0 0\nNi 1.5\nillum 7\nnewmtl probe\nKd 1 1 1\n");
-    write_file("probe.glsl", position_probe);
-    write_file("g.mat", "probe 0 probe.glsl\n");
+    scene_dir_write("g.mtl", "newmtl glass\nKd 0 0 0\nNi 1.5\nillum 7\nnewmtl probe\nKd 1 1 1\n");
+    scene_dir_write("probe.glsl", position_probe);
+    scene_dir_write("g.mat", "probe 0 probe.glsl\n");
     double a = 40 * M_PI / 180;
     double eye[3] = {0, 5, 0.5}, d[3] = {sin(a), -cos(a), 0};
     char cam[256], cfg[1024];
     camera_line(cam, sizeof cam, eye, d);
     snprintf(cfg, sizeof cfg, "geometry g.obj\nmaterials g.mat\nmax-depth 4\n%s", cam);
-    write_file("scene.cfg", cfg);
+    scene_dir_write("scene.cfg", cfg);
     float rgb[3];
     vkrt_render_desc desc = {.min_importance = 0.01f};
     render_ok(1, 1, &desc, rgb, NULL);
@@ -197,15 +154,15 @@ static void test_glass_slab_shifts_as_snell_says(void **state)
 static void test_absorbing_glass_uses_the_payload(void **state)
 {
     (void)state;
-    write_file("a.obj", "mtllib a.mtl\n"
+    scene_dir_write("a.obj", "mtllib a.mtl\n"
                         "v -20 2 -20\nv 20 2 -20\nv 20 2 20\nv -20 2 20\n"
                         "v -20 0 -20\nv 20 0 -20\nv 20 0 20\nv -20 0 20\n"
                         "usemtl slab\nf 1 4 3 2\nf 5 6 7 8\n");
-    write_file("a.mtl", "newmtl slab\nKd 1 1 1\n");
-    write_file("below.glsl", "vec3 environment(vec3 d, vec4 payload) { return d.y < 0.0 ? vec3(1.0) : vec3(0.0); }\n");
-    write_file("a.mat", "slab 0 @absorbing_glass 0.5 0.1 0  0 0 0 0  0 0 0  1.5\n"
+    scene_dir_write("a.mtl", "newmtl slab\nKd 1 1 1\n");
+    scene_dir_write("below.glsl", "vec3 environment(vec3 d, vec4 payload) { return d.y < 0.0 ? vec3(1.0) : vec3(0.0); }\n");
+    scene_dir_write("a.mat", "slab 0 @absorbing_glass 0.5 0.1 0  0 0 0 0  0 0 0  1.5\n"
                         "environment 0 below.glsl\n");
-    write_file("scene.cfg", "geometry a.obj\nmaterials a.mat\nmax-depth 4\n"
+    scene_dir_write("scene.cfg", "geometry a.obj\nmaterials a.mat\nmax-depth 4\n"
                             "camera eye 0 5 0 look 0 0 0 up 0 0 1 fov 1\n");
     float rgb[3];
     vkrt_render_desc desc = {.min_importance = 0.01f};
@@ -225,7 +182,7 @@ static void write_direction_environment(bool towards_plus_z)
     snprintf(text, sizeof text,
              "vec3 environment(vec3 d, vec4 payload) { return d.z %s 0.0 ? d + 1.0 : vec3(0.0); }\n",
              towards_plus_z ? ">" : "<");
-    write_file("env.glsl", text);
+    scene_dir_write("env.glsl", text);
 }
 
 /* Inside glass (the back of a glass plane z = 0 whose front faces +z), a ray meets the surface:
@@ -234,10 +191,10 @@ static void write_direction_environment(bool towards_plus_z)
 static void test_glass_refraction_and_total_internal_reflection(void **state)
 {
     (void)state;
-    write_file("p.obj", "mtllib p.mtl\nv -100 -100 0\nv 100 -100 0\nv 100 100 0\nv -100 100 0\n"
+    scene_dir_write("p.obj", "mtllib p.mtl\nv -100 -100 0\nv 100 -100 0\nv 100 100 0\nv -100 100 0\n"
                         "usemtl glass\nf 1 2 3 4\n");
-    write_file("p.mtl", "newmtl glass\nKd 0 0 0\nNi 1.5\nillum 7\n");
-    write_file("p.mat", "environment 0 env.glsl\n");
+    scene_dir_write("p.mtl", "newmtl glass\nKd 0 0 0\nNi 1.5\nillum 7\n");
+    scene_dir_write("p.mat", "environment 0 env.glsl\n");
     const double angles[] = {30, 60};
     for (int i = 0; i < 2; ++i) {
         double a = angles[i] * M_PI / 180;
@@ -245,7 +202,7 @@ static void test_glass_refraction_and_total_internal_reflection(void **state)
         char cam[256], cfg[1024];
         camera_line(cam, sizeof cam, eye, d);
         snprintf(cfg, sizeof cfg, "geometry p.obj\nmaterials p.mat\nmax-depth 2\n%s", cam);
-        write_file("scene.cfg", cfg);
+        scene_dir_write("scene.cfg", cfg);
         bool refracts = angles[i] < 41.8;
         write_direction_environment(refracts);
         float rgb[3];
@@ -272,16 +229,16 @@ static void test_glass_refraction_and_total_internal_reflection(void **state)
 static void test_diffuse_radiance_closed_form(void **state)
 {
     (void)state;
-    write_file("f.obj", "mtllib f.mtl\nv -50 0 -50\nv 50 0 -50\nv 50 0 50\nv -50 0 50\n"
+    scene_dir_write("f.obj", "mtllib f.mtl\nv -50 0 -50\nv 50 0 -50\nv 50 0 50\nv -50 0 50\n"
                         "usemtl floor\nf 1 4 3 2\n");
-    write_file("f.mtl", "newmtl floor\nKd 0.5 0.5 0.5\n");
+    scene_dir_write("f.mtl", "newmtl floor\nKd 0.5 0.5 0.5\n");
     /* Looking straight down from y = 10 with a 60 degree fov: the floor fills the picture. */
     const char *camera = "camera eye 0 10 0 look 0 0 0 up 0 0 1 fov 60\n";
     char cfg[1024];
     snprintf(cfg, sizeof cfg, "geometry f.obj\nlight directional 0 -1 1.7320508  2 2 2\n%s",
              camera);
     /* direction (0, -1, sqrt 3) normalised: 60 degrees from the downward axis */
-    write_file("scene.cfg", cfg);
+    scene_dir_write("scene.cfg", cfg);
     enum { N = 8 };
     float rgb[N * N * 3];
     render_ok(N, N, NULL, rgb, NULL);
@@ -291,7 +248,7 @@ static void test_diffuse_radiance_closed_form(void **state)
             fail_msg("directional: value %d is %.7g, want %.7g", i, rgb[i], want);
 
     snprintf(cfg, sizeof cfg, "geometry f.obj\nlight point 0 4 0  100 100 100\n%s", camera);
-    write_file("scene.cfg", cfg);
+    scene_dir_write("scene.cfg", cfg);
     render_ok(N, N, NULL, rgb, NULL);
     double tan_half = tan(M_PI / 6);
     for (int y = 0; y < N; ++y)
@@ -312,10 +269,10 @@ static void test_diffuse_radiance_closed_form(void **state)
 static void test_spot_falloff_closed_form(void **state)
 {
     (void)state;
-    write_file("f.obj", "mtllib f.mtl\nv -50 0 -50\nv 50 0 -50\nv 50 0 50\nv -50 0 50\n"
+    scene_dir_write("f.obj", "mtllib f.mtl\nv -50 0 -50\nv 50 0 -50\nv 50 0 50\nv -50 0 50\n"
                         "usemtl floor\nf 1 4 3 2\n");
-    write_file("f.mtl", "newmtl floor\nKd 0.5 0.5 0.5\n");
-    write_file("scene.cfg", "geometry f.obj\nlight spot 0 4 0  0 -1 0  40  100 100 100\n"
+    scene_dir_write("f.mtl", "newmtl floor\nKd 0.5 0.5 0.5\n");
+    scene_dir_write("scene.cfg", "geometry f.obj\nlight spot 0 4 0  0 -1 0  40  100 100 100\n"
                             "camera eye 0 10 0 look 0 0 0 up 0 0 1 fov 60\n");
     enum { N = 32 };
     static float rgb[N * N * 3];
@@ -351,13 +308,13 @@ static void test_spot_falloff_closed_form(void **state)
 static void test_ray_buffers_grow_to_the_same_image(void **state)
 {
     (void)state;
-    write_file("s.obj", "mtllib s.mtl\n"
+    scene_dir_write("s.obj", "mtllib s.mtl\n"
                         "v -20 2 -20\nv 20 2 -20\nv 20 2 20\nv -20 2 20\n"
                         "v -20 0 -20\nv 20 0 -20\nv 20 0 20\nv -20 0 20\n"
                         "v -20 -3 -20\nv 20 -3 -20\nv 20 -3 20\nv -20 -3 20\n"
                         "usemtl glass\nf 1 4 3 2\nf 5 6 7 8\nusemtl floor\nf 9 12 11 10\n");
-    write_file("s.mtl", "newmtl glass\nKd 0 0 0\nNi 1.5\nillum 7\nnewmtl floor\nKd 0.6 0.5 0.4\n");
-    write_file("scene.cfg", "geometry s.obj\nmax-depth 5\nenvironment 0.2 0.3 0.4\n"
+    scene_dir_write("s.mtl", "newmtl glass\nKd 0 0 0\nNi 1.5\nillum 7\nnewmtl floor\nKd 0.6 0.5 0.4\n");
+    scene_dir_write("scene.cfg", "geometry s.obj\nmax-depth 5\nenvironment 0.2 0.3 0.4\n"
                             "light point 3 6 1  200 200 200\n"
                             "camera eye 0 8 -4 look 0 0 1 up 0 1 0 fov 40\n");
     enum { W = 32, H = 32 };
@@ -400,18 +357,18 @@ static void test_textured_quad_matches_the_reference_sampler(void **state)
         texels[3 * i + 2] = (unsigned char)(i % 3 == 0 ? 250 : 20);
     }
     char path[256];
-    snprintf(path, sizeof path, "%s/t.png", dir);
+    snprintf(path, sizeof path, "%s/t.png", scene_dir);
     assert_true(stbi_write_png(path, 4, 4, 3, texels, 4 * 3) != 0);
     /* The quad z = 0, x and y in [-1, 1], uv = (x + 1, y + 1): two repeats each way. */
-    write_file("q.obj", "mtllib q.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n"
+    scene_dir_write("q.obj", "mtllib q.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n"
                         "vt 0 0\nvt 2 0\nvt 2 2\nvt 0 2\nusemtl tex\nf 1/1 2/2 3/3 4/4\n");
-    write_file("q.mtl", "newmtl tex\nKd 0.5 0.5 0.5\nmap_Kd t.png\n");
+    scene_dir_write("q.mtl", "newmtl tex\nKd 0.5 0.5 0.5\nmap_Kd t.png\n");
     /* fov chosen so the picture spans x, y in [-0.9, 0.9] at z = 0 from 3 away */
     double fov = 2 * atan(0.9 / 3) * 180 / M_PI;
     char cfg[512];
     snprintf(cfg, sizeof cfg, "geometry q.obj\nlight ambient 1 1 1\n"
                               "camera eye 0 0 3 look 0 0 0 up 0 1 0 fov %.9g\n", fov);
-    write_file("scene.cfg", cfg);
+    scene_dir_write("scene.cfg", cfg);
     enum { N = 24 };
     float rgb[N * N * 3];
     render_ok(N, N, NULL, rgb, NULL);
@@ -485,15 +442,15 @@ static void test_passes_added_one_by_one_equal_the_whole_frame(void **state)
 static void test_overcasting_shader_is_reported(void **state)
 {
     (void)state;
-    write_file("o.obj", "mtllib o.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nusemtl greedy\nf 1 2 3 4\n");
-    write_file("o.mtl", "newmtl greedy\nKd 1 1 1\n");
-    write_file("greedy.glsl", "uint count_rays(Surface s) { return 1u; }\n"
+    scene_dir_write("o.obj", "mtllib o.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nusemtl greedy\nf 1 2 3 4\n");
+    scene_dir_write("o.mtl", "newmtl greedy\nKd 1 1 1\n");
+    scene_dir_write("greedy.glsl", "uint count_rays(Surface s) { return 1u; }\n"
                               "void shade(Surface s) {\n"
                               "    cast_ray(s, reflect(s.incoming, s.normal), vec3(0.5));\n"
                               "    cast_ray(s, -s.incoming, vec3(0.5));\n"
                               "}\n");
-    write_file("o.mat", "# one too many\ngreedy 0 greedy.glsl\n");
-    write_file("scene.cfg", "geometry o.obj\nmaterials o.mat\nmax-depth 3\n"
+    scene_dir_write("o.mat", "# one too many\ngreedy 0 greedy.glsl\n");
+    scene_dir_write("scene.cfg", "geometry o.obj\nmaterials o.mat\nmax-depth 3\n"
                             "camera eye 0 0 3 look 0 0 0 up 0 1 0 fov 30\n");
     float rgb[4 * 4 * 3];
     vkrt_error err = {{0}};
@@ -509,14 +466,14 @@ static void test_overcasting_shader_is_reported(void **state)
 static void test_shader_syntax_error_names_file_and_line(void **state)
 {
     (void)state;
-    write_file("o.obj", "mtllib o.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nusemtl broken\nf 1 2 3\n");
-    write_file("o.mtl", "newmtl broken\nKd 1 1 1\n");
-    write_file("broken.glsl", "uint count_rays(Surface s) { return 0u; }\n"
+    scene_dir_write("o.obj", "mtllib o.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nusemtl broken\nf 1 2 3\n");
+    scene_dir_write("o.mtl", "newmtl broken\nKd 1 1 1\n");
+    scene_dir_write("broken.glsl", "uint count_rays(Surface s) { return 0u; }\n"
                               "void shade(Surface s) {\n"
                               "    add_radiance(vec3(1.0)) oops;\n"
                               "}\n");
-    write_file("o.mat", "\n\nbroken 0 broken.glsl 1 2 3\n");
-    write_file("scene.cfg", "geometry o.obj\nmaterials o.mat\n"
+    scene_dir_write("o.mat", "\n\nbroken 0 broken.glsl 1 2 3\n");
+    scene_dir_write("scene.cfg", "geometry o.obj\nmaterials o.mat\n"
                             "camera eye 0 0 3 look 0 0 0 up 0 1 0 fov 30\n");
     float rgb[3];
     vkrt_error err = {{0}};
@@ -541,5 +498,5 @@ int main(void)
         cmocka_unit_test(test_overcasting_shader_is_reported),
         cmocka_unit_test(test_shader_syntax_error_names_file_and_line),
     };
-    return cmocka_run_group_tests(tests, make_dir, remove_dir);
+    return cmocka_run_group_tests(tests, scene_dir_make, scene_dir_remove);
 }

@@ -23,64 +23,19 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-#include "../gpu_fixture.h"
+#include "../scene_dir.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 
-static char dir[64];
-
-static int make_dir(void **state)
-{
-    (void)state;
-    snprintf(dir, sizeof dir, "/tmp/vkrt-stability-XXXXXX");
-    return mkdtemp(dir) ? 0 : -1;
-}
-
-static int remove_dir(void **state)
-{
-    (void)state;
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    return system(cmd) == 0 ? 0 : -1;
-}
-
-static FILE *open_file(const char *name)
-{
-    char path[256];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    FILE *f = fopen(path, "w");
-    assert_non_null(f);
-    return f;
-}
-
-static void write_file(const char *name, const char *text)
-{
-    FILE *f = open_file(name);
-    fputs(text, f);
-    fclose(f);
-}
-
 static const vkrt_accel_kind all_kinds[] = {VKRT_ACCEL_BRUTE, VKRT_ACCEL_GRID, VKRT_ACCEL_BVH};
 
-/* Renders dir/scene.cfg at w x h with the given structure; fails the test on error. */
+/* Renders the folder's scene.cfg at w x h with the given structure; fails the test on error. */
 static void render(vkrt_accel_kind kind, uint32_t w, uint32_t h, float *rgb, vkrt_frame_stats *stats)
 {
-    char path[256];
-    snprintf(path, sizeof path, "%s/scene.cfg", dir);
-    vkrt_scene scene;
     vkrt_error err = {{0}};
-    if (!vkrt_scene_load(path, &scene, &err))
-        fail_msg("%s", err.msg);
-    gpu_context ctx;
-    fixture_context_create(&ctx);
-    vkrt_render_desc desc = {.width = w, .height = h, .samples = 1, .accel = kind};
-    vkrt_renderer r;
-    if (!vkrt_renderer_create(&r, &ctx, &scene, &desc, &err) ||
-        !vkrt_renderer_render(&r, &scene.config.cameras[0], 0, rgb, stats, &err))
+    vkrt_render_desc desc = {.accel = kind};
+    if (!scene_dir_render(w, h, &desc, rgb, stats, &err))
         fail_msg("%s: %s", vkrt_accel_name(kind), err.msg);
-    vkrt_renderer_destroy(&r);
-    fixture_context_destroy(&ctx);
-    vkrt_scene_free(&scene);
 }
 
 static void assert_all_finite(const float *rgb, size_t n, const char *what)
@@ -109,7 +64,7 @@ static void floor_point(int x, int y, int n, double *px, double *pz)
 static void test_hundred_lights_sum_in_closed_form(void **state)
 {
     (void)state;
-    FILE *f = open_file("scene.cfg");
+    FILE *f = scene_dir_open("scene.cfg");
     fprintf(f, "geometry floor.obj\n%s", floor_camera);
     double lights[100][3];
     for (int i = 0; i < 100; ++i) {
@@ -120,7 +75,7 @@ static void test_hundred_lights_sum_in_closed_form(void **state)
                 lights[i][2], 1.0 + i % 7, 1.0 + i % 5, 1.0 + i % 3);
     }
     fclose(f);
-    write_file("floor.obj", floor_obj);
+    scene_dir_write("floor.obj", floor_obj);
     enum { N = 16 };
     float rgb[N * N * 3];
     render(VKRT_ACCEL_BVH, N, N, rgb, NULL);
@@ -152,7 +107,7 @@ static void test_hundred_lights_sum_in_closed_form(void **state)
 static void test_light_inside_a_closed_box_does_not_leak(void **state)
 {
     (void)state;
-    write_file("box.obj",
+    scene_dir_write("box.obj",
                /* ground */
                "v -10 0 -10\nv 10 0 -10\nv 10 0 10\nv -10 0 10\n"
                /* a closed cube [-1, 1] x [0.5, 2.5] x [-1, 1] */
@@ -160,7 +115,7 @@ static void test_light_inside_a_closed_box_does_not_leak(void **state)
                "v -1 0.5 1\nv 1 0.5 1\nv 1 2.5 1\nv -1 2.5 1\n"
                "f 1 4 3 2\n"
                "f 5 8 7 6\nf 9 10 11 12\nf 5 6 10 9\nf 8 12 11 7\nf 5 9 12 8\nf 6 7 11 10\n");
-    write_file("scene.cfg", "geometry box.obj\nlight point 0 1.5 0  1000 1000 1000\n"
+    scene_dir_write("scene.cfg", "geometry box.obj\nlight point 0 1.5 0  1000 1000 1000\n"
                             "camera eye 3 8 2 look 0 0 0 up 0 1 0 fov 70\n");
     enum { N = 32 };
     static float rgb[N * N * 3];
@@ -173,7 +128,7 @@ static void test_light_inside_a_closed_box_does_not_leak(void **state)
     }
     /* The control: without its lid the same box lets light out, so the black above was the
      * box's doing, not a black renderer. */
-    write_file("box.obj", "v -10 0 -10\nv 10 0 -10\nv 10 0 10\nv -10 0 10\n"
+    scene_dir_write("box.obj", "v -10 0 -10\nv 10 0 -10\nv 10 0 10\nv -10 0 10\n"
                           "v -1 0.5 -1\nv 1 0.5 -1\nv 1 2.5 -1\nv -1 2.5 -1\n"
                           "v -1 0.5 1\nv 1 0.5 1\nv 1 2.5 1\nv -1 2.5 1\n"
                           "f 1 4 3 2\nf 5 8 7 6\nf 9 10 11 12\nf 5 6 10 9\nf 5 9 12 8\nf 6 7 11 10\n");
@@ -193,14 +148,14 @@ static void test_light_inside_a_closed_box_does_not_leak(void **state)
 static void test_axis_parallel_rays_on_cell_boundaries(void **state)
 {
     (void)state;
-    write_file("grid.obj",
+    scene_dir_write("grid.obj",
                "v -4 0 -4\nv 4 0 -4\nv 4 0 4\nv -4 0 4\n"
                "v -1 0 -1\nv 1 0 -1\nv 1 2 -1\nv -1 2 -1\nv -1 0 1\nv 1 0 1\nv 1 2 1\nv -1 2 1\n"
                "f 1 4 3 2\nf 5 8 7 6\nf 9 10 11 12\nf 5 6 10 9\nf 8 12 11 7\nf 5 9 12 8\nf 6 7 11 10\n");
     /* fov 90 and 4 x 4 pixels from height 4: pixel centres at x, z = +-1, +-3 on the floor's plane,
      * exactly the cube's edges and the floor's quarter lines (the grid's cell boundaries). The
      * centre column (x = 0) of a 5-wide picture looks straight down the y axis. */
-    write_file("scene.cfg", "geometry grid.obj\nlight directional 0 -1 0  1 1 1\n"
+    scene_dir_write("scene.cfg", "geometry grid.obj\nlight directional 0 -1 0  1 1 1\n"
                             "camera eye 0 4 0 look 0 0 0 up 0 0 1 fov 90\n");
     enum { N = 5 };
     float rgb[3][N * N * 3];
@@ -227,13 +182,13 @@ static void test_degenerate_triangles_change_nothing(void **state)
 {
     (void)state;
     const char *clean = "v -10 0 -10\nv 10 0 -10\nv 10 0 10\nv -10 0 10\nf 1 4 3 2\n";
-    write_file("floor.obj", clean);
-    write_file("scene.cfg", "geometry floor.obj\nlight point 1 4 2  100 100 100\n"
+    scene_dir_write("floor.obj", clean);
+    scene_dir_write("scene.cfg", "geometry floor.obj\nlight point 1 4 2  100 100 100\n"
                             "camera eye 0 10 0 look 0 0 0 up 0 0 1 fov 60\n");
     enum { N = 16 };
     float want[N * N * 3], got[N * N * 3];
     render(VKRT_ACCEL_BRUTE, N, N, want, NULL);
-    FILE *f = open_file("floor.obj");
+    FILE *f = scene_dir_open("floor.obj");
     fputs(clean, f);
     /* Above the floor, so a wrong hit on them would shadow it or show up. */
     fputs("v 0 1 0\nv 1 1 0\nv 2 1 0\n"             /* 5-7: collinear */
@@ -264,7 +219,7 @@ static void test_degenerate_triangles_change_nothing(void **state)
 static void test_glass_chains_stay_bounded_and_finite(void **state)
 {
     (void)state;
-    FILE *f = open_file("slabs.obj");
+    FILE *f = scene_dir_open("slabs.obj");
     fputs("mtllib slabs.mtl\nusemtl glass\n", f);
     for (int s = 0; s < 6; ++s) {
         double y0 = s * 1.0, y1 = y0 + 0.5;
@@ -276,7 +231,7 @@ static void test_glass_chains_stay_bounded_and_finite(void **state)
     }
     fputs("usemtl floor\nv -50 -2 -50\nv 50 -2 -50\nv 50 -2 50\nv -50 -2 50\nf 49 52 51 50\n", f);
     fclose(f);
-    write_file("slabs.mtl", "newmtl glass\nKd 0 0 0\nNi 1.5\nillum 7\n"
+    scene_dir_write("slabs.mtl", "newmtl glass\nKd 0 0 0\nNi 1.5\nillum 7\n"
                             "newmtl floor\nKd 0.5 0.5 0.5\n");
     /* Grazing: the centre ray meets the slabs 85 degrees from their normal. */
     double a = 85 * M_PI / 180;
@@ -286,7 +241,7 @@ static void test_glass_chains_stay_bounded_and_finite(void **state)
              "light directional 0.3 -1 0.2  2 2 2\n"
              "camera eye 0 8 0 look %.9g %.9g 0 up 0 1 0 fov 30\n",
              sin(a), 8 - cos(a));
-    write_file("scene.cfg", cfg);
+    scene_dir_write("scene.cfg", cfg);
     enum { N = 32 };
     static float rgb[N * N * 3];
     vkrt_frame_stats stats;
@@ -318,5 +273,5 @@ int main(void)
         cmocka_unit_test(test_degenerate_triangles_change_nothing),
         cmocka_unit_test(test_glass_chains_stay_bounded_and_finite),
     };
-    return cmocka_run_group_tests(tests, make_dir, remove_dir);
+    return cmocka_run_group_tests(tests, scene_dir_make, scene_dir_remove);
 }
