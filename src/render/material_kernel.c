@@ -66,16 +66,21 @@ static bool reads_lights(const char *source)
     return false;
 }
 
-/* The shader's display name (what #line and messages say) and its text (malloc'd). */
+/* The shader's name as #line and messages give it: its file, or glsl/materials/NAME.glsl. */
+static void shader_display(const vkrt_shader_source *s, char *display, size_t size)
+{
+    if (s->builtin)
+        snprintf(display, size, "glsl/materials/%s.glsl", s->builtin);
+    else
+        snprintf(display, size, "%s", s->path);
+}
+
+/* The shader's display name and its text (malloc'd). */
 static char *shader_text(const vkrt_shader_source *s, char *display, size_t size)
 {
-    if (s->builtin) {
-        char path[256];
-        snprintf(path, sizeof path, "materials/%s.glsl", s->builtin);
-        snprintf(display, size, "glsl/%s", path);
-        return vkrt_kernel_source_lookup(NULL, path);
-    }
-    snprintf(display, size, "%s", s->path);
+    shader_display(s, display, size);
+    if (s->builtin)
+        return vkrt_kernel_source_lookup(NULL, display + strlen("glsl/"));
     return strdup(s->text);
 }
 
@@ -179,10 +184,7 @@ bool vkrt_material_kernel_compile(const vkrt_material_kernel *k,
             shader < materials->shader_count) {
             const vkrt_shader_source *s = &materials->shaders[shader];
             char display[1200];
-            if (s->builtin)
-                snprintf(display, sizeof display, "glsl/materials/%s.glsl", s->builtin);
-            else
-                snprintf(display, sizeof display, "%s", s->path);
+            shader_display(s, display, sizeof display);
             return vkrt_error_set(err, "%s: %s does not define %s (docs/materials.md)",
                                   s->referrer, display, entries[e].wanted);
         }
@@ -191,10 +193,8 @@ bool vkrt_material_kernel_compile(const vkrt_material_kernel *k,
     for (uint32_t i = 0; i < materials->shader_count; ++i) {
         const vkrt_shader_source *s = &materials->shaders[i];
         char display[1200];
-        if (s->builtin)
-            snprintf(display, sizeof display, "glsl/materials/%s.glsl:", s->builtin);
-        else
-            snprintf(display, sizeof display, "%s:", s->path);
+        shader_display(s, display, sizeof display - 1);
+        strcat(display, ":");
         if (strstr(err->msg, display))
             return vkrt_error_prefix(err, "%s: shader does not compile", s->referrer);
     }
