@@ -125,12 +125,16 @@ VKRT_STRUCT(WaveState) {
     uint ray_count;
 };
 
-/* A BVH node, 32 bytes (src/accel/bvh.h, bvh_node, has the same bytes). lo.w and hi.w hold uint
- * bits (floatBitsToUint): lo.w is the left child (inner node; the right child follows it) or the
- * first triangle (leaf), hi.w is the triangle count, 0 for inner nodes. */
-VKRT_STRUCT(BvhNode) {
-    vec4 lo;
-    vec4 hi;
+/* A BVH inner node as traversal reads it, 64 bytes (src/accel/bvh_pairs.h, bvh_pair, has the
+ * same bytes): both children's boxes, so one fetch serves a whole step (Aila and Laine 2009).
+ * x = (a.lo.x, a.hi.x, b.lo.x, b.hi.x), likewise y and z. refs.xy are the children a and b:
+ * another BvhPair's index when refs.zw (their triangle counts) are 0, else the first triangle of a
+ * leaf of refs.z (a) or refs.w (b) triangles. */
+VKRT_STRUCT(BvhPair) {
+    vec4 x;
+    vec4 y;
+    vec4 z;
+    uvec4 refs;
 };
 
 /* A texture in the texel buffer (src/scene/texture.h fills these; glsl/lib/texture.glsl reads them).

@@ -28,7 +28,7 @@ typedef struct Probe {
     Light light;
     FrameParams params;
     Counters counters;
-    BvhNode node;
+    BvhPair node;
     GridInfo grid;
     TriangleTexcoords texcoords;
     WaveState wave;
@@ -71,7 +71,8 @@ static const field fields[] = {
     FIELD(wave, ray_count, U32),
     FIELD(texture, offset, U32), FIELD(texture, width, U32), FIELD(texture, height, U32),
     FIELD(texture, flags, U32),
-    FIELD(node, lo, VEC4), FIELD(node, hi, VEC4),
+    FIELD(node, x, VEC4), FIELD(node, y, VEC4), FIELD(node, z, VEC4),
+    FIELD(node, refs, UVEC4),
     FIELD(grid, lo, VEC4), FIELD(grid, hi, VEC4), FIELD(grid, cell_size, VEC4), FIELD(grid, dims, UVEC4),
     {"hit_pair[1].triangle", offsetof(Probe, hit_pair) + sizeof(Hit) + offsetof(Hit, triangle), U32},
     {"hit_pair[1].t", offsetof(Probe, hit_pair) + sizeof(Hit) + offsetof(Hit, t), F32},
@@ -94,7 +95,7 @@ static char *probe_kernel(void)
                              "layout(std430, binding = 0) buffer Out {\n"
                              "  Ray ray; Hit hit; Triangle triangle; TriangleNormals normals;\n"
                              "  Material material; Light light; FrameParams params;\n"
-                             "  Counters counters; BvhNode node; GridInfo grid;\n"
+                             "  Counters counters; BvhPair node; GridInfo grid;\n"
                              "  TriangleTexcoords texcoords; WaveState wave; TextureInfo texture;\n"
                              "  Hit hit_pair[2]; Ray ray_pair[2]; Material material_pair[2];\n"
                              "};\n"
@@ -208,7 +209,7 @@ static void test_sizes(void **state)
     assert_int_equal(sizeof(FrameParams), 128);
     assert_true(sizeof(FrameParams) <= 128); /* the push constant size every device offers */
     assert_int_equal(sizeof(Counters), 32);
-    assert_int_equal(sizeof(BvhNode), 32);
+    assert_int_equal(sizeof(BvhPair), 64);
     assert_int_equal(sizeof(GridInfo), 64);
 }
 

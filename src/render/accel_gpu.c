@@ -9,8 +9,9 @@
 
 #include "../../glsl/shared.h"
 #include "../accel/bvh.h"
+#include "../accel/bvh_pairs.h"
 
-_Static_assert(sizeof(bvh_node) == sizeof(BvhNode), "bvh_node and BvhNode must be the same bytes");
+_Static_assert(sizeof(bvh_pair) == sizeof(BvhPair), "bvh_pair and BvhPair must be the same bytes");
 
 static double now_ms(void)
 {
@@ -63,13 +64,17 @@ static bool build_bvh(vkrt_accel_gpu *a, gpu_context *ctx, const float *position
     if (!ok)
         vkrt_error_set(err, "BVH of depth %u exceeds the traversal stack of %u", b.max_depth,
                        stack_size);
+    bvh_pair *pairs = NULL;
+    uint32_t pair_count = 0;
+    ok = ok && bvh_pairs_build(&b, &pairs, &pair_count, err);
     GridInfo unused = {0};
     ok = ok && upload(ctx, &a->info, &unused, sizeof unused, "grid frame", err) &&
-         upload(ctx, &a->nodes, b.nodes, b.node_count * sizeof *b.nodes, "BVH nodes", err) &&
+         upload(ctx, &a->nodes, pairs, pair_count * sizeof *pairs, "BVH nodes", err) &&
          gpu_buffer_create(ctx, &a->refs, 0, "grid references", err);
+    free(pairs);
     if (ok) {
         vkrt_accel_stats *s = &a->stats;
-        s->bytes = b.node_count * sizeof *b.nodes;
+        s->bytes = pair_count * sizeof *pairs;
         s->nodes = b.node_count;
         s->leaves = b.leaf_count;
         s->triangles_per_leaf = b.leaf_count ? (double)n / b.leaf_count : 0;
