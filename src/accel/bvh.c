@@ -34,9 +34,14 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 /* Defaults of bvh_build_desc's zero fields (bvh.h documents them). */
-enum { DEFAULT_MAX_LEAF = 8, DEFAULT_BINS = 16, DEFAULT_THREADS = 2 };
+enum { DEFAULT_MAX_LEAF = 8, DEFAULT_BINS = 16 };
+
+/* Threads when the descriptor says 0: one per online core, at most this many (past it the serial
+ * top of the tree and the stitch pass dominate). The tree is the same for any count. */
+enum { DEFAULT_MAX_THREADS = 16 };
 #define DEFAULT_TRAVERSAL_COST 1.0f
 
 /* Limits on the descriptor: bins live in fixed per-thread arrays. */
@@ -657,7 +662,11 @@ static bool read_desc(const bvh_build_desc *desc, build_ctx *ctx, uint32_t *thre
     ctx->max_leaf = d.max_leaf_size ? d.max_leaf_size : DEFAULT_MAX_LEAF;
     ctx->bins = d.bins ? d.bins : DEFAULT_BINS;
     ctx->traversal_cost = d.traversal_cost != 0.0f ? d.traversal_cost : DEFAULT_TRAVERSAL_COST;
-    *threads = d.threads ? d.threads : DEFAULT_THREADS;
+    *threads = d.threads;
+    if (*threads == 0) {
+        long cores = sysconf(_SC_NPROCESSORS_ONLN);
+        *threads = cores < 1 ? 1 : cores > DEFAULT_MAX_THREADS ? DEFAULT_MAX_THREADS : (uint32_t)cores;
+    }
     if (ctx->bins < MIN_BINS || ctx->bins > MAX_BINS)
         return vkrt_error_set(err, "bvh: bins must be %d..%d, got %u", MIN_BINS, MAX_BINS,
                               ctx->bins);

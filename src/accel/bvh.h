@@ -24,7 +24,7 @@ typedef struct bvh_node {
 typedef struct bvh_build_desc {
     uint32_t max_leaf_size;   /* a node with more triangles is always split; 0: 8 */
     uint32_t bins;            /* SAH bins per axis; 0: 16 */
-    uint32_t threads;         /* build threads; 0: 2 (this machine's cores) */
+    uint32_t threads;         /* build threads; 0: one per online core, up to 16 */
     float traversal_cost;     /* SAH cost of visiting a node, relative to one triangle test; 0: 1 */
 } bvh_build_desc;
 
