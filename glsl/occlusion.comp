@@ -2,8 +2,11 @@
  * occlusion.comp: any-hit tracing of every ray in the wavefront (shadow rays). Writes the hit
  * record's triangle as 0 when something blocks the ray, VKRT_NO_HIT when the way is clear.
  */
+#extension GL_KHR_shader_subgroup_basic : enable
+#extension GL_KHR_shader_subgroup_arithmetic : enable
 #include "lib/bindings.glsl"
 #include "lib/traverse.glsl"
+#include "lib/traversal_stats.glsl"
 
 void main()
 {
@@ -16,4 +19,5 @@ void main()
     Ray ray = load_ray(index);
     bool blocked = trace_any(ray.origin.xyz, ray.direction.xyz, ray.origin.w, ray.direction.w);
     hits[index] = Hit(ray.direction.w, 0.0, 0.0, blocked ? 0u : VKRT_NO_HIT);
+    record_traversal_stats();
 }

@@ -170,7 +170,15 @@ VKRT_STRUCT(Counters) {
     uint overcast_material; /* 1 + the material of the last such cast, 0 if none */
     uint nonfinite;         /* shading results that were NaN or infinite, dropped, not added */
     uint overcount;         /* hits whose count_rays asked for more than VKRT_MAX_CAST rays */
-    uint pad2;
+    /* Traversal statistics, kept only by pipelines made with TRAVERSAL_STATS (vkrt bench --stats):
+     * rays traced, BVH records fetched and triangles tested (summed over the rays), and the sum
+     * over subgroups of their busiest lane's fetches + tests, which times the subgroup size is
+     * the lane-iterations the subgroups spent: work over that is the SIMD utilisation. */
+    uint trace_rays;
+    uint trace_steps;
+    uint trace_tests;
+    uint trace_widest;
+    uint subgroup_size;
 };
 
 #endif

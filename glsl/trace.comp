@@ -4,8 +4,11 @@
  * Which structure the traversal walks is a specialization constant (lib/traverse.glsl). Dead rays
  * (slots a shader left unused) get no hit and cost one load.
  */
+#extension GL_KHR_shader_subgroup_basic : enable
+#extension GL_KHR_shader_subgroup_arithmetic : enable
 #include "lib/bindings.glsl"
 #include "lib/traverse.glsl"
+#include "lib/traversal_stats.glsl"
 
 void main()
 {
@@ -23,4 +26,5 @@ void main()
     }
     Hit hit = trace_closest(ray.origin.xyz, ray.direction.xyz, ray.origin.w, previous.t);
     hits[index] = hit.triangle != VKRT_NO_HIT ? hit : previous;
+    record_traversal_stats();
 }

@@ -186,6 +186,9 @@ typedef struct bench_row {
     double primary_ms, shadow_ms, diffuse_ms; /* medians */
     uint32_t hits, blocked;
     double grid_density;
+    uint32_t workgroup_size;
+    bool stats;                                  /* counted, not timed (--stats) */
+    vkrt_traversal_stats primary_stats, shadow_stats, diffuse_stats;
 } bench_row;
 
 static int compare_doubles(const void *a, const void *b)
@@ -215,6 +218,15 @@ static bool timed_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool 
     }
     free(ms);
     return ok;
+}
+
+/* Times the trace, or with --stats (a renderer made with traversal_stats) counts its work. */
+static bool measure(vkrt_renderer *r, bool stats, const Ray *rays, uint32_t count, bool any_hit,
+                    Hit *hits, trace_times *times, vkrt_traversal_stats *counted, vkrt_error *err)
+{
+    if (stats)
+        return vkrt_renderer_trace_stats(r, rays, count, any_hit, hits, counted, err);
+    return timed_trace(r, rays, count, any_hit, hits, times, err);
 }
 
 static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_render_desc *desc,
@@ -247,7 +259,8 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
         uint32_t stride = pixels / timed;
         for (uint32_t i = 0; stride > 1 && i < timed; ++i)
             primary[i] = primary[i * stride];
-        ok = timed_trace(&r, primary, timed, false, hits, &row->primary, err);
+        ok = measure(&r, row->stats, primary, timed, false, hits, &row->primary,
+                     &row->primary_stats, err);
         row->primary_ms = row->primary.median_ms;
     }
     if (ok) {
@@ -262,14 +275,16 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
         ok = primary_hits != NULL;
         if (ok)
             memcpy(primary_hits, hits, timed * sizeof *hits);
-        ok = ok && (n == 0 || timed_trace(&r, shadow, n, true, hits, &row->shadow, err));
+        ok = ok && (n == 0 || measure(&r, row->stats, shadow, n, true, hits, &row->shadow,
+                                      &row->shadow_stats, err));
         row->shadow_ms = row->shadow.median_ms;
         for (uint32_t i = 0; ok && i < n; ++i)
             row->blocked += hits[i].triangle != VKRT_NO_HIT;
         /* The shadow buffer is free again: it holds the diffuse rays now. */
         n = ok ? make_diffuse_rays(scene, primary, primary_hits, timed, shadow) : 0;
         row->diffuse_timed = n;
-        ok = ok && (n == 0 || timed_trace(&r, shadow, n, false, hits, &row->diffuse, err));
+        ok = ok && (n == 0 || measure(&r, row->stats, shadow, n, false, hits, &row->diffuse,
+                                      &row->diffuse_stats, err));
         row->diffuse_ms = row->diffuse.median_ms;
         free(primary_hits);
     }
@@ -285,13 +300,51 @@ static double mrays(uint32_t rays, double ms)
     return ms > 0 ? rays / (ms * 1e3) : 0;
 }
 
+static void print_stats(FILE *out, const vkrt_traversal_stats *s)
+{
+    fprintf(out, " %6.1f %6.1f %5.0f%%", s->steps_per_ray, s->tests_per_ray,
+            100 * s->simd_utilisation);
+}
+
 static void print_row(FILE *out, const bench_row *b)
 {
+    if (b->stats) {
+        fprintf(out, "%-28s %-5s %9u", b->scene, vkrt_accel_name(b->accel.kind), b->triangles);
+        print_stats(out, &b->primary_stats);
+        print_stats(out, &b->shadow_stats);
+        print_stats(out, &b->diffuse_stats);
+        fprintf(out, " %8u %8u\n", b->hits, b->blocked);
+        return;
+    }
     fprintf(out, "%-28s %-5s %9u %9.1f %8.2f %10.4g %10.4g %10.4g %8u %8u\n", b->scene,
             vkrt_accel_name(b->accel.kind), b->triangles, b->accel.build_ms,
             b->accel.bytes / 1048576.0, mrays(b->primary_timed, b->primary_ms),
             mrays(b->shadow_timed, b->shadow_ms), mrays(b->diffuse_timed, b->diffuse_ms), b->hits,
             b->blocked);
+}
+
+static void print_header(FILE *out, bool stats)
+{
+    if (stats) {
+        fprintf(out, "%-28s %-5s %9s %-20s %-20s %-20s %8s %8s\n", "scene", "accel", "triangles",
+                "  primary", "  shadow", "  diffuse", "hits", "blocked");
+        fprintf(out, "%-28s %-5s %9s", "", "", "");
+        for (int k = 0; k < 3; ++k)
+            fprintf(out, " %6s %6s %6s", "nodes", "tris", "simd");
+        fprintf(out, "\n");
+        return;
+    }
+    fprintf(out, "%-28s %-5s %9s %9s %8s %10s %10s %10s %8s %8s\n", "scene", "accel", "triangles",
+            "build_ms", "MiB", "primary", "shadow", "diffuse", "hits", "blocked");
+    fprintf(out, "%-28s %-5s %9s %9s %8s %10s %10s %10s %8s %8s\n", "", "", "", "", "", "Mrays/s",
+            "Mrays/s", "Mrays/s", "", "");
+}
+
+static void json_stats(FILE *f, const char *kind, const vkrt_traversal_stats *s)
+{
+    fprintf(f, "\"%s_nodes_per_ray\": %.3f, \"%s_triangles_per_ray\": %.3f, "
+               "\"%s_simd_utilisation\": %.4f, ",
+            kind, s->steps_per_ray, kind, s->tests_per_ray, kind, s->simd_utilisation);
 }
 
 static bool write_json(const char *path, const gpu_context *ctx, const bench_row *rows,
@@ -310,8 +363,15 @@ static bool write_json(const char *path, const gpu_context *ctx, const bench_row
                "  \"results\": [\n", warmup_ms, timed_runs);
     for (uint32_t i = 0; i < count; ++i) {
         const bench_row *b = &rows[i];
+        fprintf(f, "    {\"workgroup_size\": %u, \"stats\": %s, ", b->workgroup_size,
+                b->stats ? "true" : "false");
+        if (b->stats) {
+            json_stats(f, "primary", &b->primary_stats);
+            json_stats(f, "shadow", &b->shadow_stats);
+            json_stats(f, "diffuse", &b->diffuse_stats);
+        }
         fprintf(f,
-                "    {\"scene\": \"%s\", \"accel\": \"%s\", \"reason\": \"%s\", \"triangles\": %u, "
+                "\"scene\": \"%s\", \"accel\": \"%s\", \"reason\": \"%s\", \"triangles\": %u, "
                 "\"width\": %u, \"height\": %u, \"build_ms\": %.3f, \"bytes\": %zu, "
                 "\"nodes_or_cells\": %u, \"triangles_per_leaf\": %.3f, "
                 "\"primary_rays_timed\": %u, \"primary_ms\": %.4f, \"primary_ms_min\": %.4f, "
@@ -355,14 +415,13 @@ int vkrt_bench_run(const vkrt_options *opts)
     uint32_t row_count = 0;
     bool ok = rows != NULL;
     printf("device: %s\n", ctx.properties.deviceName);
-    printf("%-28s %-5s %9s %9s %8s %10s %10s %10s %8s %8s\n", "scene", "accel", "triangles",
-           "build_ms", "MiB", "primary", "shadow", "diffuse", "hits", "blocked");
-    printf("%-28s %-5s %9s %9s %8s %10s %10s %10s %8s %8s\n", "", "", "", "", "", "Mrays/s",
-           "Mrays/s", "Mrays/s", "", "");
+    print_header(stdout, opts->stats);
     for (uint32_t s = 0; ok && s < opts->scene_count; ++s) {
         vkrt_scene scene;
-        /* Tracing reads no material or texture: load the geometry alone. */
-        if (!vkrt_scene_load_geometry(opts->scene_paths[s], &scene, &err)) {
+        /* Tracing reads no material or texture: load the geometry alone, unless asked to load
+         * the whole scene (to see whether what a render uploads besides changes tracing). */
+        if (!(opts->whole_scene ? vkrt_scene_load(opts->scene_paths[s], &scene, &err)
+                                : vkrt_scene_load_geometry(opts->scene_paths[s], &scene, &err))) {
             ok = false;
             break;
         }
@@ -371,11 +430,15 @@ int vkrt_bench_run(const vkrt_options *opts)
             .height = opts->height ? opts->height : scene.config.height,
             .samples = 1,
             .grid_density = opts->grid_density,
+            .workgroup_size = opts->workgroup_size,
+            .traversal_stats = opts->stats,
         };
         for (uint32_t k = 0; ok && k < kind_count; ++k) {
             bench_row *row = &rows[row_count];
             row->scene = opts->scene_paths[s];
             row->grid_density = opts->grid_density;
+            row->workgroup_size = opts->workgroup_size ? opts->workgroup_size : 64;
+            row->stats = opts->stats;
             desc.accel = kinds[k];
             ok = bench_one(&ctx, &scene, &desc, row, &err);
             if (ok) {

@@ -11,7 +11,8 @@ const char *vkrt_usage(void)
     return "usage: vkrt render SCENE.cfg [options]   render every frame (camera) of a scene\n"
            "       vkrt view SCENE.cfg [options]     fly through a scene in a window\n"
            "       vkrt bench SCENE.cfg... [--accel A] [--json OUT.json] [--width W --height H]\n"
-           "                  [--grid-density CELLS_PER_TRIANGLE]\n"
+           "                  [--grid-density CELLS_PER_TRIANGLE] [--workgroup N] [--stats]\n"
+           "                  [--whole-scene]\n"
            "                                         time primary and shadow rays per structure\n"
            "       vkrt --list-devices               list Vulkan devices\n"
            "       vkrt --help | --version\n"
@@ -143,6 +144,14 @@ bool vkrt_options_parse(int argc, char **argv, vkrt_options *opts, vkrt_error *e
             if (opts->grid_density <= 0 || opts->grid_density > 1000)
                 return vkrt_error_set(err, "--grid-density: '%s' is not in (0, 1000]", value);
             ++i;
+        } else if (strcmp(arg, "--workgroup") == 0) {
+            if (!parse_u32(arg, value, 1, 1024, &opts->workgroup_size, err))
+                return false;
+            ++i;
+        } else if (strcmp(arg, "--stats") == 0) {
+            opts->stats = true;
+        } else if (strcmp(arg, "--whole-scene") == 0) {
+            opts->whole_scene = true;
         } else if (strcmp(arg, "--script") == 0 || strcmp(arg, "--record") == 0) {
             if (!value)
                 return vkrt_error_set(err, "%s needs a path", arg);

@@ -27,6 +27,9 @@ typedef struct vkrt_options {
     uint32_t scene_count;
     const char *json;         /* bench --json: where to write the results */
     float grid_density;       /* bench --grid-density: cells per triangle; 0: the default */
+    uint32_t workgroup_size;  /* bench --workgroup: invocations per workgroup; 0: the default */
+    bool stats;               /* bench --stats: count traversal work instead of timing */
+    bool whole_scene;         /* bench --whole-scene: load materials and textures too */
     const char *output;       /* -o: overrides the scene's output; NULL when not given */
     const char *script;       /* view --script: events to play (a testing aid); NULL when not given */
     const char *record;       /* view --record: where K appends camera lines; NULL when not given */

@@ -50,6 +50,10 @@ layout(std430, set = 0, binding = 16) readonly buffer TexcoordBuffer { TriangleT
 layout(std430, set = 0, binding = 17) readonly buffer TextureInfoBuffer { TextureInfo texture_infos[]; };
 layout(std430, set = 0, binding = 18) readonly buffer TexelBuffer { uint texels[]; };
 
+/* Set for `vkrt bench --stats`: the traversal counts its work into counters.trace_* (slower;
+ * never set for timed runs or renders). */
+layout(constant_id = 5) const bool TRAVERSAL_STATS = false;
+
 /* Which structure trace_closest and trace_any walk (VKRT_TRAVERSE_*). */
 layout(constant_id = 2) const uint ACCEL_KIND = VKRT_TRAVERSE_BRUTE;
 

@@ -24,6 +24,11 @@ const int BVH_STACK_SIZE = 64;
  * from the plane's and lose the bound. */
 const float BOX_EXIT_SCALE = 1.0000004;
 
+/* This invocation's traversal work, counted when TRAVERSAL_STATS is set (lib/traversal_stats.glsl
+ * reports it). */
+uint traversal_steps = 0u;
+uint traversal_tests = 0u;
+
 /* Marks "no node chosen yet" in a step. */
 const uint NO_NODE = 0xFFFFFFFFu;
 
@@ -52,6 +57,8 @@ vec2 slab_interval(vec3 lo, vec3 hi, vec3 origin, vec3 inv_dir, float tmin, floa
 bool bvh_leaf(RayShear s, uint first, uint count, float tmin, inout Hit hit)
 {
     bool found = false;
+    if (TRAVERSAL_STATS)
+        traversal_tests += count;
     for (uint i = first; i < first + count; ++i) {
         Triangle tri = triangles[i];
         float t, u, v;
@@ -73,6 +80,8 @@ Hit bvh_traverse(RayShear s, vec3 dir, float tmin, float tmax, bool any_hit)
     uint node = 0u;
     while (true) {
         BvhPair n = bvh_pairs[node];
+        if (TRAVERSAL_STATS)
+            ++traversal_steps;
         /* Slab distances of both children at once: lanes (a.lo, a.hi, b.lo, b.hi). */
         vec4 tx = (n.x - s.origin.x) * inv_dir.x;
         vec4 ty = (n.y - s.origin.y) * inv_dir.y;

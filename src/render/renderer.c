@@ -59,7 +59,13 @@ static const uint32_t max_cast = 64;
 static const uint32_t ray_memory_share = 4;
 
 /* Specialization constant ids shared with glsl/lib/bindings.glsl (0 is the workgroup size). */
-enum { SPEC_HAS_NORMALS = 1, SPEC_ACCEL_KIND = 2, SPEC_HAS_TEXCOORDS = 3, SPEC_WAVE_WORKGROUP = 4 };
+enum {
+    SPEC_HAS_NORMALS = 1,
+    SPEC_ACCEL_KIND = 2,
+    SPEC_HAS_TEXCOORDS = 3,
+    SPEC_WAVE_WORKGROUP = 4,
+    SPEC_TRAVERSAL_STATS = 5,
+};
 
 static bool upload(vkrt_renderer *r, gpu_buffer *buf, const void *data, size_t size,
                    const char *what, vkrt_error *err)
@@ -334,14 +340,16 @@ static uint32_t gpu_accel_kind(vkrt_accel_kind kind)
 }
 
 static bool create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoords,
-                           uint32_t workgroup_size, const vkrt_material_kernel *kernel,
-                           const vkrt_scene_materials *mats, vkrt_error *err)
+                           uint32_t workgroup_size, bool traversal_stats,
+                           const vkrt_material_kernel *kernel, const vkrt_scene_materials *mats,
+                           vkrt_error *err)
 {
     gpu_spec_constant spec[] = {
         {SPEC_HAS_NORMALS, has_normals},
         {SPEC_ACCEL_KIND, gpu_accel_kind(r->accel.stats.kind)},
         {SPEC_HAS_TEXCOORDS, has_texcoords},
         {SPEC_WAVE_WORKGROUP, workgroup_size},
+        {SPEC_TRAVERSAL_STATS, traversal_stats},
     };
     const uint32_t count = sizeof spec / sizeof *spec;
     return create_kernel(r, &r->raygen, "raygen.comp", workgroup_size, spec, count, err) &&
@@ -410,8 +418,8 @@ bool vkrt_renderer_create(vkrt_renderer *r, gpu_context *ctx, const vkrt_scene *
          upload_geometry(r, &scene->mesh, mats, err) &&
          upload_materials(r, mats, &kernel, err) && upload_lights(r, &scene->config, err) &&
          create_frame_buffers(r, err) &&
-         create_kernels(r, scene->mesh.normals != NULL, has_texcoords, workgroup_size, &kernel,
-                        mats, err);
+         create_kernels(r, scene->mesh.normals != NULL, has_texcoords, workgroup_size,
+                        desc->traversal_stats, &kernel, mats, err);
     vkrt_material_kernel_destroy(&kernel);
     vkrt_scene_materials_free(&own);
     if (!ok) {
@@ -855,6 +863,26 @@ bool vkrt_renderer_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool
         for (uint32_t i = 0; i < count; ++i)
             if (hits[i].triangle != VKRT_NO_HIT)
                 hits[i].triangle = vkrt_accel_original_triangle(&r->accel, hits[i].triangle);
+    return true;
+}
+
+bool vkrt_renderer_trace_stats(vkrt_renderer *r, const Ray *rays, uint32_t count, bool any_hit,
+                               Hit *hits, vkrt_traversal_stats *stats, vkrt_error *err)
+{
+    Counters c;
+    if (!gpu_buffer_zero(r->ctx, &r->counters, err) ||
+        !vkrt_renderer_trace(r, rays, count, any_hit, hits, 1, NULL, err) ||
+        !gpu_buffer_download(r->ctx, &r->counters, &c, sizeof c, err))
+        return false;
+    double rays_traced = c.trace_rays ? c.trace_rays : 1;
+    double slots = (double)c.trace_widest * c.subgroup_size;
+    *stats = (vkrt_traversal_stats){
+        .rays = c.trace_rays,
+        .steps_per_ray = c.trace_steps / rays_traced,
+        .tests_per_ray = c.trace_tests / rays_traced,
+        .simd_utilisation = slots > 0 ? ((double)c.trace_steps + c.trace_tests) / slots : 0,
+        .subgroup_size = c.subgroup_size,
+    };
     return true;
 }
 

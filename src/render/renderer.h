@@ -39,7 +39,18 @@ typedef struct vkrt_render_desc {
                                  one per pixel. Tests start small to force growth. */
     float min_importance;     /* a cast ray weaker than this is dropped; 0: the default 1e-3 */
     bool profile;             /* time every dispatch with GPU timestamps (vkrt_frame_stats) */
+    bool traversal_stats;     /* the trace kernels count their work (vkrt_renderer_trace_stats);
+                                 slower: never for timings */
 } vkrt_render_desc;
+
+/* What the trace kernels counted for one trace (glsl/shared.h Counters.trace_*). */
+typedef struct vkrt_traversal_stats {
+    uint32_t rays;
+    double steps_per_ray;     /* BVH records fetched */
+    double tests_per_ray;     /* triangle tests */
+    double simd_utilisation;  /* (steps + tests) over the lane-iterations their subgroups spent */
+    uint32_t subgroup_size;
+} vkrt_traversal_stats;
 
 /* The kernels of a frame, for profiles. */
 enum { VKRT_KERNEL_RAYGEN, VKRT_KERNEL_TRACE, VKRT_KERNEL_LIGHT, VKRT_KERNEL_COUNT,
@@ -112,6 +123,12 @@ bool vkrt_renderer_read_image(vkrt_renderer *r, uint32_t passes, float *rgb, vkr
  * receives each run's GPU time from timestamps (repeats entries). For tests and bench. */
 bool vkrt_renderer_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool any_hit,
                          Hit *hits, uint32_t repeats, double *gpu_ms, vkrt_error *err);
+
+/* Traces count rays once, as vkrt_renderer_trace does, with a renderer created with
+ * desc.traversal_stats, and returns what the traversal counted. BVH only (the other walks count
+ * nothing). */
+bool vkrt_renderer_trace_stats(vkrt_renderer *r, const Ray *rays, uint32_t count, bool any_hit,
+                               Hit *hits, vkrt_traversal_stats *stats, vkrt_error *err);
 
 /* Fills width * height rays through the pixel centres of camera, as raygen does at one sample
  * per pixel. */
