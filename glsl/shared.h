@@ -125,15 +125,17 @@ VKRT_STRUCT(WaveState) {
     uint ray_count;
 };
 
-/* A BVH inner node as traversal reads it, 64 bytes (src/accel/bvh_pairs.h, bvh_pair, has the
- * same bytes): both children's boxes, so one fetch serves a whole step (Aila and Laine 2009).
- * x = (a.lo.x, a.hi.x, b.lo.x, b.hi.x), likewise y and z. refs.xy are the children a and b:
- * another BvhPair's index when refs.zw (their triangle counts) are 0, else the first triangle of a
- * leaf of refs.z (a) or refs.w (b) triangles. */
-VKRT_STRUCT(BvhPair) {
-    vec4 x;
-    vec4 y;
-    vec4 z;
+/* A node of the 4-wide BVH, 64 bytes (src/accel/bvh_quads.h, bvh_quad, has the same bytes and
+ * says how it is made). Child k's box is origin.xyz + byte k of its plane words * scale, per
+ * axis, with scale = 2^(e - 127) for the exponent byte e of that axis.
+ * origin.w: uint bits: exponents of x, y, z in bits 0-7, 8-15, 16-23; child count in 24-31.
+ * planes: x lo, x hi, y lo, y hi (a byte per child); planes_z: z lo, z hi, unused, unused.
+ * refs: per child, another node's index, or VKRT_BVH_LEAF | (count - 1) << 27 | first triangle. */
+#define VKRT_BVH_LEAF 0x80000000u
+VKRT_STRUCT(BvhQuad) {
+    vec4 origin;
+    uvec4 planes;
+    uvec4 planes_z;
     uvec4 refs;
 };
 

@@ -24,7 +24,7 @@
 #include <cmocka.h>
 
 #include "accel/bvh.h"
-#include "accel/bvh_pairs.h"
+#include "accel/bvh_quads.h"
 #include "scene/obj_load.h"
 
 enum { FLOATS_PER_TRI = 9 };
@@ -388,24 +388,31 @@ static hit traverse(const bvh *b, const ray *r, const float *pos, uint32_t *stac
     return h;
 }
 
-/* Child k of pair record p as a node, for enter_box. */
-static bvh_node pair_child(const bvh_pair *p, int k)
+/* Child k of quad q as a node, its box decoded as the kernel decodes it, for enter_box. */
+static bvh_node quad_child(const bvh_quad *q, int k)
 {
-    return (bvh_node){ { p->x[2 * k], p->y[2 * k], p->z[2 * k] }, p->ref[k],
-                       { p->x[2 * k + 1], p->y[2 * k + 1], p->z[2 * k + 1] }, p->count[k] };
+    bvh_node n = { { 0 }, 0, { 0 }, 0 };
+    bvh_quad_child_box(q, k, n.lo, n.hi);
+    if (q->ref[k] & BVH_QUAD_LEAF) {
+        n.left_first = q->ref[k] & BVH_QUAD_MAX_FIRST;
+        n.count = ((q->ref[k] >> 27) & 0xFu) + 1;
+    } else {
+        n.left_first = q->ref[k];
+    }
+    return n;
 }
 
-/* The same walk over the two-box records the GPU reads (bvh_pairs.h). */
-static hit traverse_pairs(const bvh *b, const bvh_pair *pairs, const ray *r, const float *pos,
+/* The same walk over the collapsed, quantized 4-wide nodes the GPU reads (bvh_quads.h). */
+static hit traverse_quads(const bvh *b, const bvh_quads *quads, const ray *r, const float *pos,
                           uint32_t *stack)
 {
     hit h = { INFINITY, UINT32_MAX, 0 };
     uint32_t top = 0;
     stack[top++] = 0;
     while (top > 0) {
-        const bvh_pair *p = &pairs[stack[--top]];
-        for (int k = 0; k < 2; k++) {
-            bvh_node nd = pair_child(p, k);
+        const bvh_quad *q = &quads->nodes[stack[--top]];
+        for (int k = 0; k < (int)(q->meta >> 24); k++) {
+            bvh_node nd = quad_child(q, k);
             double enter = enter_box(r, &nd);
             if (enter == INFINITY || enter > h.t + SLAB_SLACK * h.t)
                 continue;
@@ -454,20 +461,31 @@ static uint32_t check_rays(const bvh *b, const float *pos, uint32_t n, uint32_t 
     rng g = { RAY_SEED };
     uint32_t *stack = malloc((b->node_count + 1) * sizeof *stack);
     assert_non_null(stack);
-    bvh_pair *pairs;
-    uint32_t pair_count;
+    bvh_quads quads;
     vkrt_error err = { "" };
-    if (!bvh_pairs_build(b, &pairs, &pair_count, &err))
-        fail_msg("bvh_pairs_build failed: %s", err.msg);
-    /* A record per inner node (or one for a lone leaf), as the GPU buffer is sized. */
-    assert_int_equal(pair_count, b->node_count > 1 ? (b->node_count - 1) / 2 : 1);
+    if (!bvh_quads_build(b, &quads, &err))
+        fail_msg("bvh_quads_build failed: %s", err.msg);
+    /* Every triangle is in exactly one leaf of the quads, and quads are fewer than binary inner
+     * nodes (each replaces at least one). */
+    uint32_t *seen = calloc(n ? n : 1, sizeof *seen);
+    assert_non_null(seen);
+    for (uint32_t i = 0; i < quads.node_count; i++)
+        for (int k = 0; k < (int)(quads.nodes[i].meta >> 24); k++) {
+            bvh_node nd = quad_child(&quads.nodes[i], k);
+            for (uint32_t t = nd.left_first; nd.count && t < nd.left_first + nd.count; t++)
+                seen[t]++;
+        }
+    for (uint32_t i = 0; i < n; i++)
+        assert_int_equal(seen[i], 1);
+    free(seen);
+    assert_true(quads.node_count <= (b->node_count > 1 ? (b->node_count - 1) / 2 : 1));
     uint32_t hits = 0;
     for (uint32_t i = 0; i < rays; i++) {
         ray r = random_ray(&g, b, pos, n);
         hit ref = brute_force(&r, pos, n), got = traverse(b, &r, pos, stack);
-        hit paired = traverse_pairs(b, pairs, &r, pos, stack);
+        hit paired = traverse_quads(b, &quads, &r, pos, stack);
         if (ref.t != got.t || ref.t != paired.t)
-            fail_msg("ray %u: brute force t=%.17g tri %u, BVH t=%.17g tri %u, pairs t=%.17g "
+            fail_msg("ray %u: brute force t=%.17g tri %u, BVH t=%.17g tri %u, quads t=%.17g "
                      "tri %u", i, ref.t, ref.tri, got.t, got.tri, paired.t, paired.tri);
         if (ref.t != INFINITY && ref.ties == 1) {
             assert_int_equal(ref.tri, got.tri);
@@ -475,7 +493,7 @@ static uint32_t check_rays(const bvh *b, const float *pos, uint32_t n, uint32_t 
         }
         hits += ref.t != INFINITY;
     }
-    free(pairs);
+    bvh_quads_free(&quads);
     free(stack);
     return hits;
 }

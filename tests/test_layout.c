@@ -28,7 +28,7 @@ typedef struct Probe {
     Light light;
     FrameParams params;
     Counters counters;
-    BvhPair node;
+    BvhQuad node;
     GridInfo grid;
     TriangleTexcoords texcoords;
     WaveState wave;
@@ -73,7 +73,7 @@ static const field fields[] = {
     FIELD(wave, ray_count, U32),
     FIELD(texture, offset, U32), FIELD(texture, width, U32), FIELD(texture, height, U32),
     FIELD(texture, flags, U32),
-    FIELD(node, x, VEC4), FIELD(node, y, VEC4), FIELD(node, z, VEC4),
+    FIELD(node, origin, VEC4), FIELD(node, planes, UVEC4), FIELD(node, planes_z, UVEC4),
     FIELD(node, refs, UVEC4),
     FIELD(grid, lo, VEC4), FIELD(grid, hi, VEC4), FIELD(grid, cell_size, VEC4), FIELD(grid, dims, UVEC4),
     {"hit_pair[1].triangle", offsetof(Probe, hit_pair) + sizeof(Hit) + offsetof(Hit, triangle), U32},
@@ -97,7 +97,7 @@ static char *probe_kernel(void)
                              "layout(std430, binding = 0) buffer Out {\n"
                              "  Ray ray; Hit hit; Triangle triangle; TriangleNormals normals;\n"
                              "  Material material; Light light; FrameParams params;\n"
-                             "  Counters counters; BvhPair node; GridInfo grid;\n"
+                             "  Counters counters; BvhQuad node; GridInfo grid;\n"
                              "  TriangleTexcoords texcoords; WaveState wave; TextureInfo texture;\n"
                              "  Hit hit_pair[2]; Ray ray_pair[2]; Material material_pair[2];\n"
                              "};\n"
@@ -211,7 +211,7 @@ static void test_sizes(void **state)
     assert_int_equal(sizeof(FrameParams), 128);
     assert_true(sizeof(FrameParams) <= 128); /* the push constant size every device offers */
     assert_int_equal(sizeof(Counters), 48);
-    assert_int_equal(sizeof(BvhPair), 64);
+    assert_int_equal(sizeof(BvhQuad), 64);
     assert_int_equal(sizeof(GridInfo), 64);
 }
 

@@ -36,7 +36,7 @@ layout(std430, set = 0, binding = 8) buffer CounterBuffer { Counters counters; }
  * grid's cell starts (one binding, two views: only the chosen structure's is read), binding 11 the
  * grid's triangle references. */
 layout(std430, set = 0, binding = 9) readonly buffer GridInfoBuffer { GridInfo grid; };
-layout(std430, set = 0, binding = 10) readonly buffer BvhPairBuffer { BvhPair bvh_pairs[]; };
+layout(std430, set = 0, binding = 10) readonly buffer BvhNodeBuffer { BvhQuad bvh_nodes[]; };
 layout(std430, set = 0, binding = 10) readonly buffer GridCellBuffer { uint grid_cell_start[]; };
 layout(std430, set = 0, binding = 11) readonly buffer GridRefBuffer { uint grid_refs[]; };
 

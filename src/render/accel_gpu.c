@@ -9,9 +9,10 @@
 
 #include "../../glsl/shared.h"
 #include "../accel/bvh.h"
-#include "../accel/bvh_pairs.h"
+#include "../accel/bvh_quads.h"
 
-_Static_assert(sizeof(bvh_pair) == sizeof(BvhPair), "bvh_pair and BvhPair must be the same bytes");
+_Static_assert(sizeof(bvh_quad) == sizeof(BvhQuad), "bvh_quad and BvhQuad must be the same bytes");
+_Static_assert(BVH_QUAD_LEAF == VKRT_BVH_LEAF, "one leaf flag");
 
 static double now_ms(void)
 {
@@ -58,32 +59,33 @@ static bool build_bvh(vkrt_accel_gpu *a, gpu_context *ctx, const float *position
     bvh b;
     if (!bvh_build(&b, positions, n, NULL, err))
         return false;
-    /* The traversal keeps one stack entry per level; a deeper tree would lose subtrees. */
+    double start = now_ms();
+    bvh_quads q;
+    bool ok = bvh_quads_build(&b, &q, err);
+    double collapse_ms = now_ms() - start;
+    /* glsl/lib/traverse_bvh.glsl's stack; a tree needing more would lose subtrees. */
     const uint32_t stack_size = 64;
-    bool ok = b.max_depth < stack_size;
-    if (!ok)
-        vkrt_error_set(err, "BVH of depth %u exceeds the traversal stack of %u", b.max_depth,
-                       stack_size);
-    bvh_pair *pairs = NULL;
-    uint32_t pair_count = 0;
-    ok = ok && bvh_pairs_build(&b, &pairs, &pair_count, err);
+    if (ok && q.max_stack > stack_size)
+        ok = vkrt_error_set(err, "BVH needs a traversal stack of %u entries, more than %u",
+                            q.max_stack, stack_size);
     GridInfo unused = {0};
     ok = ok && upload(ctx, &a->info, &unused, sizeof unused, "grid frame", err) &&
-         upload(ctx, &a->nodes, pairs, pair_count * sizeof *pairs, "BVH nodes", err) &&
+         upload(ctx, &a->nodes, q.nodes, q.node_count * sizeof *q.nodes, "BVH nodes", err) &&
          gpu_buffer_create(ctx, &a->refs, 0, "grid references", err);
-    free(pairs);
     if (ok) {
         vkrt_accel_stats *s = &a->stats;
-        s->bytes = pair_count * sizeof *pairs;
-        s->nodes = b.node_count;
+        s->bytes = q.node_count * sizeof *q.nodes;
+        s->nodes = q.node_count;
         s->leaves = b.leaf_count;
         s->triangles_per_leaf = b.leaf_count ? (double)n / b.leaf_count : 0;
-        s->max_depth = b.max_depth;
+        s->max_depth = q.max_depth;
         s->sah_cost = b.sah_cost;
-        s->build_ms = b.build_ms;
+        /* The binary build and its collapse into the GPU's 4-wide nodes. */
+        s->build_ms = b.build_ms + collapse_ms;
         a->prim_order = b.prim_order;
         b.prim_order = NULL;
     }
+    bvh_quads_free(&q);
     bvh_free(&b);
     return ok;
 }

@@ -34,7 +34,7 @@ typedef struct vkrt_accel_stats {
 
 typedef struct vkrt_accel_gpu {
     gpu_buffer info;            /* GridInfo; for other kinds a zeroed one keeps the binding valid */
-    gpu_buffer nodes;           /* BvhNode[] or grid cell starts */
+    gpu_buffer nodes;           /* BvhQuad[] or grid cell starts */
     gpu_buffer refs;            /* grid references; for other kinds a minimal buffer, unread */
     uint32_t *prim_order;       /* NULL for identity order; else prim_order[i] = original index */
     uint32_t triangle_count;
