@@ -4,7 +4,8 @@
 #   2. vkrt bench of the four issue-8 scenes at 1920x1080 with the BVH, by this build (.bundle)
 #      and, when .bundle-old exists, by the build before the change (same rays, same machine);
 #   3. vkrt bench --stats (records fetched, triangles tested, SIMD utilisation per ray kind);
-#   4. a workgroup-size sweep, and the same bench with the whole scene (materials, textures) loaded.
+#   4. the binary layout (--bvh-width 2), a workgroup-size sweep when SWEEP is set, and the same
+#      bench with the whole scene (materials, textures) loaded.
 # Expects `tools/bundle .bundle build/tests/test_...` (see the loop below), optionally
 # .bundle-old made the same way from the older commit, and .bundle/scenes.tar.gz (the shared
 # scenes under scenes/, the teapot stadium under stadium/). Writes $OUT/kernel-log.txt and
@@ -30,9 +31,11 @@ bench() { # name, extra arguments: one bench run of the four scenes
         grep -v "Both .d." | tee -a "$log"
 }
 bench new .bundle/vkrt bench
+bench width2 .bundle/vkrt bench --bvh-width 2
 [ -x .bundle-old/bin/vkrt ] && bench old .bundle-old/bin/vkrt bench
 bench stats .bundle/vkrt bench --stats
-for wg in 32 128 256; do bench wg$wg .bundle/vkrt bench --workgroup $wg; done
+bench stats-width2 .bundle/vkrt bench --stats --bvh-width 2
+[ -n "${SWEEP:-}" ] && for wg in 32 128 256; do bench wg$wg .bundle/vkrt bench --workgroup $wg; done
 bench whole .bundle/vkrt bench --whole-scene
 bench new-again .bundle/vkrt bench
 nvidia-smi --query-gpu=clocks.sm,temperature.gpu,power.draw --format=csv >>"$log" 2>&1

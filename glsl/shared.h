@@ -125,6 +125,17 @@ VKRT_STRUCT(WaveState) {
     uint ray_count;
 };
 
+/* An inner node of the binary BVH, 64 bytes (src/accel/bvh_pairs.h, bvh_pair, has the same
+ * bytes): both children's boxes, x = (a.lo.x, a.hi.x, b.lo.x, b.hi.x), likewise y and z.
+ * refs.xy: children a and b, another BvhPair's index or a leaf reference (VKRT_BVH_LEAF, below);
+ * refs.zw unused. */
+VKRT_STRUCT(BvhPair) {
+    vec4 x;
+    vec4 y;
+    vec4 z;
+    uvec4 refs;
+};
+
 /* A node of the 4-wide BVH, 64 bytes (src/accel/bvh_quads.h, bvh_quad, has the same bytes and
  * says how it is made). Child k's box is origin.xyz + byte k of its plane words * scale, per
  * axis, with scale = 2^(e - 127) for the exponent byte e of that axis.

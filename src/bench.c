@@ -373,7 +373,7 @@ static bool write_json(const char *path, const gpu_context *ctx, const bench_row
         fprintf(f,
                 "\"scene\": \"%s\", \"accel\": \"%s\", \"reason\": \"%s\", \"triangles\": %u, "
                 "\"width\": %u, \"height\": %u, \"build_ms\": %.3f, \"bytes\": %zu, "
-                "\"nodes_or_cells\": %u, \"triangles_per_leaf\": %.3f, "
+                "\"nodes_or_cells\": %u, \"bvh_width\": %u, \"triangles_per_leaf\": %.3f, "
                 "\"primary_rays_timed\": %u, \"primary_ms\": %.4f, \"primary_ms_min\": %.4f, "
                 "\"primary_ms_max\": %.4f, \"primary_mrays_per_s\": %.3f, "
                 "\"shadow_rays_timed\": %u, \"shadow_ms\": %.4f, \"shadow_ms_min\": %.4f, "
@@ -382,7 +382,7 @@ static bool write_json(const char *path, const gpu_context *ctx, const bench_row
                 "\"diffuse_ms_max\": %.4f, \"diffuse_mrays_per_s\": %.3f, "
                 "\"hits\": %u, \"blocked\": %u, \"grid_density\": %g}%s\n",
                 b->scene, vkrt_accel_name(b->accel.kind), b->accel.reason, b->triangles, b->width,
-                b->height, b->accel.build_ms, b->accel.bytes, b->accel.nodes,
+                b->height, b->accel.build_ms, b->accel.bytes, b->accel.nodes, b->accel.bvh_width,
                 b->accel.triangles_per_leaf, b->primary_timed, b->primary_ms, b->primary.min_ms,
                 b->primary.max_ms, mrays(b->primary_timed, b->primary_ms), b->shadow_timed,
                 b->shadow_ms, b->shadow.min_ms, b->shadow.max_ms,
@@ -431,6 +431,7 @@ int vkrt_bench_run(const vkrt_options *opts)
             .samples = 1,
             .grid_density = opts->grid_density,
             .workgroup_size = opts->workgroup_size,
+            .bvh_width = opts->bvh_width,
             .traversal_stats = opts->stats,
         };
         for (uint32_t k = 0; ok && k < kind_count; ++k) {

@@ -12,6 +12,7 @@ const char *vkrt_usage(void)
            "       vkrt view SCENE.cfg [options]     fly through a scene in a window\n"
            "       vkrt bench SCENE.cfg... [--accel A] [--json OUT.json] [--width W --height H]\n"
            "                  [--grid-density CELLS_PER_TRIANGLE] [--workgroup N] [--stats]\n"
+           "                  [--bvh-width 2|4]\n"
            "                  [--whole-scene]\n"
            "                                         time primary and shadow rays per structure\n"
            "       vkrt --list-devices               list Vulkan devices\n"
@@ -147,6 +148,12 @@ bool vkrt_options_parse(int argc, char **argv, vkrt_options *opts, vkrt_error *e
         } else if (strcmp(arg, "--workgroup") == 0) {
             if (!parse_u32(arg, value, 1, 1024, &opts->workgroup_size, err))
                 return false;
+            ++i;
+        } else if (strcmp(arg, "--bvh-width") == 0) {
+            if (!parse_u32(arg, value, 2, 4, &opts->bvh_width, err))
+                return false;
+            if (opts->bvh_width == 3)
+                return vkrt_error_set(err, "--bvh-width: 3 is not one of 2, 4");
             ++i;
         } else if (strcmp(arg, "--stats") == 0) {
             opts->stats = true;

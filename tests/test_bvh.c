@@ -393,8 +393,8 @@ static bvh_node quad_child(const bvh_quad *q, int k)
 {
     bvh_node n = { { 0 }, 0, { 0 }, 0 };
     bvh_quad_child_box(q, k, n.lo, n.hi);
-    if (q->ref[k] & BVH_QUAD_LEAF) {
-        n.left_first = q->ref[k] & BVH_QUAD_MAX_FIRST;
+    if (q->ref[k] & BVH_LEAF_REF) {
+        n.left_first = q->ref[k] & BVH_LEAF_REF_MAX_FIRST;
         n.count = ((q->ref[k] >> 27) & 0xFu) + 1;
     } else {
         n.left_first = q->ref[k];

@@ -29,6 +29,7 @@ typedef struct Probe {
     FrameParams params;
     Counters counters;
     BvhQuad node;
+    BvhPair pair;
     GridInfo grid;
     TriangleTexcoords texcoords;
     WaveState wave;
@@ -75,6 +76,7 @@ static const field fields[] = {
     FIELD(texture, flags, U32),
     FIELD(node, origin, VEC4), FIELD(node, planes, UVEC4), FIELD(node, planes_z, UVEC4),
     FIELD(node, refs, UVEC4),
+    FIELD(pair, x, VEC4), FIELD(pair, y, VEC4), FIELD(pair, z, VEC4), FIELD(pair, refs, UVEC4),
     FIELD(grid, lo, VEC4), FIELD(grid, hi, VEC4), FIELD(grid, cell_size, VEC4), FIELD(grid, dims, UVEC4),
     {"hit_pair[1].triangle", offsetof(Probe, hit_pair) + sizeof(Hit) + offsetof(Hit, triangle), U32},
     {"hit_pair[1].t", offsetof(Probe, hit_pair) + sizeof(Hit) + offsetof(Hit, t), F32},
@@ -97,7 +99,7 @@ static char *probe_kernel(void)
                              "layout(std430, binding = 0) buffer Out {\n"
                              "  Ray ray; Hit hit; Triangle triangle; TriangleNormals normals;\n"
                              "  Material material; Light light; FrameParams params;\n"
-                             "  Counters counters; BvhQuad node; GridInfo grid;\n"
+                             "  Counters counters; BvhQuad node; BvhPair pair; GridInfo grid;\n"
                              "  TriangleTexcoords texcoords; WaveState wave; TextureInfo texture;\n"
                              "  Hit hit_pair[2]; Ray ray_pair[2]; Material material_pair[2];\n"
                              "};\n"
@@ -212,6 +214,7 @@ static void test_sizes(void **state)
     assert_true(sizeof(FrameParams) <= 128); /* the push constant size every device offers */
     assert_int_equal(sizeof(Counters), 48);
     assert_int_equal(sizeof(BvhQuad), 64);
+    assert_int_equal(sizeof(BvhPair), 64);
     assert_int_equal(sizeof(GridInfo), 64);
 }
 

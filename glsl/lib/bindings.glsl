@@ -32,11 +32,12 @@ layout(std430, set = 0, binding = 7) buffer ImageBuffer { vec4 image[]; };
 layout(std430, set = 0, binding = 7) buffer ImageWords { uint image_words[]; };
 layout(std430, set = 0, binding = 8) buffer CounterBuffer { Counters counters; };
 
-/* The acceleration structure: binding 9 is the grid's frame, binding 10 the BVH's nodes or the
- * grid's cell starts (one binding, two views: only the chosen structure's is read), binding 11 the
+/* The acceleration structure: binding 9 is the grid's frame, binding 10 the BVH's nodes (4-wide
+ * or pairs) or the grid's cell starts (one binding, three views: only the chosen one is read), binding 11 the
  * grid's triangle references. */
 layout(std430, set = 0, binding = 9) readonly buffer GridInfoBuffer { GridInfo grid; };
 layout(std430, set = 0, binding = 10) readonly buffer BvhNodeBuffer { BvhQuad bvh_nodes[]; };
+layout(std430, set = 0, binding = 10) readonly buffer BvhPairBuffer { BvhPair bvh_pairs[]; };
 layout(std430, set = 0, binding = 10) readonly buffer GridCellBuffer { uint grid_cell_start[]; };
 layout(std430, set = 0, binding = 11) readonly buffer GridRefBuffer { uint grid_refs[]; };
 
@@ -53,6 +54,9 @@ layout(std430, set = 0, binding = 18) readonly buffer TexelBuffer { uint texels[
 /* Set for `vkrt bench --stats`: the traversal counts its work into counters.trace_* (slower;
  * never set for timed runs or renders). */
 layout(constant_id = 5) const bool TRAVERSAL_STATS = false;
+
+/* Children per node of the BVH's GPU layout: 4 (BvhQuad) or 2 (BvhPair). */
+layout(constant_id = 6) const uint BVH_WIDTH = 4u;
 
 /* Which structure trace_closest and trace_any walk (VKRT_TRAVERSE_*). */
 layout(constant_id = 2) const uint ACCEL_KIND = VKRT_TRAVERSE_BRUTE;

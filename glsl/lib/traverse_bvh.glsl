@@ -1,20 +1,22 @@
 /*
- * traverse_bvh.glsl: stack traversal of the 4-wide BVH (src/accel/bvh.c builds a binary tree,
- * bvh_quads.c collapses it into BvhQuad nodes with quantized child boxes).
+ * traverse_bvh.glsl: stack traversal of the BVH (src/accel/bvh.c builds a binary SAH tree;
+ * bvh_quads.c collapses it into 4-wide BvhQuad nodes with quantized child boxes, bvh_pairs.c
+ * lays it out as BvhPair records of two float boxes; BVH_WIDTH says which).
  *
- * Each step fetches one 64-byte node and tests its (up to) 4 children's boxes together, four
- * lanes of a vec4 per plane. The children hit are sorted by entry distance (a 5-exchange network);
- * leaves among them are intersected at once, nearest first, each only if it still begins before
- * the closest hit; of the inner ones the nearest is visited next and the others pushed, farthest
- * deepest (after Ylitie, Karras and Laine, HPG 2017, and Aila and Laine, HPG 2009, without
- * persistent threads). Shadow rays return at the first hit. Triangles are stored in BVH order, so
- * a leaf's triangles are contiguous. Needs bindings.glsl and intersect.glsl included first.
+ * Each step fetches one 64-byte node and tests all its children's boxes together, four lanes of
+ * a vec4 per plane. Of the children hit, the nearest is visited next and the others pushed, the
+ * farthest deepest (4-wide: sorted by entry distance with a 5-exchange network). Leaves go
+ * through the same loop as inner nodes, so the triangle test is compiled once: inlined at each
+ * place a leaf can be met, it made the kernel slower on an H200 (docs/performance.md). After
+ * Aila and Laine, HPG 2009, and Ylitie, Karras and Laine, HPG 2017, without persistent threads.
+ * Shadow rays return at the first hit. Triangles are stored in BVH order, so a leaf's triangles
+ * are contiguous. Needs bindings.glsl and intersect.glsl included first.
  */
 #ifndef VKRT_TRAVERSE_BVH_GLSL
 #define VKRT_TRAVERSE_BVH_GLSL
 
 /* Entries the stack can hold; src/render/accel_gpu.c refuses a tree whose paths could need more
- * (bvh_quads.max_stack: up to 3 per level). */
+ * (one per level of pairs, up to 3 per level of quads). */
 const int BVH_STACK_SIZE = 64;
 
 /* Ize, "Robust BVH Ray Traversal" (JCGT 2013): scaling the exit distance by 1 + 2 gamma(3) makes
@@ -29,9 +31,6 @@ const float BOX_EXIT_SCALE = 1.0000004;
  * reports it). */
 uint traversal_steps = 0u;
 uint traversal_tests = 0u;
-
-/* The largest float: a limit no missed child's key (+inf) passes, even for a ray of tmax +inf. */
-const float FLT_MAX = 3.40282347e38;
 
 /* Marks "no node chosen yet" in a step. */
 const uint NO_NODE = 0xFFFFFFFFu;
@@ -80,26 +79,16 @@ vec4 plane_bytes(uint w)
     return vec4((uvec4(w) >> uvec4(0u, 8u, 16u, 24u)) & 0xFFu);
 }
 
-/* Orders (ka, ra) before (kb, rb) by key. */
+/* Orders (ka, ra) before (kb, rb) by key, with selects rather than a branch. */
 void order_pair(inout float ka, inout uint ra, inout float kb, inout uint rb)
 {
-    if (kb < ka) {
-        float k = ka;
-        ka = kb;
-        kb = k;
-        uint r = ra;
-        ra = rb;
-        rb = r;
-    }
-}
-
-/* Intersects the leaf child (key, ref) if it was hit and still begins before the closest hit;
- * returns true when it found a hit. */
-bool visit_leaf(RayShear s, float key, uint ref, float tmin, inout Hit hit)
-{
-    if ((ref & VKRT_BVH_LEAF) == 0u || !(key <= min(hit.t * BOX_EXIT_SCALE, FLT_MAX)))
-        return false;
-    return bvh_leaf(s, ref & 0x07FFFFFFu, ((ref >> 27) & 0xFu) + 1u, tmin, hit);
+    bool swap = kb < ka;
+    float k = ka;
+    uint r = ra;
+    ka = swap ? kb : ka;
+    ra = swap ? rb : ra;
+    kb = swap ? k : kb;
+    rb = swap ? r : rb;
 }
 
 /* The closest hit (any_hit false) or the first hit found (any_hit true) in (tmin, tmax). */
@@ -110,78 +99,79 @@ Hit bvh_traverse(RayShear s, vec3 dir, float tmin, float tmax, bool any_hit)
     vec3 inv_dir = safe_inverse(dir);
     uint stack[BVH_STACK_SIZE];
     int top = 0;
-    uint node = 0u;
+    uint ref = 0u; /* the root node */
     while (true) {
-        BvhQuad n = bvh_nodes[node];
-        if (TRAVERSAL_STATS)
-            ++traversal_steps;
-        uint meta = floatBitsToUint(n.origin.w);
-        vec3 scale = vec3(uintBitsToFloat((meta & 0xFFu) << 23),
-                          uintBitsToFloat(((meta >> 8) & 0xFFu) << 23),
-                          uintBitsToFloat(((meta >> 16) & 0xFFu) << 23));
-        /* q * scale is exact, so each decoded plane is rounded once whether or not the compiler
-         * fuses; precise keeps it from being reassociated with the subtraction below. */
-        precise vec4 x_lo = n.origin.x + plane_bytes(n.planes.x) * scale.x;
-        precise vec4 x_hi = n.origin.x + plane_bytes(n.planes.y) * scale.x;
-        precise vec4 y_lo = n.origin.y + plane_bytes(n.planes.z) * scale.y;
-        precise vec4 y_hi = n.origin.y + plane_bytes(n.planes.w) * scale.y;
-        precise vec4 z_lo = n.origin.z + plane_bytes(n.planes_z.x) * scale.z;
-        precise vec4 z_hi = n.origin.z + plane_bytes(n.planes_z.y) * scale.z;
-        vec4 tx0 = (x_lo - s.origin.x) * inv_dir.x, tx1 = (x_hi - s.origin.x) * inv_dir.x;
-        vec4 ty0 = (y_lo - s.origin.y) * inv_dir.y, ty1 = (y_hi - s.origin.y) * inv_dir.y;
-        vec4 tz0 = (z_lo - s.origin.z) * inv_dir.z, tz1 = (z_hi - s.origin.z) * inv_dir.z;
-        vec4 enter = max(max(min(tx0, tx1), min(ty0, ty1)), max(min(tz0, tz1), vec4(tmin)));
-        vec4 leave = min(min(max(tx0, tx1), max(ty0, ty1)), min(max(tz0, tz1), vec4(hit.t)));
-        /* Missed children, and the slots past the node's child count, sort last. */
-        vec4 key = mix(vec4(inf), enter, lessThanEqual(enter, leave * BOX_EXIT_SCALE));
-        key = mix(vec4(inf), key, lessThan(uvec4(0u, 1u, 2u, 3u), uvec4(meta >> 24)));
-        float k0 = key.x, k1 = key.y, k2 = key.z, k3 = key.w;
-        uint r0 = n.refs.x, r1 = n.refs.y, r2 = n.refs.z, r3 = n.refs.w;
-        order_pair(k0, r0, k1, r1);
-        order_pair(k2, r2, k3, r3);
-        order_pair(k0, r0, k2, r2);
-        order_pair(k1, r1, k3, r3);
-        order_pair(k1, r1, k2, r2);
-        /* Leaves, nearest first: each may shorten the ray for the boxes after it. */
-        if (k0 != inf) {
-            if (visit_leaf(s, k0, r0, tmin, hit) && any_hit)
+        if ((ref & VKRT_BVH_LEAF) != 0u) {
+            if (bvh_leaf(s, ref & 0x07FFFFFFu, ((ref >> 27) & 0xFu) + 1u, tmin, hit) && any_hit)
                 return hit;
-            if (visit_leaf(s, k1, r1, tmin, hit) && any_hit)
-                return hit;
-            if (visit_leaf(s, k2, r2, tmin, hit) && any_hit)
-                return hit;
-            if (visit_leaf(s, k3, r3, tmin, hit) && any_hit)
-                return hit;
+            ref = NO_NODE;
+        } else if (BVH_WIDTH == 2u) {
+            BvhPair n = bvh_pairs[ref];
+            if (TRAVERSAL_STATS)
+                ++traversal_steps;
+            vec4 tx = (n.x - s.origin.x) * inv_dir.x;
+            vec4 ty = (n.y - s.origin.y) * inv_dir.y;
+            vec4 tz = (n.z - s.origin.z) * inv_dir.z;
+            float a_in = max(max(min(tx.x, tx.y), min(ty.x, ty.y)), max(min(tz.x, tz.y), tmin));
+            float a_out = min(min(max(tx.x, tx.y), max(ty.x, ty.y)), min(max(tz.x, tz.y), hit.t));
+            float b_in = max(max(min(tx.z, tx.w), min(ty.z, ty.w)), max(min(tz.z, tz.w), tmin));
+            float b_out = min(min(max(tx.z, tx.w), max(ty.z, ty.w)), min(max(tz.z, tz.w), hit.t));
+            bool hit_a = a_in <= a_out * BOX_EXIT_SCALE;
+            bool hit_b = b_in <= b_out * BOX_EXIT_SCALE;
+            if (hit_a && hit_b) {
+                bool a_first = a_in <= b_in;
+                if (top < BVH_STACK_SIZE)
+                    stack[top++] = a_first ? n.refs.y : n.refs.x;
+                ref = a_first ? n.refs.x : n.refs.y;
+            } else {
+                ref = hit_a ? n.refs.x : hit_b ? n.refs.y : NO_NODE;
+            }
+        } else {
+            BvhQuad n = bvh_nodes[ref];
+            if (TRAVERSAL_STATS)
+                ++traversal_steps;
+            uint meta = floatBitsToUint(n.origin.w);
+            vec3 scale = vec3(uintBitsToFloat((meta & 0xFFu) << 23),
+                              uintBitsToFloat(((meta >> 8) & 0xFFu) << 23),
+                              uintBitsToFloat(((meta >> 16) & 0xFFu) << 23));
+            /* q * scale is exact, so each decoded plane is rounded once whether or not the
+             * compiler fuses; precise keeps it from being reassociated with the subtraction. */
+            precise vec4 x_lo = n.origin.x + plane_bytes(n.planes.x) * scale.x;
+            precise vec4 x_hi = n.origin.x + plane_bytes(n.planes.y) * scale.x;
+            precise vec4 y_lo = n.origin.y + plane_bytes(n.planes.z) * scale.y;
+            precise vec4 y_hi = n.origin.y + plane_bytes(n.planes.w) * scale.y;
+            precise vec4 z_lo = n.origin.z + plane_bytes(n.planes_z.x) * scale.z;
+            precise vec4 z_hi = n.origin.z + plane_bytes(n.planes_z.y) * scale.z;
+            vec4 tx0 = (x_lo - s.origin.x) * inv_dir.x, tx1 = (x_hi - s.origin.x) * inv_dir.x;
+            vec4 ty0 = (y_lo - s.origin.y) * inv_dir.y, ty1 = (y_hi - s.origin.y) * inv_dir.y;
+            vec4 tz0 = (z_lo - s.origin.z) * inv_dir.z, tz1 = (z_hi - s.origin.z) * inv_dir.z;
+            vec4 enter = max(max(min(tx0, tx1), min(ty0, ty1)), max(min(tz0, tz1), vec4(tmin)));
+            vec4 leave = min(min(max(tx0, tx1), max(ty0, ty1)), min(max(tz0, tz1), vec4(hit.t)));
+            /* Missed children, and the slots past the node's child count, sort last as +inf. */
+            vec4 key = mix(vec4(inf), enter, lessThanEqual(enter, leave * BOX_EXIT_SCALE));
+            key = mix(vec4(inf), key, lessThan(uvec4(0u, 1u, 2u, 3u), uvec4(meta >> 24)));
+            float k0 = key.x, k1 = key.y, k2 = key.z, k3 = key.w;
+            uint r0 = n.refs.x, r1 = n.refs.y, r2 = n.refs.z, r3 = n.refs.w;
+            order_pair(k0, r0, k1, r1);
+            order_pair(k2, r2, k3, r3);
+            order_pair(k0, r0, k2, r2);
+            order_pair(k1, r1, k3, r3);
+            order_pair(k1, r1, k2, r2);
+            if (k3 != inf && top < BVH_STACK_SIZE)
+                stack[top++] = r3;
+            if (k2 != inf && top < BVH_STACK_SIZE)
+                stack[top++] = r2;
+            if (k1 != inf && top < BVH_STACK_SIZE)
+                stack[top++] = r1;
+            ref = k0 != inf ? r0 : NO_NODE;
         }
-        /* Inner children, farthest first: each nearer one pushes the one chosen before it, so
-         * the nearest is visited next and the farthest lies deepest in the stack. */
-        float limit = min(hit.t * BOX_EXIT_SCALE, FLT_MAX); /* below the key of a missed child */
-        uint next = NO_NODE;
-        if (k3 <= limit && (r3 & VKRT_BVH_LEAF) == 0u)
-            next = r3;
-        if (k2 <= limit && (r2 & VKRT_BVH_LEAF) == 0u) {
-            if (next != NO_NODE && top < BVH_STACK_SIZE)
-                stack[top++] = next;
-            next = r2;
-        }
-        if (k1 <= limit && (r1 & VKRT_BVH_LEAF) == 0u) {
-            if (next != NO_NODE && top < BVH_STACK_SIZE)
-                stack[top++] = next;
-            next = r1;
-        }
-        if (k0 <= limit && (r0 & VKRT_BVH_LEAF) == 0u) {
-            if (next != NO_NODE && top < BVH_STACK_SIZE)
-                stack[top++] = next;
-            next = r0;
-        }
-        if (next == NO_NODE) {
-            /* Pop the next subtree; its box was hit when it was pushed, and may since lie beyond
-             * the closest hit, which its children's box tests catch. */
+        if (ref == NO_NODE) {
+            /* Pop the next subtree or leaf; its box was hit when it was pushed, and may since lie
+             * beyond the closest hit, which its own box tests (or triangle tests) catch. */
             if (top == 0)
                 break;
-            next = stack[--top];
+            ref = stack[--top];
         }
-        node = next;
     }
     return hit;
 }

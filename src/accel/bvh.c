@@ -783,3 +783,14 @@ void bvh_free(bvh *b)
     free(b->prim_order);
     memset(b, 0, sizeof *b);
 }
+
+bool bvh_leaf_ref(const bvh_node *n, uint32_t *ref, vkrt_error *err)
+{
+    if (n->count == 0 || n->count > BVH_LEAF_REF_MAX_COUNT || n->left_first > BVH_LEAF_REF_MAX_FIRST)
+        return vkrt_error_set(err, "BVH leaf of %u triangles at %u does not fit the GPU layout "
+                                   "(1 to %u triangles, the first below %u)",
+                              n->count, n->left_first, BVH_LEAF_REF_MAX_COUNT,
+                              BVH_LEAF_REF_MAX_FIRST + 1);
+    *ref = BVH_LEAF_REF | (n->count - 1) << 27 | n->left_first;
+    return true;
+}

@@ -39,6 +39,16 @@ typedef struct bvh {
     double build_ms;          /* wall-clock build time */
 } bvh;
 
+/* A leaf as the GPU layouts (bvh_pairs.h, bvh_quads.h) refer to it in one word: the flag,
+ * (count - 1) in bits 27-30, the first triangle (in prim_order) in bits 0-26. A child word
+ * without the flag is the index of an inner node. glsl/shared.h VKRT_BVH_LEAF is the same flag. */
+#define BVH_LEAF_REF 0x80000000u
+#define BVH_LEAF_REF_MAX_COUNT 16u
+#define BVH_LEAF_REF_MAX_FIRST 0x07FFFFFFu
+
+/* The leaf reference of node n (a leaf), or false with err set when it does not fit. */
+bool bvh_leaf_ref(const bvh_node *n, uint32_t *ref, vkrt_error *err);
+
 /* Builds a BVH over triangle_count triangles (positions: 9 floats each, all finite; degenerate
  * triangles are allowed). Uses desc->threads threads. desc may be NULL for all defaults. On
  * failure returns false with err set and *out zeroed. */

@@ -156,11 +156,8 @@ bool bvh_quads_build(const bvh *b, bvh_quads *out, vkrt_error *err)
         uint32_t kids[4];
         int count = collapse(b, e.node, kids);
         quantize_node(&nodes[me], b->nodes, kids, count);
-        /* The kernel visits one inner child and pushes the others. */
-        uint32_t inner = 0;
-        for (int k = 0; k < count; ++k)
-            inner += b->nodes[kids[k]].count == 0;
-        uint32_t stack = e.stack + (inner > 1 ? inner - 1 : 0);
+        /* The kernel visits the nearest child hit next and pushes the others, leaves too. */
+        uint32_t stack = e.stack + (uint32_t)count - 1;
         out->max_stack = stack > out->max_stack ? stack : out->max_stack;
         for (int k = count - 1; k >= 0; --k) {
             const bvh_node *c = &b->nodes[kids[k]];
@@ -168,14 +165,10 @@ bool bvh_quads_build(const bvh *b, bvh_quads *out, vkrt_error *err)
                 todo[top++] = (pending){kids[k], me, (uint32_t)k, e.depth + 1, stack};
                 continue;
             }
-            if (c->count > BVH_QUAD_MAX_LEAF || c->left_first > BVH_QUAD_MAX_FIRST) {
-                ok = vkrt_error_set(err, "BVH leaf of %u triangles at %u does not fit the GPU "
-                                         "layout (at most %u triangles, first below %u)",
-                                    c->count, c->left_first, BVH_QUAD_MAX_LEAF,
-                                    BVH_QUAD_MAX_FIRST + 1);
+            if (!bvh_leaf_ref(c, &nodes[me].ref[k], err)) {
+                ok = false;
                 break;
             }
-            nodes[me].ref[k] = BVH_QUAD_LEAF | (c->count - 1) << 27 | c->left_first;
         }
     }
     free(todo);

@@ -20,17 +20,11 @@
 #include "../error.h"
 #include "bvh.h"
 
-/* A leaf reference in bvh_quad.ref: the flag, (count - 1) in bits 27-30, the first triangle
- * (in the BVH's triangle order) in bits 0-26. */
-#define BVH_QUAD_LEAF 0x80000000u
-#define BVH_QUAD_MAX_LEAF 16u
-#define BVH_QUAD_MAX_FIRST 0x07FFFFFFu
-
 /* One node, 64 bytes (glsl/shared.h BvhQuad has the same bytes). Child k's box is
  * origin + byte k of lo/hi * scale per axis, scale = 2^(exponent - 127) (a float's exponent
  * field). meta: exponents of x, y, z in bits 0-7, 8-15, 16-23, the child count (1..4) in bits
  * 24-31. lo_hi: per axis a (lo, hi) pair of words, byte k of each for child k: x lo, x hi, y lo,
- * y hi, z lo, z hi, then two unused words. ref[k]: the child's node index, or a leaf reference. */
+ * y hi, z lo, z hi, then two unused words. ref[k]: the child's node index, or its leaf reference (bvh.h). */
 typedef struct bvh_quad {
     float origin[3];
     uint32_t meta;
@@ -43,12 +37,11 @@ typedef struct bvh_quads {
     bvh_quad *nodes;          /* nodes[0] is the root; depth-first order */
     uint32_t node_count;
     uint32_t max_depth;       /* of the deepest node; the root has depth 0 */
-    uint32_t max_stack;       /* the most entries the kernel's stack can hold on any path */
+    uint32_t max_stack;       /* the most entries the kernel's stack can need on any path */
 } bvh_quads;
 
 /* Collapses and quantizes b. Fails (err set, nothing allocated) on allocation failure or when a
- * leaf does not fit a reference (more than BVH_QUAD_MAX_LEAF triangles, or a first triangle past
- * BVH_QUAD_MAX_FIRST). */
+ * leaf does not fit a reference (bvh_leaf_ref). */
 bool bvh_quads_build(const bvh *b, bvh_quads *out, vkrt_error *err);
 
 /* Child k's box as the kernel decodes it (float arithmetic), for tests. */

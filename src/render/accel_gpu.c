@@ -9,10 +9,12 @@
 
 #include "../../glsl/shared.h"
 #include "../accel/bvh.h"
+#include "../accel/bvh_pairs.h"
 #include "../accel/bvh_quads.h"
 
 _Static_assert(sizeof(bvh_quad) == sizeof(BvhQuad), "bvh_quad and BvhQuad must be the same bytes");
-_Static_assert(BVH_QUAD_LEAF == VKRT_BVH_LEAF, "one leaf flag");
+_Static_assert(sizeof(bvh_pair) == sizeof(BvhPair), "bvh_pair and BvhPair must be the same bytes");
+_Static_assert(BVH_LEAF_REF == VKRT_BVH_LEAF, "one leaf flag");
 
 static double now_ms(void)
 {
@@ -53,39 +55,71 @@ static bool upload_grid(vkrt_accel_gpu *a, gpu_context *ctx, const grid *g, vkrt
     return true;
 }
 
-static bool build_bvh(vkrt_accel_gpu *a, gpu_context *ctx, const float *positions, uint32_t n,
-                      vkrt_error *err)
+/* The GPU layout of b, width children per node: its nodes (malloc'd), their count and bytes, and
+ * the deepest stack a walk needs. */
+typedef struct gpu_layout {
+    void *nodes;
+    uint32_t count, depth, stack;
+    size_t bytes;
+} gpu_layout;
+
+static bool lay_out(const bvh *b, uint32_t width, gpu_layout *out, vkrt_error *err)
 {
+    if (width == 2) {
+        bvh_pairs p;
+        if (!bvh_pairs_build(b, &p, err))
+            return false;
+        /* One push per level at most: the far child of a node whose two children were hit. */
+        *out = (gpu_layout){p.nodes, p.node_count, b->max_depth, b->max_depth,
+                            p.node_count * sizeof *p.nodes};
+        return true;
+    }
+    bvh_quads q;
+    if (!bvh_quads_build(b, &q, err))
+        return false;
+    *out = (gpu_layout){q.nodes, q.node_count, q.max_depth, q.max_stack,
+                        q.node_count * sizeof *q.nodes};
+    return true;
+}
+
+static bool build_bvh(vkrt_accel_gpu *a, gpu_context *ctx, uint32_t width, const float *positions,
+                      uint32_t n, vkrt_error *err)
+{
+    if (width == 0)
+        width = VKRT_BVH_DEFAULT_WIDTH;
+    if (width != 2 && width != 4)
+        return vkrt_error_set(err, "BVH width %u: the GPU layouts are 2 and 4 wide", width);
     bvh b;
     if (!bvh_build(&b, positions, n, NULL, err))
         return false;
     double start = now_ms();
-    bvh_quads q;
-    bool ok = bvh_quads_build(&b, &q, err);
-    double collapse_ms = now_ms() - start;
+    gpu_layout g = {0};
+    bool ok = lay_out(&b, width, &g, err);
+    double layout_ms = now_ms() - start;
     /* glsl/lib/traverse_bvh.glsl's stack; a tree needing more would lose subtrees. */
     const uint32_t stack_size = 64;
-    if (ok && q.max_stack > stack_size)
+    if (ok && g.stack > stack_size)
         ok = vkrt_error_set(err, "BVH needs a traversal stack of %u entries, more than %u",
-                            q.max_stack, stack_size);
+                            g.stack, stack_size);
     GridInfo unused = {0};
     ok = ok && upload(ctx, &a->info, &unused, sizeof unused, "grid frame", err) &&
-         upload(ctx, &a->nodes, q.nodes, q.node_count * sizeof *q.nodes, "BVH nodes", err) &&
+         upload(ctx, &a->nodes, g.nodes, g.bytes, "BVH nodes", err) &&
          gpu_buffer_create(ctx, &a->refs, 0, "grid references", err);
     if (ok) {
         vkrt_accel_stats *s = &a->stats;
-        s->bytes = q.node_count * sizeof *q.nodes;
-        s->nodes = q.node_count;
+        s->bytes = g.bytes;
+        s->nodes = g.count;
         s->leaves = b.leaf_count;
         s->triangles_per_leaf = b.leaf_count ? (double)n / b.leaf_count : 0;
-        s->max_depth = q.max_depth;
+        s->max_depth = g.depth;
+        s->bvh_width = width;
         s->sah_cost = b.sah_cost;
-        /* The binary build and its collapse into the GPU's 4-wide nodes. */
-        s->build_ms = b.build_ms + collapse_ms;
+        /* The binary build and its layout into the GPU's nodes. */
+        s->build_ms = b.build_ms + layout_ms;
         a->prim_order = b.prim_order;
         b.prim_order = NULL;
     }
-    bvh_quads_free(&q);
+    free(g.nodes);
     bvh_free(&b);
     return ok;
 }
@@ -99,8 +133,8 @@ static bool build_brute(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_error *err)
 }
 
 bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_accel_kind kind,
-                           float grid_density, const float *positions, uint32_t triangle_count,
-                           vkrt_error *err)
+                           float grid_density, uint32_t bvh_width, const float *positions,
+                           uint32_t triangle_count, vkrt_error *err)
 {
     grid_build_desc grid_desc = {.density = grid_density};
     memset(a, 0, sizeof *a);
@@ -135,7 +169,7 @@ bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_accel_kind 
         have_grid = true;
         ok = upload_grid(a, ctx, &g, err);
     } else if (kind == VKRT_ACCEL_BVH) {
-        ok = build_bvh(a, ctx, positions, triangle_count, err);
+        ok = build_bvh(a, ctx, bvh_width, positions, triangle_count, err);
     } else {
         ok = build_brute(a, ctx, err);
     }

@@ -17,6 +17,10 @@
 #include "../gpu/buffer.h"
 #include "../gpu/context.h"
 
+/* Children per node of the BVH's GPU layout unless asked otherwise (docs/performance.md says
+ * why). */
+#define VKRT_BVH_DEFAULT_WIDTH 4u
+
 typedef struct vkrt_accel_stats {
     vkrt_accel_kind kind;       /* what was built (never auto) */
     char reason[256];           /* why: the auto rule's sentence, or "asked for" */
@@ -28,13 +32,14 @@ typedef struct vkrt_accel_stats {
     double triangles_per_leaf;  /* mean triangles per BVH leaf or per occupied grid cell */
     uint32_t grid_dims[3];
     uint32_t max_cell_refs;     /* grid: the fullest cell's triangles */
-    uint32_t max_depth;         /* BVH */
+    uint32_t max_depth;         /* BVH, of its GPU layout */
+    uint32_t bvh_width;         /* BVH: children per GPU node, 2 or 4 */
     float sah_cost;             /* BVH */
 } vkrt_accel_stats;
 
 typedef struct vkrt_accel_gpu {
     gpu_buffer info;            /* GridInfo; for other kinds a zeroed one keeps the binding valid */
-    gpu_buffer nodes;           /* BvhQuad[] or grid cell starts */
+    gpu_buffer nodes;           /* BvhPair[] or BvhQuad[], or grid cell starts */
     gpu_buffer refs;            /* grid references; for other kinds a minimal buffer, unread */
     uint32_t *prim_order;       /* NULL for identity order; else prim_order[i] = original index */
     uint32_t triangle_count;
@@ -42,10 +47,11 @@ typedef struct vkrt_accel_gpu {
 } vkrt_accel_gpu;
 
 /* Builds the structure of kind (auto chooses) over positions (9 floats per triangle) and uploads
- * it. grid_density 0 uses the grid's default density (it is a knob for measuring). On failure returns false with err set and nothing left allocated. */
+ * it. grid_density 0 uses the grid's default density, bvh_width 0 the default BVH layout
+ * (VKRT_BVH_DEFAULT_WIDTH; 2: bvh_pairs.h, 4: bvh_quads.h); both are knobs for measuring. On failure returns false with err set and nothing left allocated. */
 bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_accel_kind kind,
-                           float grid_density, const float *positions, uint32_t triangle_count,
-                           vkrt_error *err);
+                           float grid_density, uint32_t bvh_width, const float *positions,
+                           uint32_t triangle_count, vkrt_error *err);
 
 /* Frees buffers and the order. Safe on a zeroed struct. */
 void vkrt_accel_gpu_destroy(vkrt_accel_gpu *a, gpu_context *ctx);

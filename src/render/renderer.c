@@ -65,6 +65,7 @@ enum {
     SPEC_HAS_TEXCOORDS = 3,
     SPEC_WAVE_WORKGROUP = 4,
     SPEC_TRAVERSAL_STATS = 5,
+    SPEC_BVH_WIDTH = 6,
 };
 
 static bool upload(vkrt_renderer *r, gpu_buffer *buf, const void *data, size_t size,
@@ -350,6 +351,7 @@ static bool create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoord
         {SPEC_HAS_TEXCOORDS, has_texcoords},
         {SPEC_WAVE_WORKGROUP, workgroup_size},
         {SPEC_TRAVERSAL_STATS, traversal_stats},
+        {SPEC_BVH_WIDTH, r->accel.stats.bvh_width},
     };
     const uint32_t count = sizeof spec / sizeof *spec;
     return create_kernel(r, &r->raygen, "raygen.comp", workgroup_size, spec, count, err) &&
@@ -412,7 +414,7 @@ bool vkrt_renderer_create(vkrt_renderer *r, gpu_context *ctx, const vkrt_scene *
         r->capacity = r->max_capacity;
     bool has_texcoords = mats->reads_texcoords && scene->mesh.texcoords;
     ok = ok && gpu_storage_set_create(ctx, &r->set, BINDING_COUNT, sizeof(FrameParams), err) &&
-         vkrt_accel_gpu_create(&r->accel, ctx, desc->accel, desc->grid_density,
+         vkrt_accel_gpu_create(&r->accel, ctx, desc->accel, desc->grid_density, desc->bvh_width,
                                scene->mesh.positions, scene->mesh.triangle_count, err) &&
          vkrt_material_kernel_create(&kernel, mats, ctx->float_atomics, err) &&
          upload_geometry(r, &scene->mesh, mats, err) &&

@@ -34,6 +34,7 @@ typedef struct vkrt_render_desc {
     uint32_t workgroup_size;  /* 0 means 64 */
     vkrt_accel_kind accel;    /* auto (0) chooses from the scene */
     float grid_density;       /* cells per triangle of a grid; 0: the default */
+    uint32_t bvh_width;       /* children per node of the BVH's GPU layout, 2 or 4; 0: the default */
     uint32_t max_depth;       /* generations of secondary rays; 0: the scene's max-depth */
     uint32_t ray_capacity;    /* rays per buffer to start with; 0 (or below the pixel count):
                                  one per pixel. Tests start small to force growth. */
