@@ -24,6 +24,7 @@
 #include <cmocka.h>
 
 #include "accel/bvh.h"
+#include "accel/bvh_pairs.h"
 #include "accel/bvh_quads.h"
 #include "scene/obj_load.h"
 
@@ -389,17 +390,57 @@ static hit traverse(const bvh *b, const ray *r, const float *pos, uint32_t *stac
 }
 
 /* Child k of quad q as a node, its box decoded as the kernel decodes it, for enter_box. */
+static void decode_ref(uint32_t ref, bvh_node *n);
+
 static bvh_node quad_child(const bvh_quad *q, int k)
 {
     bvh_node n = { { 0 }, 0, { 0 }, 0 };
     bvh_quad_child_box(q, k, n.lo, n.hi);
-    if (q->ref[k] & BVH_LEAF_REF) {
-        n.left_first = q->ref[k] & BVH_LEAF_REF_MAX_FIRST;
-        n.count = ((q->ref[k] >> 27) & 0xFu) + 1;
-    } else {
-        n.left_first = q->ref[k];
-    }
+    decode_ref(q->ref[k], &n);
     return n;
+}
+
+/* A child word of either GPU layout into a node's first/count (bvh.h leaf references). */
+static void decode_ref(uint32_t ref, bvh_node *n)
+{
+    if (ref & BVH_LEAF_REF) {
+        n->left_first = ref & BVH_LEAF_REF_MAX_FIRST;
+        n->count = ((ref >> 27) & 0xFu) + 1;
+    } else {
+        n->left_first = ref;
+        n->count = 0;
+    }
+}
+
+/* The walk over the two-box records (bvh_pairs.h). */
+static hit traverse_pairs(const bvh *b, const bvh_pairs *pairs, const ray *r, const float *pos,
+                          uint32_t *stack)
+{
+    hit h = { INFINITY, UINT32_MAX, 0 };
+    uint32_t top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const bvh_pair *p = &pairs->nodes[stack[--top]];
+        for (int k = 0; k < 2; k++) {
+            bvh_node nd = { { p->x[2 * k], p->y[2 * k], p->z[2 * k] }, 0,
+                            { p->x[2 * k + 1], p->y[2 * k + 1], p->z[2 * k + 1] }, 0 };
+            decode_ref(p->ref[k], &nd);
+            double enter = enter_box(r, &nd);
+            if (enter == INFINITY || enter > h.t + SLAB_SLACK * h.t)
+                continue;
+            if (nd.count == 0) {
+                stack[top++] = nd.left_first;
+                continue;
+            }
+            for (uint32_t i = nd.left_first; i < nd.left_first + nd.count; i++) {
+                double t;
+                uint32_t tri = b->prim_order[i];
+                if (hit_triangle(r, pos + (size_t)tri * FLOATS_PER_TRI, &t) && t < h.t)
+                    h = (hit){ t, tri, 0 };
+            }
+        }
+    }
+    return h;
 }
 
 /* The same walk over the collapsed, quantized 4-wide nodes the GPU reads (bvh_quads.h). */
@@ -462,9 +503,11 @@ static uint32_t check_rays(const bvh *b, const float *pos, uint32_t n, uint32_t 
     uint32_t *stack = malloc((b->node_count + 1) * sizeof *stack);
     assert_non_null(stack);
     bvh_quads quads;
+    bvh_pairs pairs;
     vkrt_error err = { "" };
-    if (!bvh_quads_build(b, &quads, &err))
-        fail_msg("bvh_quads_build failed: %s", err.msg);
+    if (!bvh_quads_build(b, &quads, &err) || !bvh_pairs_build(b, &pairs, &err))
+        fail_msg("GPU layout failed: %s", err.msg);
+    assert_int_equal(pairs.node_count, b->node_count > 1 ? (b->node_count - 1) / 2 : 1);
     /* Every triangle is in exactly one leaf of the quads, and quads are fewer than binary inner
      * nodes (each replaces at least one). */
     uint32_t *seen = calloc(n ? n : 1, sizeof *seen);
@@ -483,17 +526,21 @@ static uint32_t check_rays(const bvh *b, const float *pos, uint32_t n, uint32_t 
     for (uint32_t i = 0; i < rays; i++) {
         ray r = random_ray(&g, b, pos, n);
         hit ref = brute_force(&r, pos, n), got = traverse(b, &r, pos, stack);
-        hit paired = traverse_quads(b, &quads, &r, pos, stack);
-        if (ref.t != got.t || ref.t != paired.t)
+        hit quad = traverse_quads(b, &quads, &r, pos, stack);
+        hit paired = traverse_pairs(b, &pairs, &r, pos, stack);
+        if (ref.t != got.t || ref.t != quad.t || ref.t != paired.t)
             fail_msg("ray %u: brute force t=%.17g tri %u, BVH t=%.17g tri %u, quads t=%.17g "
-                     "tri %u", i, ref.t, ref.tri, got.t, got.tri, paired.t, paired.tri);
+                     "tri %u, pairs t=%.17g tri %u", i, ref.t, ref.tri, got.t, got.tri, quad.t,
+                     quad.tri, paired.t, paired.tri);
         if (ref.t != INFINITY && ref.ties == 1) {
             assert_int_equal(ref.tri, got.tri);
+            assert_int_equal(ref.tri, quad.tri);
             assert_int_equal(ref.tri, paired.tri);
         }
         hits += ref.t != INFINITY;
     }
     bvh_quads_free(&quads);
+    bvh_pairs_free(&pairs);
     free(stack);
     return hits;
 }

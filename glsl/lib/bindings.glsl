@@ -55,8 +55,8 @@ layout(std430, set = 0, binding = 18) readonly buffer TexelBuffer { uint texels[
  * never set for timed runs or renders). */
 layout(constant_id = 5) const bool TRAVERSAL_STATS = false;
 
-/* Children per node of the BVH's GPU layout: 4 (BvhQuad) or 2 (BvhPair). */
-layout(constant_id = 6) const uint BVH_WIDTH = 4u;
+/* Children per node of the BVH's GPU layout: 2 (BvhPair) or 4 (BvhQuad). */
+layout(constant_id = 6) const uint BVH_WIDTH = 2u;
 
 /* Which structure trace_closest and trace_any walk (VKRT_TRAVERSE_*). */
 layout(constant_id = 2) const uint ACCEL_KIND = VKRT_TRAVERSE_BRUTE;

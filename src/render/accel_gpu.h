@@ -17,9 +17,9 @@
 #include "../gpu/buffer.h"
 #include "../gpu/context.h"
 
-/* Children per node of the BVH's GPU layout unless asked otherwise (docs/performance.md says
- * why). */
-#define VKRT_BVH_DEFAULT_WIDTH 4u
+/* Children per node of the BVH's GPU layout unless asked otherwise: the pairs of two float
+ * boxes outran the quantized 4-wide nodes on every scene measured (docs/performance.md). */
+#define VKRT_BVH_DEFAULT_WIDTH 2u
 
 typedef struct vkrt_accel_stats {
     vkrt_accel_kind kind;       /* what was built (never auto) */
