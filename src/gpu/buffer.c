@@ -36,8 +36,15 @@ static bool create_with_memory(gpu_context *ctx, gpu_buffer *buf, size_t size,
         vkrt_error_set(err, "no suitable memory type for a buffer of %zu bytes", size);
         goto fail;
     }
+    /* Buffers whose address shaders or acceleration structure builds take need memory allocated
+     * for it (bufferDeviceAddress); no other vkrt buffer asks for it. */
+    VkMemoryAllocateFlagsInfo address_flags = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO,
+        .flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT,
+    };
     VkMemoryAllocateInfo alloc = {
         .sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO,
+        .pNext = usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT ? &address_flags : NULL,
         .allocationSize = req.size,
         .memoryTypeIndex = type,
     };
@@ -70,6 +77,14 @@ bool gpu_buffer_create(gpu_context *ctx, gpu_buffer *buf, size_t size, const cha
                                 /* the wave buffer holds indirect dispatch arguments */
                                 VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                             VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, err))
+        return vkrt_error_prefix(err, "%s (%zu bytes)", what, size);
+    return true;
+}
+
+bool gpu_buffer_create_usage(gpu_context *ctx, gpu_buffer *buf, size_t size,
+                             VkBufferUsageFlags usage, const char *what, vkrt_error *err)
+{
+    if (!create_with_memory(ctx, buf, size, usage, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, err))
         return vkrt_error_prefix(err, "%s (%zu bytes)", what, size);
     return true;
 }

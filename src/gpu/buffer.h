@@ -24,6 +24,14 @@ typedef struct gpu_buffer {
 bool gpu_buffer_create(gpu_context *ctx, gpu_buffer *buf, size_t size, const char *what,
                        vkrt_error *err);
 
+/* Creates a device-local buffer of size bytes with exactly the given usage (add
+ * VK_BUFFER_USAGE_TRANSFER_DST_BIT for gpu_buffer_upload). With
+ * VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT its memory is allocated for device addresses, which
+ * needs a device created with bufferDeviceAddress on. For acceleration structures, their inputs
+ * and shader binding tables; what names it in messages. On failure nothing is left allocated. */
+bool gpu_buffer_create_usage(gpu_context *ctx, gpu_buffer *buf, size_t size,
+                             VkBufferUsageFlags usage, const char *what, vkrt_error *err);
+
 /* Creates a host-visible, coherent, persistently mapped buffer for transfers. */
 bool gpu_staging_create(gpu_context *ctx, gpu_buffer *buf, size_t size, vkrt_error *err);
 

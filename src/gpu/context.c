@@ -231,7 +231,16 @@ static uint64_t watchdog_ns(double seconds)
     return seconds > 1e9 ? UINT64_MAX : (uint64_t)(seconds * 1e9);
 }
 
-static bool create_device(gpu_context *ctx, vkrt_error *err)
+static bool has_extension(const VkExtensionProperties *extensions, uint32_t count,
+                          const char *name)
+{
+    for (uint32_t i = 0; i < count; ++i)
+        if (strcmp(extensions[i].extensionName, name) == 0)
+            return true;
+    return false;
+}
+
+static bool create_device(gpu_context *ctx, const gpu_context_desc *desc, vkrt_error *err)
 {
     VkPhysicalDeviceFeatures supported;
     vkGetPhysicalDeviceFeatures(ctx->physical, &supported);
@@ -250,13 +259,26 @@ static bool create_device(gpu_context *ctx, vkrt_error *err)
         return vkrt_error_set(err, "out of memory");
     VkResult listed =
         vkEnumerateDeviceExtensionProperties(ctx->physical, NULL, &extension_count, extensions);
-    bool has_atomic_float = false;
-    for (uint32_t i = 0; listed == VK_SUCCESS && i < extension_count; ++i)
-        has_atomic_float |=
-            strcmp(extensions[i].extensionName, VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME) == 0;
-    free(extensions);
-    if (listed != VK_SUCCESS)
+    if (listed != VK_SUCCESS) {
+        free(extensions);
         return vkrt_error_set(err, "vkEnumerateDeviceExtensionProperties failed (%d)", listed);
+    }
+    bool has_atomic_float =
+        has_extension(extensions, extension_count, VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME);
+    /* The caller's extensions come all together or not at all: a ray tracing pipeline is no use
+     * with half of what it needs. */
+    enum { max_wanted = 16 };
+    uint32_t wanted = desc->device_extension_count;
+    if (wanted > max_wanted) {
+        free(extensions);
+        return vkrt_error_set(err, "%u device extensions asked for; at most %d are supported",
+                              wanted, max_wanted);
+    }
+    for (uint32_t i = 0; i < wanted && !ctx->missing_extension; ++i)
+        if (!has_extension(extensions, extension_count, desc->device_extensions[i]))
+            ctx->missing_extension = desc->device_extensions[i];
+    free(extensions);
+    bool enable_wanted = wanted > 0 && !ctx->missing_extension;
     VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomic_float = {
         .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT,
     };
@@ -272,16 +294,20 @@ static bool create_device(gpu_context *ctx, vkrt_error *err)
     const char *no_float_atomics = getenv("VKRT_NO_FLOAT_ATOMICS");
     if (no_float_atomics && *no_float_atomics && strcmp(no_float_atomics, "0") != 0)
         ctx->float_atomics = false;
+    void *wanted_features = enable_wanted ? desc->device_features : NULL;
     VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomic_float_on = {
         .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT,
+        .pNext = wanted_features,
         .shaderBufferFloat32AtomicAdd = VK_TRUE,
     };
-    const char *device_extensions[2];
+    const char *device_extensions[2 + max_wanted];
     uint32_t device_extension_count = 0;
     if (ctx->float_atomics)
         device_extensions[device_extension_count++] = VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME;
     if (ctx->surface)
         device_extensions[device_extension_count++] = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
+    for (uint32_t i = 0; enable_wanted && i < wanted; ++i)
+        device_extensions[device_extension_count++] = desc->device_extensions[i];
     float priority = 1.0f;
     VkDeviceQueueCreateInfo queue_info = {
         .sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO,
@@ -294,7 +320,7 @@ static bool create_device(gpu_context *ctx, vkrt_error *err)
         .queueCreateInfoCount = 1,
         .pQueueCreateInfos = &queue_info,
         .pEnabledFeatures = &enabled,
-        .pNext = ctx->float_atomics ? &atomic_float_on : NULL,
+        .pNext = ctx->float_atomics ? &atomic_float_on : wanted_features,
         .enabledExtensionCount = device_extension_count,
         .ppEnabledExtensionNames = device_extensions,
     };
@@ -330,7 +356,7 @@ bool gpu_context_create(gpu_context *ctx, const gpu_context_desc *desc, vkrt_err
         (desc->create_surface &&
          !desc->create_surface(desc->surface_user, ctx->instance, &ctx->surface, err)) ||
         !pick_device(ctx, desc, err) || !find_compute_queue(ctx, err) ||
-        !create_device(ctx, err)) {
+        !create_device(ctx, desc, err)) {
         gpu_context_destroy(ctx);
         return false;
     }

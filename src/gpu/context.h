@@ -30,6 +30,14 @@ typedef struct gpu_context_desc {
     bool (*create_surface)(void *user, VkInstance instance, VkSurfaceKHR *surface,
                            vkrt_error *err);
     void *surface_user;
+    /* Device extensions wanted together (a ray tracing pipeline's, for tools/rtpipe_bench). When
+     * the device has every one, they are enabled with device_features (a pNext chain of feature
+     * structs, e.g. VkPhysicalDeviceBufferDeviceAddressFeatures) chained into the device's
+     * creation; when it lacks one, none is, ctx->missing_extension names the first it lacks,
+     * and the context is still created: the caller decides. Left zero: vkrt's usual device. */
+    const char *const *device_extensions;
+    uint32_t device_extension_count;
+    void *device_features;
 } gpu_context_desc;
 
 typedef struct gpu_context {
@@ -47,6 +55,8 @@ typedef struct gpu_context {
     VkFence fence;
     bool robust_buffer_access;
     bool float_atomics;          /* VK_EXT_shader_atomic_float's shaderBufferFloat32AtomicAdd is on */
+    const char *missing_extension; /* the first of desc.device_extensions the device lacks (then
+                                      none of them is enabled), or NULL */
     uint64_t timeout_ns;         /* the watchdog's limit per submission */
     bool lost;                   /* a submission timed out or the device was lost: the device is
                                     not waited for again, only left to the process's exit */

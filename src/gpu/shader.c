@@ -199,8 +199,28 @@ static void first_errors(const char *log, char *out, size_t out_size)
 bool gpu_shader_compile(const gpu_shader_sources *sources, const char *path, uint32_t **spirv,
                         size_t *word_count, vkrt_error *err)
 {
+    return gpu_shader_compile_stage(sources, path, GPU_SHADER_COMPUTE, spirv, word_count, err);
+}
+
+bool gpu_shader_compile_stage(const gpu_shader_sources *sources, const char *path,
+                              gpu_shader_stage stage, uint32_t **spirv, size_t *word_count,
+                              vkrt_error *err)
+{
+    static const glslang_stage_t glslang_stages[] = {
+        [GPU_SHADER_COMPUTE] = GLSLANG_STAGE_COMPUTE,
+        [GPU_SHADER_RAYGEN] = GLSLANG_STAGE_RAYGEN,
+        [GPU_SHADER_MISS] = GLSLANG_STAGE_MISS,
+        [GPU_SHADER_CLOSEST_HIT] = GLSLANG_STAGE_CLOSESTHIT,
+    };
     *spirv = NULL;
     *word_count = 0;
+    if ((unsigned)stage >= sizeof glslang_stages / sizeof *glslang_stages)
+        return vkrt_error_set(err, "%s: unknown shader stage %d", path, (int)stage);
+    glslang_stage_t glslang_stage = glslang_stages[stage];
+    /* GL_EXT_ray_tracing's SPIR-V (SPV_KHR_ray_tracing) needs SPIR-V 1.4; compute stays at 1.3,
+     * what every Vulkan 1.1 device takes. */
+    glslang_target_language_version_t spirv_version =
+        stage == GPU_SHADER_COMPUTE ? GLSLANG_TARGET_SPV_1_3 : GLSLANG_TARGET_SPV_1_4;
     char *body;
     if (!gpu_shader_expand(sources, path, &body, err))
         return false;
@@ -218,11 +238,11 @@ bool gpu_shader_compile(const gpu_shader_sources *sources, const char *path, uin
 
     glslang_input_t input = {
         .language = GLSLANG_SOURCE_GLSL,
-        .stage = GLSLANG_STAGE_COMPUTE,
+        .stage = glslang_stage,
         .client = GLSLANG_CLIENT_VULKAN,
         .client_version = GLSLANG_TARGET_VULKAN_1_1,
         .target_language = GLSLANG_TARGET_SPV,
-        .target_language_version = GLSLANG_TARGET_SPV_1_3,
+        .target_language_version = spirv_version,
         .code = code.data,
         .default_version = 460,
         .default_profile = GLSLANG_NO_PROFILE,
@@ -252,7 +272,7 @@ bool gpu_shader_compile(const gpu_shader_sources *sources, const char *path, uin
         vkrt_error_set(err, "%s: link: %s", path, errors);
         goto done;
     }
-    glslang_program_SPIRV_generate(program, GLSLANG_STAGE_COMPUTE);
+    glslang_program_SPIRV_generate(program, glslang_stage);
     size_t words = glslang_program_SPIRV_get_size(program);
     *spirv = malloc(words * sizeof **spirv);
     if (!*spirv) {

@@ -32,6 +32,21 @@ typedef struct gpu_shader_sources {
 bool gpu_shader_compile(const gpu_shader_sources *sources, const char *path, uint32_t **spirv,
                         size_t *word_count, vkrt_error *err);
 
+/* Shader stages gpu_shader_compile_stage knows: compute, and those of a ray tracing pipeline. */
+typedef enum gpu_shader_stage {
+    GPU_SHADER_COMPUTE = 0,
+    GPU_SHADER_RAYGEN,
+    GPU_SHADER_MISS,
+    GPU_SHADER_CLOSEST_HIT,
+} gpu_shader_stage;
+
+/* gpu_shader_compile for any of those stages. Compute compiles exactly as gpu_shader_compile
+ * does (SPIR-V 1.3); the ray tracing stages target SPIR-V 1.4, which GL_EXT_ray_tracing needs
+ * (the device then needs VK_KHR_spirv_1_4 or Vulkan 1.2). */
+bool gpu_shader_compile_stage(const gpu_shader_sources *sources, const char *path,
+                              gpu_shader_stage stage, uint32_t **spirv, size_t *word_count,
+                              vkrt_error *err);
+
 /* Expands the includes of the source at path into one text (what gpu_shader_compile feeds to
  * glslang, without the #version header); *text is malloc'd. Exposed for tests. */
 bool gpu_shader_expand(const gpu_shader_sources *sources, const char *path, char **text,

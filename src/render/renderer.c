@@ -888,30 +888,6 @@ bool vkrt_renderer_trace_stats(vkrt_renderer *r, const Ray *rays, uint32_t count
     return true;
 }
 
-void vkrt_renderer_primary_rays(const vkrt_renderer *r, const vkrt_config_camera *camera,
-                                Ray *rays)
-{
-    FrameParams p;
-    camera_params(r, camera, &p);
-    for (uint32_t y = 0; y < r->height; ++y)
-        for (uint32_t x = 0; x < r->width; ++x) {
-            /* The pixel centre, as raygen.comp does for one sample per pixel. */
-            float sx = 2.0f * (x + 0.5f) / r->width - 1.0f;
-            float sy = 1.0f - 2.0f * (y + 0.5f) / r->height;
-            float d[3] = {p.forward.x + sx * p.right.x + sy * p.up.x,
-                          p.forward.y + sx * p.right.y + sy * p.up.y,
-                          p.forward.z + sx * p.right.z + sy * p.up.z};
-            normalize3(d);
-            uint32_t i = y * r->width + x;
-            rays[i] = (Ray){
-                .origin = {p.eye.x, p.eye.y, p.eye.z, 0},
-                .direction = {d[0], d[1], d[2], 3.4e38f},
-                .importance = {1, 1, 1, 0},
-                .info = {i, 0, 0, 0},
-            };
-        }
-}
-
 void vkrt_renderer_destroy(vkrt_renderer *r)
 {
     if (!r->ctx)

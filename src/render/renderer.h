@@ -131,11 +131,6 @@ bool vkrt_renderer_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool
 bool vkrt_renderer_trace_stats(vkrt_renderer *r, const Ray *rays, uint32_t count, bool any_hit,
                                Hit *hits, vkrt_traversal_stats *stats, vkrt_error *err);
 
-/* Fills width * height rays through the pixel centres of camera, as raygen does at one sample
- * per pixel. */
-void vkrt_renderer_primary_rays(const vkrt_renderer *r, const vkrt_config_camera *camera,
-                                Ray *rays);
-
 /* Frees everything the renderer created. Safe on a zeroed renderer. */
 void vkrt_renderer_destroy(vkrt_renderer *r);
 
