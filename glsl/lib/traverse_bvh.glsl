@@ -119,9 +119,11 @@ Hit bvh_traverse(RayShear s, vec3 dir, float tmin, float tmax, bool any_hit)
             bool hit_a = a_in <= a_out * BOX_EXIT_SCALE;
             bool hit_b = b_in <= b_out * BOX_EXIT_SCALE;
             if (hit_a && hit_b) {
-                bool a_first = a_in <= b_in;
-                if (top < BVH_STACK_SIZE)
-                    stack[top++] = a_first ? n.refs.y : n.refs.x;
+                /* A shadow ray wants any hit, in any order: it skips the ordering. The stack
+                 * cannot overflow: one entry per level at most, and the host refused deeper
+                 * trees. */
+                bool a_first = any_hit || a_in <= b_in;
+                stack[top++] = a_first ? n.refs.y : n.refs.x;
                 ref = a_first ? n.refs.x : n.refs.y;
             } else {
                 ref = hit_a ? n.refs.x : hit_b ? n.refs.y : NO_NODE;
