@@ -184,14 +184,17 @@ VKRT_STRUCT(Counters) {
     uint nonfinite;         /* shading results that were NaN or infinite, dropped, not added */
     uint overcount;         /* hits whose count_rays asked for more than VKRT_MAX_CAST rays */
     /* Traversal statistics, kept only by pipelines made with TRAVERSAL_STATS (vkrt bench --stats):
-     * rays traced, BVH records fetched and triangles tested (summed over the rays), and the sum
-     * over subgroups of their busiest lane's fetches + tests, which times the subgroup size is
-     * the lane-iterations the subgroups spent: work over that is the SIMD utilisation. */
+     * rays traced, BVH nodes fetched and triangles tested (summed over the rays), the walk's loop
+     * iterations in which a lane had work (a node or a leaf) summed over lanes, and the iterations
+     * the subgroups' loops ran summed over subgroups: busy over widest times the subgroup size is
+     * the SIMD utilisation (glsl/lib/traversal_stats.glsl). */
     uint trace_rays;
     uint trace_steps;
     uint trace_tests;
+    uint trace_busy;
     uint trace_widest;
     uint subgroup_size;
+    uint pad[3];
 };
 
 #endif

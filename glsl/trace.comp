@@ -6,12 +6,18 @@
  */
 #extension GL_KHR_shader_subgroup_basic : enable
 #extension GL_KHR_shader_subgroup_arithmetic : enable
+#extension GL_KHR_shader_subgroup_ballot : enable
 #include "lib/bindings.glsl"
 #include "lib/traverse.glsl"
 #include "lib/traversal_stats.glsl"
+#include "lib/trace_wave.glsl"
 
 void main()
 {
+    if (ACCEL_KIND == VKRT_TRAVERSE_BVH && BVH_WIDTH == 2u && DYNAMIC_FETCH) {
+        trace_wave(false);
+        return;
+    }
     uint index = invocation_index();
     if (index >= dispatch_ray_count())
         return;

@@ -312,6 +312,7 @@ int vkrt_bench_run(const vkrt_options *opts)
             .grid_density = opts->grid_density,
             .workgroup_size = opts->workgroup_size,
             .bvh_width = opts->bvh_width,
+            .ray_fetch = (vkrt_ray_fetch)opts->ray_fetch,
             .traversal_stats = opts->stats,
         };
         for (uint32_t k = 0; ok && k < kind_count; ++k) {

@@ -12,7 +12,7 @@ const char *vkrt_usage(void)
            "       vkrt view SCENE.cfg [options]     fly through a scene in a window\n"
            "       vkrt bench SCENE.cfg... [--accel A] [--json OUT.json] [--width W --height H]\n"
            "                  [--grid-density CELLS_PER_TRIANGLE] [--workgroup N] [--stats]\n"
-           "                  [--bvh-width 2|4]\n"
+           "                  [--bvh-width 2|4] [--ray-fetch static|dynamic]\n"
            "                  [--whole-scene]\n"
            "                                         time primary and shadow rays per structure\n"
            "       vkrt --list-devices               list Vulkan devices\n"
@@ -154,6 +154,15 @@ bool vkrt_options_parse(int argc, char **argv, vkrt_options *opts, vkrt_error *e
                 return false;
             if (opts->bvh_width == 3)
                 return vkrt_error_set(err, "--bvh-width: 3 is not one of 2, 4");
+            ++i;
+        } else if (strcmp(arg, "--ray-fetch") == 0) {
+            if (value && strcmp(value, "static") == 0)
+                opts->ray_fetch = 1;
+            else if (value && strcmp(value, "dynamic") == 0)
+                opts->ray_fetch = 2;
+            else
+                return vkrt_error_set(err, "--ray-fetch: '%s' is not one of static, dynamic",
+                                      value ? value : "");
             ++i;
         } else if (strcmp(arg, "--stats") == 0) {
             opts->stats = true;

@@ -50,6 +50,9 @@ layout(std430, set = 0, binding = 15) buffer SlotBuffer { uvec2 ray_slots[]; };
 layout(std430, set = 0, binding = 16) readonly buffer TexcoordBuffer { TriangleTexcoords triangle_texcoords[]; };
 layout(std430, set = 0, binding = 17) readonly buffer TextureInfoBuffer { TextureInfo texture_infos[]; };
 layout(std430, set = 0, binding = 18) readonly buffer TexelBuffer { uint texels[]; };
+/* Per depth, how many of that depth's rays the trace kernels have taken (dynamic ray fetch,
+ * lib/trace_wave.glsl); zeroed before each trace. */
+layout(std430, set = 0, binding = 19) buffer TraceCursorBuffer { uint trace_cursor[]; };
 
 /* Set for `vkrt bench --stats`: the traversal counts its work into counters.trace_* (slower;
  * never set for timed runs or renders). */
@@ -57,6 +60,10 @@ layout(constant_id = 5) const bool TRAVERSAL_STATS = false;
 
 /* Children per node of the BVH's GPU layout: 2 (BvhPair) or 4 (BvhQuad). */
 layout(constant_id = 6) const uint BVH_WIDTH = 2u;
+
+/* Set when the trace kernels walk the (2-wide) BVH with dynamic ray fetch (lib/trace_wave.glsl)
+ * rather than one ray per invocation. */
+layout(constant_id = 7) const bool DYNAMIC_FETCH = false;
 
 /* Which structure trace_closest and trace_any walk (VKRT_TRAVERSE_*). */
 layout(constant_id = 2) const uint ACCEL_KIND = VKRT_TRAVERSE_BRUTE;

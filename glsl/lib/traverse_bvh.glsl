@@ -31,6 +31,7 @@ const float BOX_EXIT_SCALE = 1.0000004;
  * reports it). */
 uint traversal_steps = 0u;
 uint traversal_tests = 0u;
+uint traversal_leaves = 0u;
 
 /* Marks "no node chosen yet" in a step. */
 const uint NO_NODE = 0xFFFFFFFFu;
@@ -60,8 +61,10 @@ vec2 slab_interval(vec3 lo, vec3 hi, vec3 origin, vec3 inv_dir, float tmin, floa
 bool bvh_leaf(RayShear s, uint first, uint count, float tmin, inout Hit hit)
 {
     bool found = false;
-    if (TRAVERSAL_STATS)
+    if (TRAVERSAL_STATS) {
         traversal_tests += count;
+        ++traversal_leaves;
+    }
     for (uint i = first; i < first + count; ++i) {
         Triangle tri = triangles[i];
         float t, u, v;
@@ -91,6 +94,34 @@ void order_pair(inout float ka, inout uint ra, inout float kb, inout uint rb)
     rb = swap ? r : rb;
 }
 
+/* One step at the pair record `node`: tests both children against (tmin, hit_t) and returns the
+ * one to visit next (the nearer, or any for a shadow ray), or NO_NODE when neither was hit; push
+ * is the other when both were, else NO_NODE. */
+uint bvh_pair_step(RayShear s, vec3 inv_dir, float tmin, float hit_t, bool any_hit, uint node,
+                   out uint push)
+{
+    BvhPair n = bvh_pairs[node];
+    if (TRAVERSAL_STATS)
+        ++traversal_steps;
+    vec4 tx = (n.x - s.origin.x) * inv_dir.x;
+    vec4 ty = (n.y - s.origin.y) * inv_dir.y;
+    vec4 tz = (n.z - s.origin.z) * inv_dir.z;
+    float a_in = max(max(min(tx.x, tx.y), min(ty.x, ty.y)), max(min(tz.x, tz.y), tmin));
+    float a_out = min(min(max(tx.x, tx.y), max(ty.x, ty.y)), min(max(tz.x, tz.y), hit_t));
+    float b_in = max(max(min(tx.z, tx.w), min(ty.z, ty.w)), max(min(tz.z, tz.w), tmin));
+    float b_out = min(min(max(tx.z, tx.w), max(ty.z, ty.w)), min(max(tz.z, tz.w), hit_t));
+    bool hit_a = a_in <= a_out * BOX_EXIT_SCALE;
+    bool hit_b = b_in <= b_out * BOX_EXIT_SCALE;
+    push = NO_NODE;
+    if (hit_a && hit_b) {
+        /* A shadow ray wants any hit, in any order: it skips the ordering. */
+        bool a_first = any_hit || a_in <= b_in;
+        push = a_first ? n.refs.y : n.refs.x;
+        return a_first ? n.refs.x : n.refs.y;
+    }
+    return hit_a ? n.refs.x : hit_b ? n.refs.y : NO_NODE;
+}
+
 /* The closest hit (any_hit false) or the first hit found (any_hit true) in (tmin, tmax). */
 Hit bvh_traverse(RayShear s, vec3 dir, float tmin, float tmax, bool any_hit)
 {
@@ -106,28 +137,12 @@ Hit bvh_traverse(RayShear s, vec3 dir, float tmin, float tmax, bool any_hit)
                 return hit;
             ref = NO_NODE;
         } else if (BVH_WIDTH == 2u) {
-            BvhPair n = bvh_pairs[ref];
-            if (TRAVERSAL_STATS)
-                ++traversal_steps;
-            vec4 tx = (n.x - s.origin.x) * inv_dir.x;
-            vec4 ty = (n.y - s.origin.y) * inv_dir.y;
-            vec4 tz = (n.z - s.origin.z) * inv_dir.z;
-            float a_in = max(max(min(tx.x, tx.y), min(ty.x, ty.y)), max(min(tz.x, tz.y), tmin));
-            float a_out = min(min(max(tx.x, tx.y), max(ty.x, ty.y)), min(max(tz.x, tz.y), hit.t));
-            float b_in = max(max(min(tx.z, tx.w), min(ty.z, ty.w)), max(min(tz.z, tz.w), tmin));
-            float b_out = min(min(max(tx.z, tx.w), max(ty.z, ty.w)), min(max(tz.z, tz.w), hit.t));
-            bool hit_a = a_in <= a_out * BOX_EXIT_SCALE;
-            bool hit_b = b_in <= b_out * BOX_EXIT_SCALE;
-            if (hit_a && hit_b) {
-                /* A shadow ray wants any hit, in any order: it skips the ordering. The stack
-                 * cannot overflow: one entry per level at most, and the host refused deeper
-                 * trees. */
-                bool a_first = any_hit || a_in <= b_in;
-                stack[top++] = a_first ? n.refs.y : n.refs.x;
-                ref = a_first ? n.refs.x : n.refs.y;
-            } else {
-                ref = hit_a ? n.refs.x : hit_b ? n.refs.y : NO_NODE;
-            }
+            uint push;
+            ref = bvh_pair_step(s, inv_dir, tmin, hit.t, any_hit, ref, push);
+            /* The stack cannot overflow: one entry per level at most, and the host refused
+             * deeper trees. */
+            if (push != NO_NODE)
+                stack[top++] = push;
         } else {
             BvhQuad n = bvh_nodes[ref];
             if (TRAVERSAL_STATS)

@@ -37,6 +37,7 @@ enum {
     BINDING_TEXCOORDS,
     BINDING_TEXTURE_INFOS,
     BINDING_TEXELS,
+    BINDING_TRACE_CURSOR,
     BINDING_COUNT,
 };
 
@@ -55,6 +56,10 @@ static const float default_min_importance = 1e-3f;
 /* VKRT_MAX_CAST of glsl/lib/material_api.glsl: the most rays one hit may cast. */
 static const uint32_t max_cast = 64;
 
+/* How the trace kernels take their rays unless asked otherwise (docs/performance.md has the
+ * measurements behind it). */
+static const vkrt_ray_fetch default_ray_fetch = VKRT_RAY_FETCH_DYNAMIC;
+
 /* The ray buffers may take at most this share of the device's largest memory heap. */
 static const uint32_t ray_memory_share = 4;
 
@@ -66,6 +71,7 @@ enum {
     SPEC_WAVE_WORKGROUP = 4,
     SPEC_TRAVERSAL_STATS = 5,
     SPEC_BVH_WIDTH = 6,
+    SPEC_DYNAMIC_FETCH = 7,
 };
 
 static bool upload(vkrt_renderer *r, gpu_buffer *buf, const void *data, size_t size,
@@ -263,7 +269,9 @@ static bool create_frame_buffers(vkrt_renderer *r, vkrt_error *err)
            gpu_buffer_create(r->ctx, &r->image, pixels * sizeof(vec4), "image", err) &&
            gpu_buffer_create(r->ctx, &r->counters, sizeof(Counters), "counters", err) &&
            gpu_buffer_create(r->ctx, &r->waves, (r->max_depth + 2) * sizeof(WaveState),
-                             "wave buffer", err);
+                             "wave buffer", err) &&
+           gpu_buffer_create(r->ctx, &r->trace_cursor, (r->max_depth + 2) * sizeof(uint32_t),
+                             "trace cursors", err);
 }
 
 static void bind_all(vkrt_renderer *r)
@@ -288,6 +296,7 @@ static void bind_all(vkrt_renderer *r)
         [BINDING_TEXCOORDS] = &r->texcoords,
         [BINDING_TEXTURE_INFOS] = &r->texture_infos,
         [BINDING_TEXELS] = &r->texels,
+        [BINDING_TRACE_CURSOR] = &r->trace_cursor,
     };
     for (uint32_t i = 0; i < BINDING_COUNT; ++i)
         gpu_storage_set_bind(r->ctx, &r->set, i, bound[i]);
@@ -345,6 +354,10 @@ static bool create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoord
                            const vkrt_material_kernel *kernel, const vkrt_scene_materials *mats,
                            vkrt_error *err)
 {
+    /* Dynamic fetch is written for the 2-wide BVH's walk (glsl/lib/trace_wave.glsl). */
+    vkrt_ray_fetch fetch = r->ray_fetch ? r->ray_fetch : default_ray_fetch;
+    r->dynamic_fetch = fetch == VKRT_RAY_FETCH_DYNAMIC && r->accel.stats.kind == VKRT_ACCEL_BVH &&
+                       r->accel.stats.bvh_width == 2;
     gpu_spec_constant spec[] = {
         {SPEC_HAS_NORMALS, has_normals},
         {SPEC_ACCEL_KIND, gpu_accel_kind(r->accel.stats.kind)},
@@ -352,6 +365,7 @@ static bool create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoord
         {SPEC_WAVE_WORKGROUP, workgroup_size},
         {SPEC_TRAVERSAL_STATS, traversal_stats},
         {SPEC_BVH_WIDTH, r->accel.stats.bvh_width},
+        {SPEC_DYNAMIC_FETCH, r->dynamic_fetch},
     };
     const uint32_t count = sizeof spec / sizeof *spec;
     return create_kernel(r, &r->raygen, "raygen.comp", workgroup_size, spec, count, err) &&
@@ -376,6 +390,7 @@ bool vkrt_renderer_create(vkrt_renderer *r, gpu_context *ctx, const vkrt_scene *
     r->max_depth = desc->max_depth ? desc->max_depth : scene->config.max_depth;
     r->min_importance = desc->min_importance > 0 ? desc->min_importance : default_min_importance;
     r->profile = desc->profile;
+    r->ray_fetch = desc->ray_fetch;
     r->triangle_count = scene->mesh.triangle_count;
     r->light_words = (scene->config.light_count + 31) / 32;
     uint32_t workgroup_size = desc->workgroup_size ? desc->workgroup_size : default_workgroup_size;
@@ -522,6 +537,27 @@ static void record_trace(vkrt_renderer *r, VkCommandBuffer cmd, FrameParams *par
     params->range.z = 0;
 }
 
+/* Zeroes the trace cursors between traces of vkrt_renderer_trace (a frame's are zeroed with its
+ * waves): the previous trace read and wrote them. */
+static void record_cursor_reset(vkrt_renderer *r, VkCommandBuffer cmd)
+{
+    VkMemoryBarrier before = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+        .srcAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+        .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+    };
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         0, 1, &before, 0, NULL, 0, NULL);
+    vkCmdFillBuffer(cmd, r->trace_cursor.buffer, 0, VK_WHOLE_SIZE, 0);
+    VkMemoryBarrier after = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+        .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+        .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+    };
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                         0, 1, &after, 0, NULL, 0, NULL);
+}
+
 /* Sets every wave's ray count to zero but the first, which covers the primary rays. */
 static void record_wave_reset(vkrt_renderer *r, VkCommandBuffer cmd, uint32_t workgroup_size)
 {
@@ -546,6 +582,7 @@ static void record_wave_reset(vkrt_renderer *r, VkCommandBuffer cmd, uint32_t wo
         vkCmdUpdateBuffer(cmd, r->waves.buffer, offset, chunk, waves);
         waves[0] = (WaveState){0};
     }
+    vkCmdFillBuffer(cmd, r->trace_cursor.buffer, 0, VK_WHOLE_SIZE, 0);
     VkMemoryBarrier after = {
         .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
         .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
@@ -849,6 +886,8 @@ bool vkrt_renderer_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool
             gpu_timer_write(cmd, &timer, 0);
         }
         for (uint32_t i = 0; i < repeats; ++i) {
+            if (r->dynamic_fetch)
+                record_cursor_reset(r, cmd);
             record_trace(r, cmd, &params, any_hit, count, false);
             if (gpu_ms)
                 gpu_timer_write(cmd, &timer, i + 1);
@@ -882,7 +921,7 @@ bool vkrt_renderer_trace_stats(vkrt_renderer *r, const Ray *rays, uint32_t count
         .rays = c.trace_rays,
         .steps_per_ray = c.trace_steps / rays_traced,
         .tests_per_ray = c.trace_tests / rays_traced,
-        .simd_utilisation = slots > 0 ? ((double)c.trace_steps + c.trace_tests) / slots : 0,
+        .simd_utilisation = slots > 0 ? c.trace_busy / slots : 0,
         .subgroup_size = c.subgroup_size,
     };
     return true;
@@ -900,7 +939,7 @@ void vkrt_renderer_destroy(vkrt_renderer *r)
     gpu_buffer *buffers[] = {&r->counters,      &r->image,          &r->waves,
                              &r->lights,        &r->materials,      &r->triangle_material,
                              &r->normals,       &r->texcoords,      &r->triangles,
-                             &r->texture_infos, &r->texels};
+                             &r->texture_infos, &r->texels,      &r->trace_cursor};
     for (size_t i = 0; i < sizeof buffers / sizeof *buffers; ++i)
         gpu_buffer_destroy(r->ctx, buffers[i]);
     vkrt_accel_gpu_destroy(&r->accel, r->ctx);

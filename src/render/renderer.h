@@ -28,6 +28,14 @@
 typedef struct Ray Ray;
 typedef struct Hit Hit;
 
+/* How the trace kernels of the 2-wide BVH take their rays: one per invocation (static), or from
+ * a counter as lanes finish (dynamic ray fetch, glsl/lib/trace_wave.glsl). */
+typedef enum vkrt_ray_fetch {
+    VKRT_RAY_FETCH_DEFAULT,
+    VKRT_RAY_FETCH_STATIC,
+    VKRT_RAY_FETCH_DYNAMIC,
+} vkrt_ray_fetch;
+
 typedef struct vkrt_render_desc {
     uint32_t width, height;   /* required */
     uint32_t samples;         /* samples per pixel; 0 means 1 */
@@ -35,6 +43,7 @@ typedef struct vkrt_render_desc {
     vkrt_accel_kind accel;    /* auto (0) chooses from the scene */
     float grid_density;       /* cells per triangle of a grid; 0: the default */
     uint32_t bvh_width;       /* children per node of the BVH's GPU layout, 2 or 4; 0: the default */
+    vkrt_ray_fetch ray_fetch; /* how trace kernels take their rays (2-wide BVH); 0: the default */
     uint32_t max_depth;       /* generations of secondary rays; 0: the scene's max-depth */
     uint32_t ray_capacity;    /* rays per buffer to start with; 0 (or below the pixel count):
                                  one per pixel. Tests start small to force growth. */
@@ -49,7 +58,7 @@ typedef struct vkrt_traversal_stats {
     uint32_t rays;
     double steps_per_ray;     /* BVH records fetched */
     double tests_per_ray;     /* triangle tests */
-    double simd_utilisation;  /* (steps + tests) over the lane-iterations their subgroups spent */
+    double simd_utilisation;  /* lane-iterations with work over those the subgroups spent */
     uint32_t subgroup_size;
 } vkrt_traversal_stats;
 
@@ -85,11 +94,14 @@ typedef struct vkrt_renderer {
     gpu_pipeline raygen, trace, light, occlusion, count, prepare, shade;
     gpu_buffer rays, rays_b, hits, triangles, normals, texcoords, triangle_material, materials,
         lights, image, counters, waves, visibility, slots, texture_infos, texels;
+    gpu_buffer trace_cursor;  /* per depth, the rays the trace kernels have taken (dynamic fetch) */
     uint32_t width, height, samples, max_depth;
     uint32_t triangle_count, light_count, light_words;
     uint32_t capacity, max_capacity; /* rays per ray buffer: now, and the most the device allows */
     float min_importance;
     bool profile;
+    vkrt_ray_fetch ray_fetch; /* as asked in the desc */
+    bool dynamic_fetch;       /* the trace kernels fetch rays from trace_cursor */
     uint32_t *light_kinds;    /* VKRT_LIGHT_KIND_* per light, kept for the loop budget check */
     char **material_names;    /* per uploaded material, "name (file:line)", for messages */
     uint32_t material_count;
