@@ -1,17 +1,12 @@
 /*
  * bench.c: `vkrt bench` (see bench.h).
  *
- * Rays: primary rays through the pixel centres of the scene's first camera; shadow rays from
- * each primary hit towards the first point or spot light (or against the first directional
- * light; without any, towards a point above the scene's bounds); diffuse bounce rays from each
- * primary hit in a cosine-distributed direction about the normal facing the camera (closest hit,
- * the incoherent rays of a path tracer's first bounce). Each trace runs back to back
- * in one submission, warm-up runs worth warmup_ms of GPU time then timed_runs runs, with GPU
- * timestamps between them; the median of the timed runs is reported, with the fastest and slowest
- * in the JSON. (Runs with host work between them, as a first version did, let the H100's clocks
- * fall in the gaps: the same dispatch then took 0.7 to 3 ms.)
- * Brute force traces an evenly spread subset of the rays when all of them would take too long:
- * its rate is the same per ray.
+ * Rays: those of bench_rays.h (primary, shadow and diffuse bounce rays). Each trace runs back
+ * to back in one submission, warm-up runs worth warmup_ms of GPU time then timed_runs runs, with
+ * GPU timestamps between them; the median of the timed runs is reported, with the fastest and
+ * slowest in the JSON. (Runs with host work between them, as a first version did, let the H100's
+ * clocks fall in the gaps: the same dispatch then took 0.7 to 3 ms.) Brute force traces an evenly
+ * spread subset of the rays when all of them would take too long: its rate is the same per ray.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "bench.h"
@@ -21,6 +16,7 @@
 #include <string.h>
 
 #include "../glsl/shared.h"
+#include "bench_rays.h"
 #include "gpu/context.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
@@ -35,142 +31,6 @@ static const double warmup_ms = 300.0;
 /* Ray-triangle tests brute force may spend per measurement: about a second on lavapipe, which
  * does some 1.6e8 of them per second on two cores. */
 static const double brute_force_tests = 2e8;
-
-/* Shadow-ray origins move off the surface as light.comp moves them (lib/intersect.glsl). */
-static void offset_origin(const float p[3], const float n[3], float magnitude, float out[3])
-{
-    float largest = magnitude;
-    for (int i = 0; i < 3; ++i)
-        largest = fmaxf(largest, fabsf(p[i]));
-    float step = fmaxf(1.0f / 65536.0f, 256.0f / 8388608.0f * largest);
-    for (int i = 0; i < 3; ++i)
-        out[i] = p[i] + step * n[i];
-}
-
-/* Where shadow rays go: a point (is_point) or a direction the light travels. */
-typedef struct shadow_target {
-    bool is_point;
-    float v[3];
-} shadow_target;
-
-static shadow_target choose_target(const vkrt_scene *scene)
-{
-    const vkrt_config *cfg = &scene->config;
-    for (uint32_t i = 0; i < cfg->light_count; ++i) {
-        const vkrt_config_light *l = &cfg->lights[i];
-        if (l->kind == VKRT_LIGHT_POINT || l->kind == VKRT_LIGHT_SPOT)
-            return (shadow_target){true, {l->position[0], l->position[1], l->position[2]}};
-        if (l->kind == VKRT_LIGHT_DIRECTIONAL)
-            return (shadow_target){false, {l->direction[0], l->direction[1], l->direction[2]}};
-    }
-    const float *lo = scene->mesh.bounds_min, *hi = scene->mesh.bounds_max;
-    return (shadow_target){true,
-                           {0.5f * (lo[0] + hi[0]), hi[1] + 0.5f * (hi[1] - lo[1]),
-                            0.5f * (lo[2] + hi[2])}};
-}
-
-/* Builds one shadow ray per primary hit; returns how many. */
-/* The hit of primary ray i: a ray origin just off the surface on the camera's side, and the unit
- * normal on that side. */
-static void hit_frame(const vkrt_scene *scene, const Ray *primary, const Hit *hits, uint32_t i,
-                      float origin[3], float nrm[3])
-{
-    const float *v = scene->mesh.positions + 9 * (size_t)hits[i].triangle;
-    float w = 1 - hits[i].u - hits[i].v, p[3], e1[3], e2[3], magnitude = 0;
-    for (int k = 0; k < 3; ++k) {
-        p[k] = w * v[k] + hits[i].u * v[3 + k] + hits[i].v * v[6 + k];
-        e1[k] = v[3 + k] - v[k];
-        e2[k] = v[6 + k] - v[k];
-        magnitude = fmaxf(magnitude, fmaxf(fabsf(v[k]), fmaxf(fabsf(v[3 + k]), fabsf(v[6 + k]))));
-    }
-    nrm[0] = e1[1] * e2[2] - e1[2] * e2[1];
-    nrm[1] = e1[2] * e2[0] - e1[0] * e2[2];
-    nrm[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    float len = sqrtf(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
-    const float *d = &primary[i].direction.x;
-    float facing = nrm[0] * d[0] + nrm[1] * d[1] + nrm[2] * d[2] > 0 ? -1.0f : 1.0f;
-    for (int k = 0; k < 3; ++k)
-        nrm[k] *= facing / len;
-    offset_origin(p, nrm, magnitude, origin);
-}
-
-static uint32_t make_shadow_rays(const vkrt_scene *scene, const Ray *primary, const Hit *hits,
-                                 uint32_t count, Ray *shadow)
-{
-    shadow_target target = choose_target(scene);
-    uint32_t n = 0;
-    for (uint32_t i = 0; i < count; ++i) {
-        if (hits[i].triangle == VKRT_NO_HIT)
-            continue;
-        float origin[3], nrm[3], dir[3], tmax = 3.4e38f;
-        hit_frame(scene, primary, hits, i, origin, nrm);
-        if (target.is_point) {
-            for (int k = 0; k < 3; ++k)
-                dir[k] = target.v[k] - origin[k];
-            tmax = sqrtf(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
-            for (int k = 0; k < 3; ++k)
-                dir[k] /= tmax;
-        } else {
-            for (int k = 0; k < 3; ++k)
-                dir[k] = -target.v[k];
-        }
-        shadow[n++] = (Ray){
-            .origin = {origin[0], origin[1], origin[2], 0},
-            .direction = {dir[0], dir[1], dir[2], tmax},
-            .importance = {1, 1, 1, 0},
-            .info = {i, 0, 0, 0},
-        };
-    }
-    return n;
-}
-
-/* A 32-bit hash (the low-bias finaliser of glsl/lib/rng.glsl) to a float in [0, 1). */
-static float hash_float(uint32_t x)
-{
-    x ^= x >> 16;
-    x *= 0x7FEB352Du;
-    x ^= x >> 15;
-    x *= 0x846CA68Bu;
-    x ^= x >> 16;
-    return (float)(x >> 8) * (1.0f / 16777216.0f);
-}
-
-static uint32_t make_diffuse_rays(const vkrt_scene *scene, const Ray *primary, const Hit *hits,
-                                  uint32_t count, Ray *diffuse)
-{
-    uint32_t n = 0;
-    for (uint32_t i = 0; i < count; ++i) {
-        if (hits[i].triangle == VKRT_NO_HIT)
-            continue;
-        float origin[3], nrm[3];
-        hit_frame(scene, primary, hits, i, origin, nrm);
-        /* Cosine-distributed about nrm: a disc sample lifted onto the hemisphere. */
-        float u1 = hash_float(2 * i + 1), u2 = hash_float(2 * i + 2);
-        float r = sqrtf(u1), phi = 6.28318531f * u2;
-        float t[3], b[3];
-        float a[3] = {fabsf(nrm[0]) > 0.5f ? 0.0f : 1.0f, fabsf(nrm[0]) > 0.5f ? 1.0f : 0.0f, 0};
-        t[0] = nrm[1] * a[2] - nrm[2] * a[1];
-        t[1] = nrm[2] * a[0] - nrm[0] * a[2];
-        t[2] = nrm[0] * a[1] - nrm[1] * a[0];
-        float tl = sqrtf(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
-        for (int k = 0; k < 3; ++k)
-            t[k] /= tl;
-        b[0] = nrm[1] * t[2] - nrm[2] * t[1];
-        b[1] = nrm[2] * t[0] - nrm[0] * t[2];
-        b[2] = nrm[0] * t[1] - nrm[1] * t[0];
-        float z = sqrtf(fmaxf(0.0f, 1 - u1)), dir[3];
-        for (int k = 0; k < 3; ++k)
-            dir[k] = r * cosf(phi) * t[k] + r * sinf(phi) * b[k] + z * nrm[k];
-        float dl = sqrtf(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
-        diffuse[n++] = (Ray){
-            .origin = {origin[0], origin[1], origin[2], 0},
-            .direction = {dir[0] / dl, dir[1] / dl, dir[2] / dl, 3.4e38f},
-            .importance = {1, 1, 1, 0},
-            .info = {i, 0, 0, 0},
-        };
-    }
-    return n;
-}
 
 /* GPU times of one trace: median, fastest and slowest of timed_runs after the warm-up. */
 typedef struct trace_times {
@@ -242,7 +102,7 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
             timed = pixels;
     }
     if (ok) {
-        vkrt_renderer_primary_rays(&r, &scene->config.cameras[0], primary);
+        bench_primary_rays(scene, desc->width, desc->height, primary);
         /* A subset for brute force: every stride-th ray, so it sees the whole image. */
         uint32_t stride = pixels / timed;
         for (uint32_t i = 0; stride > 1 && i < timed; ++i)
@@ -253,7 +113,7 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
     if (ok) {
         row->primary_rays = pixels;
         row->primary_timed = timed;
-        uint32_t n = make_shadow_rays(scene, primary, hits, timed, shadow);
+        uint32_t n = bench_shadow_rays(scene, primary, hits, timed, shadow);
         for (uint32_t i = 0; i < timed; ++i)
             row->hits += hits[i].triangle != VKRT_NO_HIT;
         row->shadow_rays = n;
@@ -267,7 +127,7 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
         for (uint32_t i = 0; ok && i < n; ++i)
             row->blocked += hits[i].triangle != VKRT_NO_HIT;
         /* The shadow buffer is free again: it holds the diffuse rays now. */
-        n = ok ? make_diffuse_rays(scene, primary, primary_hits, timed, shadow) : 0;
+        n = ok ? bench_diffuse_rays(scene, primary, primary_hits, timed, shadow) : 0;
         row->diffuse_timed = n;
         ok = ok && (n == 0 || timed_trace(&r, shadow, n, false, hits, &row->diffuse, err));
         row->diffuse_ms = row->diffuse.median_ms;

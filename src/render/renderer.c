@@ -437,7 +437,7 @@ static void cross3(const float a[3], const float b[3], float out[3])
 }
 
 /* Camera basis of a right-handed camera looking down -z in its own space: right = forward x up. */
-static void camera_params(const vkrt_renderer *r, const vkrt_config_camera *camera,
+static void camera_params(const vkrt_config_camera *camera, uint32_t width, uint32_t height,
                           FrameParams *params)
 {
     float forward[3] = {camera->look[0] - camera->eye[0], camera->look[1] - camera->eye[1],
@@ -448,7 +448,7 @@ static void camera_params(const vkrt_renderer *r, const vkrt_config_camera *came
     normalize3(right);
     cross3(right, forward, up);
     float tan_half = tanf(radians(camera->fov_deg) * 0.5f);
-    float aspect = (float)r->width / (float)r->height;
+    float aspect = (float)width / (float)height;
     params->eye = (vec4){camera->eye[0], camera->eye[1], camera->eye[2], 0};
     params->forward = (vec4){forward[0], forward[1], forward[2], 0};
     params->right = (vec4){right[0] * tan_half * aspect, right[1] * tan_half * aspect,
@@ -734,7 +734,7 @@ bool vkrt_renderer_add_samples(vkrt_renderer *r, const vkrt_config_camera *camer
     if (!check_loop_budget(r, err))
         return false;
     FrameParams params = {0};
-    camera_params(r, camera, &params);
+    camera_params(camera, r->width, r->height, &params);
     params.eye.w = r->min_importance;
     params.image = (uvec4){r->width, r->height, 0, r->samples};
     params.counts = (uvec4){r->triangle_count, r->light_count, pixels, frame_index};
@@ -858,21 +858,21 @@ bool vkrt_renderer_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool
     return true;
 }
 
-void vkrt_renderer_primary_rays(const vkrt_renderer *r, const vkrt_config_camera *camera,
-                                Ray *rays)
+void vkrt_primary_rays(const vkrt_config_camera *camera, uint32_t width, uint32_t height,
+                       Ray *rays)
 {
     FrameParams p;
-    camera_params(r, camera, &p);
-    for (uint32_t y = 0; y < r->height; ++y)
-        for (uint32_t x = 0; x < r->width; ++x) {
+    camera_params(camera, width, height, &p);
+    for (uint32_t y = 0; y < height; ++y)
+        for (uint32_t x = 0; x < width; ++x) {
             /* The pixel centre, as raygen.comp does for one sample per pixel. */
-            float sx = 2.0f * (x + 0.5f) / r->width - 1.0f;
-            float sy = 1.0f - 2.0f * (y + 0.5f) / r->height;
+            float sx = 2.0f * (x + 0.5f) / width - 1.0f;
+            float sy = 1.0f - 2.0f * (y + 0.5f) / height;
             float d[3] = {p.forward.x + sx * p.right.x + sy * p.up.x,
                           p.forward.y + sx * p.right.y + sy * p.up.y,
                           p.forward.z + sx * p.right.z + sy * p.up.z};
             normalize3(d);
-            uint32_t i = y * r->width + x;
+            uint32_t i = y * width + x;
             rays[i] = (Ray){
                 .origin = {p.eye.x, p.eye.y, p.eye.z, 0},
                 .direction = {d[0], d[1], d[2], 3.4e38f},
@@ -880,6 +880,12 @@ void vkrt_renderer_primary_rays(const vkrt_renderer *r, const vkrt_config_camera
                 .info = {i, 0, 0, 0},
             };
         }
+}
+
+void vkrt_renderer_primary_rays(const vkrt_renderer *r, const vkrt_config_camera *camera,
+                                Ray *rays)
+{
+    vkrt_primary_rays(camera, r->width, r->height, rays);
 }
 
 void vkrt_renderer_destroy(vkrt_renderer *r)

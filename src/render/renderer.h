@@ -114,7 +114,11 @@ bool vkrt_renderer_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool
                          Hit *hits, uint32_t repeats, double *gpu_ms, vkrt_error *err);
 
 /* Fills width * height rays through the pixel centres of camera, as raygen does at one sample
- * per pixel. */
+ * per pixel. Pure CPU: what a renderer of that size traces, without one (tools/embree-bench.c). */
+void vkrt_primary_rays(const vkrt_config_camera *camera, uint32_t width, uint32_t height,
+                       Ray *rays);
+
+/* vkrt_primary_rays at the renderer's size. */
 void vkrt_renderer_primary_rays(const vkrt_renderer *r, const vkrt_config_camera *camera,
                                 Ray *rays);
 
