@@ -5,6 +5,7 @@
 #extension GL_KHR_shader_subgroup_basic : enable
 #extension GL_KHR_shader_subgroup_arithmetic : enable
 #extension GL_KHR_shader_subgroup_ballot : enable
+#extension GL_KHR_shader_subgroup_vote : enable
 #include "lib/bindings.glsl"
 #include "lib/traverse.glsl"
 #include "lib/traversal_stats.glsl"

@@ -6,8 +6,9 @@
  * start them while the others go on. Each loop iteration is one step of every busy lane (a node
  * or a leaf), so lanes with short rays no longer idle through the long ones: the SIMD loss that
  * bench --stats measures for incoherent rays. For trace.comp (closest hits) and occlusion.comp
- * (any hit); rays are read and hits written as those kernels do. Needs bindings.glsl,
- * traverse.glsl, traversal_stats.glsl and the subgroup ballot extension.
+ * (any hit); rays are read and hits written as those kernels do. GPUs only: on a CPU device the
+ * renderer keeps one ray per invocation (src/render/renderer.c says why). Needs bindings.glsl,
+ * traverse.glsl, traversal_stats.glsl and the subgroup ballot and vote extensions.
  */
 #ifndef VKRT_TRACE_WAVE_GLSL
 #define VKRT_TRACE_WAVE_GLSL
@@ -19,7 +20,7 @@ const uint REFILL_SHARE = 2u;
 void trace_wave(bool any_hit)
 {
     uint count = dispatch_ray_count();
-    bool active = false, exhausted = false;
+    bool busy_lane = false, exhausted = false;
     uint index = 0u, ref = NO_NODE;
     RayShear s = ray_shear_make(vec3(0.0), vec3(0.0, 0.0, 1.0));
     vec3 inv_dir = vec3(0.0);
@@ -29,7 +30,7 @@ void trace_wave(bool any_hit)
     int top = 0;
     uint iterations = 0u, busy = 0u, rays_done = 0u;
     while (true) {
-        uvec4 idle = subgroupBallot(!active);
+        uvec4 idle = subgroupBallot(!busy_lane);
         uint idle_count = subgroupBallotBitCount(idle);
         if (!exhausted && idle_count * REFILL_SHARE >= gl_SubgroupSize) {
             uint base = 0u;
@@ -37,7 +38,7 @@ void trace_wave(bool any_hit)
                 base = atomicAdd(trace_cursor[frame.wave.y], idle_count);
             base = subgroupBroadcastFirst(base);
             exhausted = base + idle_count >= count;
-            if (!active) {
+            if (!busy_lane) {
                 index = base + subgroupBallotExclusiveBitCount(idle);
                 if (index < count) {
                     Ray ray = load_ray(index);
@@ -51,43 +52,45 @@ void trace_wave(bool any_hit)
                         hit = Hit(tmax, 0.0, 0.0, VKRT_NO_HIT);
                         ref = 0u; /* the root */
                         top = 0;
-                        active = true;
+                        busy_lane = true;
                     }
                 }
             }
         }
-        if (!subgroupAny(active)) {
+        if (!subgroupAny(busy_lane)) {
             if (exhausted)
                 break;
             continue;
         }
+        /* The idle lanes wait here rather than `continue`: every lane reaches the ballot at the
+         * top of the loop together, which its count of idle lanes relies on. */
         ++iterations;
-        if (!active)
-            continue;
-        ++busy;
-        bool done = false;
-        if ((ref & VKRT_BVH_LEAF) != 0u) {
-            done = bvh_leaf(s, ref & 0x07FFFFFFu, ((ref >> 27) & 0xFu) + 1u, tmin, hit) && any_hit;
-            ref = NO_NODE;
-        } else {
-            uint push;
-            ref = bvh_pair_step(s, inv_dir, tmin, hit.t, any_hit, ref, push);
-            if (push != NO_NODE)
-                stack[top++] = push;
-        }
-        if (!done && ref == NO_NODE) {
-            if (top == 0)
-                done = true;
-            else
-                ref = stack[--top];
-        }
-        if (done) {
-            if (any_hit)
-                hits[index] = Hit(tmax, 0.0, 0.0, hit.triangle != VKRT_NO_HIT ? 0u : VKRT_NO_HIT);
-            else
-                hits[index] = hit;
-            active = false;
-            ++rays_done;
+        if (busy_lane) {
+            ++busy;
+            bool done = false;
+            if ((ref & VKRT_BVH_LEAF) != 0u) {
+                done = bvh_leaf(s, ref & 0x07FFFFFFu, ((ref >> 27) & 0xFu) + 1u, tmin, hit) && any_hit;
+                ref = NO_NODE;
+            } else {
+                uint push;
+                ref = bvh_pair_step(s, inv_dir, tmin, hit.t, any_hit, ref, push);
+                if (push != NO_NODE)
+                    stack[top++] = push;
+            }
+            if (!done && ref == NO_NODE) {
+                if (top == 0)
+                    done = true;
+                else
+                    ref = stack[--top];
+            }
+            if (done) {
+                if (any_hit)
+                    hits[index] = Hit(tmax, 0.0, 0.0, hit.triangle != VKRT_NO_HIT ? 0u : VKRT_NO_HIT);
+                else
+                    hits[index] = hit;
+                busy_lane = false;
+                ++rays_done;
+            }
         }
     }
     record_traversal_work(rays_done, busy, iterations);

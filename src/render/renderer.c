@@ -354,10 +354,14 @@ static bool create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoord
                            const vkrt_material_kernel *kernel, const vkrt_scene_materials *mats,
                            vkrt_error *err)
 {
-    /* Dynamic fetch is written for the 2-wide BVH's walk (glsl/lib/trace_wave.glsl). */
+    /* Dynamic fetch is written for the 2-wide BVH's walk (glsl/lib/trace_wave.glsl), and for
+     * GPUs: one invocation of it walks many rays in one loop, and Mesa's llvmpipe silently ends
+     * an invocation's loops after 65,535 iterations in all (see brute_force_block), which left
+     * rays untraced there (hits changed from run to run, and one run crashed). */
     vkrt_ray_fetch fetch = r->ray_fetch ? r->ray_fetch : default_ray_fetch;
     r->dynamic_fetch = fetch == VKRT_RAY_FETCH_DYNAMIC && r->accel.stats.kind == VKRT_ACCEL_BVH &&
-                       r->accel.stats.bvh_width == 2;
+                       r->accel.stats.bvh_width == 2 &&
+                       r->ctx->properties.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU;
     gpu_spec_constant spec[] = {
         {SPEC_HAS_NORMALS, has_normals},
         {SPEC_ACCEL_KIND, gpu_accel_kind(r->accel.stats.kind)},
