@@ -4,7 +4,7 @@
 #   2. vkrt bench of the four issue-8 scenes at 1920x1080 with the BVH, by this build (.bundle)
 #      and, when .bundle-old exists, by the build before the change (same rays, same machine);
 #   3. vkrt bench --stats (records fetched, triangles tested, SIMD utilisation per ray kind);
-#   4. the binary layout (--bvh-width 2), a workgroup-size sweep when SWEEP is set, and the same
+#   4. static ray fetch (--ray-fetch static), the driver's pipeline (rtpipe-bench) when bundled, a workgroup-size sweep when SWEEP is set, and the same
 #      bench with the whole scene (materials, textures) loaded.
 # Expects `tools/bundle .bundle build/tests/test_...` (see the loop below), optionally
 # .bundle-old made the same way from the older commit, and .bundle/scenes.tar.gz (the shared
@@ -26,17 +26,19 @@ for t in layout render accel stability materials; do
 done
 bench() { # name, extra arguments: one bench run of the four scenes
     name=$1; shift
+    accel="--accel bvh"; case $1 in *rtpipe-bench) accel="" ;; esac
     echo "== $name: vkrt bench $*" >>"$log"
-    "$@" $scenes --accel bvh --width 1920 --height 1080 --json "/tmp/kjson/kernel-$name.json" 2>&1 |
+    "$@" $scenes $accel --width 1920 --height 1080 --json "/tmp/kjson/kernel-$name.json" 2>&1 |
         grep -v "Both .d." | tee -a "$log"
 }
 bench new .bundle/vkrt bench
-bench width2 .bundle/vkrt bench --bvh-width 2
+bench static .bundle/vkrt bench --ray-fetch static
 [ -x .bundle-old/bin/vkrt ] && bench old .bundle-old/bin/vkrt bench
 bench stats .bundle/vkrt bench --stats
-bench stats-width2 .bundle/vkrt bench --stats --bvh-width 2
+bench stats-static .bundle/vkrt bench --stats --ray-fetch static
 [ -n "${SWEEP:-}" ] && for wg in 32 128 256; do bench wg$wg .bundle/vkrt bench --workgroup $wg; done
 bench whole .bundle/vkrt bench --whole-scene
+[ -x .bundle/rtpipe-bench ] && bench rtpipe .bundle/rtpipe-bench
 bench new-again .bundle/vkrt bench
 nvidia-smi --query-gpu=clocks.sm,temperature.gpu,power.draw --format=csv >>"$log" 2>&1
 tar cf "$out/kernel-json.tar" -C /tmp/kjson .
