@@ -58,7 +58,7 @@ static const uint32_t max_cast = 64;
 
 /* How the trace kernels take their rays unless asked otherwise (docs/performance.md has the
  * measurements behind it). */
-static const vkrt_ray_fetch default_ray_fetch = VKRT_RAY_FETCH_DYNAMIC;
+static const vkrt_ray_fetch default_ray_fetch = VKRT_RAY_FETCH_STATIC;
 
 /* The ray buffers may take at most this share of the device's largest memory heap. */
 static const uint32_t ray_memory_share = 4;
