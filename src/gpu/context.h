@@ -47,6 +47,8 @@ typedef struct gpu_context {
     VkFence fence;
     bool robust_buffer_access;
     bool float_atomics;          /* VK_EXT_shader_atomic_float's shaderBufferFloat32AtomicAdd is on */
+    bool subgroup_arithmetic;    /* compute shaders have subgroup basic, ballot and arithmetic
+                                    operations (Vulkan 1.1); VKRT_NO_SUBGROUPS=1 turns them off */
     uint64_t timeout_ns;         /* the watchdog's limit per submission */
     bool lost;                   /* a submission timed out or the device was lost: the device is
                                     not waited for again, only left to the process's exit */

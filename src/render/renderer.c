@@ -294,6 +294,16 @@ static bool make_pipeline(vkrt_renderer *r, gpu_pipeline *pipe, const char *path
                                spec_count, path, err);
 }
 
+/* What every wave kernel may use beyond core GLSL on this device: subgroup sums (count.comp
+ * reserves ray slots with one atomic per subgroup with them, one per ray without). */
+static const char *kernel_preamble(const gpu_context *ctx)
+{
+    return ctx->subgroup_arithmetic ? "#extension GL_KHR_shader_subgroup_arithmetic : require\n"
+                                      "#extension GL_KHR_shader_subgroup_ballot : require\n"
+                                      "#define VKRT_SUBGROUPS 1\n"
+                                    : "";
+}
+
 static bool create_kernel(vkrt_renderer *r, gpu_pipeline *pipe, const char *path,
                           uint32_t workgroup_size, const gpu_spec_constant *spec,
                           uint32_t spec_count, vkrt_error *err)
@@ -301,6 +311,7 @@ static bool create_kernel(vkrt_renderer *r, gpu_pipeline *pipe, const char *path
     gpu_shader_sources sources = {
         .lookup = vkrt_kernel_source_lookup,
         .display_prefix = "glsl/",
+        .preamble = kernel_preamble(r->ctx),
     };
     uint32_t *spirv;
     size_t words;
@@ -319,7 +330,8 @@ static bool create_material_kernel(vkrt_renderer *r, gpu_pipeline *pipe, const c
 {
     uint32_t *spirv;
     size_t words;
-    if (!vkrt_material_kernel_compile(kernel, mats, path, &spirv, &words, err))
+    if (!vkrt_material_kernel_compile(kernel, mats, path, kernel_preamble(r->ctx), &spirv, &words,
+                                      err))
         return false;
     bool ok = make_pipeline(r, pipe, path, spirv, words, workgroup_size, spec, spec_count, err);
     free(spirv);
