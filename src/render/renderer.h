@@ -38,7 +38,10 @@ typedef struct vkrt_render_desc {
     uint32_t ray_capacity;    /* rays per buffer to start with; 0 (or below the pixel count):
                                  one per pixel. Tests start small to force growth. */
     float min_importance;     /* a cast ray weaker than this is dropped; 0: the default 1e-3 */
-    bool profile;             /* time every dispatch with GPU timestamps (vkrt_frame_stats) */
+    bool profile;             /* time every dispatch with GPU timestamps (vkrt_frame_stats):
+                                 each frame is rendered, then rendered again after 300 ms of GPU
+                                 warm-up profile_repeat times back to back, and the medians kept */
+    uint32_t profile_repeat;  /* timed frames of a profile; 0: 11 */
 } vkrt_render_desc;
 
 /* The kernels of a frame, for profiles. */
@@ -58,12 +61,15 @@ typedef struct vkrt_frame_stats {
     uint32_t nonfinite;       /* NaN or infinite shading results dropped */
     bool profiled;            /* the renderer was created with desc.profile: */
     double kernel_ms[VKRT_PROFILE_DEPTHS][VKRT_KERNEL_KINDS]; /* GPU ms per depth and kernel,
-                                 summed over the sample passes (raygen counts at depth 0) */
-    double frame_ms;          /* GPU ms from the first dispatch to the last */
+                                 summed over the sample passes (raygen counts at depth 0), the
+                                 median over the timed frames */
+    double frame_ms;          /* GPU ms from the first dispatch to the last, the median */
+    uint32_t profile_frames;  /* timed frames the medians are of */
+    uint32_t profile_warmups; /* frames rendered back to back before them */
 } vkrt_frame_stats;
 
 /* Prints a profile (stats->profiled) as a table: a row per depth, a column per kernel, and the
- * share of the frame spent tracing (closest hits and shadow rays). */
+ * frame's time over its tracing's (closest hits and shadow rays: trace + light). */
 void vkrt_frame_stats_print_profile(FILE *out, const vkrt_frame_stats *stats);
 
 typedef struct vkrt_renderer {
@@ -78,6 +84,7 @@ typedef struct vkrt_renderer {
     uint32_t capacity, max_capacity; /* rays per ray buffer: now, and the most the device allows */
     float min_importance;
     bool profile;
+    uint32_t profile_repeat;  /* timed frames of a profile */
     uint32_t *light_kinds;    /* VKRT_LIGHT_KIND_* per light, kept for the loop budget check */
     char **material_names;    /* per uploaded material, "name (file:line)", for messages */
     uint32_t material_count;
