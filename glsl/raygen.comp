@@ -10,10 +10,10 @@
  * subgroup's rays (32 lanes: 8 x 4 pixels) leave the camera close together and walk the same
  * nodes; ray.info.x carries the pixel, so nothing downstream depends on the order.
  *
- * This kernel also clears what a pass starts from, instead of transfer commands before it (a
- * fill, an update and the barriers between transfer and compute, per pass): the image at pass 0,
- * the counters at the first pass of a submission (frame.range.z != 0), and the wave table (wave 0
- * covers the primary rays, the others are empty until count and prepare fill them).
+ * This kernel also resets what a pass starts from, instead of transfer commands before it (an
+ * update and the barriers between transfer and compute, per pass): the image at pass 0 and the
+ * wave table (wave 0 covers the primary rays, the others are empty until count and prepare fill
+ * them).
  */
 #include "lib/bindings.glsl"
 #include "lib/rng.glsl"
@@ -36,10 +36,8 @@ uvec2 tile_pixel(uint index, uint width, uint height)
     return uvec2(tile * TILE + in_tile % cols, band * TILE + in_tile / cols);
 }
 
-void reset_pass(uint pixels)
+void reset_waves(uint pixels)
 {
-    if (frame.range.z != 0u)
-        counters = Counters(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
     uint groups = (pixels + WAVE_WORKGROUP_SIZE - 1u) / WAVE_WORKGROUP_SIZE;
     uint groups_x = min(groups, 65535u);
     waves[0] = WaveState(groups_x, (groups + groups_x - 1u) / groups_x, 1u, pixels);
@@ -54,7 +52,7 @@ void main()
     if (index >= width * height)
         return;
     if (index == 0u)
-        reset_pass(width * height);
+        reset_waves(width * height);
     uint sample_index = frame.image.z, samples = frame.image.w;
     uvec2 p = tile_pixel(index, width, height);
     uint pixel = p.y * width + p.x;

@@ -106,8 +106,8 @@ VKRT_STRUCT(FrameParams) {
     uvec4 counts;     /* x: triangles, y: lights, z: rays in this dispatch or VKRT_RAYS_OF_WAVE,
                          w: frame seed */
     uvec4 range;      /* brute force: x..y-1 are the triangles this dispatch tests; z != 0: merge
-                         with the hits of earlier dispatches (see traverse_brute.glsl), in
-                         raygen: clear the counters; w: light visibility words per ray */
+                         with the hits of earlier dispatches (see traverse_brute.glsl); w: light
+                         visibility words per ray */
     uvec4 wave;       /* x: which ray buffer holds this depth's rays (0: A, 1: B; children go to
                          the other), y: depth, z: max depth, w: ray capacity of each buffer */
 };

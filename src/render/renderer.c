@@ -558,8 +558,8 @@ static void mark(VkCommandBuffer cmd, frame_profile *p, uint32_t depth, uint32_t
 }
 
 /* Records sample passes [first, end) of one frame. There are no transfer commands: raygen clears
- * the image (pass 0), the counters (the first pass recorded here) and the wave table, so the
- * passes are dispatches and compute-to-compute barriers only. */
+ * the image (pass 0) and resets the wave table, so the passes are dispatches and
+ * compute-to-compute barriers only. */
 static void record_passes(vkrt_renderer *r, VkCommandBuffer cmd, FrameParams params,
                           uint32_t first, uint32_t end, frame_profile *p)
 {
@@ -568,9 +568,7 @@ static void record_passes(vkrt_renderer *r, VkCommandBuffer cmd, FrameParams par
         params.image.z = s;
         params.counts.z = pixels;
         params.wave = (uvec4){0, 0, r->max_depth, r->capacity};
-        params.range.z = s == first;
         gpu_dispatch(cmd, &r->raygen, &r->set, &params, pixels);
-        params.range.z = 0;
         mark(cmd, p, 0, VKRT_KERNEL_RAYGEN);
         params.counts.z = VKRT_RAYS_OF_WAVE;
         for (uint32_t depth = 0; depth <= r->max_depth; ++depth) {
@@ -672,6 +670,16 @@ static bool run_passes(vkrt_renderer *r, FrameParams params, uint32_t first, uin
     VkCommandBuffer cmd;
     if (!gpu_commands_begin(r->ctx, &cmd, err))
         goto fail;
+    /* Once per submission, before any timestamp: repetitions add to the counters, but the host
+     * reads them only after a single frame. */
+    vkCmdFillBuffer(cmd, r->counters.buffer, 0, VK_WHOLE_SIZE, 0);
+    VkMemoryBarrier cleared = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+        .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+        .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+    };
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                         0, 1, &cleared, 0, NULL, 0, NULL);
     for (uint32_t i = 0; i < warmups; ++i)
         record_passes(r, cmd, params, first, end, NULL);
     if (p) {
