@@ -1,13 +1,52 @@
 /*
- * raygen.comp: one primary ray per pixel for one sample pass.
+ * raygen.comp: one primary ray per pixel for one sample pass, and the pass's resets.
  *
  * Sample s of N in a pixel lands in its own stratum: the pixel's square is cut into rows x cols
  * cells with rows the largest divisor of N not above sqrt(N) (so the cells tile the square
  * exactly for every N), and the ray is jittered inside its cell. With N == 1 the ray goes through
  * the pixel's centre, as the reference render expects.
+ *
+ * Consecutive invocations take the pixels of TILE x TILE tiles rather than of raster rows, so a
+ * subgroup's rays (32 lanes: 8 x 4 pixels) leave the camera close together and walk the same
+ * nodes; ray.info.x carries the pixel, so nothing downstream depends on the order.
+ *
+ * This kernel also resets what a pass starts from, instead of transfer commands before it (an
+ * update and the barriers between transfer and compute, per pass): the image at pass 0 and the
+ * wave table (wave 0 covers the primary rays, the others are empty until count and prepare fill
+ * them).
  */
 #include "lib/bindings.glsl"
 #include "lib/rng.glsl"
+
+const uint TILE = 8u;
+
+/* The pixel of primary ray `index`: the image is cut into bands of TILE rows, each band into
+ * tiles of TILE columns, the tiles of a band and the pixels of a tile in raster order. The last
+ * band and the last tile of each band may be narrower; the numbering stays dense. */
+uvec2 tile_pixel(uint index, uint width, uint height)
+{
+    uint band_pixels = TILE * width;
+    uint band = index / band_pixels;
+    uint in_band = index - band * band_pixels;
+    uint rows = min(TILE, height - band * TILE);
+    uint tile_pixels = TILE * rows;
+    uint tile = in_band / tile_pixels;
+    uint cols = min(TILE, width - tile * TILE);
+    uint in_tile = in_band - tile * tile_pixels;
+    return uvec2(tile * TILE + in_tile % cols, band * TILE + in_tile / cols);
+}
+
+void reset_waves(uint pixels)
+{
+    uint groups = (pixels + WAVE_WORKGROUP_SIZE - 1u) / WAVE_WORKGROUP_SIZE;
+    uint groups_x = min(groups, 65535u);
+    waves[0] = WaveState(groups_x, (groups + groups_x - 1u) / groups_x, 1u, pixels);
+    for (uint depth = 1u; depth <= frame.wave.z + 1u; ++depth)
+        waves[depth] = WaveState(0u, 0u, 0u, 0u);
+    /* The trace kernels' cursors of dynamic ray fetch (lib/trace_wave.glsl) start each pass at 0. */
+    for (uint depth = 0u; depth <= frame.wave.z + 1u; ++depth)
+        trace_cursor[depth] = 0u;
+}
 
 void main()
 {
@@ -15,10 +54,15 @@ void main()
     uint width = frame.image.x, height = frame.image.y;
     if (index >= width * height)
         return;
+    if (index == 0u)
+        reset_waves(width * height);
     uint sample_index = frame.image.z, samples = frame.image.w;
-    uint px = index % width, py = index / width;
+    uvec2 p = tile_pixel(index, width, height);
+    uint pixel = p.y * width + p.x;
+    if (sample_index == 0u)
+        image[pixel] = vec4(0.0);
 
-    uint seed = pcg_hash(index ^ pcg_hash(sample_index ^ pcg_hash(frame.counts.w)));
+    uint seed = pcg_hash(pixel ^ pcg_hash(sample_index ^ pcg_hash(frame.counts.w)));
     vec2 offset = vec2(0.5);
     if (samples > 1u) {
         uint rows = uint(sqrt(float(samples)));
@@ -30,15 +74,15 @@ void main()
         offset = (cell + jitter) / vec2(float(cols), float(rows));
     }
     /* Image row 0 is the top of the picture: y grows downwards in pixels, upwards in camera. */
-    float x = 2.0 * (float(px) + offset.x) / float(width) - 1.0;
-    float y = 1.0 - 2.0 * (float(py) + offset.y) / float(height);
+    float x = 2.0 * (float(p.x) + offset.x) / float(width) - 1.0;
+    float y = 1.0 - 2.0 * (float(p.y) + offset.y) / float(height);
     vec3 dir = normalize(frame.forward.xyz + x * frame.right.xyz + y * frame.up.xyz);
 
     Ray ray;
     ray.origin = vec4(frame.eye.xyz, 0.0);
     ray.direction = vec4(dir, 3.4e38);
     ray.importance = vec4(1.0, 1.0, 1.0, 0.0);
-    ray.info = uvec4(index, seed, 0u, 0u);
+    ray.info = uvec4(pixel, seed, 0u, 0u);
     ray.payload = vec4(0.0);
     rays[index] = ray;
 }

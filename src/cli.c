@@ -28,7 +28,9 @@ const char *vkrt_usage(void)
            "  --verbose         say which acceleration structure was chosen and why, and its\n"
            "                    build statistics\n"
            "  --profile         time every dispatch of each frame (GPU timestamps) and print a\n"
-           "                    table per depth and kernel\n"
+           "                    table per depth and kernel: the frame is rendered again after\n"
+           "                    300 ms of GPU warm-up, 11 times back to back, medians shown\n"
+           "  --profile-repeat N  --profile with N timed frames instead of 11\n"
            "  --exposure STOPS  scale PNG output by 2^STOPS before the sRGB curve (EXR unchanged)\n"
            "  --device N        Vulkan device (see --list-devices); default: the first discrete\n"
            "                    GPU, else the first device\n"
@@ -187,6 +189,11 @@ bool vkrt_options_parse(int argc, char **argv, vkrt_options *opts, vkrt_error *e
             opts->verbose = true;
         } else if (strcmp(arg, "--profile") == 0) {
             opts->profile = true;
+        } else if (strcmp(arg, "--profile-repeat") == 0) {
+            if (!parse_u32(arg, value, 1, 1000, &opts->profile_repeat, err))
+                return false;
+            opts->profile = true;
+            ++i;
         } else if (strcmp(arg, "--quiet") == 0) {
             opts->quiet = true;
         } else if (strcmp(arg, "--validation") == 0) {

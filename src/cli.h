@@ -44,6 +44,7 @@ typedef struct vkrt_options {
     bool quiet;
     bool verbose;
     bool profile;             /* render --profile: time every dispatch */
+    uint32_t profile_repeat;  /* --profile-repeat: timed frames of a profile; 0 when not given */
     bool resume;              /* render --resume: skip frames whose files are already complete */
     bool validation;          /* --validation, or VKRT_VALIDATION=1 in the environment */
 } vkrt_options;

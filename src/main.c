@@ -107,6 +107,7 @@ static bool render_frames(const vkrt_options *opts, const vkrt_scene *scene, con
         .samples = opts->samples ? opts->samples : cfg->samples,
         .accel = opts->accel_given ? opts->accel : cfg->accel,
         .profile = opts->profile,
+        .profile_repeat = opts->profile_repeat,
     };
     vkrt_renderer renderer;
     if (!vkrt_renderer_create(&renderer, ctx, scene, &desc, err))

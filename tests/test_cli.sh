@@ -35,6 +35,9 @@ check "summary names rays per second" grep -q "Mrays/s" "$tmp/err"
 check "--profile exits 0" test $? -eq 0
 check "--profile prints the share of tracing" grep -q "the frame costs .*x its tracing" "$tmp/err"
 check "--profile has a row per depth" grep -q "^ *8 " "$tmp/err"
+"$vkrt" render "$src/scenes/cornell-spheres/scene.cfg" --width 16 --height 16 --profile-repeat 3 -o "$tmp/p.png" 2>"$tmp/err"
+check "--profile-repeat exits 0" test $? -eq 0
+check "--profile-repeat takes the median of its frames after a warm-up" grep -q "median of 3 frames back to back after [1-9][0-9]* warm-up frame" "$tmp/err"
 "$vkrt" render "$src/scenes/cornell/scene.cfg" --width 48 --height 32 --quiet -o "$tmp/c.exr" 2>"$tmp/err"
 check "render to EXR exits 0" test $? -eq 0
 check "EXR written" test -s "$tmp/c.exr"

@@ -295,6 +295,27 @@ static bool create_device(gpu_context *ctx, const gpu_context_desc *desc, vkrt_e
     if (no_float_atomics && *no_float_atomics && strcmp(no_float_atomics, "0") != 0)
         ctx->float_atomics = false;
     void *wanted_features = enable_wanted ? desc->device_features : NULL;
+    /* Subgroup sums let the wave kernels reserve ray slots with one atomic per subgroup instead
+     * of one per ray (glsl/count.comp); Vulkan 1.1 devices report which operations they have. */
+    if (ctx->properties.apiVersion >= VK_API_VERSION_1_1) {
+        VkPhysicalDeviceSubgroupProperties subgroup = {
+            .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES,
+        };
+        VkPhysicalDeviceProperties2 properties2 = {
+            .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2,
+            .pNext = &subgroup,
+        };
+        vkGetPhysicalDeviceProperties2(ctx->physical, &properties2);
+        const VkSubgroupFeatureFlags wanted = VK_SUBGROUP_FEATURE_BASIC_BIT |
+                                              VK_SUBGROUP_FEATURE_ARITHMETIC_BIT |
+                                              VK_SUBGROUP_FEATURE_BALLOT_BIT;
+        ctx->subgroup_arithmetic = (subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) &&
+                                   (subgroup.supportedOperations & wanted) == wanted;
+    }
+    /* For testing the fallback on a device that has them. */
+    const char *no_subgroups = getenv("VKRT_NO_SUBGROUPS");
+    if (no_subgroups && *no_subgroups && strcmp(no_subgroups, "0") != 0)
+        ctx->subgroup_arithmetic = false;
     VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomic_float_on = {
         .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT,
         .pNext = wanted_features,

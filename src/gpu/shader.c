@@ -228,7 +228,9 @@ bool gpu_shader_compile_stage(const gpu_shader_sources *sources, const char *pat
                                  "#extension GL_GOOGLE_cpp_style_line_directive : require\n"
                                  "#define VKRT_GLSL 1\n";
     text_buffer code = {0};
+    const char *preamble = sources->preamble ? sources->preamble : "";
     bool ok = text_append(&code, header, sizeof header - 1) &&
+              text_append(&code, preamble, strlen(preamble)) &&
               text_append(&code, body, strlen(body));
     free(body);
     if (!ok) {

@@ -23,12 +23,14 @@ typedef struct gpu_shader_sources {
     gpu_source_lookup_fn lookup;
     void *user;
     const char *display_prefix; /* put before paths in messages, e.g. "glsl/"; may be NULL */
+    const char *preamble;       /* lines put after the #version header (#extension and #define
+                                   lines of what the device allows); may be NULL */
 } gpu_shader_sources;
 
 /* Compiles the compute shader at path (with its includes) to SPIR-V for Vulkan 1.1. The kernel
- * source has no #version line: one is added, with VKRT_GLSL defined. On success *spirv is a
- * malloc'd array of *word_count words; on failure err holds the first errors with their
- * file:line. */
+ * source has no #version line: one is added, with VKRT_GLSL defined, then sources->preamble. On
+ * success *spirv is a malloc'd array of *word_count words; on failure err holds the first errors
+ * with their file:line. */
 bool gpu_shader_compile(const gpu_shader_sources *sources, const char *path, uint32_t **spirv,
                         size_t *word_count, vkrt_error *err);
 

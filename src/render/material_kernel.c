@@ -163,9 +163,11 @@ static char *lookup(void *user, const char *path)
 
 bool vkrt_material_kernel_compile(const vkrt_material_kernel *k,
                                   const vkrt_scene_materials *materials, const char *kernel,
-                                  uint32_t **spirv, size_t *words, vkrt_error *err)
+                                  const char *preamble, uint32_t **spirv, size_t *words,
+                                  vkrt_error *err)
 {
-    gpu_shader_sources sources = {.lookup = lookup, .user = (void *)k, .display_prefix = "glsl/"};
+    gpu_shader_sources sources = {
+        .lookup = lookup, .user = (void *)k, .display_prefix = "glsl/", .preamble = preamble};
     if (gpu_shader_compile(&sources, kernel, spirv, words, err))
         return true;
     /* A shader that lacks an entry point (or gives it the wrong parameters) fails where the

@@ -28,11 +28,13 @@ typedef struct vkrt_material_kernel {
 bool vkrt_material_kernel_create(vkrt_material_kernel *k, const vkrt_scene_materials *materials,
                                  bool float_atomics, vkrt_error *err);
 
-/* Compiles kernel (e.g. "shade.comp") against the module; on a compile error in a user's shader
- * err names the material file line that uses it. */
+/* Compiles kernel (e.g. "shade.comp") against the module, with preamble (NULL or the device's
+ * #extension and #define lines, gpu_shader_sources.preamble); on a compile error in a user's
+ * shader err names the material file line that uses it. */
 bool vkrt_material_kernel_compile(const vkrt_material_kernel *k,
                                   const vkrt_scene_materials *materials, const char *kernel,
-                                  uint32_t **spirv, size_t *words, vkrt_error *err);
+                                  const char *preamble, uint32_t **spirv, size_t *words,
+                                  vkrt_error *err);
 
 void vkrt_material_kernel_destroy(vkrt_material_kernel *k);
 

@@ -51,6 +51,10 @@ typedef struct vkrt_render_desc {
     bool profile;             /* time every dispatch with GPU timestamps (vkrt_frame_stats) */
     bool traversal_stats;     /* the trace kernels count their work (vkrt_renderer_trace_stats);
                                  slower: never for timings */
+    bool profile;             /* time every dispatch with GPU timestamps (vkrt_frame_stats):
+                                 each frame is rendered, then rendered again after 300 ms of GPU
+                                 warm-up profile_repeat times back to back, and the medians kept */
+    uint32_t profile_repeat;  /* timed frames of a profile; 0: 11 */
 } vkrt_render_desc;
 
 /* What the trace kernels counted for one trace (glsl/shared.h Counters.trace_*). */
@@ -79,12 +83,15 @@ typedef struct vkrt_frame_stats {
     uint32_t nonfinite;       /* NaN or infinite shading results dropped */
     bool profiled;            /* the renderer was created with desc.profile: */
     double kernel_ms[VKRT_PROFILE_DEPTHS][VKRT_KERNEL_KINDS]; /* GPU ms per depth and kernel,
-                                 summed over the sample passes (raygen counts at depth 0) */
-    double frame_ms;          /* GPU ms from the first dispatch to the last */
+                                 summed over the sample passes (raygen counts at depth 0), the
+                                 median over the timed frames */
+    double frame_ms;          /* GPU ms from the first dispatch to the last, the median */
+    uint32_t profile_frames;  /* timed frames the medians are of */
+    uint32_t profile_warmups; /* frames rendered back to back before them */
 } vkrt_frame_stats;
 
 /* Prints a profile (stats->profiled) as a table: a row per depth, a column per kernel, and the
- * share of the frame spent tracing (closest hits and shadow rays). */
+ * frame's time over its tracing's (closest hits and shadow rays: trace + light). */
 void vkrt_frame_stats_print_profile(FILE *out, const vkrt_frame_stats *stats);
 
 typedef struct vkrt_renderer {
@@ -102,6 +109,7 @@ typedef struct vkrt_renderer {
     bool profile;
     vkrt_ray_fetch ray_fetch; /* as asked in the desc */
     bool dynamic_fetch;       /* the trace kernels fetch rays from trace_cursor */
+    uint32_t profile_repeat;  /* timed frames of a profile */
     uint32_t *light_kinds;    /* VKRT_LIGHT_KIND_* per light, kept for the loop budget check */
     char **material_names;    /* per uploaded material, "name (file:line)", for messages */
     uint32_t material_count;
