@@ -2,21 +2,21 @@
  * occlusion.comp: any-hit tracing of every ray in the wavefront (shadow rays). Writes the hit
  * record's triangle as 0 when something blocks the ray, VKRT_NO_HIT when the way is clear.
  */
-#extension GL_KHR_shader_subgroup_basic : enable
-#extension GL_KHR_shader_subgroup_arithmetic : enable
-#extension GL_KHR_shader_subgroup_ballot : enable
-#extension GL_KHR_shader_subgroup_vote : enable
 #include "lib/bindings.glsl"
 #include "lib/traverse.glsl"
+#ifdef VKRT_SUBGROUPS
 #include "lib/traversal_stats.glsl"
 #include "lib/trace_wave.glsl"
+#endif
 
 void main()
 {
+#ifdef VKRT_SUBGROUPS
     if (ACCEL_KIND == VKRT_TRAVERSE_BVH && BVH_WIDTH == 2u && DYNAMIC_FETCH) {
         trace_wave(true);
         return;
     }
+#endif
     uint index = invocation_index();
     if (index >= dispatch_ray_count())
         return;
@@ -26,5 +26,7 @@ void main()
     Ray ray = load_ray(index);
     bool blocked = trace_any(ray.origin.xyz, ray.direction.xyz, ray.origin.w, ray.direction.w);
     hits[index] = Hit(ray.direction.w, 0.0, 0.0, blocked ? 0u : VKRT_NO_HIT);
+#ifdef VKRT_SUBGROUPS
     record_traversal_stats();
+#endif
 }

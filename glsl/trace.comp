@@ -4,21 +4,21 @@
  * Which structure the traversal walks is a specialization constant (lib/traverse.glsl). Dead rays
  * (slots a shader left unused) get no hit and cost one load.
  */
-#extension GL_KHR_shader_subgroup_basic : enable
-#extension GL_KHR_shader_subgroup_arithmetic : enable
-#extension GL_KHR_shader_subgroup_ballot : enable
-#extension GL_KHR_shader_subgroup_vote : enable
 #include "lib/bindings.glsl"
 #include "lib/traverse.glsl"
+#ifdef VKRT_SUBGROUPS
 #include "lib/traversal_stats.glsl"
 #include "lib/trace_wave.glsl"
+#endif
 
 void main()
 {
+#ifdef VKRT_SUBGROUPS
     if (ACCEL_KIND == VKRT_TRAVERSE_BVH && BVH_WIDTH == 2u && DYNAMIC_FETCH) {
         trace_wave(false);
         return;
     }
+#endif
     uint index = invocation_index();
     if (index >= dispatch_ray_count())
         return;
@@ -33,5 +33,7 @@ void main()
     }
     Hit hit = trace_closest(ray.origin.xyz, ray.direction.xyz, ray.origin.w, previous.t);
     hits[index] = hit.triangle != VKRT_NO_HIT ? hit : previous;
+#ifdef VKRT_SUBGROUPS
     record_traversal_stats();
+#endif
 }

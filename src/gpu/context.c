@@ -306,11 +306,12 @@ static bool create_device(gpu_context *ctx, const gpu_context_desc *desc, vkrt_e
             .pNext = &subgroup,
         };
         vkGetPhysicalDeviceProperties2(ctx->physical, &properties2);
-        const VkSubgroupFeatureFlags wanted = VK_SUBGROUP_FEATURE_BASIC_BIT |
+        const VkSubgroupFeatureFlags needed = VK_SUBGROUP_FEATURE_BASIC_BIT |
                                               VK_SUBGROUP_FEATURE_ARITHMETIC_BIT |
-                                              VK_SUBGROUP_FEATURE_BALLOT_BIT;
+                                              VK_SUBGROUP_FEATURE_BALLOT_BIT |
+                                              VK_SUBGROUP_FEATURE_VOTE_BIT;
         ctx->subgroup_arithmetic = (subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) &&
-                                   (subgroup.supportedOperations & wanted) == wanted;
+                                   (subgroup.supportedOperations & needed) == needed;
     }
     /* For testing the fallback on a device that has them. */
     const char *no_subgroups = getenv("VKRT_NO_SUBGROUPS");

@@ -57,7 +57,7 @@ typedef struct gpu_context {
     bool float_atomics;          /* VK_EXT_shader_atomic_float's shaderBufferFloat32AtomicAdd is on */
     const char *missing_extension; /* the first of desc.device_extensions the device lacks (then
                                       none of them is enabled), or NULL */
-    bool subgroup_arithmetic;    /* compute shaders have subgroup basic, ballot and arithmetic
+    bool subgroup_arithmetic;    /* compute shaders have subgroup basic, ballot, vote and arithmetic
                                     operations (Vulkan 1.1); VKRT_NO_SUBGROUPS=1 turns them off */
     uint64_t timeout_ns;         /* the watchdog's limit per submission */
     bool lost;                   /* a submission timed out or the device was lost: the device is

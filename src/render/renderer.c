@@ -317,12 +317,14 @@ static bool make_pipeline(vkrt_renderer *r, gpu_pipeline *pipe, const char *path
                                spec_count, path, err);
 }
 
-/* What every wave kernel may use beyond core GLSL on this device: subgroup sums (count.comp
- * reserves ray slots with one atomic per subgroup with them, one per ray without). */
+/* What every wave kernel may use beyond core GLSL on this device: subgroup operations (count.comp
+ * reserves ray slots with one atomic per subgroup with them, one per ray without; the trace
+ * kernels' statistics and dynamic ray fetch need them, and are not built without). */
 static const char *kernel_preamble(const gpu_context *ctx)
 {
     return ctx->subgroup_arithmetic ? "#extension GL_KHR_shader_subgroup_arithmetic : require\n"
                                       "#extension GL_KHR_shader_subgroup_ballot : require\n"
+                                      "#extension GL_KHR_shader_subgroup_vote : require\n"
                                       "#define VKRT_SUBGROUPS 1\n"
                                     : "";
 }
@@ -379,7 +381,7 @@ static bool create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoord
      * rays untraced there (hits changed from run to run, and one run crashed). */
     vkrt_ray_fetch fetch = r->ray_fetch ? r->ray_fetch : default_ray_fetch;
     r->dynamic_fetch = fetch == VKRT_RAY_FETCH_DYNAMIC && r->accel.stats.kind == VKRT_ACCEL_BVH &&
-                       r->accel.stats.bvh_width == 2 &&
+                       r->accel.stats.bvh_width == 2 && r->ctx->subgroup_arithmetic &&
                        r->ctx->properties.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU;
     gpu_spec_constant spec[] = {
         {SPEC_HAS_NORMALS, has_normals},

@@ -48,7 +48,6 @@ typedef struct vkrt_render_desc {
     uint32_t ray_capacity;    /* rays per buffer to start with; 0 (or below the pixel count):
                                  one per pixel. Tests start small to force growth. */
     float min_importance;     /* a cast ray weaker than this is dropped; 0: the default 1e-3 */
-    bool profile;             /* time every dispatch with GPU timestamps (vkrt_frame_stats) */
     bool traversal_stats;     /* the trace kernels count their work (vkrt_renderer_trace_stats);
                                  slower: never for timings */
     bool profile;             /* time every dispatch with GPU timestamps (vkrt_frame_stats):
