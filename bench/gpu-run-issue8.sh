@@ -7,7 +7,8 @@
 #   3. tools/rtpipe-bench, the driver's own VK_KHR_ray_tracing_pipeline, on the same scenes and rays;
 #   4. the Whitted Sponza frame's profile (bench/gpu-run-whitted.sh).
 # Expects `tools/bundle .bundle build/tests/test_...` with rtpipe-bench built
-# (meson -Drtpipe_bench=true) and .bundle/scenes.tar.gz (bench/gpu-prelude.sh). Writes
+# (meson -Drtpipe_bench=true), the test binaries moved into .bundle/tests.tar.xz (they are most
+# of the bundle, and a call carries 64 MiB), and .bundle/scenes.tar.gz (bench/gpu-prelude.sh). Writes
 # $OUT/issue8-log.txt, $OUT/issue8-json.tar and what gpu-run-whitted.sh writes.
 . bench/gpu-prelude.sh
 export LD_LIBRARY_PATH="$root/.bundle/lib" VKRT_VALIDATION=0 VKRT_SOURCE_DIR="$root" \
@@ -15,6 +16,7 @@ export LD_LIBRARY_PATH="$root/.bundle/lib" VKRT_VALIDATION=0 VKRT_SOURCE_DIR="$r
 log="$out/issue8-log.txt"
 json=/tmp/issue8-json
 mkdir -p $json
+[ -f .bundle/tests.tar.xz ] && tar xJf .bundle/tests.tar.xz -C .bundle/bin
 nvidia-smi --query-gpu=name,driver_version,clocks.sm,clocks.max.sm --format=csv >"$log" 2>&1
 for t in layout render accel stability materials; do
     [ -x .bundle/bin/test_$t ] || continue
