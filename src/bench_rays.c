@@ -29,6 +29,7 @@ static void cross3(const float a[3], const float b[3], float out[3])
 void bench_primary_rays(const vkrt_config_camera *camera, uint32_t width, uint32_t height,
                         Ray *rays)
 {
+    const uint32_t tile = 8; /* TILE of raygen.comp */
     float forward[3] = {camera->look[0] - camera->eye[0], camera->look[1] - camera->eye[1],
                         camera->look[2] - camera->eye[2]};
     normalize3(forward);
@@ -42,23 +43,28 @@ void bench_primary_rays(const vkrt_config_camera *camera, uint32_t width, uint32
         right[k] = right[k] * tan_half * aspect;
         up[k] = up[k] * tan_half;
     }
-    for (uint32_t y = 0; y < height; ++y)
-        for (uint32_t x = 0; x < width; ++x) {
-            /* The pixel centre, as raygen.comp does for one sample per pixel. */
-            float sx = 2.0f * (x + 0.5f) / width - 1.0f;
-            float sy = 1.0f - 2.0f * (y + 0.5f) / height;
-            float d[3] = {forward[0] + sx * right[0] + sy * up[0],
-                          forward[1] + sx * right[1] + sy * up[1],
-                          forward[2] + sx * right[2] + sy * up[2]};
-            normalize3(d);
-            uint32_t i = y * width + x;
-            rays[i] = (Ray){
-                .origin = {camera->eye[0], camera->eye[1], camera->eye[2], 0},
-                .direction = {d[0], d[1], d[2], 3.4e38f},
-                .importance = {1, 1, 1, 0},
-                .info = {i, 0, 0, 0},
-            };
-        }
+    for (uint32_t i = 0; i < width * height; ++i) {
+        /* Ray i goes through the pixel raygen.comp gives invocation i (tile_pixel there: 8x8
+         * tiles in bands of 8 rows, the last ones narrower), and through its centre, as raygen
+         * does for one sample per pixel; info.x is the pixel. */
+        uint32_t band = i / (tile * width), in_band = i - band * tile * width;
+        uint32_t rows = height - band * tile < tile ? height - band * tile : tile;
+        uint32_t t = in_band / (tile * rows), in_tile = in_band - t * tile * rows;
+        uint32_t cols = width - t * tile < tile ? width - t * tile : tile;
+        uint32_t x = t * tile + in_tile % cols, y = band * tile + in_tile / cols;
+        float sx = 2.0f * (x + 0.5f) / width - 1.0f;
+        float sy = 1.0f - 2.0f * (y + 0.5f) / height;
+        float d[3] = {forward[0] + sx * right[0] + sy * up[0],
+                      forward[1] + sx * right[1] + sy * up[1],
+                      forward[2] + sx * right[2] + sy * up[2]};
+        normalize3(d);
+        rays[i] = (Ray){
+            .origin = {camera->eye[0], camera->eye[1], camera->eye[2], 0},
+            .direction = {d[0], d[1], d[2], 3.4e38f},
+            .importance = {1, 1, 1, 0},
+            .info = {y * width + x, 0, 0, 0},
+        };
+    }
 }
 
 /* Shadow-ray origins move off the surface as light.comp moves them (lib/intersect.glsl). */

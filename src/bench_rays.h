@@ -15,8 +15,9 @@
 typedef struct Ray Ray;
 typedef struct Hit Hit;
 
-/* Fills width * height rays (row by row, the top row first) through the pixel centres of camera
- * for an image of that size, as raygen.comp does at one sample per pixel. */
+/* Fills width * height rays through the pixel centres of camera for an image of that size, in
+ * the order raygen.comp makes them at one sample per pixel (8x8 pixel tiles); info.x is the
+ * pixel index (row by row, the top row first). */
 void bench_primary_rays(const vkrt_config_camera *camera, uint32_t width, uint32_t height,
                         Ray *rays);
 
