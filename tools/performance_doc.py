@@ -67,7 +67,7 @@ def embree_values(path, lavapipe):
     return {
         "@EMBREE_VS_LAVAPIPE_TABLE@": (
             f"vkrt's BVH primary rates here are {min(same):.2f}x to {max(same):.2f}x those of the "
-            "lavapipe table above (same scenes and size, a quieter machine)" if same else
+            "lavapipe table above (same scenes and size)" if same else
             "the lavapipe table above has no row of the same scene and size to compare with"),
         "@EMBREE_TABLE@": table_md,
         "@EMBREE_MACHINE@": f"{m['cpu']} (`lscpu`), {m['nproc']} cores (`nproc`), Linux "
@@ -84,6 +84,130 @@ def embree_values(path, lavapipe):
     }
 
 
+# ---------------------------------------------------------------- issue 8, the H200 runs
+
+ISSUE8 = "bench/results/issue8-h200"
+ISSUE8_SCENES = ["bunny", "sponza", "sibenik", "lost-empire"]
+KINDS = ["primary", "shadow", "diffuse"]
+TARGETS = {"primary": 4000, "shadow": 6000, "diffuse": 1500}
+
+
+def scene_of(r):
+    base = r["scene"].split("/")[-1].replace(".cfg", "")
+    return r["scene"].split("/")[-2] if base == "scene" else base
+
+
+def by_scene(path):
+    return {scene_of(r): r for r in json.load(open(path, encoding="utf-8"))["results"]}
+
+
+def vs_driver_table(vkrt_path, rtpipe_path, scenes=None):
+    """Per scene and ray kind: vkrt, the driver's pipeline, and vkrt over the driver."""
+    v, d = by_scene(vkrt_path), by_scene(rtpipe_path)
+    names = scenes or sorted(v, key=lambda n: v[n]["triangles"])
+    out = io.StringIO()
+    out.write("| scene | triangles | " + " | ".join(f"{k} vkrt / driver" for k in KINDS) +
+              " | hits, blocked: vkrt / driver |\n")
+    out.write("|---|---:|" + "---:|" * len(KINDS) + "---|\n")
+    for n in names:
+        if n not in v or n not in d:
+            continue
+        cells = []
+        for k in KINDS:
+            a, b = v[n][f"{k}_mrays_per_s"], d[n][f"{k}_mrays_per_s"]
+            mark = ""
+            if n in ISSUE8_SCENES and a < TARGETS[k]:
+                mark = " (below target)"
+            cells.append(f"{a:,.0f} / {b:,.0f} ({a / b:.2f}x){mark}")
+        hits = (f"{v[n]['hits']:,}, {v[n]['blocked']:,} / {d[n]['hits']:,}, {d[n]['blocked']:,}")
+        out.write(f"| {n} | {v[n]['triangles']:,} | " + " | ".join(cells) + f" | {hits} |\n")
+    return out.getvalue().strip()
+
+
+def stats_table(path):
+    rows = by_scene(path)
+    out = io.StringIO()
+    out.write("| scene | " + " | ".join(f"{k}: nodes, triangles, SIMD" for k in KINDS) + " |\n")
+    out.write("|---|" + "---:|" * len(KINDS) + "\n")
+    for n in ISSUE8_SCENES:
+        r = rows[n]
+        cells = [f"{r[k + '_nodes_per_ray']:.1f}, {r[k + '_triangles_per_ray']:.1f}, "
+                 f"{100 * r[k + '_simd_utilisation']:.0f}%" for k in KINDS]
+        out.write(f"| {n} | " + " | ".join(cells) + " |\n")
+    return out.getvalue().strip()
+
+
+# The kernel variants measured on the H200, in the order they were tried: (what, JSON file).
+VARIANTS = [
+    ("binary tree, 32-byte nodes, parent then both children fetched (the kernel before issue 8)",
+     "bench/results/h200-run3/kernel-old.json"),
+    ("pairs (two float boxes, 64 bytes), leaves intersected inline at two places",
+     "bench/results/h200-run1/kernel-new.json"),
+    ("4-wide, quantized 8-bit boxes (64 bytes), leaves inline at four places",
+     "bench/results/h200-run2/kernel-new.json"),
+    ("4-wide, quantized, one place for leaves", "bench/results/h200-run3/kernel-new.json"),
+    ("pairs, one place for leaves", "bench/results/h200-run3/kernel-width2.json"),
+    ("pairs, one place for leaves, dynamic ray fetch", "bench/results/h200-run4/kernel-new.json"),
+    ("pairs, one place for leaves, shadow rays unordered", "bench/results/h200-run4/kernel-static.json"),
+    ("the same, primary rays in 8x8 tiles (the default now)", f"{ISSUE8}/vkrt-again.json"),
+    ("4-wide, quantized, one place for leaves, 8x8 tiles", f"{ISSUE8}/vkrt-width4.json"),
+]
+
+
+def variants_table():
+    out = io.StringIO()
+    out.write("| kernel | " + " | ".join(ISSUE8_SCENES) + " |\n")
+    out.write("|---|" + "---:|" * len(ISSUE8_SCENES) + "\n")
+    for what, path in VARIANTS:
+        rows = by_scene(path)
+        cells = [" / ".join(f"{rows[n][k + '_mrays_per_s']:,.0f}" for k in KINDS)
+                 for n in ISSUE8_SCENES]
+        out.write(f"| {what} | " + " | ".join(cells) + " |\n")
+    return out.getvalue().strip()
+
+
+def whitted_profile():
+    text = open(f"{ISSUE8}/whitted.txt", encoding="utf-8").read().splitlines()
+    start = next(i for i, line in enumerate(text) if line.startswith("vkrt: profile"))
+    end = next(i for i in range(start, len(text)) if text[i].lstrip().startswith("frame "))
+    return "\n".join(text[start:end + 1])
+
+
+def issue8_values():
+    v = by_scene(f"{ISSUE8}/vkrt.json")
+    k4 = by_scene(f"{ISSUE8}/vkrt-4k.json")
+    d4 = by_scene(f"{ISSUE8}/rtpipe-4k.json")
+    whole = by_scene(f"{ISSUE8}/vkrt-whole.json")
+    again = by_scene(f"{ISSUE8}/vkrt-again.json")
+    four_k = io.StringIO()
+    four_k.write("| scene, size | " + " | ".join(f"{k} vkrt / driver" for k in KINDS) + " |\n")
+    four_k.write("|---|" + "---:|" * len(KINDS) + "\n")
+    for n in ["bunny", "sponza"]:
+        for label, a, b in (("1920x1080", v, by_scene(f"{ISSUE8}/rtpipe.json")),
+                            ("3840x2160", k4, d4)):
+            cells = [f"{a[n][k + '_mrays_per_s']:,.0f} / {b[n][k + '_mrays_per_s']:,.0f}"
+                     for k in KINDS]
+            four_k.write(f"| {n}, {label}, {a[n]['shadow_rays_timed']:,} shadow rays | " +
+                         " | ".join(cells) + " |\n")
+    whole_rows = io.StringIO()
+    whole_rows.write("| scene | geometry alone: " + ", ".join(KINDS) + " | whole scene: " +
+                     ", ".join(KINDS) + " |\n|---|---:|---:|\n")
+    for n in ISSUE8_SCENES:
+        g = ", ".join(f"{again[n][k + '_mrays_per_s']:,.0f}" for k in KINDS)
+        w = ", ".join(f"{whole[n][k + '_mrays_per_s']:,.0f}" for k in KINDS)
+        whole_rows.write(f"| {n} | {g} | {w} |\n")
+    return {
+        "@H200_VS_DRIVER@": vs_driver_table(f"{ISSUE8}/vkrt.json", f"{ISSUE8}/rtpipe.json"),
+        "@H200_4K@": four_k.getvalue().strip(),
+        "@H200_STATS@": stats_table(f"{ISSUE8}/vkrt-stats.json"),
+        "@H200_VARIANTS@": variants_table(),
+        "@H200_WHITTED@": whitted_profile(),
+        "@H200_WHOLE@": whole_rows.getvalue().strip(),
+        "@H200_LOST_EMPIRE_BUILD@": f"{v['lost-empire']['build_ms']:.0f}",
+        "@H200_BUNNY_BUILD@": f"{v['bunny']['build_ms']:.0f}",
+    }
+
+
 def main():
     h100 = json.load(open("bench/results/bench-h100.json", encoding="utf-8"))
     lavapipe = json.load(open("bench/results/bench-lavapipe.json", encoding="utf-8"))
@@ -97,6 +221,7 @@ def main():
         "@STADIUM_H100@": f"{rate(h100, 'scene.cfg', 'bvh') / rate(h100, 'scene.cfg', 'grid'):.0f}",
     }
     values.update(embree_values("bench/results/vkrt-lavapipe-vs-embree.json", lavapipe))
+    values.update(issue8_values())
     for key, value in values.items():
         text = text.replace(key, value)
     open("docs/performance.md", "w", encoding="utf-8").write(
