@@ -165,5 +165,30 @@ export VKRT_GPU_TIMEOUT=1
 expect_error "a shader looping forever meets the watchdog" "$tmp/spin.cfg" "did not finish within 1 s.*'m' (.*spin.mat:1)"
 unset VKRT_GPU_TIMEOUT
 
+# vkrt bench: the JSON, the traversal statistics, and the 4-wide layout finding what the pairs
+# find (the same hits and blocked counts on the same rays).
+bench_run() { # bench_run NAME ARGS...: a small bench of the Cornell box into $tmp/NAME.json
+    name=$1; shift
+    "$vkrt" bench "$src/scenes/cornell/scene.cfg" --accel bvh --width 40 --height 30 \
+        --json "$tmp/$name.json" "$@" >"$tmp/$name.txt" 2>&1
+}
+counts() { grep -o '"\(hits\|blocked\)": [0-9]*' "$1" | tr '\n' ' '; }
+bench_run pairs
+check "bench exits 0" test $? -eq 0
+check "bench JSON has the rates" grep -q '"primary_mrays_per_s": [0-9]' "$tmp/pairs.json"
+check "bench JSON has hits" grep -q '"hits": [1-9]' "$tmp/pairs.json"
+bench_run quads --bvh-width 4
+check "bench --bvh-width 4 exits 0" test $? -eq 0
+check "the 4-wide layout hits what the pairs hit" test "$(counts "$tmp/quads.json")" = "$(counts "$tmp/pairs.json")"
+bench_run stats --stats
+check "bench --stats exits 0" test $? -eq 0
+check "bench --stats counts nodes per ray" grep -q '"primary_nodes_per_ray": [1-9]' "$tmp/stats.json"
+check "bench --stats measures SIMD utilisation" grep -q '"primary_simd_utilisation": 0\.[0-9]*[1-9]' "$tmp/stats.json"
+"$vkrt" bench "$src/scenes/cornell/scene.cfg" --bvh-width 3 >/dev/null 2>"$tmp/err"
+check "--bvh-width 3 is refused" test $? -ne 0
+check "and says which widths there are" grep -q "not one of 2, 4" "$tmp/err"
+"$vkrt" bench "$src/scenes/cornell/scene.cfg" --ray-fetch sometimes >/dev/null 2>"$tmp/err"
+check "--ray-fetch sometimes is refused" test $? -ne 0
+
 echo "$passed passed, $failures failed"
 [ $failures -eq 0 ]
