@@ -5,11 +5,11 @@
  * each primary hit towards the first point or spot light (or against the first directional
  * light; without any, towards a point above the scene's bounds); diffuse bounce rays from each
  * primary hit in a cosine-distributed direction about the normal facing the camera (closest hit,
- * the incoherent rays of a path tracer's first bounce). Each trace runs back to back
- * in one submission, warm-up runs worth warmup_ms of GPU time then timed_runs runs, with GPU
- * timestamps between them; the median of the timed runs is reported, with the fastest and slowest
- * in the JSON. (Runs with host work between them, as a first version did, let the H100's clocks
- * fall in the gaps: the same dispatch then took 0.7 to 3 ms.)
+ * the incoherent rays of a path tracer's first bounce). Each trace is timed by
+ * bench_timing.c: back to back in one submission after a 300 ms warm-up, with GPU timestamps
+ * between runs; the median of the timed runs is reported, with the fastest and slowest in the
+ * JSON. (Runs with host work between them, as a first version did, let the H100's clocks fall in
+ * the gaps: the same dispatch then took 0.7 to 3 ms.)
  * Brute force traces an evenly spread subset of the rays when all of them would take too long:
  * its rate is the same per ray. The rays are made by bench_rays.c.
  */
@@ -21,33 +21,22 @@
 #include <string.h>
 
 #include "../glsl/shared.h"
+#include "bench_timing.h"
 #include "bench_rays.h"
 #include "gpu/context.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 
-enum { timed_runs = 11, min_warmup_runs = 2, max_warmup_runs = 4000 };
-
-/* GPU time of back-to-back warm-up runs before the timed ones. The H100 needs this long at full
- * load before its clocks settle: with 16 runs of a quarter millisecond after a second of idle
- * host work, the same grid trace measured 5x slower than after a long one. */
-static const double warmup_ms = 300.0;
-
 /* Ray-triangle tests brute force may spend per measurement: about a second on lavapipe, which
  * does some 1.6e8 of them per second on two cores. */
 static const double brute_force_tests = 2e8;
-
-/* GPU times of one trace: median, fastest and slowest of timed_runs after the warm-up. */
-typedef struct trace_times {
-    double median_ms, min_ms, max_ms;
-} trace_times;
 
 typedef struct bench_row {
     const char *scene;
     vkrt_accel_stats accel;
     uint32_t triangles, width, height;
     uint32_t primary_rays, primary_timed, shadow_rays, shadow_timed, diffuse_timed;
-    trace_times primary, shadow, diffuse;
+    bench_times primary, shadow, diffuse;
     double primary_ms, shadow_ms, diffuse_ms; /* medians */
     uint32_t hits, blocked;
     double grid_density;
@@ -56,57 +45,29 @@ typedef struct bench_row {
     vkrt_traversal_stats primary_stats, shadow_stats, diffuse_stats;
 } bench_row;
 
-static int compare_doubles(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
+/* One trace of vkrt_renderer_trace, for bench_time_trace. */
+typedef struct renderer_trace {
+    vkrt_renderer *r;
+    const Ray *rays;
+    uint32_t count;
+    bool any_hit;
+    Hit *hits;
+} renderer_trace;
 
-static bool timed_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool any_hit, Hit *hits,
-                        trace_times *times, vkrt_error *err)
+static bool run_renderer_trace(void *user, uint32_t repeats, double *ms, vkrt_error *err)
 {
-    /* A probe sizes the warm-up: enough runs to keep the GPU busy for warmup_ms. A probe taken
-     * while the clocks are still low (after seconds of host work, such as decoding a scene's
-     * textures) runs several times slower than the runs that follow it, so the warm-up it sizes
-     * ends long before warmup_ms; then the timed runs caught the clocks mid-climb (Sponza primary
-     * rays measured 600 instead of 4,000 Mrays/s on an H200, bench/results/h200-run3). So the
-     * submission is repeated, sized from the last timed runs, until its warm-up itself lasted
-     * warmup_ms. */
-    double probe;
-    if (!vkrt_renderer_trace(r, rays, count, any_hit, hits, 1, &probe, err))
-        return false;
-    bool ok = true;
-    for (int attempt = 0; ok; ++attempt) {
-        uint32_t warmup = probe > 0 ? (uint32_t)fmin(max_warmup_runs, ceil(warmup_ms / probe)) : 1;
-        if (warmup < min_warmup_runs)
-            warmup = min_warmup_runs;
-        double *ms = malloc((warmup + timed_runs) * sizeof *ms);
-        if (!ms)
-            return vkrt_error_set(err, "out of memory");
-        ok = vkrt_renderer_trace(r, rays, count, any_hit, hits, warmup + timed_runs, ms, err);
-        double warmed = 0;
-        for (uint32_t i = 0; ok && i < warmup; ++i)
-            warmed += ms[i];
-        if (ok) {
-            double *timed = ms + warmup;
-            qsort(timed, timed_runs, sizeof *timed, compare_doubles);
-            *times = (trace_times){timed[timed_runs / 2], timed[0], timed[timed_runs - 1]};
-            probe = times->median_ms;
-        }
-        free(ms);
-        if (!ok || warmed >= 0.9 * warmup_ms || warmup >= max_warmup_runs || attempt == 4)
-            break;
-    }
-    return ok;
+    renderer_trace *t = user;
+    return vkrt_renderer_trace(t->r, t->rays, t->count, t->any_hit, t->hits, repeats, ms, err);
 }
 
 /* Times the trace, or with --stats (a renderer made with traversal_stats) counts its work. */
 static bool measure(vkrt_renderer *r, bool stats, const Ray *rays, uint32_t count, bool any_hit,
-                    Hit *hits, trace_times *times, vkrt_traversal_stats *counted, vkrt_error *err)
+                    Hit *hits, bench_times *times, vkrt_traversal_stats *counted, vkrt_error *err)
 {
     if (stats)
         return vkrt_renderer_trace_stats(r, rays, count, any_hit, hits, counted, err);
-    return timed_trace(r, rays, count, any_hit, hits, times, err);
+    renderer_trace t = {r, rays, count, any_hit, hits};
+    return bench_time_trace(run_renderer_trace, &t, times, err);
 }
 
 static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_render_desc *desc,
@@ -240,7 +201,7 @@ static bool write_json(const char *path, const gpu_context *ctx, const bench_row
             p->deviceName, p->driverVersion, VK_API_VERSION_MAJOR(p->apiVersion),
             VK_API_VERSION_MINOR(p->apiVersion), VK_API_VERSION_PATCH(p->apiVersion));
     fprintf(f, "  \"warmup_ms\": %.0f,\n  \"timed_runs\": %d,\n  \"statistic\": \"median\",\n"
-               "  \"results\": [\n", warmup_ms, timed_runs);
+               "  \"results\": [\n", BENCH_WARMUP_MS, BENCH_TIMED_RUNS);
     for (uint32_t i = 0; i < count; ++i) {
         const bench_row *b = &rows[i];
         fprintf(f, "    {\"workgroup_size\": %u, \"stats\": %s, ", b->workgroup_size,

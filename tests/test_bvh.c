@@ -389,17 +389,6 @@ static hit traverse(const bvh *b, const ray *r, const float *pos, uint32_t *stac
     return h;
 }
 
-/* Child k of quad q as a node, its box decoded as the kernel decodes it, for enter_box. */
-static void decode_ref(uint32_t ref, bvh_node *n);
-
-static bvh_node quad_child(const bvh_quad *q, int k)
-{
-    bvh_node n = { { 0 }, 0, { 0 }, 0 };
-    bvh_quad_child_box(q, k, n.lo, n.hi);
-    decode_ref(q->ref[k], &n);
-    return n;
-}
-
 /* A child word of either GPU layout into a node's first/count (bvh.h leaf references). */
 static void decode_ref(uint32_t ref, bvh_node *n)
 {
@@ -412,48 +401,51 @@ static void decode_ref(uint32_t ref, bvh_node *n)
     }
 }
 
-/* The walk over the two-box records (bvh_pairs.h). */
-static hit traverse_pairs(const bvh *b, const bvh_pairs *pairs, const ray *r, const float *pos,
-                          uint32_t *stack)
+/* Child k of quad q as a node, its box decoded as the kernel decodes it, for enter_box. */
+static bvh_node quad_child(const bvh_quad *q, int k)
 {
-    hit h = { INFINITY, UINT32_MAX, 0 };
-    uint32_t top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        const bvh_pair *p = &pairs->nodes[stack[--top]];
-        for (int k = 0; k < 2; k++) {
-            bvh_node nd = { { p->x[2 * k], p->y[2 * k], p->z[2 * k] }, 0,
-                            { p->x[2 * k + 1], p->y[2 * k + 1], p->z[2 * k + 1] }, 0 };
-            decode_ref(p->ref[k], &nd);
-            double enter = enter_box(r, &nd);
-            if (enter == INFINITY || enter > h.t + SLAB_SLACK * h.t)
-                continue;
-            if (nd.count == 0) {
-                stack[top++] = nd.left_first;
-                continue;
-            }
-            for (uint32_t i = nd.left_first; i < nd.left_first + nd.count; i++) {
-                double t;
-                uint32_t tri = b->prim_order[i];
-                if (hit_triangle(r, pos + (size_t)tri * FLOATS_PER_TRI, &t) && t < h.t)
-                    h = (hit){ t, tri, 0 };
-            }
-        }
-    }
-    return h;
+    bvh_node n = { { 0 }, 0, { 0 }, 0 };
+    bvh_quad_child_box(q, k, n.lo, n.hi);
+    decode_ref(q->ref[k], &n);
+    return n;
 }
 
-/* The same walk over the collapsed, quantized 4-wide nodes the GPU reads (bvh_quads.h). */
-static hit traverse_quads(const bvh *b, const bvh_quads *quads, const ray *r, const float *pos,
-                          uint32_t *stack)
+/* Child k of GPU node i of either layout as a node (its box, first and count), or false past the
+ * node's children: the pairs' two float boxes, or the quads' boxes decoded as the kernel decodes
+ * them. */
+typedef struct gpu_layout {
+    const bvh_pairs *pairs;   /* one of the two */
+    const bvh_quads *quads;
+} gpu_layout;
+
+static bool layout_child(const gpu_layout *l, uint32_t i, int k, bvh_node *nd)
+{
+    if (l->pairs) {
+        const bvh_pair *p = &l->pairs->nodes[i];
+        if (k >= 2)
+            return false;
+        *nd = (bvh_node){ { p->x[2 * k], p->y[2 * k], p->z[2 * k] }, 0,
+                          { p->x[2 * k + 1], p->y[2 * k + 1], p->z[2 * k + 1] }, 0 };
+        decode_ref(p->ref[k], nd);
+        return true;
+    }
+    if (k >= (int)(l->quads->nodes[i].meta >> 24))
+        return false;
+    *nd = quad_child(&l->quads->nodes[i], k);
+    return true;
+}
+
+/* The walk over a GPU layout, as traverse walks the binary tree. */
+static hit traverse_layout(const bvh *b, const gpu_layout *l, const ray *r, const float *pos,
+                           uint32_t *stack)
 {
     hit h = { INFINITY, UINT32_MAX, 0 };
     uint32_t top = 0;
     stack[top++] = 0;
     while (top > 0) {
-        const bvh_quad *q = &quads->nodes[stack[--top]];
-        for (int k = 0; k < (int)(q->meta >> 24); k++) {
-            bvh_node nd = quad_child(q, k);
+        uint32_t node = stack[--top];
+        bvh_node nd;
+        for (int k = 0; layout_child(l, node, k, &nd); k++) {
             double enter = enter_box(r, &nd);
             if (enter == INFINITY || enter > h.t + SLAB_SLACK * h.t)
                 continue;
@@ -526,8 +518,8 @@ static uint32_t check_rays(const bvh *b, const float *pos, uint32_t n, uint32_t 
     for (uint32_t i = 0; i < rays; i++) {
         ray r = random_ray(&g, b, pos, n);
         hit ref = brute_force(&r, pos, n), got = traverse(b, &r, pos, stack);
-        hit quad = traverse_quads(b, &quads, &r, pos, stack);
-        hit paired = traverse_pairs(b, &pairs, &r, pos, stack);
+        hit quad = traverse_layout(b, &(gpu_layout){ .quads = &quads }, &r, pos, stack);
+        hit paired = traverse_layout(b, &(gpu_layout){ .pairs = &pairs }, &r, pos, stack);
         if (ref.t != got.t || ref.t != quad.t || ref.t != paired.t)
             fail_msg("ray %u: brute force t=%.17g tri %u, BVH t=%.17g tri %u, quads t=%.17g "
                      "tri %u, pairs t=%.17g tri %u", i, ref.t, ref.tri, got.t, got.tri, quad.t,

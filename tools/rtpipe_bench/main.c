@@ -8,9 +8,9 @@
  * bounce rays (closest hit). Like vkrt bench, the secondary rays are made from this tracer's own
  * primary hits, so they match vkrt's up to the rounding of the hit points' barycentrics and the
  * odd ray that hits another triangle at an edge.
- * Timing (as src/bench.c's timed_trace): a probe run; warm-up runs worth warmup_ms of GPU time
- * and then timed_runs runs back to back in one submission, GPU timestamps between them; the
- * median of the timed runs, with the fastest and slowest in the JSON.
+ * Timing: src/bench_timing.c, as vkrt bench's: a probe run, a warm-up worth 300 ms of GPU time
+ * (repeated while it fell short) and then 11 runs back to back in one submission, GPU timestamps
+ * between them; the median of the timed runs, with the fastest and slowest in the JSON.
  *
  * Exit status: 0 done; 1 a failure (scene, Vulkan, ...); 2 a bad command line; 77 the device has
  * no ray tracing pipeline (automake's and meson's "skipped", lavapipe's case).
@@ -23,6 +23,7 @@
 
 #include "../../glsl/shared.h"
 #include "bench_rays.h"
+#include "bench_timing.h"
 #include "error.h"
 #include "rtpipe_accel.h"
 #include "rtpipe_device.h"
@@ -31,10 +32,7 @@
 #include "scene/scene.h"
 
 enum { exit_failure = 1, exit_usage = 2, exit_unsupported = 77 };
-enum { timed_runs = 11, min_warmup_runs = 2, max_warmup_runs = 4000, max_scenes = 64 };
-
-/* As vkrt bench: the H100's clocks need this long at full load to settle (src/bench.c). */
-static const double warmup_ms = 300.0;
+enum { max_scenes = 64 };
 
 typedef struct options {
     const char *scenes[max_scenes];
@@ -47,17 +45,13 @@ typedef struct options {
     bool validation;
 } options;
 
-typedef struct trace_times {
-    double median_ms, min_ms, max_ms;
-} trace_times;
-
 typedef struct bench_row {
     const char *scene;
     uint32_t triangles, width, height;
     double build_ms, build_ms_first, blas_ms, tlas_ms;
     size_t bytes, scratch_bytes;
     uint32_t primary_timed, shadow_timed, diffuse_timed;
-    trace_times primary, shadow, diffuse;
+    bench_times primary, shadow, diffuse;
     uint32_t hits, blocked;
 } bench_row;
 
@@ -124,33 +118,28 @@ static bool parse_options(int argc, char **argv, options *o, vkrt_error *err)
     return true;
 }
 
-static int compare_doubles(const void *a, const void *b)
+/* One trace of the pipeline, for bench_time_trace. */
+typedef struct pipeline_trace {
+    rtpipe_device *dev;
+    rtpipe_tracer *tracer;
+    const Ray *rays;
+    uint32_t count;
+    bool any_hit;
+    Hit *hits;
+} pipeline_trace;
+
+static bool run_pipeline_trace(void *user, uint32_t repeats, double *ms, vkrt_error *err)
 {
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
+    pipeline_trace *p = user;
+    return rtpipe_tracer_trace(p->dev, p->tracer, p->rays, p->count, p->any_hit, p->hits, repeats,
+                               ms, err);
 }
 
 static bool timed_trace(rtpipe_device *dev, rtpipe_tracer *t, const Ray *rays, uint32_t count,
-                        bool any_hit, Hit *hits, trace_times *times, vkrt_error *err)
+                        bool any_hit, Hit *hits, bench_times *times, vkrt_error *err)
 {
-    /* A probe sizes the warm-up: enough runs to keep the GPU busy for warmup_ms. */
-    double probe;
-    if (!rtpipe_tracer_trace(dev, t, rays, count, any_hit, hits, 1, &probe, err))
-        return false;
-    uint32_t warmup = probe > 0 ? (uint32_t)fmin(max_warmup_runs, ceil(warmup_ms / probe)) : 1;
-    if (warmup < min_warmup_runs)
-        warmup = min_warmup_runs;
-    double *ms = malloc((warmup + timed_runs) * sizeof *ms);
-    if (!ms)
-        return vkrt_error_set(err, "out of memory");
-    bool ok = rtpipe_tracer_trace(dev, t, rays, count, any_hit, hits, warmup + timed_runs, ms, err);
-    if (ok) {
-        double *timed = ms + warmup;
-        qsort(timed, timed_runs, sizeof *timed, compare_doubles);
-        *times = (trace_times){timed[timed_runs / 2], timed[0], timed[timed_runs - 1]};
-    }
-    free(ms);
-    return ok;
+    pipeline_trace p = {dev, t, rays, count, any_hit, hits};
+    return bench_time_trace(run_pipeline_trace, &p, times, err);
 }
 
 /* The secondary rays index the mesh with the hits' triangles: a driver's bad index must not. */
@@ -266,7 +255,7 @@ static void json_string(FILE *f, const char *s)
     fputc('"', f);
 }
 
-static void json_times(FILE *f, const char *kind, uint32_t rays, const trace_times *t)
+static void json_times(FILE *f, const char *kind, uint32_t rays, const bench_times *t)
 {
     fprintf(f,
             "\"%s_rays_timed\": %u, \"%s_ms\": %.4f, \"%s_ms_min\": %.4f, \"%s_ms_max\": %.4f, "
@@ -300,7 +289,7 @@ static bool write_json(const char *path, const rtpipe_device *dev, const bench_r
             dev->pipeline.shaderGroupHandleSize, dev->pipeline.maxRayDispatchInvocationCount,
             RTPIPE_BUILD_RUNS);
     fprintf(f, "  \"warmup_ms\": %.0f,\n  \"timed_runs\": %d,\n  \"statistic\": \"median\",\n"
-               "  \"results\": [\n", warmup_ms, timed_runs);
+               "  \"results\": [\n", BENCH_WARMUP_MS, BENCH_TIMED_RUNS);
     for (uint32_t i = 0; i < count; ++i) {
         const bench_row *b = &rows[i];
         fprintf(f, "    {\"scene\": ");
