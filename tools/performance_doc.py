@@ -151,6 +151,9 @@ VARIANTS = [
     ("pairs, one place for leaves, shadow rays unordered", "bench/results/h200-run4/kernel-static.json"),
     ("the same, primary rays in 8x8 tiles (the default now)", f"{ISSUE8}/vkrt-again.json"),
     ("4-wide, quantized, one place for leaves, 8x8 tiles", f"{ISSUE8}/vkrt-width4.json"),
+    ("pairs, tiles, entry distances kept on the stack (popped subtrees beyond the hit dropped)",
+     "bench/results/h200-run5/new-1.json"),
+    ("the default again, in the same run", "bench/results/h200-run5/old-1.json"),
 ]
 
 
