@@ -8,10 +8,9 @@
 #include <stdbool.h>
 
 #include "../glsl/shared.h"
+#include "render/renderer.h"
 
-/* The camera frame of renderer.c's camera_params (what raygen.comp reads), computed with the same
- * float operations in the same order, so these rays are bit for bit the ones vkrt bench traced
- * when this lived in the renderer. */
+/* As raygen.comp's normalize, in float. */
 static void normalize3(float v[3])
 {
     float len = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
@@ -19,30 +18,16 @@ static void normalize3(float v[3])
         v[i] /= len;
 }
 
-static void cross3(const float a[3], const float b[3], float out[3])
-{
-    out[0] = a[1] * b[2] - a[2] * b[1];
-    out[1] = a[2] * b[0] - a[0] * b[2];
-    out[2] = a[0] * b[1] - a[1] * b[0];
-}
-
 void bench_primary_rays(const vkrt_config_camera *camera, uint32_t width, uint32_t height,
                         Ray *rays)
 {
     const uint32_t tile = 8; /* TILE of raygen.comp */
-    float forward[3] = {camera->look[0] - camera->eye[0], camera->look[1] - camera->eye[1],
-                        camera->look[2] - camera->eye[2]};
-    normalize3(forward);
-    float right[3], up[3];
-    cross3(forward, camera->up, right);
-    normalize3(right);
-    cross3(right, forward, up);
-    float tan_half = tanf(camera->fov_deg * 3.14159265358979f / 180.0f * 0.5f);
-    float aspect = (float)width / (float)height;
-    for (int k = 0; k < 3; ++k) {
-        right[k] = right[k] * tan_half * aspect;
-        up[k] = up[k] * tan_half;
-    }
+    /* The renderer's camera frame: these are the rays raygen.comp makes, bit for bit. */
+    FrameParams p;
+    vkrt_camera_params(camera, width, height, &p);
+    const float forward[3] = {p.forward.x, p.forward.y, p.forward.z};
+    const float right[3] = {p.right.x, p.right.y, p.right.z};
+    const float up[3] = {p.up.x, p.up.y, p.up.z};
     for (uint32_t i = 0; i < width * height; ++i) {
         /* Ray i goes through the pixel raygen.comp gives invocation i (tile_pixel there: 8x8
          * tiles in bands of 8 rows, the last ones narrower), and through its centre, as raygen

@@ -27,8 +27,8 @@ bool bvh_pairs_build(const bvh *b, bvh_pairs *out, vkrt_error *err)
     bvh_pair *pairs = calloc(inner, sizeof *pairs);
     /* Depth first: at most one pending sibling per level, plus the two just pushed. */
     typedef struct pending { uint32_t node, parent, slot; } pending;
-    pending *todo = malloc(((size_t)b->max_depth + 2) * sizeof *todo);
-    bool ok = pairs && todo;
+    pending *pending_nodes = malloc(((size_t)b->max_depth + 2) * sizeof *pending_nodes);
+    bool ok = pairs && pending_nodes;
     if (!ok)
         vkrt_error_set(err, "out of memory for %u BVH pair records", inner);
     uint32_t used = 0, top = 0;
@@ -36,10 +36,10 @@ bool bvh_pairs_build(const bvh *b, bvh_pairs *out, vkrt_error *err)
         ok = set_child(&pairs[0], 0, &nodes[0], err) && set_child(&pairs[0], 1, &nodes[0], err);
         used = 1;
     } else if (ok) {
-        todo[top++] = (pending){0, UINT32_MAX, 0};
+        pending_nodes[top++] = (pending){0, UINT32_MAX, 0};
     }
     while (ok && top > 0) {
-        pending e = todo[--top];
+        pending e = pending_nodes[--top];
         uint32_t me = used++;
         if (e.parent != UINT32_MAX)
             pairs[e.parent].ref[e.slot] = me;
@@ -49,9 +49,9 @@ bool bvh_pairs_build(const bvh *b, bvh_pairs *out, vkrt_error *err)
         /* Push b before a, so a's subtree is laid out first, right after this record. */
         for (int k = 1; ok && k >= 0; --k)
             if (nodes[first + k].count == 0)
-                todo[top++] = (pending){first + (uint32_t)k, me, (uint32_t)k};
+                pending_nodes[top++] = (pending){first + (uint32_t)k, me, (uint32_t)k};
     }
-    free(todo);
+    free(pending_nodes);
     if (!ok) {
         free(pairs);
         return false;

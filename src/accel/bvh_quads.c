@@ -138,17 +138,17 @@ bool bvh_quads_build(const bvh *b, bvh_quads *out, vkrt_error *err)
     /* Depth first: at most 3 pending siblings per level of the binary tree's depth. */
     size_t pending_cap = 3 * ((size_t)b->max_depth + 2);
     bvh_quad *nodes = malloc((size_t)cap * sizeof *nodes);
-    pending *todo = malloc(pending_cap * sizeof *todo);
-    if (!nodes || !todo) {
+    pending *pending_nodes = malloc(pending_cap * sizeof *pending_nodes);
+    if (!nodes || !pending_nodes) {
         free(nodes);
-        free(todo);
+        free(pending_nodes);
         return vkrt_error_set(err, "out of memory for %u BVH nodes", cap);
     }
     uint32_t used = 0, top = 0;
-    todo[top++] = (pending){0, UINT32_MAX, 0, 0, 0};
+    pending_nodes[top++] = (pending){0, UINT32_MAX, 0, 0, 0};
     bool ok = true;
     while (ok && top > 0) {
-        pending e = todo[--top];
+        pending e = pending_nodes[--top];
         uint32_t me = used++;
         if (e.parent != UINT32_MAX)
             nodes[e.parent].ref[e.slot] = me;
@@ -162,7 +162,7 @@ bool bvh_quads_build(const bvh *b, bvh_quads *out, vkrt_error *err)
         for (int k = count - 1; k >= 0; --k) {
             const bvh_node *c = &b->nodes[kids[k]];
             if (c->count == 0) {
-                todo[top++] = (pending){kids[k], me, (uint32_t)k, e.depth + 1, stack};
+                pending_nodes[top++] = (pending){kids[k], me, (uint32_t)k, e.depth + 1, stack};
                 continue;
             }
             if (!bvh_leaf_ref(c, &nodes[me].ref[k], err)) {
@@ -171,7 +171,7 @@ bool bvh_quads_build(const bvh *b, bvh_quads *out, vkrt_error *err)
             }
         }
     }
-    free(todo);
+    free(pending_nodes);
     if (!ok) {
         free(nodes);
         return false;

@@ -488,8 +488,8 @@ static void cross3(const float a[3], const float b[3], float out[3])
 }
 
 /* Camera basis of a right-handed camera looking down -z in its own space: right = forward x up. */
-static void camera_params(const vkrt_renderer *r, const vkrt_config_camera *camera,
-                          FrameParams *params)
+void vkrt_camera_params(const vkrt_config_camera *camera, uint32_t width, uint32_t height,
+                        FrameParams *params)
 {
     float forward[3] = {camera->look[0] - camera->eye[0], camera->look[1] - camera->eye[1],
                         camera->look[2] - camera->eye[2]};
@@ -499,7 +499,7 @@ static void camera_params(const vkrt_renderer *r, const vkrt_config_camera *came
     normalize3(right);
     cross3(right, forward, up);
     float tan_half = tanf(radians(camera->fov_deg) * 0.5f);
-    float aspect = (float)r->width / (float)r->height;
+    float aspect = (float)width / (float)height;
     params->eye = (vec4){camera->eye[0], camera->eye[1], camera->eye[2], 0};
     params->forward = (vec4){forward[0], forward[1], forward[2], 0};
     params->right = (vec4){right[0] * tan_half * aspect, right[1] * tan_half * aspect,
@@ -852,7 +852,7 @@ bool vkrt_renderer_add_samples(vkrt_renderer *r, const vkrt_config_camera *camer
     if (!check_loop_budget(r, err))
         return false;
     FrameParams params = {0};
-    camera_params(r, camera, &params);
+    vkrt_camera_params(camera, r->width, r->height, &params);
     params.eye.w = r->min_importance;
     params.image = (uvec4){r->width, r->height, 0, r->samples};
     params.counts = (uvec4){r->triangle_count, r->light_count, pixels, frame_index};

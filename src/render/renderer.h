@@ -27,6 +27,7 @@
 /* The structs of glsl/shared.h; declared here so users of vkrt_renderer_trace need not include it. */
 typedef struct Ray Ray;
 typedef struct Hit Hit;
+typedef struct FrameParams FrameParams;
 
 /* How the trace kernels of the 2-wide BVH take their rays: one per invocation (static), or from
  * a counter as lanes finish (dynamic ray fetch, glsl/lib/trace_wave.glsl). */
@@ -149,6 +150,12 @@ bool vkrt_renderer_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool
  * nothing). */
 bool vkrt_renderer_trace_stats(vkrt_renderer *r, const Ray *rays, uint32_t count, bool any_hit,
                                Hit *hits, vkrt_traversal_stats *stats, vkrt_error *err);
+
+/* Fills params->eye, forward, right and up for camera and an image of width x height: the
+ * camera frame raygen.comp reads (right and up scaled by tan(fov/2), right also by the aspect).
+ * Pure CPU, so that bench_rays.c makes the very rays raygen does. */
+void vkrt_camera_params(const vkrt_config_camera *camera, uint32_t width, uint32_t height,
+                        FrameParams *params);
 
 /* Frees everything the renderer created. Safe on a zeroed renderer. */
 void vkrt_renderer_destroy(vkrt_renderer *r);
