@@ -9,14 +9,17 @@
  *  2. Each node bins the centroids of its box records along the 3 axes into K bins over the
  *     node's centroid bounds, sweeps the bins for the cheapest SAH split
  *     (traversal_cost + (A_left N_left + A_right N_right) / A_parent, one triangle test costs 1)
- *     and partitions its record range in place. The records themselves move, not indices into
- *     them, so binning reads memory sequentially.
+ *     and partitions its record range in place (Hoare's scheme: only misplaced pairs move). The
+ *     records themselves move, not indices into them, so binning reads memory sequentially.
+ *     Boxes and centroids are 4-lane vectors (SSE2 on x86-64), which halved the build: written
+ *     as float arrays, every box update went through memory lane by lane.
  *  3. Parallelism is a pool of desc->threads threads (the caller's thread included) sharing a
  *     stack of jobs. A job over more than SPAWN_MIN_PRIMS triangles splits its node and pushes
  *     its two children as new jobs; a smaller job builds its whole subtree alone, depth first,
  *     into its own slice of a scratch node array (the slice of a range [b, e) is nodes
  *     [2b, 2e), which never overlaps another job's, so no locking is needed).
- *  4. One serial pass stitches the jobs together in depth-first order. Every node's sibling pair
+ *  4. One serial pass over the jobs stitches them together in depth-first order, and the threads
+ *     then copy the local jobs' nodes to where it put them. Every node's sibling pair
  *     is allocated when the node splits and the left subtree is laid out before the right one,
  *     both inside a job and across jobs, so the output is the same for any thread count and any
  *     scheduling: the build is deterministic.
@@ -70,10 +73,57 @@ enum { INNER_NODE_COUNT = 0 };
 #define MINF(a, b) ((a) < (b) ? (a) : (b))
 #define MAXF(a, b) ((a) > (b) ? (a) : (b))
 
-/* A box in 4 lanes, so that growing one compiles to one SIMD min and one SIMD max; lane 3 is
- * padding whose value means nothing. */
+/* Four float lanes: SSE2 where the target has it (every x86-64), plain arrays elsewhere. The
+ * hot loops (binning, partitioning) work on whole boxes in these, and keep them in registers:
+ * boxes spelled as float arrays went through memory lane by lane. Both versions compute the same
+ * IEEE operations per lane, min and max included (a < b ? a : b, as MINPS), so the tree does not
+ * depend on which one is compiled. */
+#if defined(__SSE2__) && !defined(BVH_SCALAR_LANES)
+#include <emmintrin.h>
+typedef __m128 vec4;
+static inline vec4 v4_load(const void *p) { return _mm_loadu_ps(p); }
+static inline void v4_store(float *p, vec4 a) { _mm_storeu_ps(p, a); }
+static inline vec4 v4_set1(float x) { return _mm_set1_ps(x); }
+static inline vec4 v4_set3(float x, float y, float z) { return _mm_setr_ps(x, y, z, 0.0f); }
+static inline vec4 v4_min(vec4 a, vec4 b) { return _mm_min_ps(a, b); }
+static inline vec4 v4_max(vec4 a, vec4 b) { return _mm_max_ps(a, b); }
+static inline vec4 v4_add(vec4 a, vec4 b) { return _mm_add_ps(a, b); }
+static inline vec4 v4_sub(vec4 a, vec4 b) { return _mm_sub_ps(a, b); }
+static inline vec4 v4_mul(vec4 a, vec4 b) { return _mm_mul_ps(a, b); }
+/* Lanes truncated to integers; the caller keeps them in [0, 2^31). */
+static inline void v4_to_u32(vec4 a, uint32_t out[4]) { _mm_storeu_si128((__m128i *)out, _mm_cvttps_epi32(a)); }
+#else
+typedef struct vec4 {
+    float f[4];
+} vec4;
+static inline vec4 v4_load(const void *p) { vec4 r; memcpy(r.f, p, sizeof r.f); return r; }
+static inline void v4_store(float *p, vec4 a) { memcpy(p, a.f, sizeof a.f); }
+static inline vec4 v4_set1(float x) { return (vec4){ { x, x, x, x } }; }
+static inline vec4 v4_set3(float x, float y, float z) { return (vec4){ { x, y, z, 0.0f } }; }
+#define VEC4_LANEWISE(name, expr) \
+    static inline vec4 name(vec4 a, vec4 b) \
+    { \
+        vec4 r; \
+        for (int k = 0; k < 4; k++) \
+            r.f[k] = expr; \
+        return r; \
+    }
+VEC4_LANEWISE(v4_min, a.f[k] < b.f[k] ? a.f[k] : b.f[k])
+VEC4_LANEWISE(v4_max, a.f[k] > b.f[k] ? a.f[k] : b.f[k])
+VEC4_LANEWISE(v4_add, a.f[k] + b.f[k])
+VEC4_LANEWISE(v4_sub, a.f[k] - b.f[k])
+VEC4_LANEWISE(v4_mul, a.f[k] * b.f[k])
+#undef VEC4_LANEWISE
+static inline void v4_to_u32(vec4 a, uint32_t out[4])
+{
+    for (int k = 0; k < 4; k++)
+        out[k] = (uint32_t)a.f[k];
+}
+#endif
+
+/* A box in 4 lanes; lane 3 is padding whose value means nothing. */
 typedef struct aabb {
-    float lo[4], hi[4];
+    vec4 lo, hi;
 } aabb;
 
 /* One triangle's exact bounds and original index, 32 bytes; the build permutes these. Loaded as
@@ -89,7 +139,7 @@ _Static_assert(sizeof(prim_ref) == 32 && offsetof(prim_ref, hi) == 16, "prim_ref
 
 /* A ref in lanes: its bounds and its centroid (lanes 0..2 meaningful). */
 typedef struct ref_lanes {
-    float lo[4], hi[4], c[4];
+    vec4 lo, hi, c;
 } ref_lanes;
 
 
@@ -158,51 +208,60 @@ typedef struct worker_arg {
 
 static inline void aabb_empty(aabb *b)
 {
-    for (int k = 0; k < 4; k++) {
-        b->lo[k] = INFINITY;
-        b->hi[k] = -INFINITY;
-    }
+    b->lo = v4_set1(INFINITY);
+    b->hi = v4_set1(-INFINITY);
 }
 
-static inline void aabb_grow_box(aabb *b, const float lo[4], const float hi[4])
+static inline void aabb_grow_box(aabb *b, vec4 lo, vec4 hi)
 {
-    for (int k = 0; k < 4; k++) {
-        b->lo[k] = MINF(b->lo[k], lo[k]);
-        b->hi[k] = MAXF(b->hi[k], hi[k]);
-    }
+    b->lo = v4_min(b->lo, lo);
+    b->hi = v4_max(b->hi, hi);
 }
 
-static inline void aabb_grow_point(aabb *b, const float p[4])
+static inline void aabb_grow_point(aabb *b, vec4 p)
 {
     aabb_grow_box(b, p, p);
+}
+
+static inline void aabb_grow(aabb *b, const aabb *other)
+{
+    aabb_grow_box(b, other->lo, other->hi);
 }
 
 /* Half the surface area; the SAH only uses ratios, so the factor 2 does not matter. */
 static inline float half_area(const aabb *b)
 {
-    float dx = b->hi[0] - b->lo[0], dy = b->hi[1] - b->lo[1], dz = b->hi[2] - b->lo[2];
-    return dx * dy + dy * dz + dz * dx;
+    float d[4];
+    v4_store(d, v4_sub(b->hi, b->lo));
+    return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
 }
 
 /* Every centroid of the build comes from here (the centroid bounds, the binning, the
  * partitioning), so they agree bit for bit. Halving before adding keeps huge coordinates from
  * overflowing. */
-static inline void ref_load(const prim_ref *r, ref_lanes *l)
+static inline ref_lanes ref_load(const prim_ref *r)
 {
-    memcpy(l->lo, (const char *)r + offsetof(prim_ref, lo), sizeof l->lo);
-    memcpy(l->hi, (const char *)r + offsetof(prim_ref, hi), sizeof l->hi);
-    for (int k = 0; k < 4; k++)
-        l->c[k] = l->lo[k] * 0.5f + l->hi[k] * 0.5f;
+    ref_lanes l;
+    l.lo = v4_load((const char *)r + offsetof(prim_ref, lo));
+    l.hi = v4_load((const char *)r + offsetof(prim_ref, hi));
+    vec4 half = v4_set1(0.5f);
+    l.c = v4_add(v4_mul(l.lo, half), v4_mul(l.hi, half));
+    return l;
 }
 
-/* Binning and partitioning both call this, so they agree on every triangle's bin. The clamps
- * keep the conversion defined even if rounding strays outside [0, last]. */
-static inline uint32_t bin_of(float c, float lo, float scale, uint32_t last)
+/* How a node maps centroids to bins: bin = clamp((c - lo) * scale, 0, last), truncated, on all
+ * three axes at once. Binning and partitioning both go through bins_of, so they agree on every
+ * triangle's bin. The clamps keep the conversion defined even if rounding strays outside
+ * [0, last] (a NaN lands in bin 0). */
+typedef struct bin_map {
+    vec4 lo, scale, last;
+} bin_map;
+
+static inline void bins_of(const bin_map *m, vec4 c, uint32_t k[4])
 {
-    float f = (c - lo) * scale;
-    f = MAXF(f, 0.0f);
-    f = MINF(f, (float)last);
-    return (uint32_t)f;
+    vec4 f = v4_mul(v4_sub(c, m->lo), m->scale);
+    f = v4_min(v4_max(f, v4_set1(0.0f)), m->last);
+    v4_to_u32(f, k);
 }
 
 static double now_ms(void)
@@ -241,8 +300,7 @@ static void *make_refs(void *arg)
             c->first_bad = i;
         r->index = i;
         r->pad = 0;
-        ref_lanes l;
-        ref_load(r, &l);
+        ref_lanes l = ref_load(r);
         aabb_grow_box(&c->bounds, l.lo, l.hi);
         aabb_grow_point(&c->cbounds, l.c);
     }
@@ -277,8 +335,8 @@ static bool build_refs(const float *positions, uint32_t n, uint32_t threads, pri
         if (chunks[t].first_bad < chunks[t].end)
             return vkrt_error_set(err, "bvh: triangle %u has a non-finite vertex coordinate",
                                   chunks[t].first_bad);
-        aabb_grow_box(bounds, chunks[t].bounds.lo, chunks[t].bounds.hi);
-        aabb_grow_box(cbounds, chunks[t].cbounds.lo, chunks[t].cbounds.hi);
+        aabb_grow(bounds, &chunks[t].bounds);
+        aabb_grow(cbounds, &chunks[t].cbounds);
     }
     return true;
 }
@@ -288,40 +346,49 @@ static bool build_refs(const float *positions, uint32_t n, uint32_t threads, pri
 typedef struct bin_split {
     int axis;              /* -1: no split with both sides non-empty */
     uint32_t bin;          /* left side: bins [0, bin) */
-    float scale;           /* of bin_of on axis */
+    bin_map map;           /* the node's bins */
     float cost;            /* A_left N_left + A_right N_right */
 } bin_split;
 
-/* Bins the centroids of refs[begin, end) on every axis where the centroid bounds have a usable
- * extent (positive and finite). Other axes get scale 0 and lo 0, so their refs all fall into bin
- * 0 without a branch (finite centroid times 0), and are not swept. */
-static void fill_bins(thread_scratch *s, const prim_ref *refs, uint32_t begin, uint32_t end,
-                      const aabb *cb, uint32_t nb, float scale[3], bool active[3])
+/* The bins of a node with centroid bounds cb: nb per axis where the extent is usable (positive
+ * and finite). Other axes get scale 0 and lo 0, so their refs all fall into bin 0 without a
+ * branch (finite centroid times 0), and are not swept. */
+static bin_map make_bin_map(const aabb *cb, uint32_t nb, bool active[3])
 {
-    float lo[3];
+    float lo[4], hi[4], mlo[3], scale[3];
+    v4_store(lo, cb->lo);
+    v4_store(hi, cb->hi);
     for (int a = 0; a < 3; a++) {
-        float extent = cb->hi[a] - cb->lo[a];
+        float extent = hi[a] - lo[a];
         scale[a] = (float)nb / extent;
         active[a] = extent > 0.0f && isfinite(extent) && isfinite(scale[a]);
-        lo[a] = active[a] ? cb->lo[a] : 0.0f;
+        mlo[a] = active[a] ? lo[a] : 0.0f;
         scale[a] = active[a] ? scale[a] : 0.0f;
+    }
+    return (bin_map){ .lo = v4_set3(mlo[0], mlo[1], mlo[2]),
+                      .scale = v4_set3(scale[0], scale[1], scale[2]),
+                      .last = v4_set1((float)(nb - 1)) };
+}
+
+/* Bins the centroids of refs[begin, end) on all three axes. */
+static void fill_bins(thread_scratch *s, const prim_ref *refs, uint32_t begin, uint32_t end,
+                      const bin_map *map, uint32_t nb)
+{
+    for (int a = 0; a < 3; a++) {
         for (uint32_t k = 0; k < nb; k++)
             aabb_empty(&s->bins[a][k]);
         memset(s->counts[a], 0, nb * sizeof s->counts[a][0]);
     }
     for (uint32_t i = begin; i < end; i++) {
-        ref_lanes l;
-        ref_load(&refs[i], &l);
-        /* the three bin indices first: they are independent, the updates then overlap */
-        uint32_t k0 = bin_of(l.c[0], lo[0], scale[0], nb - 1);
-        uint32_t k1 = bin_of(l.c[1], lo[1], scale[1], nb - 1);
-        uint32_t k2 = bin_of(l.c[2], lo[2], scale[2], nb - 1);
-        aabb_grow_box(&s->bins[0][k0], l.lo, l.hi);
-        aabb_grow_box(&s->bins[1][k1], l.lo, l.hi);
-        aabb_grow_box(&s->bins[2][k2], l.lo, l.hi);
-        s->counts[0][k0]++;
-        s->counts[1][k1]++;
-        s->counts[2][k2]++;
+        ref_lanes l = ref_load(&refs[i]);
+        uint32_t k[4];
+        bins_of(map, l.c, k);
+        aabb_grow_box(&s->bins[0][k[0]], l.lo, l.hi);
+        aabb_grow_box(&s->bins[1][k[1]], l.lo, l.hi);
+        aabb_grow_box(&s->bins[2][k[2]], l.lo, l.hi);
+        s->counts[0][k[0]]++;
+        s->counts[1][k[1]]++;
+        s->counts[2][k[2]]++;
     }
 }
 
@@ -335,7 +402,7 @@ static void sweep_axis(thread_scratch *s, int a, uint32_t nb, bin_split *best)
     aabb_empty(&acc);
     uint32_t cnt = 0;
     for (uint32_t k = nb - 1; k > 0; k--) {
-        aabb_grow_box(&acc, bins[k].lo, bins[k].hi);
+        aabb_grow(&acc, &bins[k]);
         cnt += counts[k];
         s->right_count[k] = cnt;
         s->right_area[k] = cnt ? half_area(&acc) : 0.0f;
@@ -343,7 +410,7 @@ static void sweep_axis(thread_scratch *s, int a, uint32_t nb, bin_split *best)
     aabb_empty(&acc);
     cnt = 0;
     for (uint32_t k = 1; k < nb; k++) {
-        aabb_grow_box(&acc, bins[k - 1].lo, bins[k - 1].hi);
+        aabb_grow(&acc, &bins[k - 1]);
         cnt += counts[k - 1];
         if (cnt == 0 || s->right_count[k] == 0)
             continue;
@@ -356,52 +423,70 @@ static void sweep_axis(thread_scratch *s, int a, uint32_t nb, bin_split *best)
     }
 }
 
+static uint32_t bin_count(const build_ctx *ctx, uint32_t count)
+{
+    return MINF(ctx->bins, MAXF(count, (uint32_t)SMALL_NODE_MIN_BINS));
+}
+
 static bin_split find_bin_split(const build_ctx *ctx, thread_scratch *s, const prim_ref *refs,
                                 uint32_t begin, uint32_t end, const aabb *cb)
 {
-    uint32_t count = end - begin;
-    uint32_t nb = MINF(ctx->bins, MAXF(count, (uint32_t)SMALL_NODE_MIN_BINS));
-    float scale[3];
+    uint32_t nb = bin_count(ctx, end - begin);
     bool active[3];
-    fill_bins(s, refs, begin, end, cb, nb, scale, active);
-    bin_split best = { .axis = -1, .cost = INFINITY };
+    bin_split best = { .axis = -1, .cost = INFINITY, .map = make_bin_map(cb, nb, active) };
+    fill_bins(s, refs, begin, end, &best.map, nb);
     for (int a = 0; a < 3; a++) {
         if (active[a])
             sweep_axis(s, a, nb, &best);
     }
-    if (best.axis >= 0)
-        best.scale = scale[best.axis];
     return best;
 }
 
-/* Partitions refs[begin, end) in place: bins below split->bin go left. Collects the children's
- * bounds on the way, so they are exact. Returns the first index of the right side. */
-static uint32_t partition_refs(prim_ref *refs, uint32_t begin, uint32_t end, const aabb *cb,
-                               const bin_split *split, uint32_t nb, split_result *out)
+/* Partitions refs[begin, end) in place, Hoare's way (each ref is looked at once, and only pairs
+ * on the wrong sides move): bins below split->bin go left. Collects the children's bounds on the
+ * way, so they are exact. Returns the first index of the right side. */
+static uint32_t partition_refs(prim_ref *refs, uint32_t begin, uint32_t end,
+                               const bin_split *split, split_result *out)
 {
-    int a = split->axis;
+    const int a = split->axis;
+    const uint32_t left_bins = split->bin;
     aabb lb, lcb, rb, rcb; /* locals, not out->..[side]: they stay in registers */
     aabb_empty(&lb);
     aabb_empty(&lcb);
     aabb_empty(&rb);
     aabb_empty(&rcb);
     uint32_t i = begin, j = end; /* [begin, i) left, [j, end) right */
-    while (i < j) {
-        prim_ref *r = &refs[i];
-        ref_lanes l;
-        ref_load(r, &l);
-        if (bin_of(l.c[a], cb->lo[a], split->scale, nb - 1) < split->bin) {
-            aabb_grow_box(&lb, l.lo, l.hi);
-            aabb_grow_point(&lcb, l.c);
-            i++;
-        } else {
-            aabb_grow_box(&rb, l.lo, l.hi);
-            aabb_grow_point(&rcb, l.c);
-            j--;
-            prim_ref tmp = refs[j];
-            refs[j] = *r;
-            *r = tmp;
+    for (;;) {
+        ref_lanes li, lj;
+        uint32_t k[4];
+        for (; i < j; i++) { /* the first ref from the left that belongs right */
+            li = ref_load(&refs[i]);
+            bins_of(&split->map, li.c, k);
+            if (k[a] >= left_bins)
+                break;
+            aabb_grow_box(&lb, li.lo, li.hi);
+            aabb_grow_point(&lcb, li.c);
         }
+        if (i == j)
+            break;
+        aabb_grow_box(&rb, li.lo, li.hi);
+        aabb_grow_point(&rcb, li.c);
+        for (j--; j > i; j--) { /* the first ref from the right that belongs left */
+            lj = ref_load(&refs[j]);
+            bins_of(&split->map, lj.c, k);
+            if (k[a] < left_bins)
+                break;
+            aabb_grow_box(&rb, lj.lo, lj.hi);
+            aabb_grow_point(&rcb, lj.c);
+        }
+        if (j == i)
+            break; /* refs[i] belongs right and is the right side's first */
+        aabb_grow_box(&lb, lj.lo, lj.hi);
+        aabb_grow_point(&lcb, lj.c);
+        prim_ref tmp = refs[i];
+        refs[i] = refs[j];
+        refs[j] = tmp;
+        i++;
     }
     out->bounds[0] = lb;
     out->cbounds[0] = lcb;
@@ -416,8 +501,7 @@ static void range_bounds(const prim_ref *refs, uint32_t begin, uint32_t end, aab
     aabb_empty(b);
     aabb_empty(cb);
     for (uint32_t i = begin; i < end; i++) {
-        ref_lanes l;
-        ref_load(&refs[i], &l);
+        ref_lanes l = ref_load(&refs[i]);
         aabb_grow_box(b, l.lo, l.hi);
         aabb_grow_point(cb, l.c);
     }
@@ -449,8 +533,7 @@ static void split_node(const build_ctx *ctx, thread_scratch *s, const pending_no
     float area = half_area(&n->bounds);
     bool worth = b.axis >= 0 && ctx->traversal_cost * area + b.cost < (float)count * area;
     if (b.axis >= 0 && (must_split || worth)) {
-        uint32_t nb = MINF(ctx->bins, MAXF(count, (uint32_t)SMALL_NODE_MIN_BINS));
-        out->mid = partition_refs(ctx->refs, n->begin, n->end, &n->cbounds, &b, nb, out);
+        out->mid = partition_refs(ctx->refs, n->begin, n->end, &b, out);
         out->split = out->mid > n->begin && out->mid < n->end;
         if (out->split)
             return;
@@ -463,8 +546,11 @@ static void split_node(const build_ctx *ctx, thread_scratch *s, const pending_no
 
 static void set_node_bounds(bvh_node *node, const aabb *b)
 {
-    memcpy(node->lo, b->lo, sizeof node->lo);
-    memcpy(node->hi, b->hi, sizeof node->hi);
+    float lo[4], hi[4];
+    v4_store(lo, b->lo);
+    v4_store(hi, b->hi);
+    memcpy(node->lo, lo, sizeof node->lo);
+    memcpy(node->hi, hi, sizeof node->hi);
 }
 
 static pending_node child_pending(const pending_node *parent, const split_result *sr, int side,
@@ -585,34 +671,27 @@ typedef struct stitch_item {
     uint32_t job, pos;
 } stitch_item;
 
-/* Copies a local job's nodes: its root to pos, the rest appended at *used. */
-static void copy_local(const build_ctx *ctx, const build_job *job, bvh_node *out, uint32_t pos,
-                       uint32_t *used)
-{
-    const bvh_node *src = ctx->scratch_nodes + 2 * (size_t)job->root.begin;
-    uint32_t base = *used; /* local node i >= 1 lands at base + i - 1 */
-    for (uint32_t i = 0; i < job->local_nodes; i++) {
-        bvh_node n = src[i];
-        if (n.count == INNER_NODE_COUNT)
-            n.left_first = base + n.left_first - 1;
-        out[i == 0 ? pos : base + i - 1] = n;
-    }
-    *used += job->local_nodes - 1;
-}
+/* Where a local job's nodes go: its root to pos, its other nodes from base on. */
+typedef struct local_place {
+    uint32_t job, pos, base;
+} local_place;
 
-/* Lays the job tree out depth first, left before right, as build_local does inside a job.
- * Returns the node count and the deepest leaf's depth. */
-static uint32_t stitch(const build_ctx *ctx, const job_pool *pool, bvh_node *out,
-                       stitch_item *stack, uint32_t *max_depth)
+/* Lays the job tree out depth first, left before right, as build_local does inside a job:
+ * writes the split jobs' nodes and lists where every local job's nodes go, in output order.
+ * Returns the node count; *place_count and the deepest leaf's depth come back too. */
+static uint32_t stitch(const job_pool *pool, bvh_node *out, stitch_item *stack,
+                       local_place *places, uint32_t *place_count, uint32_t *max_depth)
 {
     uint32_t used = 1, top = 0;
     *max_depth = 0;
+    *place_count = 0;
     stack[top++] = (stitch_item){ 0, 0 };
     while (top > 0) {
         stitch_item it = stack[--top];
         const build_job *job = &pool->jobs[it.job];
         if (job->kind == JOB_LOCAL) {
-            copy_local(ctx, job, out, it.pos, &used);
+            places[(*place_count)++] = (local_place){ it.job, it.pos, used };
+            used += job->local_nodes - 1;
             *max_depth = MAXF(*max_depth, job->max_depth);
             continue;
         }
@@ -624,6 +703,68 @@ static uint32_t stitch(const build_ctx *ctx, const job_pool *pool, bvh_node *out
         used += 2;
     }
     return used;
+}
+
+/* One thread's share of the copy after stitch: places[begin, end). */
+typedef struct copy_share {
+    const build_ctx *ctx;
+    const job_pool *pool;
+    const local_place *places;
+    uint32_t begin, end;
+    bvh_node *out;
+    uint32_t *prim_order;
+} copy_share;
+
+/* Copies local jobs' nodes to their places (child links rebased) and their triangles' original
+ * indices to prim_order; the jobs' ranges tile both arrays, so shares never overlap. */
+static void *copy_places(void *arg)
+{
+    const copy_share *c = arg;
+    for (uint32_t p = c->begin; p < c->end; p++) {
+        const local_place *pl = &c->places[p];
+        const build_job *job = &c->pool->jobs[pl->job];
+        const bvh_node *src = c->ctx->scratch_nodes + 2 * (size_t)job->root.begin;
+        for (uint32_t i = 0; i < job->local_nodes; i++) { /* local node i >= 1 goes to base + i - 1 */
+            bvh_node n = src[i];
+            if (n.count == INNER_NODE_COUNT)
+                n.left_first = pl->base + n.left_first - 1;
+            c->out[i == 0 ? pl->pos : pl->base + i - 1] = n;
+        }
+        for (uint32_t i = job->root.begin; i < job->root.end; i++)
+            c->prim_order[i] = c->ctx->refs[i].index;
+    }
+    return NULL;
+}
+
+/* Runs copy_places on `threads` threads, shares cut where the triangles covered so far cross a
+ * multiple of n / threads (copying is proportional to a job's triangles). */
+static void copy_all_places(const build_ctx *ctx, const job_pool *pool, const local_place *places,
+                            uint32_t place_count, uint32_t n, uint32_t threads, bvh *out)
+{
+    copy_share shares[MAX_THREADS];
+    pthread_t tid[MAX_THREADS];
+    bool started[MAX_THREADS] = { false };
+    uint32_t p = 0, covered = 0;
+    for (uint32_t t = 0; t < threads; t++) {
+        shares[t] = (copy_share){ .ctx = ctx, .pool = pool, .places = places, .begin = p,
+                                  .out = out->nodes, .prim_order = out->prim_order };
+        uint64_t target = (uint64_t)n * (t + 1) / threads;
+        while (p < place_count && covered < target) {
+            const build_job *job = &pool->jobs[places[p++].job];
+            covered += job->root.end - job->root.begin;
+        }
+        shares[t].end = p;
+    }
+    /* A thread that cannot start costs speed, not correctness: this thread does its share. */
+    for (uint32_t t = 1; t < threads; t++)
+        started[t] = pthread_create(&tid[t], NULL, copy_places, &shares[t]) == 0;
+    copy_places(&shares[0]);
+    for (uint32_t t = 1; t < threads; t++) {
+        if (started[t])
+            pthread_join(tid[t], NULL);
+        else
+            copy_places(&shares[t]);
+    }
 }
 
 static double node_half_area(const bvh_node *n)
@@ -685,6 +826,7 @@ typedef struct build_mem {
     build_job *jobs;
     uint32_t *job_stack;
     stitch_item *stitch_stack;
+    local_place *places;
     thread_scratch *scratch[MAX_THREADS];
 } build_mem;
 
@@ -695,6 +837,7 @@ static void free_mem(build_mem *m)
     free(m->jobs);
     free(m->job_stack);
     free(m->stitch_stack);
+    free(m->places);
     for (int t = 0; t < MAX_THREADS; t++) {
         if (m->scratch[t])
             free(m->scratch[t]->stack);
@@ -710,9 +853,10 @@ static bool alloc_mem(build_mem *m, bvh *out, uint32_t n, uint32_t threads, vkrt
     m->jobs = malloc(max_nodes * sizeof *m->jobs);
     m->job_stack = malloc(max_nodes * sizeof *m->job_stack);
     m->stitch_stack = malloc(max_nodes * sizeof *m->stitch_stack);
+    m->places = malloc(max_nodes * sizeof *m->places);
     out->nodes = malloc(max_nodes * sizeof *out->nodes);
     out->prim_order = malloc(n * sizeof *out->prim_order);
-    bool ok = m->refs && m->scratch_nodes && m->jobs && m->job_stack && m->stitch_stack &&
+    bool ok = m->refs && m->scratch_nodes && m->jobs && m->job_stack && m->stitch_stack && m->places &&
               out->nodes && out->prim_order;
     for (uint32_t t = 0; ok && t < threads; t++) {
         m->scratch[t] = malloc(sizeof *m->scratch[t]);
@@ -761,10 +905,11 @@ bool bvh_build(bvh *out, const float *positions, uint32_t triangle_count,
     pthread_cond_destroy(&pool.wake);
     pthread_mutex_destroy(&pool.lock);
 
-    out->node_count = stitch(&ctx, &pool, out->nodes, m.stitch_stack, &out->max_depth);
+    uint32_t place_count;
+    out->node_count = stitch(&pool, out->nodes, m.stitch_stack, m.places, &place_count,
+                             &out->max_depth);
     out->prim_count = triangle_count;
-    for (uint32_t i = 0; i < triangle_count; i++)
-        out->prim_order[i] = m.refs[i].index;
+    copy_all_places(&ctx, &pool, m.places, place_count, triangle_count, threads, out);
     free_mem(&m);
     /* Shrinking cannot fail in practice; if it does, the larger block is still valid. */
     bvh_node *shrunk = realloc(out->nodes, out->node_count * sizeof *out->nodes);
