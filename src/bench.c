@@ -41,6 +41,7 @@ typedef struct bench_row {
     uint32_t hits, blocked;
     double grid_density;
     uint32_t workgroup_size;
+    uint32_t sort_diffuse;                       /* --sort-diffuse cells per side, 0: none */
     bool stats;                                  /* counted, not timed (--stats) */
     vkrt_traversal_stats primary_stats, shadow_stats, diffuse_stats;
 } bench_row;
@@ -123,6 +124,8 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
             row->blocked += hits[i].triangle != VKRT_NO_HIT;
         /* The shadow buffer is free again: it holds the diffuse rays now. */
         n = ok ? bench_diffuse_rays(scene, primary, primary_hits, timed, shadow) : 0;
+        if (ok && !bench_sort_by_direction(shadow, n, row->sort_diffuse))
+            ok = vkrt_error_set(err, "out of memory sorting %u rays", n);
         row->diffuse_timed = n;
         ok = ok && (n == 0 || measure(&r, row->stats, shadow, n, false, hits, &row->diffuse,
                                       &row->diffuse_stats, err));
@@ -204,8 +207,8 @@ static bool write_json(const char *path, const gpu_context *ctx, const bench_row
                "  \"results\": [\n", BENCH_WARMUP_MS, BENCH_TIMED_RUNS);
     for (uint32_t i = 0; i < count; ++i) {
         const bench_row *b = &rows[i];
-        fprintf(f, "    {\"workgroup_size\": %u, \"stats\": %s, ", b->workgroup_size,
-                b->stats ? "true" : "false");
+        fprintf(f, "    {\"workgroup_size\": %u, \"sort_diffuse\": %u, \"stats\": %s, ",
+                b->workgroup_size, b->sort_diffuse, b->stats ? "true" : "false");
         if (b->stats) {
             json_stats(f, "primary", &b->primary_stats);
             json_stats(f, "shadow", &b->shadow_stats);
@@ -281,6 +284,7 @@ int vkrt_bench_run(const vkrt_options *opts)
             row->scene = opts->scene_paths[s];
             row->grid_density = opts->grid_density;
             row->workgroup_size = opts->workgroup_size ? opts->workgroup_size : 64;
+            row->sort_diffuse = opts->sort_diffuse;
             row->stats = opts->stats;
             desc.accel = kinds[k];
             ok = bench_one(&ctx, &scene, &desc, row, &err);

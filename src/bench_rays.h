@@ -7,6 +7,7 @@
 #ifndef VKRT_BENCH_RAYS_H
 #define VKRT_BENCH_RAYS_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "scene/scene.h"
@@ -33,5 +34,12 @@ uint32_t bench_shadow_rays(const vkrt_scene *scene, const Ray *primary, const Hi
  * them to diffuse (room for count) and returns how many. */
 uint32_t bench_diffuse_rays(const vkrt_scene *scene, const Ray *primary, const Hit *hits,
                             uint32_t count, Ray *diffuse);
+
+/* Reorders rays[0, count) by direction, stably: by the cell of a cells x cells octahedral map of
+ * the unit sphere (Engelhardt and Dachsbacher's octahedron, cells of about equal solid angle)
+ * that each direction falls in, keeping the rays' order within a cell. Diffuse bounce rays in
+ * tile order share origins but not directions; after this, a subgroup's rays share a direction
+ * and come from a strip of the image. cells 0 or 1 leaves the order; false when out of memory. */
+bool bench_sort_by_direction(Ray *rays, uint32_t count, uint32_t cells);
 
 #endif

@@ -13,7 +13,7 @@ const char *vkrt_usage(void)
            "       vkrt bench SCENE.cfg... [--accel A] [--json OUT.json] [--width W --height H]\n"
            "                  [--grid-density CELLS_PER_TRIANGLE] [--workgroup N] [--stats]\n"
            "                  [--bvh-width 2|4] [--ray-fetch static|dynamic]\n"
-           "                  [--whole-scene]\n"
+           "                  [--whole-scene] [--sort-diffuse CELLS]\n"
            "                                         time primary and shadow rays per structure\n"
            "       vkrt --list-devices               list Vulkan devices\n"
            "       vkrt --help | --version\n"
@@ -149,6 +149,10 @@ bool vkrt_options_parse(int argc, char **argv, vkrt_options *opts, vkrt_error *e
             ++i;
         } else if (strcmp(arg, "--workgroup") == 0) {
             if (!parse_u32(arg, value, 1, 1024, &opts->workgroup_size, err))
+                return false;
+            ++i;
+        } else if (strcmp(arg, "--sort-diffuse") == 0) {
+            if (!parse_u32(arg, value, 0, 256, &opts->sort_diffuse, err))
                 return false;
             ++i;
         } else if (strcmp(arg, "--bvh-width") == 0) {
