@@ -38,10 +38,11 @@ typedef struct bench_row {
     uint32_t primary_rays, primary_timed, shadow_rays, shadow_timed, diffuse_timed;
     bench_times primary, shadow, diffuse;
     double primary_ms, shadow_ms, diffuse_ms; /* medians */
-    uint32_t hits, blocked;
+    uint32_t hits, blocked, diffuse_hits;
     double grid_density;
     uint32_t workgroup_size;
     uint32_t sort_diffuse;                       /* --sort-diffuse cells per side, 0: none */
+    bench_times diffuse_sort;                    /* with sort_diffuse: the sort alone */
     bool stats;                                  /* counted, not timed (--stats) */
     vkrt_traversal_stats primary_stats, shadow_stats, diffuse_stats;
 } bench_row;
@@ -69,6 +70,30 @@ static bool measure(vkrt_renderer *r, bool stats, const Ray *rays, uint32_t coun
         return vkrt_renderer_trace_stats(r, rays, count, any_hit, hits, counted, err);
     renderer_trace t = {r, rays, count, any_hit, hits};
     return bench_time_trace(run_renderer_trace, &t, times, err);
+}
+
+/* One sort (and trace) of vkrt_renderer_trace_sorted, for bench_time_trace. */
+typedef struct sorted_trace {
+    vkrt_renderer *r;
+    const Ray *rays;
+    uint32_t count;
+    bool trace;
+    Hit *hits;
+} sorted_trace;
+
+static bool run_sorted_trace(void *user, uint32_t repeats, double *ms, vkrt_error *err)
+{
+    sorted_trace *t = user;
+    return vkrt_renderer_trace_sorted(t->r, t->rays, t->count, t->trace, t->hits, NULL, repeats,
+                                      ms, err);
+}
+
+/* Times the GPU's ray sort followed by the trace (trace) or alone. */
+static bool measure_sorted(vkrt_renderer *r, const Ray *rays, uint32_t count, bool trace,
+                           Hit *hits, bench_times *times, vkrt_error *err)
+{
+    sorted_trace t = {r, rays, count, trace, hits};
+    return bench_time_trace(run_sorted_trace, &t, times, err);
 }
 
 static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_render_desc *desc,
@@ -124,12 +149,22 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
             row->blocked += hits[i].triangle != VKRT_NO_HIT;
         /* The shadow buffer is free again: it holds the diffuse rays now. */
         n = ok ? bench_diffuse_rays(scene, primary, primary_hits, timed, shadow) : 0;
-        if (ok && !bench_sort_by_direction(shadow, n, row->sort_diffuse))
-            ok = vkrt_error_set(err, "out of memory sorting %u rays", n);
         row->diffuse_timed = n;
-        ok = ok && (n == 0 || measure(&r, row->stats, shadow, n, false, hits, &row->diffuse,
-                                      &row->diffuse_stats, err));
+        if (row->sort_diffuse && !row->stats) {
+            /* Sorted on the GPU: timed with the sort, then the sort alone. */
+            ok = ok && (n == 0 || (measure_sorted(&r, shadow, n, true, hits, &row->diffuse, err) &&
+                                   measure_sorted(&r, shadow, n, false, NULL, &row->diffuse_sort,
+                                                  err)));
+        } else {
+            /* --stats counts the rays in the order the sort would give them, sorted here. */
+            if (ok && !bench_sort_by_direction(shadow, n, row->sort_diffuse))
+                ok = vkrt_error_set(err, "out of memory sorting %u rays", n);
+            ok = ok && (n == 0 || measure(&r, row->stats, shadow, n, false, hits, &row->diffuse,
+                                          &row->diffuse_stats, err));
+        }
         row->diffuse_ms = row->diffuse.median_ms;
+        for (uint32_t i = 0; ok && i < n; ++i)
+            row->diffuse_hits += hits[i].triangle != VKRT_NO_HIT;
         free(primary_hits);
     }
     free(primary);
@@ -165,6 +200,10 @@ static void print_row(FILE *out, const bench_row *b)
             b->accel.bytes / 1048576.0, mrays(b->primary_timed, b->primary_ms),
             mrays(b->shadow_timed, b->shadow_ms), mrays(b->diffuse_timed, b->diffuse_ms), b->hits,
             b->blocked);
+    if (b->sort_diffuse)
+        fprintf(out, "  diffuse rays sorted on the GPU into %ux%u direction cells: %.4f ms of "
+                     "sort and trace %.4f ms\n",
+                b->sort_diffuse, b->sort_diffuse, b->diffuse_sort.median_ms, b->diffuse_ms);
 }
 
 static void print_header(FILE *out, bool stats)
@@ -224,7 +263,7 @@ static bool write_json(const char *path, const gpu_context *ctx, const bench_row
                 "\"shadow_ms_max\": %.4f, \"shadow_mrays_per_s\": %.3f, "
                 "\"diffuse_rays_timed\": %u, \"diffuse_ms\": %.4f, \"diffuse_ms_min\": %.4f, "
                 "\"diffuse_ms_max\": %.4f, \"diffuse_mrays_per_s\": %.3f, "
-                "\"hits\": %u, \"blocked\": %u, \"grid_density\": %g}%s\n",
+                "\"diffuse_sort_ms\": %.4f, \"diffuse_hits\": %u, \"hits\": %u, \"blocked\": %u, \"grid_density\": %g}%s\n",
                 b->scene, vkrt_accel_name(b->accel.kind), b->accel.reason, b->triangles, b->width,
                 b->height, b->accel.build_ms, b->accel.bytes, b->accel.nodes, b->accel.bvh_width,
                 b->accel.triangles_per_leaf, b->primary_timed, b->primary_ms, b->primary.min_ms,
@@ -232,7 +271,7 @@ static bool write_json(const char *path, const gpu_context *ctx, const bench_row
                 b->shadow_ms, b->shadow.min_ms, b->shadow.max_ms,
                 mrays(b->shadow_timed, b->shadow_ms), b->diffuse_timed, b->diffuse_ms,
                 b->diffuse.min_ms, b->diffuse.max_ms, mrays(b->diffuse_timed, b->diffuse_ms),
-                b->hits, b->blocked, b->grid_density,
+                b->diffuse_sort.median_ms, b->diffuse_hits, b->hits, b->blocked, b->grid_density,
                 i + 1 < count ? "," : "");
     }
     fprintf(f, "  ]\n}\n");
@@ -278,6 +317,7 @@ int vkrt_bench_run(const vkrt_options *opts)
             .bvh_width = opts->bvh_width,
             .ray_fetch = (vkrt_ray_fetch)opts->ray_fetch,
             .traversal_stats = opts->stats,
+            .sort_cells = opts->stats ? 0 : opts->sort_diffuse,
         };
         for (uint32_t k = 0; ok && k < kind_count; ++k) {
             bench_row *row = &rows[row_count];

@@ -189,8 +189,8 @@ uint32_t bench_diffuse_rays(const vkrt_scene *scene, const Ray *primary, const H
     return n;
 }
 
-/* The cell of d on a cells x cells octahedral map: |x| + |y| + |z| = 1 folded onto a square. */
-static uint32_t octahedral_cell(const float d[3], uint32_t cells)
+/* As sort_key of glsl/lib/ray_sort.glsl: |x| + |y| + |z| = 1 folded onto a square. */
+uint32_t bench_direction_cell(const float d[3], uint32_t cells)
 {
     float l1 = fabsf(d[0]) + fabsf(d[1]) + fabsf(d[2]);
     float u = d[0] / l1, v = d[1] / l1;
@@ -218,7 +218,7 @@ bool bench_sort_by_direction(Ray *rays, uint32_t count, uint32_t cells)
     if (ok) {
         for (uint32_t i = 0; i < count; ++i) {
             const float d[3] = {rays[i].direction.x, rays[i].direction.y, rays[i].direction.z};
-            key[i] = octahedral_cell(d, cells);
+            key[i] = bench_direction_cell(d, cells);
             ++start[key[i] + 1];
         }
         for (uint32_t b = 0; b < bins; ++b)

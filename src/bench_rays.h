@@ -35,6 +35,10 @@ uint32_t bench_shadow_rays(const vkrt_scene *scene, const Ray *primary, const Hi
 uint32_t bench_diffuse_rays(const vkrt_scene *scene, const Ray *primary, const Hit *hits,
                             uint32_t count, Ray *diffuse);
 
+/* The cell of unit direction d on a cells x cells octahedral map of the sphere, row by row: the
+ * key of bench_sort_by_direction and of the GPU's ray sort (glsl/lib/ray_sort.glsl). */
+uint32_t bench_direction_cell(const float d[3], uint32_t cells);
+
 /* Reorders rays[0, count) by direction, stably: by the cell of a cells x cells octahedral map of
  * the unit sphere (Engelhardt and Dachsbacher's octahedron, cells of about equal solid angle)
  * that each direction falls in, keeping the rays' order within a cell. Diffuse bounce rays in

@@ -152,8 +152,10 @@ bool vkrt_options_parse(int argc, char **argv, vkrt_options *opts, vkrt_error *e
                 return false;
             ++i;
         } else if (strcmp(arg, "--sort-diffuse") == 0) {
-            if (!parse_u32(arg, value, 0, 256, &opts->sort_diffuse, err))
+            if (!parse_u32(arg, value, 0, 16, &opts->sort_diffuse, err))
                 return false;
+            if (opts->sort_diffuse == 1)
+                return vkrt_error_set(err, "--sort-diffuse: 1 cell sorts nothing; 0 (none) or 2..16");
             ++i;
         } else if (strcmp(arg, "--bvh-width") == 0) {
             if (!parse_u32(arg, value, 2, 4, &opts->bvh_width, err))

@@ -30,7 +30,8 @@ typedef struct vkrt_options {
     uint32_t bvh_width;       /* bench --bvh-width: 2 or 4; 0: the default */
     int ray_fetch;            /* bench --ray-fetch: 1 static, 2 dynamic (vkrt_ray_fetch); 0: default */
     uint32_t workgroup_size;  /* bench --workgroup: invocations per workgroup; 0: the default */
-    uint32_t sort_diffuse;    /* bench --sort-diffuse: direction cells per side; 0: tile order */
+    uint32_t sort_diffuse;    /* bench --sort-diffuse: direction cells per side (2..16) of the GPU's
+                                 ray sort before diffuse rays are traced; 0: tile order */
     bool stats;               /* bench --stats: count traversal work instead of timing */
     bool whole_scene;         /* bench --whole-scene: load materials and textures too */
     const char *output;       /* -o: overrides the scene's output; NULL when not given */

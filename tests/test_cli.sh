@@ -172,7 +172,7 @@ bench_run() { # bench_run NAME ARGS...: a small bench of the Cornell box into $t
     "$vkrt" bench "$src/scenes/cornell/scene.cfg" --accel bvh --width 40 --height 30 \
         --json "$tmp/$name.json" "$@" >"$tmp/$name.txt" 2>&1
 }
-counts() { grep -o '"\(hits\|blocked\)": [0-9]*' "$1" | tr '\n' ' '; }
+counts() { grep -o '"\(hits\|blocked\|diffuse_hits\)": [0-9]*' "$1" | tr '\n' ' '; }
 bench_run pairs
 check "bench exits 0" test $? -eq 0
 check "bench JSON has the rates" grep -q '"primary_mrays_per_s": [0-9]' "$tmp/pairs.json"
@@ -184,6 +184,12 @@ bench_run stats --stats
 check "bench --stats exits 0" test $? -eq 0
 check "bench --stats counts nodes per ray" grep -q '"primary_nodes_per_ray": [1-9]' "$tmp/stats.json"
 check "bench --stats measures SIMD utilisation" grep -q '"primary_simd_utilisation": 0\.[0-9]*[1-9]' "$tmp/stats.json"
+bench_run sorted --sort-diffuse 8
+check "bench --sort-diffuse 8 exits 0" test $? -eq 0
+check "the sorted diffuse rays hit what the unsorted ones hit" test "$(counts "$tmp/sorted.json")" = "$(counts "$tmp/pairs.json")"
+check "bench --sort-diffuse times the sort" grep -q '"diffuse_sort_ms": [0-9.]*[1-9]' "$tmp/sorted.json"
+"$vkrt" bench "$src/scenes/cornell/scene.cfg" --sort-diffuse 1 >/dev/null 2>"$tmp/err"
+check "--sort-diffuse 1 is refused" test $? -ne 0
 "$vkrt" bench "$src/scenes/cornell/scene.cfg" --bvh-width 3 >/dev/null 2>"$tmp/err"
 check "--bvh-width 3 is refused" test $? -ne 0
 check "and says which widths there are" grep -q "not one of 2, 4" "$tmp/err"

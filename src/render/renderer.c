@@ -79,7 +79,13 @@ enum {
     SPEC_TRAVERSAL_STATS = 5,
     SPEC_BVH_WIDTH = 6,
     SPEC_DYNAMIC_FETCH = 7,
+    SPEC_SORT_CELLS = 8,
 };
+
+/* The ray sort's constants (glsl/lib/ray_sort.glsl): rays per workgroup of its count and scatter
+ * kernels, its most cells (and workgroup size), and the words its totals take in the slot
+ * buffer. */
+enum { sort_chunk = 4096, sort_max_bins = 256, sort_min_cells = 2, sort_max_cells = 16 };
 
 static bool upload(vkrt_renderer *r, gpu_buffer *buf, const void *data, size_t size,
                    const char *what, vkrt_error *err)
@@ -393,7 +399,16 @@ static bool create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoord
         {SPEC_DYNAMIC_FETCH, r->dynamic_fetch},
     };
     const uint32_t count = sizeof spec / sizeof *spec;
-    return create_kernel(r, &r->raygen, "raygen.comp", workgroup_size, spec, count, err) &&
+    gpu_spec_constant sort_spec[] = {{SPEC_SORT_CELLS, r->sort_cells}};
+    bool sort_ok = r->sort_cells == 0 ||
+                   (create_kernel(r, &r->sort_count, "sort_count.comp", sort_max_bins, sort_spec, 1,
+                                  err) &&
+                    create_kernel(r, &r->sort_scan, "sort_scan.comp", sort_max_bins, sort_spec, 1,
+                                  err) &&
+                    create_kernel(r, &r->sort_scatter, "sort_scatter.comp", sort_max_bins,
+                                  sort_spec, 1, err));
+    return sort_ok &&
+           create_kernel(r, &r->raygen, "raygen.comp", workgroup_size, spec, count, err) &&
            create_kernel(r, &r->trace, "trace.comp", workgroup_size, spec, count, err) &&
            create_kernel(r, &r->light, "light.comp", workgroup_size, spec, count, err) &&
            create_kernel(r, &r->occlusion, "occlusion.comp", workgroup_size, spec, count, err) &&
@@ -416,6 +431,10 @@ bool vkrt_renderer_create(vkrt_renderer *r, gpu_context *ctx, const vkrt_scene *
     r->min_importance = desc->min_importance > 0 ? desc->min_importance : default_min_importance;
     r->profile = desc->profile;
     r->ray_fetch = desc->ray_fetch;
+    r->sort_cells = desc->sort_cells;
+    if (r->sort_cells != 0 && (r->sort_cells < sort_min_cells || r->sort_cells > sort_max_cells))
+        return vkrt_error_set(err, "ray sort: %u cells per side, not %d to %d", r->sort_cells,
+                              sort_min_cells, sort_max_cells);
     r->profile_repeat = desc->profile_repeat ? desc->profile_repeat : default_profile_repeat;
     r->triangle_count = scene->mesh.triangle_count;
     r->light_words = (scene->config.light_count + 31) / 32;
@@ -947,24 +966,53 @@ bool vkrt_renderer_render(vkrt_renderer *r, const vkrt_config_camera *camera, ui
            vkrt_renderer_read_image(r, r->samples, rgb, err);
 }
 
-bool vkrt_renderer_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool any_hit,
-                         Hit *hits, uint32_t repeats, double *gpu_ms, vkrt_error *err)
+/* The ray sort's three passes over count rays: RayBufferB into RayBuffer (glsl/lib/ray_sort.glsl). */
+static void record_sort(vkrt_renderer *r, VkCommandBuffer cmd, FrameParams *params, uint32_t count)
+{
+    uint32_t chunks = (count + sort_chunk - 1) / sort_chunk;
+    gpu_dispatch(cmd, &r->sort_count, &r->set, params, chunks * sort_max_bins);
+    gpu_dispatch(cmd, &r->sort_scan, &r->set, params, sort_max_bins);
+    gpu_dispatch(cmd, &r->sort_scatter, &r->set, params, chunks * sort_max_bins);
+}
+
+/* Zeroes the sort's cell totals (its scan zeroes them after each sort). */
+static void record_sort_reset(vkrt_renderer *r, VkCommandBuffer cmd)
+{
+    vkCmdFillBuffer(cmd, r->slots.buffer, 0, sort_max_bins * sizeof(uint32_t), 0);
+    VkMemoryBarrier after = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+        .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+        .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+    };
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                         0, 1, &after, 0, NULL, 0, NULL);
+}
+
+/* vkrt_renderer_trace and vkrt_renderer_trace_sorted: with sort, the rays go to RayBufferB and
+ * each run sorts them into RayBuffer first; with trace false nothing is traced. */
+static bool trace_rays(vkrt_renderer *r, const Ray *rays, uint32_t count, bool any_hit, bool sort,
+                       bool trace, Hit *hits, Ray *sorted, uint32_t repeats, double *gpu_ms,
+                       vkrt_error *err)
 {
     size_t capacity = r->capacity;
     if (count > capacity)
         return vkrt_error_set(err, "%u rays exceed the renderer's %zu", count, capacity);
+    if (sort && r->sort_cells == 0)
+        return vkrt_error_set(err, "ray sort: the renderer was made without it (sort_cells 0)");
     if (repeats == 0)
         repeats = 1;
     FrameParams params = {0};
     params.counts = (uvec4){r->triangle_count, r->light_count, count, 0};
     params.wave = (uvec4){0, 0, 0, r->capacity};
     gpu_timer timer = {0};
-    if (!gpu_buffer_upload(r->ctx, &r->rays, rays, count * sizeof *rays, err) ||
+    if (!gpu_buffer_upload(r->ctx, sort ? &r->rays_b : &r->rays, rays, count * sizeof *rays, err) ||
         (gpu_ms && !gpu_timer_create(r->ctx, &timer, repeats + 1, err)))
         return false;
     VkCommandBuffer cmd;
     bool ok = gpu_commands_begin(r->ctx, &cmd, err);
     if (ok) {
+        if (sort)
+            record_sort_reset(r, cmd);
         /* Back to back in one submission, so the GPU never idles between repeats (its clocks
          * would fall, and each timing would measure the climb back). */
         if (gpu_ms) {
@@ -972,25 +1020,42 @@ bool vkrt_renderer_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool
             gpu_timer_write(cmd, &timer, 0);
         }
         for (uint32_t i = 0; i < repeats; ++i) {
-            if (r->dynamic_fetch)
+            if (sort)
+                record_sort(r, cmd, &params, count);
+            if (r->dynamic_fetch && trace)
                 record_cursor_reset(r, cmd);
-            record_trace(r, cmd, &params, any_hit, count, false);
+            if (trace)
+                record_trace(r, cmd, &params, any_hit, count, false);
             if (gpu_ms)
                 gpu_timer_write(cmd, &timer, i + 1);
         }
         ok = gpu_commands_submit(r->ctx, err);
         for (uint32_t i = 0; ok && gpu_ms && i < repeats; ++i)
             ok = gpu_timer_ms(r->ctx, &timer, i, i + 1, &gpu_ms[i], err);
-        ok = ok && gpu_buffer_download(r->ctx, &r->hits, hits, count * sizeof *hits, err);
+        ok = ok && (!trace || gpu_buffer_download(r->ctx, &r->hits, hits, count * sizeof *hits, err)) &&
+             (!sorted || gpu_buffer_download(r->ctx, &r->rays, sorted, count * sizeof *sorted, err));
     }
     gpu_timer_destroy(r->ctx, &timer);
     if (!ok)
         return false;
-    if (!any_hit)
+    if (trace && !any_hit)
         for (uint32_t i = 0; i < count; ++i)
             if (hits[i].triangle != VKRT_NO_HIT)
                 hits[i].triangle = vkrt_accel_original_triangle(&r->accel, hits[i].triangle);
     return true;
+}
+
+bool vkrt_renderer_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool any_hit,
+                         Hit *hits, uint32_t repeats, double *gpu_ms, vkrt_error *err)
+{
+    return trace_rays(r, rays, count, any_hit, false, true, hits, NULL, repeats, gpu_ms, err);
+}
+
+bool vkrt_renderer_trace_sorted(vkrt_renderer *r, const Ray *rays, uint32_t count, bool trace,
+                                Hit *hits, Ray *sorted, uint32_t repeats, double *gpu_ms,
+                                vkrt_error *err)
+{
+    return trace_rays(r, rays, count, false, true, trace, hits, sorted, repeats, gpu_ms, err);
 }
 
 bool vkrt_renderer_trace_stats(vkrt_renderer *r, const Ray *rays, uint32_t count, bool any_hit,
@@ -1017,8 +1082,9 @@ void vkrt_renderer_destroy(vkrt_renderer *r)
 {
     if (!r->ctx)
         return;
-    gpu_pipeline *pipelines[] = {&r->shade, &r->prepare, &r->count,  &r->occlusion,
-                                 &r->light, &r->trace,   &r->raygen};
+    gpu_pipeline *pipelines[] = {&r->shade,        &r->prepare,   &r->count,     &r->occlusion,
+                                 &r->light,        &r->trace,     &r->raygen,    &r->sort_scatter,
+                                 &r->sort_scan,    &r->sort_count};
     for (size_t i = 0; i < sizeof pipelines / sizeof *pipelines; ++i)
         gpu_pipeline_destroy(r->ctx, pipelines[i]);
     destroy_ray_buffers(r);

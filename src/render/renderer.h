@@ -55,6 +55,8 @@ typedef struct vkrt_render_desc {
                                  each frame is rendered, then rendered again after 300 ms of GPU
                                  warm-up profile_repeat times back to back, and the medians kept */
     uint32_t profile_repeat;  /* timed frames of a profile; 0: 11 */
+    uint32_t sort_cells;      /* 2..16: compile the ray sort (vkrt_renderer_trace_sorted) over
+                                 sort_cells x sort_cells direction cells; 0: no sort */
 } vkrt_render_desc;
 
 /* What the trace kernels counted for one trace (glsl/shared.h Counters.trace_*). */
@@ -99,6 +101,8 @@ typedef struct vkrt_renderer {
     gpu_storage_set set;
     vkrt_accel_gpu accel;     /* the structure, its statistics and the triangle order */
     gpu_pipeline raygen, trace, light, occlusion, count, prepare, shade;
+    gpu_pipeline sort_count, sort_scan, sort_scatter; /* when sort_cells != 0 */
+    uint32_t sort_cells;
     gpu_buffer rays, rays_b, hits, triangles, normals, texcoords, triangle_material, materials,
         lights, image, counters, waves, visibility, slots, texture_infos, texels;
     gpu_buffer trace_cursor;  /* per depth, the rays the trace kernels have taken (dynamic fetch) */
@@ -144,6 +148,15 @@ bool vkrt_renderer_read_image(vkrt_renderer *r, uint32_t passes, float *rgb, vkr
  * receives each run's GPU time from timestamps (repeats entries). For tests and bench. */
 bool vkrt_renderer_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool any_hit,
                          Hit *hits, uint32_t repeats, double *gpu_ms, vkrt_error *err);
+
+/* As vkrt_renderer_trace (closest hits), but each run first orders the rays on the GPU by the
+ * cell of their direction on a desc.sort_cells x sort_cells octahedral map (glsl/lib/
+ * ray_sort.glsl; the renderer must have been created with sort_cells). With trace false only the
+ * sort runs, and gpu_ms times it alone. hits[i] belongs to sorted[i], the rays in their new order
+ * (info.x tells them apart); sorted may be NULL, hits too when trace is false. */
+bool vkrt_renderer_trace_sorted(vkrt_renderer *r, const Ray *rays, uint32_t count, bool trace,
+                                Hit *hits, Ray *sorted, uint32_t repeats, double *gpu_ms,
+                                vkrt_error *err);
 
 /* Traces count rays once, as vkrt_renderer_trace does, with a renderer created with
  * desc.traversal_stats, and returns what the traversal counted. BVH only (the other walks count

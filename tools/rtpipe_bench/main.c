@@ -43,6 +43,7 @@ typedef struct options {
     uint32_t width, height;
     int device;
     bool validation;
+    uint32_t sort_diffuse;  /* --sort-diffuse CELLS: diffuse rays in direction-cell order */
 } options;
 
 typedef struct bench_row {
@@ -53,11 +54,12 @@ typedef struct bench_row {
     uint32_t primary_timed, shadow_timed, diffuse_timed;
     bench_times primary, shadow, diffuse;
     uint32_t hits, blocked;
+    uint32_t sort_diffuse;
 } bench_row;
 
 static const char usage[] =
     "usage: rtpipe-bench SCENE.cfg... [--json OUT.json] [--width W --height H] [--device N]\n"
-    "                    [--validation]\n"
+    "                    [--validation] [--sort-diffuse CELLS]\n"
     "       rtpipe-bench --check-shaders [DIR]   compile the shaders (and write DIR/*.spv), exit\n"
     "Traces vkrt bench's primary, shadow and diffuse rays with the driver's ray tracing pipeline\n"
     "(VK_KHR_ray_tracing_pipeline) and prints Mrays/s. Exit status: 0 done, 1 failed, 2 bad\n"
@@ -97,6 +99,9 @@ static bool parse_options(int argc, char **argv, options *o, vkrt_error *err)
                 return vkrt_error_set(err, "--device %s: want a device index (vkrt --list-devices)",
                                       argv[i]);
             o->device = (int)d;
+        } else if (strcmp(a, "--sort-diffuse") == 0 && has_value) {
+            if (!parse_uint(argv[++i], &o->sort_diffuse) || o->sort_diffuse > 16)
+                return vkrt_error_set(err, "--sort-diffuse %s: want cells per side, 1..16", argv[i]);
         } else if (strcmp(a, "--validation") == 0) {
             o->validation = true;
         } else if (strcmp(a, "--check-shaders") == 0) {
@@ -197,8 +202,12 @@ static bool bench_scene(rtpipe_device *dev, const rtpipe_shaders *shaders,
     }
     if (ok) {
         uint32_t n = bench_diffuse_rays(scene, primary, primary_hits, pixels, secondary);
+        /* In the order vkrt's GPU sort gives them (up to the order within a cell), on the host:
+         * the driver's pipeline gets the same coherence, its sort untimed. */
+        if (!bench_sort_by_direction(secondary, n, row->sort_diffuse))
+            ok = vkrt_error_set(err, "out of memory sorting %u rays", n);
         row->diffuse_timed = n;
-        ok = n == 0 || timed_trace(dev, &tracer, secondary, n, false, hits, &row->diffuse, err);
+        ok = ok && (n == 0 || timed_trace(dev, &tracer, secondary, n, false, hits, &row->diffuse, err));
     }
     free(primary);
     free(secondary);
@@ -304,8 +313,8 @@ static bool write_json(const char *path, const rtpipe_device *dev, const bench_r
         json_times(f, "primary", b->primary_timed, &b->primary);
         json_times(f, "shadow", b->shadow_timed, &b->shadow);
         json_times(f, "diffuse", b->diffuse_timed, &b->diffuse);
-        fprintf(f, "\"hits\": %u, \"blocked\": %u}%s\n", b->hits, b->blocked,
-                i + 1 < count ? "," : "");
+        fprintf(f, "\"sort_diffuse\": %u, \"hits\": %u, \"blocked\": %u}%s\n", b->sort_diffuse,
+                b->hits, b->blocked, i + 1 < count ? "," : "");
     }
     fprintf(f, "  ]\n}\n");
     if (fclose(f) != 0 || rename(tmp, path) != 0) {
@@ -395,6 +404,7 @@ int main(int argc, char **argv)
         row->scene = opts.scenes[s];
         row->width = opts.width ? opts.width : scene.config.width;
         row->height = opts.height ? opts.height : scene.config.height;
+        row->sort_diffuse = opts.sort_diffuse;
         ok = bench_scene(&dev, &shaders, &scene, row, &err);
         if (!ok)
             vkrt_error_prefix(&err, "%s", opts.scenes[s]);
