@@ -43,6 +43,8 @@ typedef struct bench_row {
     uint32_t workgroup_size;
     uint32_t sort_diffuse;                       /* --sort-diffuse cells per side, 0: none */
     bench_times diffuse_sort;                    /* with sort_diffuse: the sort alone */
+    bool kernel_stats;                           /* --kernel-stats: the two below are filled */
+    char trace_kernel[1024], occlusion_kernel[1024]; /* the driver's statistics, JSON pairs */
     bool stats;                                  /* counted, not timed (--stats) */
     vkrt_traversal_stats primary_stats, shadow_stats, diffuse_stats;
 } bench_row;
@@ -110,6 +112,11 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
         vkrt_error_set(err, "out of memory for %u rays", pixels);
     row->accel = r.accel.stats;
     row->triangles = scene->mesh.triangle_count;
+    if (ok && row->kernel_stats)
+        ok = gpu_pipeline_statistics(ctx, &r.trace, row->trace_kernel, sizeof row->trace_kernel,
+                                     err) &&
+             gpu_pipeline_statistics(ctx, &r.occlusion, row->occlusion_kernel,
+                                     sizeof row->occlusion_kernel, err);
     row->width = desc->width;
     row->height = desc->height;
     uint32_t timed = pixels;
@@ -200,6 +207,9 @@ static void print_row(FILE *out, const bench_row *b)
             b->accel.bytes / 1048576.0, mrays(b->primary_timed, b->primary_ms),
             mrays(b->shadow_timed, b->shadow_ms), mrays(b->diffuse_timed, b->diffuse_ms), b->hits,
             b->blocked);
+    if (b->kernel_stats)
+        fprintf(out, "  trace.comp: %s\n  occlusion.comp: %s\n", b->trace_kernel,
+                b->occlusion_kernel);
     if (b->sort_diffuse)
         fprintf(out, "  diffuse rays sorted on the GPU into %ux%u direction cells: %.4f ms of "
                      "sort and trace %.4f ms\n",
@@ -248,6 +258,9 @@ static bool write_json(const char *path, const gpu_context *ctx, const bench_row
         const bench_row *b = &rows[i];
         fprintf(f, "    {\"workgroup_size\": %u, \"sort_diffuse\": %u, \"stats\": %s, ",
                 b->workgroup_size, b->sort_diffuse, b->stats ? "true" : "false");
+        if (b->kernel_stats)
+            fprintf(f, "\"trace_kernel\": {%s}, \"occlusion_kernel\": {%s}, ", b->trace_kernel,
+                    b->occlusion_kernel);
         if (b->stats) {
             json_stats(f, "primary", &b->primary_stats);
             json_stats(f, "shadow", &b->shadow_stats);
@@ -286,7 +299,8 @@ int vkrt_bench_run(const vkrt_options *opts)
 {
     vkrt_error err = {{0}};
     gpu_context ctx;
-    gpu_context_desc ctx_desc = {.device_index = opts->device, .validation = opts->validation};
+    gpu_context_desc ctx_desc = {.device_index = opts->device, .validation = opts->validation,
+                                 .pipeline_statistics = opts->kernel_stats};
     if (!gpu_context_create(&ctx, &ctx_desc, &err)) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
         return 1;
@@ -325,6 +339,7 @@ int vkrt_bench_run(const vkrt_options *opts)
             row->grid_density = opts->grid_density;
             row->workgroup_size = opts->workgroup_size ? opts->workgroup_size : 64;
             row->sort_diffuse = opts->sort_diffuse;
+            row->kernel_stats = opts->kernel_stats;
             row->stats = opts->stats;
             desc.accel = kinds[k];
             ok = bench_one(&ctx, &scene, &desc, row, &err);

@@ -13,7 +13,7 @@ const char *vkrt_usage(void)
            "       vkrt bench SCENE.cfg... [--accel A] [--json OUT.json] [--width W --height H]\n"
            "                  [--grid-density CELLS_PER_TRIANGLE] [--workgroup N] [--stats]\n"
            "                  [--bvh-width 2|4] [--ray-fetch static|dynamic]\n"
-           "                  [--whole-scene] [--sort-diffuse CELLS]\n"
+           "                  [--whole-scene] [--sort-diffuse CELLS] [--kernel-stats]\n"
            "                                         time primary and shadow rays per structure\n"
            "       vkrt --list-devices               list Vulkan devices\n"
            "       vkrt --help | --version\n"
@@ -174,6 +174,8 @@ bool vkrt_options_parse(int argc, char **argv, vkrt_options *opts, vkrt_error *e
             ++i;
         } else if (strcmp(arg, "--stats") == 0) {
             opts->stats = true;
+        } else if (strcmp(arg, "--kernel-stats") == 0) {
+            opts->kernel_stats = true;
         } else if (strcmp(arg, "--whole-scene") == 0) {
             opts->whole_scene = true;
         } else if (strcmp(arg, "--script") == 0 || strcmp(arg, "--record") == 0) {

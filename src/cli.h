@@ -32,6 +32,7 @@ typedef struct vkrt_options {
     uint32_t workgroup_size;  /* bench --workgroup: invocations per workgroup; 0: the default */
     uint32_t sort_diffuse;    /* bench --sort-diffuse: direction cells per side (2..16) of the GPU's
                                  ray sort before diffuse rays are traced; 0: tile order */
+    bool kernel_stats;        /* bench --kernel-stats: the driver's statistics of the trace kernels */
     bool stats;               /* bench --stats: count traversal work instead of timing */
     bool whole_scene;         /* bench --whole-scene: load materials and textures too */
     const char *output;       /* -o: overrides the scene's output; NULL when not given */

@@ -188,6 +188,14 @@ bench_run sorted --sort-diffuse 8
 check "bench --sort-diffuse 8 exits 0" test $? -eq 0
 check "the sorted diffuse rays hit what the unsorted ones hit" test "$(counts "$tmp/sorted.json")" = "$(counts "$tmp/pairs.json")"
 check "bench --sort-diffuse times the sort" grep -q '"diffuse_sort_ms": [0-9.]*[1-9]' "$tmp/sorted.json"
+# The driver's kernel statistics: printed where the device reports them, else a refusal that
+# names the extension (lavapipe has none).
+bench_run kernel --kernel-stats
+if [ $? -eq 0 ]; then
+    check "bench --kernel-stats prints the trace kernel's statistics" grep -q "trace.comp: ." "$tmp/kernel.txt"
+else
+    check "bench --kernel-stats names what the device lacks" grep -q "VK_KHR_pipeline_executable_properties" "$tmp/kernel.txt"
+fi
 "$vkrt" bench "$src/scenes/cornell/scene.cfg" --sort-diffuse 1 >/dev/null 2>"$tmp/err"
 check "--sort-diffuse 1 is refused" test $? -ne 0
 "$vkrt" bench "$src/scenes/cornell/scene.cfg" --bvh-width 3 >/dev/null 2>"$tmp/err"

@@ -277,8 +277,10 @@ static bool create_device(gpu_context *ctx, const gpu_context_desc *desc, vkrt_e
     for (uint32_t i = 0; i < wanted && !ctx->missing_extension; ++i)
         if (!has_extension(extensions, extension_count, desc->device_extensions[i]))
             ctx->missing_extension = desc->device_extensions[i];
-    free(extensions);
     bool enable_wanted = wanted > 0 && !ctx->missing_extension;
+    bool has_executable_properties =
+        has_extension(extensions, extension_count, VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME);
+    free(extensions);
     VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomic_float = {
         .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT,
     };
@@ -295,6 +297,21 @@ static bool create_device(gpu_context *ctx, const gpu_context_desc *desc, vkrt_e
     if (no_float_atomics && *no_float_atomics && strcmp(no_float_atomics, "0") != 0)
         ctx->float_atomics = false;
     void *wanted_features = enable_wanted ? desc->device_features : NULL;
+    VkPhysicalDevicePipelineExecutablePropertiesFeaturesKHR executable_info = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_EXECUTABLE_PROPERTIES_FEATURES_KHR,
+    };
+    if (desc->pipeline_statistics && has_executable_properties) {
+        VkPhysicalDeviceFeatures2 features2 = {
+            .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2,
+            .pNext = &executable_info,
+        };
+        vkGetPhysicalDeviceFeatures2(ctx->physical, &features2);
+        ctx->pipeline_statistics = executable_info.pipelineExecutableInfo;
+    }
+    if (ctx->pipeline_statistics) {
+        executable_info.pNext = wanted_features;
+        wanted_features = &executable_info;
+    }
     /* Subgroup sums let the wave kernels reserve ray slots with one atomic per subgroup instead
      * of one per ray (glsl/count.comp); Vulkan 1.1 devices report which operations they have. */
     if (ctx->properties.apiVersion >= VK_API_VERSION_1_1) {
@@ -322,12 +339,15 @@ static bool create_device(gpu_context *ctx, const gpu_context_desc *desc, vkrt_e
         .pNext = wanted_features,
         .shaderBufferFloat32AtomicAdd = VK_TRUE,
     };
-    const char *device_extensions[2 + max_wanted];
+    const char *device_extensions[3 + max_wanted];
     uint32_t device_extension_count = 0;
     if (ctx->float_atomics)
         device_extensions[device_extension_count++] = VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME;
     if (ctx->surface)
         device_extensions[device_extension_count++] = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
+    if (ctx->pipeline_statistics)
+        device_extensions[device_extension_count++] =
+            VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME;
     for (uint32_t i = 0; enable_wanted && i < wanted; ++i)
         device_extensions[device_extension_count++] = desc->device_extensions[i];
     float priority = 1.0f;

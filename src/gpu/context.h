@@ -38,6 +38,9 @@ typedef struct gpu_context_desc {
     const char *const *device_extensions;
     uint32_t device_extension_count;
     void *device_features;
+    /* Ask the driver for its compiled kernels' statistics (VK_KHR_pipeline_executable_properties:
+     * registers and the like, gpu_pipeline_statistics) where it reports them. For vkrt bench. */
+    bool pipeline_statistics;
 } gpu_context_desc;
 
 typedef struct gpu_context {
@@ -57,6 +60,7 @@ typedef struct gpu_context {
     bool float_atomics;          /* VK_EXT_shader_atomic_float's shaderBufferFloat32AtomicAdd is on */
     const char *missing_extension; /* the first of desc.device_extensions the device lacks (then
                                       none of them is enabled), or NULL */
+    bool pipeline_statistics;    /* desc.pipeline_statistics asked and the device has them */
     bool subgroup_arithmetic;    /* compute shaders have subgroup basic, ballot, vote and arithmetic
                                     operations (Vulkan 1.1); VKRT_NO_SUBGROUPS=1 turns them off */
     uint64_t timeout_ns;         /* the watchdog's limit per submission */

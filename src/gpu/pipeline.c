@@ -3,6 +3,7 @@
  */
 #include "pipeline.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -147,6 +148,7 @@ bool gpu_pipeline_create(gpu_context *ctx, gpu_pipeline *pipe, const gpu_storage
                 .pSpecializationInfo = &specialization,
             },
         .layout = set->pipeline_layout,
+        .flags = ctx->pipeline_statistics ? VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR : 0,
     };
     GPU_CHECK(vkCreateComputePipelines(ctx->device, VK_NULL_HANDLE, 1, &info, NULL,
                                        &pipe->pipeline));
@@ -173,6 +175,66 @@ void gpu_pipeline_destroy(gpu_context *ctx, gpu_pipeline *pipe)
     if (pipe->pipeline)
         vkDestroyPipeline(ctx->device, pipe->pipeline, NULL);
     memset(pipe, 0, sizeof *pipe);
+}
+
+bool gpu_pipeline_statistics(gpu_context *ctx, const gpu_pipeline *pipe, char *text, size_t size,
+                             vkrt_error *err)
+{
+    if (size == 0)
+        return vkrt_error_set(err, "pipeline statistics: no room");
+    text[0] = '\0';
+    if (!ctx->pipeline_statistics)
+        return vkrt_error_set(err, "the device does not report its kernels' statistics "
+                                   "(VK_KHR_pipeline_executable_properties)");
+    PFN_vkGetPipelineExecutableStatisticsKHR get_statistics =
+        (PFN_vkGetPipelineExecutableStatisticsKHR)vkGetDeviceProcAddr(
+            ctx->device, "vkGetPipelineExecutableStatisticsKHR");
+    if (!get_statistics)
+        return vkrt_error_set(err, "vkGetPipelineExecutableStatisticsKHR is missing");
+    VkPipelineExecutableInfoKHR executable = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_INFO_KHR,
+        .pipeline = pipe->pipeline,
+        .executableIndex = 0, /* a compute pipeline's one shader */
+    };
+    enum { max_statistics = 32 };
+    VkPipelineExecutableStatisticKHR stats[max_statistics];
+    uint32_t count = max_statistics;
+    for (uint32_t i = 0; i < count; ++i)
+        stats[i] = (VkPipelineExecutableStatisticKHR){
+            .sType = VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_STATISTIC_KHR};
+    VkResult result = get_statistics(ctx->device, &executable, &count, stats);
+    if (result != VK_SUCCESS && result != VK_INCOMPLETE)
+        return vkrt_error_set(err, "vkGetPipelineExecutableStatisticsKHR: %s",
+                              gpu_result_name(result));
+    size_t used = 0;
+    for (uint32_t i = 0; i < count && used < size; ++i) {
+        const VkPipelineExecutableStatisticKHR *st = &stats[i];
+        char value[64];
+        switch (st->format) {
+        case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_BOOL32_KHR:
+            snprintf(value, sizeof value, "%s", st->value.b32 ? "true" : "false");
+            break;
+        case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_INT64_KHR:
+            snprintf(value, sizeof value, "%lld", (long long)st->value.i64);
+            break;
+        case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_UINT64_KHR:
+            snprintf(value, sizeof value, "%llu", (unsigned long long)st->value.u64);
+            break;
+        default:
+            snprintf(value, sizeof value, "%g", st->value.f64);
+            break;
+        }
+        /* Names are the driver's words; quotes and backslashes would break the JSON. */
+        char name[VK_MAX_DESCRIPTION_SIZE];
+        size_t n = 0;
+        for (const char *c = st->name; *c && n + 1 < sizeof name; ++c)
+            name[n++] = (*c == '"' || *c == '\\') ? '\'' : *c;
+        name[n] = '\0';
+        int wrote = snprintf(text + used, size - used, "%s\"%s\": %s", used ? ", " : "", name,
+                             value);
+        used = wrote < 0 ? size : used + (size_t)wrote;
+    }
+    return true;
 }
 
 void gpu_dispatch(VkCommandBuffer cmd, const gpu_pipeline *pipe, const gpu_storage_set *set,

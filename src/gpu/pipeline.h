@@ -56,6 +56,12 @@ bool gpu_pipeline_create(gpu_context *ctx, gpu_pipeline *pipe, const gpu_storage
                          const gpu_spec_constant *spec, uint32_t spec_count, const char *name,
                          vkrt_error *err);
 
+/* The driver's statistics of the pipeline's compiled kernel (registers and the like, as
+ * `"name": value` pairs joined by ", ", cut to size), for a context created with
+ * pipeline_statistics. False with err set when the device does not report them. */
+bool gpu_pipeline_statistics(gpu_context *ctx, const gpu_pipeline *pipe, char *text, size_t size,
+                             vkrt_error *err);
+
 /* Frees the pipeline. Safe on a zeroed one. */
 void gpu_pipeline_destroy(gpu_context *ctx, gpu_pipeline *pipe);
 
