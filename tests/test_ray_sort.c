@@ -8,7 +8,7 @@
  * rounding of a border, where GPU division may round the other way); they must spread over most
  * cells, so the check has something to check; every ray's hit must be the one the unsorted trace
  * found for it, bit for bit; and repeated sorts in one submission (the scan zeroes the totals for
- * the next) must give the same set again.
+ * the next) must give the same set again. All of it with and without subgroup operations.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -140,9 +140,8 @@ static void check_sorted(const Ray *rays, const Ray *sorted, uint32_t cells)
     free(used);
 }
 
-static void test_sort(void **state)
+static void check_sort(void)
 {
-    (void)state;
     gpu_context ctx;
     fixture_context_create(&ctx);
     vkrt_scene scene = {0};
@@ -188,6 +187,22 @@ static void test_sort(void **state)
     fixture_context_destroy(&ctx);
 }
 
+static void test_sort(void **state)
+{
+    (void)state;
+    check_sort();
+}
+
+/* The kernels' path without subgroup operations (one atomic per ray), as on a device without
+ * them. */
+static void test_sort_without_subgroups(void **state)
+{
+    (void)state;
+    setenv("VKRT_NO_SUBGROUPS", "1", 1);
+    check_sort();
+    unsetenv("VKRT_NO_SUBGROUPS");
+}
+
 /* A renderer made without the sort refuses to sort, and bad cell counts are refused. */
 static void test_refusals(void **state)
 {
@@ -217,6 +232,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sort),
+        cmocka_unit_test(test_sort_without_subgroups),
         cmocka_unit_test(test_refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
