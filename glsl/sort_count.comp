@@ -5,25 +5,23 @@
 #include "lib/bindings.glsl"
 #include "lib/ray_sort.glsl"
 
+shared uint chunk_rays[SORT_MAX_BINS];
+
 void main()
 {
     uint n = frame.counts.z, cells = sort_cells(), chunk = sort_chunk();
     uint lane = gl_LocalInvocationIndex;
     for (uint b = lane; b < cells; b += gl_WorkGroupSize.x)
-        sort_cell[b] = 0u;
+        chunk_rays[b] = 0u;
     barrier();
-    /* Every invocation runs every round, live or not: sort_reserve needs them all. */
-    uint first = chunk * SORT_CHUNK;
-    for (uint k = 0u; k < SORT_CHUNK; k += gl_WorkGroupSize.x) {
-        uint i = first + k + lane;
-        bool live = i < n;
-        sort_reserve(live ? sort_key(rays_b[i].direction.xyz) : 0u, live);
-    }
+    uint first = chunk * SORT_CHUNK, end = min(first + SORT_CHUNK, n);
+    for (uint i = first + lane; i < end; i += gl_WorkGroupSize.x)
+        atomicAdd(chunk_rays[sort_key(rays_b[i].direction.xyz)], 1u);
     barrier();
     /* The order chunks reserve in is the order their atomics land, not their index: a cell's runs
      * may come in any chunk order, each run in order within. */
     for (uint b = lane; b < cells; b += gl_WorkGroupSize.x) {
-        uint count = sort_cell[b];
+        uint count = chunk_rays[b];
         sort_words[SORT_PLACES + chunk * cells + b] =
             count == 0u ? 0u : atomicAdd(sort_words[SORT_TOTALS + b], count);
     }

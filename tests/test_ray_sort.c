@@ -8,7 +8,7 @@
  * rounding of a border, where GPU division may round the other way); they must spread over most
  * cells, so the check has something to check; every ray's hit must be the one the unsorted trace
  * found for it, bit for bit; and repeated sorts in one submission (the scan zeroes the totals for
- * the next) must give the same set again. All of it with and without subgroup operations.
+ * the next) must give the same set again.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -193,16 +193,6 @@ static void test_sort(void **state)
     check_sort();
 }
 
-/* The kernels' path without subgroup operations (one atomic per ray), as on a device without
- * them. */
-static void test_sort_without_subgroups(void **state)
-{
-    (void)state;
-    setenv("VKRT_NO_SUBGROUPS", "1", 1);
-    check_sort();
-    unsetenv("VKRT_NO_SUBGROUPS");
-}
-
 /* A renderer made without the sort refuses to sort, and bad cell counts are refused. */
 static void test_refusals(void **state)
 {
@@ -232,7 +222,6 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sort),
-        cmocka_unit_test(test_sort_without_subgroups),
         cmocka_unit_test(test_refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -21,10 +21,11 @@
 /* Cells per side of the direction map (2 to 16); the host sets it. */
 layout(constant_id = 8) const uint SORT_CELLS = 8u;
 
-/* Rays per workgroup of sort_count and sort_scatter (4 per invocation): one place per cell and
- * chunk to store. Chunks of 4096 left too few workgroups to hide the memory's latency: the sort
- * of 2M rays took 0.24 ms on an H200. */
-const uint SORT_CHUNK = 1024u;
+/* Rays per workgroup of sort_count and sort_scatter: one place per cell and chunk to store, and
+ * chunks long enough that a cell's share of one fills subgroups. Chunks of 1024 with one atomic
+ * per subgroup and cell (keys matched by ballots) measured 8-12% slower on an H200
+ * (bench/results/issue8-h200-sort/), so the atomics stay plain. */
+const uint SORT_CHUNK = 4096u;
 
 /* The most cells (16 x 16); sort_scan's workgroup has one invocation per cell. */
 const uint SORT_MAX_BINS = 256u;
@@ -57,49 +58,6 @@ uint sort_key(vec3 d)
         p = (1.0 - abs(p.yx)) * vec2(p.x < 0.0 ? -1.0 : 1.0, p.y < 0.0 ? -1.0 : 1.0);
     uvec2 c = uvec2(clamp((p * 0.5 + 0.5) * float(SORT_CELLS), vec2(0.0), vec2(SORT_CELLS - 1u)));
     return c.y * SORT_CELLS + c.x;
-}
-
-/* Per cell, the workgroup's counter: rays of the chunk so far (sort_count) or the next slot
- * (sort_scatter). */
-shared uint sort_cell[SORT_MAX_BINS];
-
-#ifdef VKRT_SUBGROUPS
-/* Each invocation's atomic result, for the others of its subgroup that share its key. */
-shared uint sort_first[SORT_MAX_BINS + 128u];
-#endif
-
-/* Adds one to sort_cell[key] for every live invocation and returns what it found there, as if one
- * at a time in invocation order within a subgroup. Must be called by the whole workgroup
- * (uniform control flow: the subgroup operations below rely on it). With subgroup operations,
- * the invocations of a subgroup that share a key add once, by their first: the rays of a chunk
- * fall in few cells, and colliding atomics on one word serialize. Which invocations share a key
- * is found one key bit at a time with ballots, not with a loop over keys, since a loop that
- * lanes leave at different times need not keep the others together (no maximal reconvergence
- * is assumed). */
-uint sort_reserve(uint key, bool live)
-{
-#ifdef VKRT_SUBGROUPS
-    uvec4 same = subgroupBallot(live);
-    uint bits = findMSB(sort_cells() - 1u) + 1u;
-    for (uint b = 0u; b < bits; ++b) {
-        bool bit = ((key >> b) & 1u) != 0u;
-        uvec4 ones = subgroupBallot(bit);
-        same &= bit ? ones : ~ones;
-    }
-    uint leader = subgroupBallotFindLSB(same);
-    uint slot = gl_SubgroupID * gl_SubgroupSize;
-    sort_first[slot + gl_SubgroupInvocationID] =
-        live && leader == gl_SubgroupInvocationID
-            ? atomicAdd(sort_cell[key], subgroupBallotBitCount(same))
-            : 0u;
-    subgroupMemoryBarrierShared();
-    subgroupBarrier();
-    uint first = sort_first[slot + leader] + subgroupBallotExclusiveBitCount(same);
-    subgroupBarrier(); /* all have read before the next call writes */
-    return first;
-#else
-    return live ? atomicAdd(sort_cell[key], 1u) : 0u;
-#endif
 }
 
 #endif

@@ -85,7 +85,7 @@ enum {
 /* The ray sort's constants (glsl/lib/ray_sort.glsl): rays per workgroup of its count and scatter
  * kernels, its most cells (and workgroup size), and the words its totals take in the slot
  * buffer. */
-enum { sort_chunk = 1024, sort_max_bins = 256, sort_min_cells = 2, sort_max_cells = 16 };
+enum { sort_chunk = 4096, sort_max_bins = 256, sort_min_cells = 2, sort_max_cells = 16 };
 
 static bool upload(vkrt_renderer *r, gpu_buffer *buf, const void *data, size_t size,
                    const char *what, vkrt_error *err)
