@@ -211,6 +211,98 @@ def issue8_values():
     }
 
 
+# ---------------------------------------------------------------- issue 8, second pass
+
+PASS2 = "bench/results/issue8-h200-sort"
+
+
+def pass2_values():
+    base = by_scene(f"{PASS2}/sort/vkrt.json")
+    driver = by_scene(f"{PASS2}/sort/rtpipe.json")
+    driver8 = by_scene(f"{PASS2}/sort/rtpipe-sort8.json")
+    gpu = {c: by_scene(f"{PASS2}/sort/vkrt-sort{c}.json") for c in (4, 8)}
+    host = {c: by_scene(f"{PASS2}/levers/sort{c}.json") for c in (2, 4, 8, 16)}
+    lever_base = by_scene(f"{PASS2}/levers/base.json")
+    ballot = {c: by_scene(f"{PASS2}/sort2/sort{c}-1.json") for c in (4, 8)}
+
+    def diffuse(r):
+        return r["diffuse_mrays_per_s"]
+
+    def trace_only(r):
+        ms = r["diffuse_ms"] - r["diffuse_sort_ms"]
+        return r["diffuse_rays_timed"] / (ms * 1e3)
+
+    host_t = io.StringIO()
+    host_t.write("| scene | diffuse rays | tile order | " +
+                 " | ".join(f"{c}x{c} cells" for c in host) + " |\n")
+    host_t.write("|---|---:|---:|" + "---:|" * len(host) + "\n")
+    for n in ISSUE8_SCENES:
+        host_t.write(f"| {n} | {lever_base[n]['diffuse_rays_timed']:,} | "
+                     f"{diffuse(lever_base[n]):,.0f} | " +
+                     " | ".join(f"{diffuse(host[c][n]):,.0f}" for c in host) + " |\n")
+
+    simd = {k: by_scene(f"{PASS2}/levers/{f}.json")
+            for k, f in (("tile", "stats"), (4, "stats-sort4"), (16, "stats-sort16"))}
+    simd_t = io.StringIO()
+    simd_t.write("| scene | tile order | 4x4 cells | 16x16 cells |\n|---|---:|---:|---:|\n")
+    for n in ISSUE8_SCENES:
+        simd_t.write(f"| {n} | " + " | ".join(f"{100 * simd[k][n]['diffuse_simd_utilisation']:.0f}%"
+                                               for k in simd) + " |\n")
+
+    gpu_t = io.StringIO()
+    gpu_t.write("| scene | tile order | " +
+                " | ".join(f"{c}x{c}: sort ms, trace alone, with the sort" for c in gpu) +
+                " | driver: tile order, 8x8 order |\n")
+    gpu_t.write("|---|---:|" + "---:|" * len(gpu) + "---:|\n")
+    for n in ISSUE8_SCENES:
+        cells = [f"{gpu[c][n]['diffuse_sort_ms']:.3f}, {trace_only(gpu[c][n]):,.0f}, "
+                 f"**{diffuse(gpu[c][n]):,.0f}**" for c in gpu]
+        gpu_t.write(f"| {n} | {diffuse(base[n]):,.0f} | " + " | ".join(cells) +
+                    f" | {diffuse(driver[n]):,.0f}, {diffuse(driver8[n]):,.0f} |\n")
+
+    ballot_t = ", ".join(f"{n} {gpu[4][n]['diffuse_sort_ms']:.3f} against "
+                         f"{ballot[4][n]['diffuse_sort_ms']:.3f} ms" for n in ISSUE8_SCENES)
+
+    sizes = ["320x180", "960x540", "1920x1080", "2560x1440", "3840x2160"]
+    fixed = io.StringIO()
+    fixed.write("| size | bunny: shadow rays, ms, Mrays/s | bunny: primary rays, ms | "
+                "Cornell box: primary ms |\n|---|---:|---:|---:|\n")
+    for size in sizes:
+        r = by_scene(f"{PASS2}/levers/size-{size}.json")
+        b, c = r["bunny"], r["cornell"]
+        fixed.write(f"| {size} | {b['shadow_rays_timed']:,}, {1e3 * b['shadow_ms']:.0f} us, "
+                    f"{b['shadow_mrays_per_s']:,.0f} | {1e3 * b['primary_ms']:.0f} us | "
+                    f"{1e3 * c['primary_ms']:.0f} us |\n")
+
+    shared = {k: by_scene(f"{PASS2}/levers/{f}.json")
+              for k, f in (("local array (default)", "base"),
+                           ("first 32 entries in shared memory, workgroup 64", "shared-wg64"),
+                           ("the same, workgroup 128", "shared-wg128"))}
+    shared_t = io.StringIO()
+    shared_t.write("| stack | " + " | ".join(ISSUE8_SCENES) + " |\n|---|" +
+                   "---:|" * len(ISSUE8_SCENES) + "\n")
+    for label, run in shared.items():
+        shared_t.write(f"| {label} | " + " | ".join(
+            " / ".join(f"{run[n][k + '_mrays_per_s']:,.0f}" for k in KINDS)
+            for n in ISSUE8_SCENES) + " |\n")
+
+    kernel = json.load(open(f"{PASS2}/sort/vkrt-kernel.json", encoding="utf-8"))["results"][0]
+    return {
+        "@PASS2_VS_DRIVER@": vs_driver_table(f"{PASS2}/sort/vkrt.json", f"{PASS2}/sort/rtpipe.json",
+                                             None),
+        "@PASS2_HOST_SORT@": host_t.getvalue().strip(),
+        "@PASS2_SIMD@": simd_t.getvalue().strip(),
+        "@PASS2_GPU_SORT@": gpu_t.getvalue().strip(),
+        "@PASS2_BALLOT@": ballot_t,
+        "@PASS2_FIXED@": fixed.getvalue().strip(),
+        "@PASS2_SHARED@": shared_t.getvalue().strip(),
+        "@PASS2_TRACE_REGISTERS@": str(kernel["trace_kernel"]["Register Count"]),
+        "@PASS2_OCCLUSION_REGISTERS@": str(kernel["occlusion_kernel"]["Register Count"]),
+        "@PASS2_BUILD_BUNNY@": f"{base['bunny']['build_ms']:.0f}",
+        "@PASS2_BUILD_EMPIRE@": f"{base['lost-empire']['build_ms']:.0f}",
+    }
+
+
 def main():
     h100 = json.load(open("bench/results/bench-h100.json", encoding="utf-8"))
     lavapipe = json.load(open("bench/results/bench-lavapipe.json", encoding="utf-8"))
@@ -225,6 +317,7 @@ def main():
     }
     values.update(embree_values("bench/results/vkrt-lavapipe-vs-embree.json", lavapipe))
     values.update(issue8_values())
+    values.update(pass2_values())
     for key, value in values.items():
         text = text.replace(key, value)
     open("docs/performance.md", "w", encoding="utf-8").write(

@@ -1,0 +1,75 @@
+/*
+ * bvh_bench.c: times the BVH build (src/accel/bvh.c) and its layout into the GPU's pairs
+ * (bvh_pairs.c) on one OBJ, as vkrt bench's build_ms counts them, without a GPU. A benchmark:
+ * it prints numbers and decides nothing.
+ *   usage: bvh-bench FILE.obj [RUNS [THREADS]]   (RUNS default 5; THREADS 0: one per core)
+ * Prints each run's milliseconds (the first builds into memory the process never touched, as a
+ * render's one build does) and the smallest, median and largest.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+
+#include "accel/bvh.h"
+#include "accel/bvh_pairs.h"
+#include "scene/obj_load.h"
+
+enum { max_runs = 1000 };
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+static int compare_doubles(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2 || argc > 4) {
+        fprintf(stderr, "usage: bvh-bench FILE.obj [RUNS [THREADS]]\n");
+        return 2;
+    }
+    int runs = argc > 2 ? atoi(argv[2]) : 5, threads = argc > 3 ? atoi(argv[3]) : 0;
+    if (runs < 1 || runs > max_runs || threads < 0 || threads > 64) {
+        fprintf(stderr, "bvh-bench: RUNS 1..%d, THREADS 0..64\n", max_runs);
+        return 2;
+    }
+    vkrt_mesh mesh = {0};
+    vkrt_error err = {""};
+    if (!vkrt_obj_load(argv[1], &mesh, &err)) {
+        fprintf(stderr, "bvh-bench: %s\n", err.msg);
+        return 1;
+    }
+    double ms[max_runs];
+    bvh_build_desc desc = {.threads = (uint32_t)threads};
+    bvh b = {0};
+    for (int r = 0; r < runs; ++r) {
+        double start = now_ms();
+        bvh_pairs pairs = {0};
+        if (!bvh_build(&b, mesh.positions, mesh.triangle_count, &desc, &err) ||
+            !bvh_pairs_build(&b, &pairs, &err)) {
+            fprintf(stderr, "bvh-bench: %s\n", err.msg);
+            return 1;
+        }
+        ms[r] = now_ms() - start;
+        printf("run %d: %.1f ms\n", r + 1, ms[r]);
+        bvh_pairs_free(&pairs);
+        if (r + 1 < runs)
+            bvh_free(&b);
+    }
+    printf("%s: %u triangles, %u nodes, SAH %.3f\n", argv[1], mesh.triangle_count, b.node_count,
+           (double)b.sah_cost);
+    qsort(ms, runs, sizeof *ms, compare_doubles);
+    printf("build and pairs layout: min %.1f ms, median %.1f ms, max %.1f ms over %d runs\n", ms[0],
+           ms[runs / 2], ms[runs - 1], runs);
+    bvh_free(&b);
+    vkrt_mesh_free(&mesh);
+    return 0;
+}
