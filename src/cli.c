@@ -14,6 +14,7 @@ const char *vkrt_usage(void)
            "                  [--grid-density CELLS_PER_TRIANGLE] [--workgroup N] [--stats]\n"
            "                  [--bvh-width 2|4] [--ray-fetch static|dynamic]\n"
            "                  [--whole-scene] [--sort-diffuse CELLS] [--kernel-stats]\n"
+           "                  [--bvh-leaf N] [--bvh-cost C]\n"
            "                                         time primary and shadow rays per structure\n"
            "       vkrt --list-devices               list Vulkan devices\n"
            "       vkrt --help | --version\n"
@@ -150,6 +151,16 @@ bool vkrt_options_parse(int argc, char **argv, vkrt_options *opts, vkrt_error *e
         } else if (strcmp(arg, "--workgroup") == 0) {
             if (!parse_u32(arg, value, 1, 1024, &opts->workgroup_size, err))
                 return false;
+            ++i;
+        } else if (strcmp(arg, "--bvh-leaf") == 0) {
+            if (!parse_u32(arg, value, 1, 16, &opts->bvh_max_leaf, err))
+                return false;
+            ++i;
+        } else if (strcmp(arg, "--bvh-cost") == 0) {
+            if (!parse_float(arg, value, &opts->bvh_traversal_cost, err))
+                return false;
+            if (!(opts->bvh_traversal_cost > 0 && opts->bvh_traversal_cost <= 100))
+                return vkrt_error_set(err, "--bvh-cost: '%s' is not in (0, 100]", value);
             ++i;
         } else if (strcmp(arg, "--sort-diffuse") == 0) {
             if (!parse_u32(arg, value, 0, 16, &opts->sort_diffuse, err))

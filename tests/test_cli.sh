@@ -184,6 +184,12 @@ bench_run stats --stats
 check "bench --stats exits 0" test $? -eq 0
 check "bench --stats counts nodes per ray" grep -q '"primary_nodes_per_ray": [1-9]' "$tmp/stats.json"
 check "bench --stats measures SIMD utilisation" grep -q '"primary_simd_utilisation": 0\.[0-9]*[1-9]' "$tmp/stats.json"
+bench_run tuned --bvh-leaf 4 --bvh-cost 2
+check "bench --bvh-leaf 4 --bvh-cost 2 exits 0" test $? -eq 0
+check "another BVH over the same triangles hits what the default one hits" test "$(counts "$tmp/tuned.json")" = "$(counts "$tmp/pairs.json")"
+check "and is another tree" test "$(grep -o '"nodes_or_cells": [0-9]*' "$tmp/tuned.json")" != "$(grep -o '"nodes_or_cells": [0-9]*' "$tmp/pairs.json")"
+"$vkrt" bench "$src/scenes/cornell/scene.cfg" --bvh-leaf 17 >/dev/null 2>"$tmp/err"
+check "--bvh-leaf 17 is refused" test $? -ne 0
 bench_run sorted --sort-diffuse 8
 check "bench --sort-diffuse 8 exits 0" test $? -eq 0
 check "the sorted diffuse rays hit what the unsorted ones hit" test "$(counts "$tmp/sorted.json")" = "$(counts "$tmp/pairs.json")"

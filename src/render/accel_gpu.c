@@ -82,15 +82,21 @@ static bool lay_out(const bvh *b, uint32_t width, gpu_layout *out, vkrt_error *e
     return true;
 }
 
-static bool build_bvh(vkrt_accel_gpu *a, gpu_context *ctx, uint32_t width, const float *positions,
-                      uint32_t n, vkrt_error *err)
+static bool build_bvh(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc *desc,
+                      const float *positions, uint32_t n, vkrt_error *err)
 {
+    uint32_t width = desc->bvh_width;
+    if (desc->bvh_max_leaf > BVH_LEAF_REF_MAX_COUNT)
+        return vkrt_error_set(err, "BVH leaves of %u triangles: the GPU layouts hold at most %u",
+                              desc->bvh_max_leaf, BVH_LEAF_REF_MAX_COUNT);
+    const bvh_build_desc build = {.max_leaf_size = desc->bvh_max_leaf,
+                                  .traversal_cost = desc->bvh_traversal_cost};
     if (width == 0)
         width = VKRT_BVH_DEFAULT_WIDTH;
     if (width != 2 && width != 4)
         return vkrt_error_set(err, "BVH width %u: the GPU layouts are 2 and 4 wide", width);
     bvh b;
-    if (!bvh_build(&b, positions, n, NULL, err))
+    if (!bvh_build(&b, positions, n, &build, err))
         return false;
     double start = now_ms();
     gpu_layout g = {0};
@@ -132,10 +138,11 @@ static bool build_brute(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_error *err)
            gpu_buffer_create(ctx, &a->refs, 0, "grid references", err);
 }
 
-bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_accel_kind kind,
-                           float grid_density, uint32_t bvh_width, const float *positions,
-                           uint32_t triangle_count, vkrt_error *err)
+bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc *desc,
+                           const float *positions, uint32_t triangle_count, vkrt_error *err)
 {
+    vkrt_accel_kind kind = desc->kind;
+    float grid_density = desc->grid_density;
     grid_build_desc grid_desc = {.density = grid_density};
     memset(a, 0, sizeof *a);
     a->triangle_count = triangle_count;
@@ -169,7 +176,7 @@ bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_accel_kind 
         have_grid = true;
         ok = upload_grid(a, ctx, &g, err);
     } else if (kind == VKRT_ACCEL_BVH) {
-        ok = build_bvh(a, ctx, bvh_width, positions, triangle_count, err);
+        ok = build_bvh(a, ctx, desc, positions, triangle_count, err);
     } else {
         ok = build_brute(a, ctx, err);
     }

@@ -46,12 +46,21 @@ typedef struct vkrt_accel_gpu {
     vkrt_accel_stats stats;
 } vkrt_accel_gpu;
 
-/* Builds the structure of kind (auto chooses) over positions (9 floats per triangle) and uploads
- * it. grid_density 0 uses the grid's default density, bvh_width 0 the default BVH layout
- * (VKRT_BVH_DEFAULT_WIDTH; 2: bvh_pairs.h, 4: bvh_quads.h); both are knobs for measuring. On failure returns false with err set and nothing left allocated. */
-bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_accel_kind kind,
-                           float grid_density, uint32_t bvh_width, const float *positions,
-                           uint32_t triangle_count, vkrt_error *err);
+/* What to build; zero fields are the defaults. All but kind are knobs for measuring. */
+typedef struct vkrt_accel_desc {
+    vkrt_accel_kind kind;     /* auto (0) chooses from the scene */
+    float grid_density;       /* cells per triangle; 0: the grid's default */
+    uint32_t bvh_width;       /* GPU layout: 2 (bvh_pairs.h) or 4 (bvh_quads.h); 0:
+                                 VKRT_BVH_DEFAULT_WIDTH */
+    uint32_t bvh_max_leaf;    /* bvh_build_desc.max_leaf_size, at most 16 (the GPU's leaf
+                                 references); 0: bvh.h's default */
+    float bvh_traversal_cost; /* bvh_build_desc.traversal_cost; 0: bvh.h's default */
+} vkrt_accel_desc;
+
+/* Builds the structure desc asks for over positions (9 floats per triangle) and uploads it. On
+ * failure returns false with err set and nothing left allocated. */
+bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc *desc,
+                           const float *positions, uint32_t triangle_count, vkrt_error *err);
 
 /* Frees buffers and the order. Safe on a zeroed struct. */
 void vkrt_accel_gpu_destroy(vkrt_accel_gpu *a, gpu_context *ctx);

@@ -474,7 +474,12 @@ bool vkrt_renderer_create(vkrt_renderer *r, gpu_context *ctx, const vkrt_scene *
         r->capacity = r->max_capacity;
     bool has_texcoords = mats->reads_texcoords && scene->mesh.texcoords;
     ok = ok && gpu_storage_set_create(ctx, &r->set, BINDING_COUNT, sizeof(FrameParams), err) &&
-         vkrt_accel_gpu_create(&r->accel, ctx, desc->accel, desc->grid_density, desc->bvh_width,
+         vkrt_accel_gpu_create(&r->accel, ctx,
+                               &(vkrt_accel_desc){.kind = desc->accel,
+                                                  .grid_density = desc->grid_density,
+                                                  .bvh_width = desc->bvh_width,
+                                                  .bvh_max_leaf = desc->bvh_max_leaf,
+                                                  .bvh_traversal_cost = desc->bvh_traversal_cost},
                                scene->mesh.positions, scene->mesh.triangle_count, err) &&
          vkrt_material_kernel_create(&kernel, mats, ctx->float_atomics, err) &&
          upload_geometry(r, &scene->mesh, mats, err) &&

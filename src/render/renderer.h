@@ -44,6 +44,8 @@ typedef struct vkrt_render_desc {
     vkrt_accel_kind accel;    /* auto (0) chooses from the scene */
     float grid_density;       /* cells per triangle of a grid; 0: the default */
     uint32_t bvh_width;       /* children per node of the BVH's GPU layout, 2 or 4; 0: the default */
+    uint32_t bvh_max_leaf;    /* the BVH build's largest leaf (1..16); 0: the default */
+    float bvh_traversal_cost; /* the BVH build's SAH cost of a node against a triangle; 0: the default */
     vkrt_ray_fetch ray_fetch; /* how trace kernels take their rays (2-wide BVH); 0: the default */
     uint32_t max_depth;       /* generations of secondary rays; 0: the scene's max-depth */
     uint32_t ray_capacity;    /* rays per buffer to start with; 0 (or below the pixel count):
