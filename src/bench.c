@@ -42,8 +42,6 @@ typedef struct bench_row {
     double grid_density;
     uint32_t workgroup_size;
     uint32_t sort_diffuse;                       /* --sort-diffuse cells per side, 0: none */
-    uint32_t bvh_max_leaf;                       /* --bvh-leaf, 0: the default */
-    float bvh_traversal_cost;                    /* --bvh-cost, 0: the default */
     bench_times diffuse_sort;                    /* with sort_diffuse: the sort alone */
     bool kernel_stats;                           /* --kernel-stats: the two below are filled */
     char trace_kernel[1024], occlusion_kernel[1024]; /* the driver's statistics, JSON pairs */
@@ -260,7 +258,8 @@ static bool write_json(const char *path, const gpu_context *ctx, const bench_row
         const bench_row *b = &rows[i];
         fprintf(f, "    {\"workgroup_size\": %u, \"sort_diffuse\": %u, \"bvh_max_leaf\": %u, "
                    "\"bvh_traversal_cost\": %g, \"sah_cost\": %.3f, \"stats\": %s, ",
-                b->workgroup_size, b->sort_diffuse, b->bvh_max_leaf, b->bvh_traversal_cost,
+                b->workgroup_size, b->sort_diffuse, b->accel.bvh_max_leaf,
+                (double)b->accel.bvh_traversal_cost,
                 b->accel.sah_cost, b->stats ? "true" : "false");
         if (b->kernel_stats)
             fprintf(f, "\"trace_kernel\": {%s}, \"occlusion_kernel\": {%s}, ", b->trace_kernel,
@@ -345,8 +344,6 @@ int vkrt_bench_run(const vkrt_options *opts)
             row->grid_density = opts->grid_density;
             row->workgroup_size = opts->workgroup_size ? opts->workgroup_size : 64;
             row->sort_diffuse = opts->sort_diffuse;
-            row->bvh_max_leaf = opts->bvh_max_leaf;
-            row->bvh_traversal_cost = opts->bvh_traversal_cost;
             row->kernel_stats = opts->kernel_stats;
             row->stats = opts->stats;
             desc.accel = kinds[k];

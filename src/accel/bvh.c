@@ -40,12 +40,12 @@
 #include <unistd.h>
 
 /* Defaults of bvh_build_desc's zero fields (bvh.h documents them). */
-enum { DEFAULT_MAX_LEAF = 8, DEFAULT_BINS = 16 };
+enum { DEFAULT_MAX_LEAF = BVH_DEFAULT_MAX_LEAF, DEFAULT_BINS = 16 };
 
 /* Threads when the descriptor says 0: one per online core, at most this many (past it the serial
  * top of the tree and the stitch pass dominate). The tree is the same for any count. */
 enum { DEFAULT_MAX_THREADS = 16 };
-#define DEFAULT_TRAVERSAL_COST 1.0f
+#define DEFAULT_TRAVERSAL_COST BVH_DEFAULT_TRAVERSAL_COST
 
 /* Limits on the descriptor: bins live in fixed per-thread arrays. */
 enum { MIN_BINS = 2, MAX_BINS = 256, MAX_THREADS = 64 };

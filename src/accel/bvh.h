@@ -21,6 +21,10 @@ typedef struct bvh_node {
     uint32_t count;
 } bvh_node;
 
+/* What bvh_build_desc's zero fields mean. */
+#define BVH_DEFAULT_MAX_LEAF 8u
+#define BVH_DEFAULT_TRAVERSAL_COST 1.0f
+
 typedef struct bvh_build_desc {
     uint32_t max_leaf_size;   /* a node with more triangles is always split; 0: 8 */
     uint32_t bins;            /* SAH bins per axis; 0: 16 */

@@ -35,6 +35,8 @@ typedef struct vkrt_accel_stats {
     uint32_t max_depth;         /* BVH, of its GPU layout */
     uint32_t bvh_width;         /* BVH: children per GPU node, 2 or 4 */
     float sah_cost;             /* BVH */
+    uint32_t bvh_max_leaf;      /* BVH: the build's largest leaf */
+    float bvh_traversal_cost;   /* BVH: the build's SAH cost of a node against a triangle */
 } vkrt_accel_stats;
 
 typedef struct vkrt_accel_gpu {
@@ -53,8 +55,9 @@ typedef struct vkrt_accel_desc {
     uint32_t bvh_width;       /* GPU layout: 2 (bvh_pairs.h) or 4 (bvh_quads.h); 0:
                                  VKRT_BVH_DEFAULT_WIDTH */
     uint32_t bvh_max_leaf;    /* bvh_build_desc.max_leaf_size, at most 16 (the GPU's leaf
-                                 references); 0: bvh.h's default */
-    float bvh_traversal_cost; /* bvh_build_desc.traversal_cost; 0: bvh.h's default */
+                                 references); 0: 2 on GPUs, bvh.h's default on CPU devices */
+    float bvh_traversal_cost; /* bvh_build_desc.traversal_cost; 0: 0.5 on GPUs, bvh.h's default
+                                 on CPU devices */
 } vkrt_accel_desc;
 
 /* Builds the structure desc asks for over positions (9 floats per triangle) and uploads it. On
