@@ -2,7 +2,9 @@
  * bvh_bench.c: times the BVH build (src/accel/bvh.c) and its layout into the GPU's pairs
  * (bvh_pairs.c) on one OBJ, as vkrt bench's build_ms counts them, without a GPU. A benchmark:
  * it prints numbers and decides nothing.
- *   usage: bvh-bench FILE.obj [RUNS [THREADS]]   (RUNS default 5; THREADS 0: one per core)
+ *   usage: bvh-bench FILE.obj [RUNS [THREADS [LEAF COST]]]
+ * RUNS default 5; THREADS 0: one per core; LEAF and COST the build's largest leaf and SAH node
+ * cost (bvh_build_desc; 0: bvh.h's defaults; vkrt uses 2 and 0.5 on GPUs, src/render/accel_gpu.c).
  * Prints each run's milliseconds (the first builds into memory the process never touched, as a
  * render's one build does) and the smallest, median and largest.
  */
@@ -32,13 +34,17 @@ static int compare_doubles(const void *a, const void *b)
 
 int main(int argc, char **argv)
 {
-    if (argc < 2 || argc > 4) {
-        fprintf(stderr, "usage: bvh-bench FILE.obj [RUNS [THREADS]]\n");
+    if (argc < 2 || argc > 6 || argc == 5) {
+        fprintf(stderr, "usage: bvh-bench FILE.obj [RUNS [THREADS [LEAF COST]]]\n");
         return 2;
     }
     int runs = argc > 2 ? atoi(argv[2]) : 5, threads = argc > 3 ? atoi(argv[3]) : 0;
-    if (runs < 1 || runs > max_runs || threads < 0 || threads > 64) {
-        fprintf(stderr, "bvh-bench: RUNS 1..%d, THREADS 0..64\n", max_runs);
+    int leaf = argc > 5 ? atoi(argv[4]) : 0;
+    float cost = argc > 5 ? (float)atof(argv[5]) : 0.0f;
+    if (runs < 1 || runs > max_runs || threads < 0 || threads > 64 || leaf < 0 || leaf > 16 ||
+        !(cost >= 0.0f && cost <= 100.0f)) {
+        fprintf(stderr, "bvh-bench: RUNS 1..%d, THREADS 0..64, LEAF 0..16, COST 0..100\n",
+                max_runs);
         return 2;
     }
     vkrt_mesh mesh = {0};
@@ -48,7 +54,8 @@ int main(int argc, char **argv)
         return 1;
     }
     double ms[max_runs];
-    bvh_build_desc desc = {.threads = (uint32_t)threads};
+    bvh_build_desc desc = {.threads = (uint32_t)threads, .max_leaf_size = (uint32_t)leaf,
+                           .traversal_cost = cost};
     bvh b = {0};
     for (int r = 0; r < runs; ++r) {
         double start = now_ms();

@@ -169,8 +169,8 @@ def variants_table():
     return out.getvalue().strip()
 
 
-def whitted_profile():
-    text = open(f"{ISSUE8}/whitted.txt", encoding="utf-8").read().splitlines()
+def whitted_profile(path=None):
+    text = open(path or f"{ISSUE8}/whitted.txt", encoding="utf-8").read().splitlines()
     start = next(i for i, line in enumerate(text) if line.startswith("vkrt: profile"))
     end = next(i for i in range(start, len(text)) if text[i].lstrip().startswith("frame "))
     return "\n".join(text[start:end + 1])
@@ -286,10 +286,49 @@ def pass2_values():
             " / ".join(f"{run[n][k + '_mrays_per_s']:,.0f}" for k in KINDS)
             for n in ISSUE8_SCENES) + " |\n")
 
+    def sah_table(run_dir, variants):
+        out = io.StringIO()
+        out.write("| build | " + " | ".join(ISSUE8_SCENES) + " | MiB, lost-empire |\n|---|" +
+                  "---:|" * (len(ISSUE8_SCENES) + 1) + "\n")
+        for label, name in variants:
+            run = by_scene(f"{PASS2}/{run_dir}/{name}.json")
+            out.write(f"| {label} | " + " | ".join(
+                " / ".join(f"{run[n][k + '_mrays_per_s']:,.0f}" for k in KINDS)
+                for n in ISSUE8_SCENES) + f" | {run['lost-empire']['bytes'] / 2**20:.2f} |\n")
+        return out.getvalue().strip()
+
+    four_k = io.StringIO()
+    v4, d4 = by_scene(f"{PASS2}/pass2/vkrt-4k.json"), by_scene(f"{PASS2}/pass2/rtpipe-4k.json")
+    four_k.write("| scene, 3840x2160 | " + " | ".join(f"{k} vkrt / driver" for k in KINDS) +
+                 " |\n|---|" + "---:|" * len(KINDS) + "\n")
+    for n in ["bunny", "sponza"]:
+        four_k.write(f"| {n}, {v4[n]['shadow_rays_timed']:,} shadow rays | " + " | ".join(
+            f"{v4[n][k + '_mrays_per_s']:,.0f} / {d4[n][k + '_mrays_per_s']:,.0f}" for k in KINDS)
+            + " |\n")
+
+    final = by_scene(f"{PASS2}/pass2/vkrt.json")
     kernel = json.load(open(f"{PASS2}/sort/vkrt-kernel.json", encoding="utf-8"))["results"][0]
     return {
-        "@PASS2_VS_DRIVER@": vs_driver_table(f"{PASS2}/sort/vkrt.json", f"{PASS2}/sort/rtpipe.json",
-                                             None),
+        "@PASS2_VS_DRIVER@": vs_driver_table(f"{PASS2}/pass2/vkrt.json",
+                                             f"{PASS2}/pass2/rtpipe.json", None),
+        "@PASS2_4K@": four_k.getvalue().strip(),
+        "@PASS2_STATS@": stats_table(f"{PASS2}/pass2/vkrt-stats.json"),
+        "@PASS2_WHITTED@": whitted_profile(f"{PASS2}/pass2/whitted.txt"),
+        "@PASS2_SAH_FIRST@": sah_table("sah", [
+            ("leaves of 8, node cost 1 (the old default)", "default"),
+            ("node cost 0.5", "cost0.5"), ("node cost 2", "cost2"), ("node cost 3", "cost3"),
+            ("leaves of 4", "leaf4"), ("leaves of 16, node cost 2", "leaf16-cost2"),
+            ("**leaves of 2, node cost 0.5**", "leaf2-cost0.5"),
+            ("the old default again", "default-again")]),
+        "@PASS2_SAH_SECOND@": sah_table("pass2", [
+            ("leaves of 8, node cost 1 (the old default)", "old-default"),
+            ("**leaves of 2, node cost 0.5 (the default on GPUs now)**", "vkrt"),
+            ("leaves of 1, node cost 0.5", "leaf1-cost0.5"),
+            ("leaves of 2, node cost 0.25", "leaf2-cost0.25"),
+            ("leaves of 3, node cost 0.75", "leaf3-cost0.75"),
+            ("the default again", "vkrt-again")]),
+        "@PASS2_GPU_BUILD_BUNNY@": f"{final['bunny']['build_ms']:.0f}",
+        "@PASS2_GPU_BUILD_EMPIRE@": f"{final['lost-empire']['build_ms']:.0f}",
         "@PASS2_HOST_SORT@": host_t.getvalue().strip(),
         "@PASS2_SIMD@": simd_t.getvalue().strip(),
         "@PASS2_GPU_SORT@": gpu_t.getvalue().strip(),

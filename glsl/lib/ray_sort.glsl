@@ -24,7 +24,7 @@ layout(constant_id = 8) const uint SORT_CELLS = 8u;
 /* Rays per workgroup of sort_count and sort_scatter: one place per cell and chunk to store, and
  * chunks long enough that a cell's share of one fills subgroups. Chunks of 1024 with one atomic
  * per subgroup and cell (keys matched by ballots) measured 8-12% slower on an H200
- * (bench/results/issue8-h200-sort/), so the atomics stay plain. */
+ * (bench/results/issue8-h200-sort/sort2), so the atomics stay plain. */
 const uint SORT_CHUNK = 4096u;
 
 /* The most cells (16 x 16); sort_scan's workgroup has one invocation per cell. */
