@@ -587,9 +587,9 @@ static void record_trace(vkrt_renderer *r, VkCommandBuffer cmd, FrameParams *par
     params->range.z = 0;
 }
 
-/* Zeroes the trace cursors between traces of vkrt_renderer_trace (a frame's are zeroed with its
- * waves): the previous trace read and wrote them. */
-static void record_cursor_reset(vkrt_renderer *r, VkCommandBuffer cmd)
+/* Zeroes size bytes of buf from the start, between the compute work before (which may have read
+ * or written them) and after it. */
+static void record_zero(VkCommandBuffer cmd, const gpu_buffer *buf, VkDeviceSize size)
 {
     VkMemoryBarrier before = {
         .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
@@ -598,7 +598,7 @@ static void record_cursor_reset(vkrt_renderer *r, VkCommandBuffer cmd)
     };
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                          0, 1, &before, 0, NULL, 0, NULL);
-    vkCmdFillBuffer(cmd, r->trace_cursor.buffer, 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(cmd, buf->buffer, 0, size, 0);
     VkMemoryBarrier after = {
         .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
         .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
@@ -606,6 +606,13 @@ static void record_cursor_reset(vkrt_renderer *r, VkCommandBuffer cmd)
     };
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                          0, 1, &after, 0, NULL, 0, NULL);
+}
+
+/* Zeroes the trace cursors between traces of vkrt_renderer_trace (a frame's are zeroed with its
+ * waves): the previous trace read and wrote them. */
+static void record_cursor_reset(vkrt_renderer *r, VkCommandBuffer cmd)
+{
+    record_zero(cmd, &r->trace_cursor, VK_WHOLE_SIZE);
 }
 
 /* With a profile, a timestamp follows every kernel: which frame (of the timed ones), kernel and
@@ -983,14 +990,7 @@ static void record_sort(vkrt_renderer *r, VkCommandBuffer cmd, FrameParams *para
 /* Zeroes the sort's cell totals (its scan zeroes them after each sort). */
 static void record_sort_reset(vkrt_renderer *r, VkCommandBuffer cmd)
 {
-    vkCmdFillBuffer(cmd, r->slots.buffer, 0, sort_max_bins * sizeof(uint32_t), 0);
-    VkMemoryBarrier after = {
-        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
-        .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
-        .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
-    };
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                         0, 1, &after, 0, NULL, 0, NULL);
+    record_zero(cmd, &r->slots, sort_max_bins * sizeof(uint32_t));
 }
 
 /* vkrt_renderer_trace and vkrt_renderer_trace_sorted: with sort, the rays go to RayBufferB and
