@@ -265,6 +265,14 @@ static bool create_ray_buffers(vkrt_renderer *r, vkrt_error *err)
 {
     size_t n = r->capacity;
     size_t words = r->light_words ? r->light_words : 1;
+    /* Two words per ray, or the ray sort's scratch (glsl/lib/ray_sort.glsl) where it is more:
+     * its totals and starts, and a place per cell and chunk. */
+    size_t slot_words = n * 2;
+    if (r->sort_cells) {
+        size_t chunks = (n + sort_chunk - 1) / sort_chunk;
+        size_t sort_words = 2 * (size_t)sort_max_bins + chunks * r->sort_cells * r->sort_cells;
+        slot_words = slot_words > sort_words ? slot_words : sort_words;
+    }
     char what[64];
     snprintf(what, sizeof what, "ray buffer (%zu rays)", n);
     return gpu_buffer_create(r->ctx, &r->rays, n * sizeof(Ray), what, err) &&
@@ -272,7 +280,8 @@ static bool create_ray_buffers(vkrt_renderer *r, vkrt_error *err)
            gpu_buffer_create(r->ctx, &r->hits, n * sizeof(Hit), "hit buffer", err) &&
            gpu_buffer_create(r->ctx, &r->visibility, n * words * sizeof(uint32_t),
                              "light visibility buffer", err) &&
-           gpu_buffer_create(r->ctx, &r->slots, n * 2 * sizeof(uint32_t), "ray slot buffer", err);
+           gpu_buffer_create(r->ctx, &r->slots, slot_words * sizeof(uint32_t), "ray slot buffer",
+                             err);
 }
 
 static bool create_frame_buffers(vkrt_renderer *r, vkrt_error *err)
