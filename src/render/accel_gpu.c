@@ -95,9 +95,9 @@ static bool build_bvh(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc
                               desc->bvh_max_leaf, BVH_LEAF_REF_MAX_COUNT);
     /* On a GPU a triangle test (the watertight one) costs more against a node step than the
      * SAH's usual ratio says: smaller leaves (at most 2 triangles, a node costing half a triangle
-     * test) traced Sponza's diffuse rays 1.13x as fast on an H200 and no scene more than 3%
-     * slower (docs/performance.md). On lavapipe the two trees trace alike, and the default one
-     * is smaller. */
+     * test) traced Sponza's diffuse rays 1.13x as fast on an H200 and no scene's rays more than
+     * about 3% slower (docs/performance.md). CPU devices keep bvh.h's defaults: one run on
+     * lavapipe showed no difference beyond noise, and that tree is the smaller. */
     bool gpu = ctx->properties.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU;
     const bvh_build_desc build = {
         .max_leaf_size = desc->bvh_max_leaf ? desc->bvh_max_leaf : gpu ? gpu_bvh_max_leaf : 0,
