@@ -8,7 +8,10 @@
 #      .bundle/variants/shared-stack (VKRT_GLSL_DIR), with workgroups of 64 and 128;
 #   4. the fixed cost of a dispatch: bunny and the Cornell box at 320x180 to 3840x2160;
 #   5. the baseline again, for drift.
-# Expects .bundle from tools/bundle with scenes.tar.gz (bench/gpu-prelude.sh) and the variant.
+# Expects .bundle from tools/bundle with scenes.tar.gz (bench/gpu-prelude.sh) and the variant,
+# the kernels with bench/variants/shared-stack.patch applied, made by:
+#   mkdir -p /tmp/v .bundle/variants && cp -r glsl /tmp/v/ &&
+#   patch -p1 -d /tmp/v <bench/variants/shared-stack.patch && cp -r /tmp/v/glsl .bundle/variants/shared-stack
 # Writes $OUT/levers-log.txt and $OUT/levers-json.tar.
 . bench/gpu-prelude.sh
 export LD_LIBRARY_PATH="$root/.bundle/lib" VKRT_VALIDATION=0
