@@ -49,18 +49,22 @@ typedef struct bench_row {
     vkrt_traversal_stats primary_stats, shadow_stats, diffuse_stats;
 } bench_row;
 
-/* One trace of vkrt_renderer_trace, for bench_time_trace. */
+/* What one timed run does, for bench_time_trace: vkrt_renderer_trace, or with sort
+ * vkrt_renderer_trace_sorted (the GPU's ray sort, then the trace unless trace is false). */
 typedef struct renderer_trace {
     vkrt_renderer *r;
     const Ray *rays;
     uint32_t count;
-    bool any_hit;
+    bool any_hit, sort, trace;
     Hit *hits;
 } renderer_trace;
 
 static bool run_renderer_trace(void *user, uint32_t repeats, double *ms, vkrt_error *err)
 {
     renderer_trace *t = user;
+    if (t->sort)
+        return vkrt_renderer_trace_sorted(t->r, t->rays, t->count, t->trace, t->hits, NULL,
+                                          repeats, ms, err);
     return vkrt_renderer_trace(t->r, t->rays, t->count, t->any_hit, t->hits, repeats, ms, err);
 }
 
@@ -70,32 +74,16 @@ static bool measure(vkrt_renderer *r, bool stats, const Ray *rays, uint32_t coun
 {
     if (stats)
         return vkrt_renderer_trace_stats(r, rays, count, any_hit, hits, counted, err);
-    renderer_trace t = {r, rays, count, any_hit, hits};
+    renderer_trace t = {r, rays, count, any_hit, false, true, hits};
     return bench_time_trace(run_renderer_trace, &t, times, err);
-}
-
-/* One sort (and trace) of vkrt_renderer_trace_sorted, for bench_time_trace. */
-typedef struct sorted_trace {
-    vkrt_renderer *r;
-    const Ray *rays;
-    uint32_t count;
-    bool trace;
-    Hit *hits;
-} sorted_trace;
-
-static bool run_sorted_trace(void *user, uint32_t repeats, double *ms, vkrt_error *err)
-{
-    sorted_trace *t = user;
-    return vkrt_renderer_trace_sorted(t->r, t->rays, t->count, t->trace, t->hits, NULL, repeats,
-                                      ms, err);
 }
 
 /* Times the GPU's ray sort followed by the trace (trace) or alone. */
 static bool measure_sorted(vkrt_renderer *r, const Ray *rays, uint32_t count, bool trace,
                            Hit *hits, bench_times *times, vkrt_error *err)
 {
-    sorted_trace t = {r, rays, count, trace, hits};
-    return bench_time_trace(run_sorted_trace, &t, times, err);
+    renderer_trace t = {r, rays, count, false, true, trace, hits};
+    return bench_time_trace(run_renderer_trace, &t, times, err);
 }
 
 static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_render_desc *desc,

@@ -764,14 +764,7 @@ static bool run_passes(vkrt_renderer *r, FrameParams params, uint32_t first, uin
         goto fail;
     /* Once per submission, before any timestamp: repetitions add to the counters, but the host
      * reads them only after a single frame. */
-    vkCmdFillBuffer(cmd, r->counters.buffer, 0, VK_WHOLE_SIZE, 0);
-    VkMemoryBarrier cleared = {
-        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
-        .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
-        .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
-    };
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                         0, 1, &cleared, 0, NULL, 0, NULL);
+    record_zero(cmd, &r->counters, VK_WHOLE_SIZE);
     for (uint32_t i = 0; i < warmups; ++i)
         record_passes(r, cmd, params, first, end, NULL);
     if (p) {
