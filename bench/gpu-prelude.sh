@@ -7,3 +7,23 @@ mkdir -p "$out"
 root=$(pwd)
 (cd .bundle && tar xzf scenes.tar.gz)
 mkdir -p ../shared && ln -sfn "$root/.bundle/scenes" ../shared/scenes
+
+# For the scripts from gpu-run-pass3.sh on (the earlier ones keep the copies they ran with):
+# run NAME WIDTH HEIGHT COMMAND...: one bench run at that size, its JSON as $json/NAME.json and
+# its table appended to $log. gpu_tests NAME...: the bundle's tests/test_NAME, each exit status
+# and the end of its output into $log (unpacks .bundle/tests.tar.xz once).
+run() {
+    name=$1 w=$2 h=$3; shift 3
+    echo "== $name ${w}x$h: $*" >>"$log"
+    "$@" --width "$w" --height "$h" --json "$json/$name.json" 2>&1 | grep -v "Both .d." | tee -a "$log"
+}
+gpu_tests() {
+    [ -f .bundle/tests.tar.xz ] && [ ! -x .bundle/bin/test_accel ] && tar xJf .bundle/tests.tar.xz -C .bundle/bin
+    for t in "$@"; do
+        [ -x .bundle/bin/test_$t ] || continue
+        timeout 300 .bundle/bin/test_$t >/tmp/test_$t.txt 2>&1
+        status=$?
+        { echo "== test_$t exit $status${VKRT_GLSL_DIR:+ (kernels of $VKRT_GLSL_DIR)}"; tail -3 /tmp/test_$t.txt; } >>"$log"
+        echo "test_$t exit $status"
+    done
+}
