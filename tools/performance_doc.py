@@ -3,6 +3,7 @@
 page's numbers are the measured ones. Run from the repository root after a benchmark run."""
 import io
 import json
+import re
 import subprocess
 import sys
 
@@ -342,6 +343,147 @@ def pass2_values():
     }
 
 
+PASS3 = "bench/results/issue8-h200-pass3"
+WALKS = "bench/results/walk-profile"
+
+
+def walk_profile(path):
+    """tools/walk_profile.c's output: per ray kind its counts, and the shadow rays' schedules."""
+    kinds, kind = {}, None
+    for line in open(path, encoding="utf-8"):
+        m = re.match(r"(primary|shadow|diffuse): (\d+) rays, ([\d.]+) nodes, ([\d.]+) triangles, "
+                     r"([\d.]+) iterations per ray, SIMD (\d+)%", line)
+        if m:
+            kind = m.group(1)
+            kinds[kind] = {"rays": int(m.group(2)), "nodes": float(m.group(3)),
+                           "triangles": float(m.group(4)), "simd": int(m.group(6))}
+            continue
+        r = kinds.get(kind)
+        m = re.search(r"per subgroup \(its busiest lane\): median (\d+), 99% (\d+), longest (\d+) "
+                      r"\(subgroup (\d+) of (\d+)\)", line)
+        if m:
+            r.update(group_median=int(m.group(1)), group_longest=int(m.group(3)),
+                     longest_at=int(m.group(4)), groups=int(m.group(5)))
+        m = re.search(r"dispatch order: (\d+) iterations, balanced (\d+)", line)
+        if m:
+            r.update(in_order=int(m.group(1)), balanced=int(m.group(2)))
+        m = re.search(r"reverse order (\d+), longest first (\d+)", line)
+        if m:
+            r.update(reversed=int(m.group(1)), longest_first=int(m.group(2)))
+        m = re.search(r"4-wide .*: ([\d.]+) iterations per ray, longest subgroup (\d+); on \d+ slots (\d+)",
+                      line)
+        if m:
+            r.update(wide_iterations=float(m.group(1)), wide_longest=int(m.group(2)),
+                     wide_in_order=int(m.group(3)))
+        m = re.search(r"taking subtrees: ([\d.]+) iterations per subgroup, longest (\d+); on \d+ slots (\d+)",
+                      line)
+        if m:
+            r.update(share_longest=int(m.group(2)), share_in_order=int(m.group(3)))
+    return kinds
+
+
+def frame_ms(path):
+    text = open(path, encoding="utf-8").read()
+    return float(re.search(r"frame ([\d.]+) ms", text).group(1))
+
+
+def pass3_values():
+    walks = {n: walk_profile(f"{WALKS}/{n}-1920x1080.txt") for n in ISSUE8_SCENES}
+    gpu_stats = by_scene(f"{PASS3}/vkrt-stats.json")
+    agree = io.StringIO()
+    agree.write("| scene | " + " | ".join(f"{k}: walk-profile / GPU" for k in KINDS) + " |\n")
+    agree.write("|---|" + "---:|" * len(KINDS) + "\n")
+    for n in ISSUE8_SCENES:
+        g = gpu_stats[n]
+        cells = [f"{walks[n][k]['nodes']:.1f} / {g[k + '_nodes_per_ray']:.1f}, "
+                 f"{walks[n][k]['triangles']:.1f} / {g[k + '_triangles_per_ray']:.1f}, "
+                 f"{walks[n][k]['simd']}% / {100 * g[k + '_simd_utilisation']:.0f}%" for k in KINDS]
+        agree.write(f"| {n} | " + " | ".join(cells) + " |\n")
+
+    base, rev = by_scene(f"{PASS3}/vkrt.json"), by_scene(f"{PASS3}/reversed.json")
+    tail = io.StringIO()
+    tail.write("| scene | shadow subgroups | longest subgroup | balanced | in order | reversed | "
+               "longest first | reversed, predicted | reversed, measured (Mrays/s) |\n")
+    tail.write("|---|---:|---:|---:|---:|---:|---:|---:|---|\n")
+    for n in ISSUE8_SCENES:
+        w = walks[n]["shadow"]
+        a, b = base[n]["shadow_mrays_per_s"], rev[n]["shadow_mrays_per_s"]
+        tail.write(f"| {n} | {w['groups']:,} | {w['group_longest']} | {w['balanced']} | "
+                   f"{w['in_order']} | {w['reversed']} | {w['longest_first']} | "
+                   f"{w['in_order'] / w['reversed']:.2f}x | {a:,.0f} to {b:,.0f}: {b / a:.2f}x |\n")
+
+    wide = io.StringIO()
+    wide.write("| scene | pairs: longest subgroup, in order | 4-wide: iterations per ray, longest "
+               "subgroup, in order | pairs, idle lanes taking subtrees: longest, in order |\n")
+    wide.write("|---|---:|---:|---:|\n")
+    for n in ISSUE8_SCENES:
+        w = walks[n]["shadow"]
+        wide.write(f"| {n} | {w['group_longest']}, {w['in_order']} | {w['wide_iterations']:.1f}, "
+                   f"{w['wide_longest']}, {w['wide_in_order']} | {w['share_longest']}, "
+                   f"{w['share_in_order']} |\n")
+
+    runs = [("one loop, a branch for nodes and one for leaves (the default)", "vkrt"),
+            ("while-while, speculative (`bench/variants/while-while.patch`)", "ww"),
+            ("while-while, not speculative (`while-while-plain.patch`)", "ww-plain"),
+            ("the default again", "vkrt-again"), ("while-while, speculative, again", "ww-again")]
+    walk_t = io.StringIO()
+    walk_t.write("| walk | " + " | ".join(ISSUE8_SCENES) + " |\n|---|" +
+                 "---:|" * len(ISSUE8_SCENES) + "\n")
+    for label, name in runs:
+        run = by_scene(f"{PASS3}/{name}.json")
+        walk_t.write(f"| {label} | " + " | ".join(
+            " / ".join(f"{run[n][k + '_mrays_per_s']:,.0f}" for k in KINDS)
+            for n in ISSUE8_SCENES) + " |\n")
+
+    def slower(name):
+        """The least and most a variant run lost against the default, in %, and its gains."""
+        run, losses, gains = by_scene(f"{PASS3}/{name}.json"), [], []
+        for n in ISSUE8_SCENES:
+            for k in KINDS:
+                f = run[n][k + "_mrays_per_s"] / base[n][k + "_mrays_per_s"]
+                (losses if f < 1 else gains).append((100 * (1 - f), n, k))
+        return min(losses)[0], max(losses)[0], gains
+
+    ww_lo, ww_hi, ww_gains = slower("ww")
+    plain_lo, plain_hi, plain_gains = slower("ww-plain")
+    assert not ww_gains, ww_gains
+    plain_except = "; ".join(f"{n}'s {k} rays {-g:.0f}% faster" for g, n, k in plain_gains)
+    shadow = {n: walks[n]["shadow"] for n in ISSUE8_SCENES}
+    bunny = walks["bunny"]["shadow"]
+    bunny4k = walk_profile(f"{WALKS}/bunny-3840x2160.txt")["shadow"]
+    v4k = by_scene(f"{PASS2}/pass2/vkrt-4k.json")["bunny"]
+    return {
+        "@PASS3_AGREEMENT@": agree.getvalue().strip(),
+        "@PASS3_TAIL@": tail.getvalue().strip(),
+        "@PASS3_WIDE@": wide.getvalue().strip(),
+        "@PASS3_WALKS@": walk_t.getvalue().strip(),
+        "@PASS3_VS_DRIVER@": vs_driver_table(f"{PASS3}/vkrt.json", f"{PASS3}/rtpipe.json", None),
+        "@PASS3_WHITTED_DEFAULT@": f"{frame_ms(f'{PASS3}/default/whitted.txt'):.2f}",
+        "@PASS3_WHITTED_WW@": f"{frame_ms(f'{PASS3}/ww/whitted.txt'):.2f}",
+        "@PASS3_WW_SLOWER@": f"{ww_lo:.0f}-{ww_hi:.0f}%",
+        "@PASS3_PLAIN_SLOWER@": f"{plain_lo:.0f}-{plain_hi:.0f}%",
+        "@PASS3_PLAIN_EXCEPT@": plain_except or "none",
+        "@PASS3_WIDE_RATIO@": "{:.2f}-{:.2f}x".format(
+            min(shadow[n]["wide_in_order"] / shadow[n]["in_order"] for n in ISSUE8_SCENES),
+            max(shadow[n]["wide_in_order"] / shadow[n]["in_order"] for n in ISSUE8_SCENES)),
+        "@PASS3_SHARE_SHORTER@": f"{100 * (1 - bunny['share_longest'] / bunny['group_longest']):.0f}%",
+        "@PASS3_BUNNY_REV_PREDICTED@": f"{bunny['in_order'] / bunny['reversed']:.2f}",
+        "@PASS3_BUNNY_REV_MEASURED@": f"{rev['bunny']['shadow_mrays_per_s'] / base['bunny']['shadow_mrays_per_s']:.2f}",
+        "@PASS3_BUNNY_LONGEST@": str(bunny["group_longest"]),
+        "@PASS3_BUNNY_AT@": f"{bunny['longest_at']:,}",
+        "@PASS3_BUNNY_GROUPS@": f"{bunny['groups']:,}",
+        "@PASS3_BUNNY_IN_ORDER@": str(bunny["in_order"]),
+        "@PASS3_BUNNY_BALANCED@": str(bunny["balanced"]),
+        "@PASS3_BUNNY_TAIL@": f"{bunny['in_order'] / bunny['balanced']:.2f}",
+        "@PASS3_BUNNY_BEST@": str(bunny["longest_first"]),
+        "@PASS3_BUNNY_BEST_GAIN@": f"{bunny['in_order'] / bunny['longest_first']:.2f}",
+        "@PASS3_BUNNY_BEST_RATE@": f"{round(base['bunny']['shadow_mrays_per_s'] * bunny['in_order'] / bunny['longest_first'], -2):,.0f}",
+        "@PASS3_BUNNY_4K_TAIL@": f"{bunny4k['in_order'] / bunny4k['balanced']:.2f}",
+        "@PASS3_BUNNY_4K_RATIO@": f"{bunny4k['in_order'] / bunny['in_order']:.2f}",
+        "@PASS3_BUNNY_GPU_RATIO@": f"{v4k['shadow_ms'] / by_scene(f'{PASS2}/pass2/vkrt.json')['bunny']['shadow_ms']:.2f}",
+    }
+
+
 def main():
     h100 = json.load(open("bench/results/bench-h100.json", encoding="utf-8"))
     lavapipe = json.load(open("bench/results/bench-lavapipe.json", encoding="utf-8"))
@@ -357,6 +499,7 @@ def main():
     values.update(embree_values("bench/results/vkrt-lavapipe-vs-embree.json", lavapipe))
     values.update(issue8_values())
     values.update(pass2_values())
+    values.update(pass3_values())
     for key, value in values.items():
         text = text.replace(key, value)
     open("docs/performance.md", "w", encoding="utf-8").write(

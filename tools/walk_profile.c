@@ -485,7 +485,7 @@ int main(int argc, char **argv)
         unsigned char *img = calloc(pixels, 1);
         /* A shadow ray's info.x is the primary ray it comes from (bench_shadow_rays). */
         for (uint32_t i = 0; img && i < n; ++i) {
-            double f = sqrt((double)counts[i].iterations / longest);
+            double f = (double)counts[i].iterations / longest;
             img[primary[secondary[i].info.x].info.x] = (unsigned char)(40 + 215 * f);
         }
         if (!img || !stbi_write_png(heatmap, (int)width, (int)height, 1, img, (int)width))
