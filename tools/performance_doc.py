@@ -452,7 +452,39 @@ def pass3_values():
     bunny = walks["bunny"]["shadow"]
     bunny4k = walk_profile(f"{WALKS}/bunny-3840x2160.txt")["shadow"]
     v4k = by_scene(f"{PASS2}/pass2/vkrt-4k.json")["bunny"]
+    fq_dir = f"{PASS3}/float-quads"
+    fq_runs = [("pairs (the default)", "pairs"), ("4-wide, float boxes", "fq"),
+               ("4-wide, float boxes, only the nearest child first", "fq-nearest"),
+               ("4-wide, float boxes, leaves of 4, node cost 1", "fq-leaf4"),
+               ("pairs again", "pairs-again"), ("4-wide, float boxes, again", "fq-again")]
+    fq_t = io.StringIO()
+    fq_t.write("| walk | " + " | ".join(ISSUE8_SCENES) + " | MiB, lost-empire |\n|---|" +
+               "---:|" * (len(ISSUE8_SCENES) + 1) + "\n")
+    for label, name in fq_runs:
+        run = by_scene(f"{fq_dir}/{name}.json")
+        fq_t.write(f"| {label} | " + " | ".join(
+            " / ".join(f"{run[n][k + '_mrays_per_s']:,.0f}" for k in KINDS)
+            for n in ISSUE8_SCENES) + f" | {run['lost-empire']['bytes'] / 2**20:.2f} |\n")
+    fq_stats = by_scene(f"{fq_dir}/fq-stats.json")
+    fq_nodes = ", ".join(
+        f"{n} {gpu_stats[n]['shadow_nodes_per_ray']:.1f} to {fq_stats[n]['shadow_nodes_per_ray']:.1f}"
+        for n in ISSUE8_SCENES)
+    fq_bunny = by_scene(f"{fq_dir}/fq.json")["bunny"]["shadow_mrays_per_s"]
+    pairs_bunny = by_scene(f"{fq_dir}/pairs.json")["bunny"]["shadow_mrays_per_s"]
+    fq_run, fq_base = by_scene(f"{fq_dir}/fq.json"), by_scene(f"{fq_dir}/pairs.json")
+
+    def fq_change(kind):
+        """Per scene, the float 4-wide walk's rate against the pairs' in the same run."""
+        return ", ".join(f"{n} {100 * (fq_run[n][kind + '_mrays_per_s'] / fq_base[n][kind + '_mrays_per_s'] - 1):+.0f}%"
+                         for n in ISSUE8_SCENES)
+
     return {
+        "@PASS3_FQ_PRIMARY@": fq_change("primary"),
+        "@PASS3_FQ_SHADOW@": fq_change("shadow"),
+        "@PASS3_FQ_DIFFUSE@": fq_change("diffuse"),
+        "@PASS3_FQ@": fq_t.getvalue().strip(),
+        "@PASS3_FQ_NODES@": fq_nodes,
+        "@PASS3_FQ_BUNNY@": f"{fq_bunny:,.0f} against {pairs_bunny:,.0f}",
         "@PASS3_AGREEMENT@": agree.getvalue().strip(),
         "@PASS3_TAIL@": tail.getvalue().strip(),
         "@PASS3_WIDE@": wide.getvalue().strip(),
