@@ -138,6 +138,22 @@ def stats_table(path):
     return out.getvalue().strip()
 
 
+def rates_table(first, rows, mib_scene=None):
+    """A row per (label, JSON path): primary / shadow / diffuse Mrays/s of each issue-8 scene,
+    and with mib_scene the structure's MiB on that scene; first names the label column."""
+    out = io.StringIO()
+    out.write(f"| {first} | " + " | ".join(ISSUE8_SCENES) +
+              (f" | MiB, {mib_scene} |\n" if mib_scene else " |\n") + "|---|" +
+              "---:|" * (len(ISSUE8_SCENES) + (1 if mib_scene else 0)) + "\n")
+    for label, path in rows:
+        run = by_scene(path)
+        out.write(f"| {label} | " + " | ".join(
+            " / ".join(f"{run[n][k + '_mrays_per_s']:,.0f}" for k in KINDS)
+            for n in ISSUE8_SCENES) +
+            (f" | {run[mib_scene]['bytes'] / 2**20:.2f} |\n" if mib_scene else " |\n"))
+    return out.getvalue().strip()
+
+
 # The kernel variants measured on the H200, in the order they were tried: (what, JSON file).
 VARIANTS = [
     ("binary tree, 32-byte nodes, parent then both children fetched (the kernel before issue 8)",
@@ -159,15 +175,7 @@ VARIANTS = [
 
 
 def variants_table():
-    out = io.StringIO()
-    out.write("| kernel | " + " | ".join(ISSUE8_SCENES) + " |\n")
-    out.write("|---|" + "---:|" * len(ISSUE8_SCENES) + "\n")
-    for what, path in VARIANTS:
-        rows = by_scene(path)
-        cells = [" / ".join(f"{rows[n][k + '_mrays_per_s']:,.0f}" for k in KINDS)
-                 for n in ISSUE8_SCENES]
-        out.write(f"| {what} | " + " | ".join(cells) + " |\n")
-    return out.getvalue().strip()
+    return rates_table("kernel", VARIANTS)
 
 
 def whitted_profile(path=None):
@@ -275,28 +283,14 @@ def pass2_values():
                     f"{b['shadow_mrays_per_s']:,.0f} | {1e3 * b['primary_ms']:.0f} us | "
                     f"{1e3 * c['primary_ms']:.0f} us |\n")
 
-    shared = {k: by_scene(f"{PASS2}/levers/{f}.json")
-              for k, f in (("local array (default)", "base"),
-                           ("first 32 entries in shared memory, workgroup 64", "shared-wg64"),
-                           ("the same, workgroup 128", "shared-wg128"))}
-    shared_t = io.StringIO()
-    shared_t.write("| stack | " + " | ".join(ISSUE8_SCENES) + " |\n|---|" +
-                   "---:|" * len(ISSUE8_SCENES) + "\n")
-    for label, run in shared.items():
-        shared_t.write(f"| {label} | " + " | ".join(
-            " / ".join(f"{run[n][k + '_mrays_per_s']:,.0f}" for k in KINDS)
-            for n in ISSUE8_SCENES) + " |\n")
+    shared_t = rates_table("stack", [
+        ("local array (default)", f"{PASS2}/levers/base.json"),
+        ("first 32 entries in shared memory, workgroup 64", f"{PASS2}/levers/shared-wg64.json"),
+        ("the same, workgroup 128", f"{PASS2}/levers/shared-wg128.json")])
 
     def sah_table(run_dir, variants):
-        out = io.StringIO()
-        out.write("| build | " + " | ".join(ISSUE8_SCENES) + " | MiB, lost-empire |\n|---|" +
-                  "---:|" * (len(ISSUE8_SCENES) + 1) + "\n")
-        for label, name in variants:
-            run = by_scene(f"{PASS2}/{run_dir}/{name}.json")
-            out.write(f"| {label} | " + " | ".join(
-                " / ".join(f"{run[n][k + '_mrays_per_s']:,.0f}" for k in KINDS)
-                for n in ISSUE8_SCENES) + f" | {run['lost-empire']['bytes'] / 2**20:.2f} |\n")
-        return out.getvalue().strip()
+        return rates_table("build", [(label, f"{PASS2}/{run_dir}/{name}.json")
+                                     for label, name in variants], "lost-empire")
 
     four_k = io.StringIO()
     v4, d4 = by_scene(f"{PASS2}/pass2/vkrt-4k.json"), by_scene(f"{PASS2}/pass2/rtpipe-4k.json")
@@ -335,7 +329,7 @@ def pass2_values():
         "@PASS2_GPU_SORT@": gpu_t.getvalue().strip(),
         "@PASS2_BALLOT@": ballot_t,
         "@PASS2_FIXED@": fixed.getvalue().strip(),
-        "@PASS2_SHARED@": shared_t.getvalue().strip(),
+        "@PASS2_SHARED@": shared_t,
         "@PASS2_TRACE_REGISTERS@": str(kernel["trace_kernel"]["Register Count"]),
         "@PASS2_OCCLUSION_REGISTERS@": str(kernel["occlusion_kernel"]["Register Count"]),
         "@PASS2_BUILD_BUNNY@": f"{base['bunny']['build_ms']:.0f}",
@@ -426,14 +420,7 @@ def pass3_values():
             ("while-while, speculative (`bench/variants/while-while.patch`)", "ww"),
             ("while-while, not speculative (`while-while-plain.patch`)", "ww-plain"),
             ("the default again", "vkrt-again"), ("while-while, speculative, again", "ww-again")]
-    walk_t = io.StringIO()
-    walk_t.write("| walk | " + " | ".join(ISSUE8_SCENES) + " |\n|---|" +
-                 "---:|" * len(ISSUE8_SCENES) + "\n")
-    for label, name in runs:
-        run = by_scene(f"{PASS3}/{name}.json")
-        walk_t.write(f"| {label} | " + " | ".join(
-            " / ".join(f"{run[n][k + '_mrays_per_s']:,.0f}" for k in KINDS)
-            for n in ISSUE8_SCENES) + " |\n")
+    walk_t = rates_table("walk", [(label, f"{PASS3}/{name}.json") for label, name in runs])
 
     def slower(name):
         """The least and most a variant run lost against the default, in %, and its gains."""
@@ -457,14 +444,8 @@ def pass3_values():
                ("4-wide, float boxes, only the nearest child first", "fq-nearest"),
                ("4-wide, float boxes, leaves of 4, node cost 1", "fq-leaf4"),
                ("pairs again", "pairs-again"), ("4-wide, float boxes, again", "fq-again")]
-    fq_t = io.StringIO()
-    fq_t.write("| walk | " + " | ".join(ISSUE8_SCENES) + " | MiB, lost-empire |\n|---|" +
-               "---:|" * (len(ISSUE8_SCENES) + 1) + "\n")
-    for label, name in fq_runs:
-        run = by_scene(f"{fq_dir}/{name}.json")
-        fq_t.write(f"| {label} | " + " | ".join(
-            " / ".join(f"{run[n][k + '_mrays_per_s']:,.0f}" for k in KINDS)
-            for n in ISSUE8_SCENES) + f" | {run['lost-empire']['bytes'] / 2**20:.2f} |\n")
+    fq_t = rates_table("walk", [(label, f"{fq_dir}/{name}.json") for label, name in fq_runs],
+                       "lost-empire")
     fq_stats = by_scene(f"{fq_dir}/fq-stats.json")
     fq_nodes = ", ".join(
         f"{n} {gpu_stats[n]['shadow_nodes_per_ray']:.1f} to {fq_stats[n]['shadow_nodes_per_ray']:.1f}"
@@ -482,13 +463,13 @@ def pass3_values():
         "@PASS3_FQ_PRIMARY@": fq_change("primary"),
         "@PASS3_FQ_SHADOW@": fq_change("shadow"),
         "@PASS3_FQ_DIFFUSE@": fq_change("diffuse"),
-        "@PASS3_FQ@": fq_t.getvalue().strip(),
+        "@PASS3_FQ@": fq_t,
         "@PASS3_FQ_NODES@": fq_nodes,
         "@PASS3_FQ_BUNNY@": f"{fq_bunny:,.0f} against {pairs_bunny:,.0f}",
         "@PASS3_AGREEMENT@": agree.getvalue().strip(),
         "@PASS3_TAIL@": tail.getvalue().strip(),
         "@PASS3_WIDE@": wide.getvalue().strip(),
-        "@PASS3_WALKS@": walk_t.getvalue().strip(),
+        "@PASS3_WALKS@": walk_t,
         "@PASS3_VS_DRIVER@": vs_driver_table(f"{PASS3}/vkrt.json", f"{PASS3}/rtpipe.json", None),
         "@PASS3_WHITTED_DEFAULT@": f"{frame_ms(f'{PASS3}/default/whitted.txt'):.2f}",
         "@PASS3_WHITTED_WW@": f"{frame_ms(f'{PASS3}/ww/whitted.txt'):.2f}",

@@ -17,8 +17,9 @@
  * taking its busiest lane's iterations, against the perfectly balanced sum / SLOTS: the share of
  * the dispatch that is its tail, and the same in reverse order and longest first. For shadow
  * rays also what the 4-wide tree of bvh_quads.h would take, and the pairs walk if lanes that are
- * done took subtrees from the stacks of lanes that are not. With HEATMAP.png, an image of the shadow rays' iterations per
- * pixel (black: no shadow ray; brighter: longer walks, the longest white).
+ * done took subtrees from the stacks of lanes that are not. With HEATMAP.png, an image of the
+ * shadow rays' iterations per pixel (black: no shadow ray; brighter: longer walks, the longest
+ * white).
  */
 #include <math.h>
 #include <stdio.h>
@@ -415,6 +416,24 @@ static void shadow_alternatives(const walk_tree *w, const bvh *tree, const Ray *
     free(cost);
 }
 
+/* walk-profile's HEATMAP.png: shadow ray i's iterations at the pixel of the primary
+ * ray it comes from (its info.x, bench_shadow_rays). */
+static void write_heatmap(const char *path, const walk_count *counts, const Ray *shadow, uint32_t n,
+                          const Ray *primary, uint32_t width, uint32_t height)
+{
+    uint32_t longest = 1;
+    for (uint32_t i = 0; i < n; ++i)
+        longest = counts[i].iterations > longest ? counts[i].iterations : longest;
+    unsigned char *img = calloc((size_t)width * height, 1);
+    for (uint32_t i = 0; img && i < n; ++i) {
+        double f = (double)counts[i].iterations / longest;
+        img[primary[shadow[i].info.x].info.x] = (unsigned char)(40 + 215 * f);
+    }
+    if (!img || !stbi_write_png(path, (int)width, (int)height, 1, img, (int)width))
+        fprintf(stderr, "walk-profile: could not write %s\n", path);
+    free(img);
+}
+
 int main(int argc, char **argv)
 {
     if (argc != 2 && argc != 4 && argc != 6 && argc != 7) {
@@ -478,20 +497,8 @@ int main(int argc, char **argv)
     report("shadow", counts, n, slots);
     printf("  blocked %u\n", blocked);
     shadow_alternatives(&w, &tree, secondary, n, slots);
-    if (heatmap) {
-        uint32_t longest = 1;
-        for (uint32_t i = 0; i < n; ++i)
-            longest = counts[i].iterations > longest ? counts[i].iterations : longest;
-        unsigned char *img = calloc(pixels, 1);
-        /* A shadow ray's info.x is the primary ray it comes from (bench_shadow_rays). */
-        for (uint32_t i = 0; img && i < n; ++i) {
-            double f = (double)counts[i].iterations / longest;
-            img[primary[secondary[i].info.x].info.x] = (unsigned char)(40 + 215 * f);
-        }
-        if (!img || !stbi_write_png(heatmap, (int)width, (int)height, 1, img, (int)width))
-            fprintf(stderr, "walk-profile: could not write %s\n", heatmap);
-        free(img);
-    }
+    if (heatmap)
+        write_heatmap(heatmap, counts, secondary, n, primary, width, height);
 
     n = bench_diffuse_rays(&scene, primary, hits, pixels, secondary);
     for (uint32_t i = 0; i < n; ++i)
