@@ -14,7 +14,7 @@ const char *vkrt_usage(void)
            "                  [--grid-density CELLS_PER_TRIANGLE] [--workgroup N] [--stats]\n"
            "                  [--bvh-width 2|4] [--ray-fetch static|dynamic]\n"
            "                  [--whole-scene] [--sort-diffuse CELLS] [--kernel-stats]\n"
-           "                  [--bvh-leaf N] [--bvh-cost C]\n"
+           "                  [--bvh-leaf N] [--bvh-cost C] [--loads storage|texel]\n"
            "                                         time primary and shadow rays per structure\n"
            "       vkrt --list-devices               list Vulkan devices\n"
            "       vkrt --help | --version\n"
@@ -173,6 +173,15 @@ bool vkrt_options_parse(int argc, char **argv, vkrt_options *opts, vkrt_error *e
                 return false;
             if (opts->bvh_width == 3)
                 return vkrt_error_set(err, "--bvh-width: 3 is not one of 2, 4");
+            ++i;
+        } else if (strcmp(arg, "--loads") == 0) {
+            if (value && strcmp(value, "storage") == 0)
+                opts->loads = 1;
+            else if (value && strcmp(value, "texel") == 0)
+                opts->loads = 2;
+            else
+                return vkrt_error_set(err, "--loads: '%s' is not one of storage, texel",
+                                      value ? value : "");
             ++i;
         } else if (strcmp(arg, "--ray-fetch") == 0) {
             if (value && strcmp(value, "static") == 0)

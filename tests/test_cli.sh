@@ -180,6 +180,29 @@ check "bench JSON has hits" grep -q '"hits": [1-9]' "$tmp/pairs.json"
 bench_run quads --bvh-width 4
 check "bench --bvh-width 4 exits 0" test $? -eq 0
 check "the 4-wide layout hits what the pairs hit" test "$(counts "$tmp/quads.json")" = "$(counts "$tmp/pairs.json")"
+# The traversal's two ways of reading triangles and nodes (storage buffers, texel buffers; the
+# default is texel on CPU devices such as lavapipe): the same hits either way, for each structure.
+bench_run storage --loads storage
+check "bench --loads storage exits 0" test $? -eq 0
+check "the JSON names storage loads" grep -q '"loads": "storage"' "$tmp/storage.json"
+bench_run texel --loads texel
+check "bench --loads texel exits 0" test $? -eq 0
+check "the JSON names texel loads" grep -q '"loads": "texel"' "$tmp/texel.json"
+check "storage and texel loads hit the same" test "$(counts "$tmp/storage.json")" = "$(counts "$tmp/texel.json")"
+check "and what the default loads hit" test "$(counts "$tmp/texel.json")" = "$(counts "$tmp/pairs.json")"
+bench_run quads-storage --bvh-width 4 --loads storage
+check "the 4-wide layout with storage loads hits what the pairs hit" test "$(counts "$tmp/quads-storage.json")" = "$(counts "$tmp/pairs.json")"
+for accel in grid brute; do
+    for loads in storage texel; do
+        "$vkrt" bench "$src/scenes/cornell/scene.cfg" --accel $accel --width 40 --height 30 \
+            --loads $loads --json "$tmp/$accel-$loads.json" >/dev/null 2>&1
+    done
+    check "$accel: storage and texel loads hit the same as the BVH" test \
+        "$(counts "$tmp/$accel-storage.json")" = "$(counts "$tmp/pairs.json")" -a \
+        "$(counts "$tmp/$accel-texel.json")" = "$(counts "$tmp/pairs.json")"
+done
+"$vkrt" bench "$src/scenes/cornell/scene.cfg" --loads fast >/dev/null 2>"$tmp/err"
+check "--loads fast is refused" test $? -ne 0
 bench_run stats --stats
 check "bench --stats exits 0" test $? -eq 0
 check "bench --stats counts nodes per ray" grep -q '"primary_nodes_per_ray": [1-9]' "$tmp/stats.json"

@@ -41,6 +41,15 @@ layout(std430, set = 0, binding = 10) readonly buffer BvhPairBuffer { BvhPair bv
 layout(std430, set = 0, binding = 10) readonly buffer GridCellBuffer { uint grid_cell_start[]; };
 layout(std430, set = 0, binding = 11) readonly buffer GridRefBuffer { uint grid_refs[]; };
 
+/* The triangles and the structure's nodes once more, as uniform texel buffers of 16-byte texels:
+ * views of bindings 2 and 10 (src/render/renderer.c, create_texel_views). Traversal reads them
+ * when TEXEL_LOADS is set (on CPU devices, by default): Mesa's llvmpipe loads from a storage
+ * buffer one lane and one word at a time, each behind a bounds check and a branch, and fetches
+ * from a texel buffer with vector gathers (docs/performance.md). */
+layout(set = 0, binding = 20) uniform usamplerBuffer triangle_texels;
+layout(set = 0, binding = 21) uniform usamplerBuffer node_texels;
+layout(constant_id = 9) const bool TEXEL_LOADS = false;
+
 /* The wave machinery: one WaveState per depth, light visibility bits (frame.range.w words per
  * ray, bit k of word k / 32 set when light k reaches the hit), and for each ray the first slot and
  * number of the rays its material casts. */
@@ -102,6 +111,31 @@ void store_child_ray(uint i, Ray ray)
         rays_b[i] = ray;
     else
         rays[i] = ray;
+}
+
+/* Triangle i and BVH pair record i, through whichever of the two bindings TEXEL_LOADS chooses (a
+ * specialization constant: the other load is dead code). The 4-wide walk loads its nodes itself
+ * (lib/traverse_bvh.glsl). */
+Triangle load_triangle(uint i)
+{
+    if (TEXEL_LOADS) {
+        int t = int(3u * i);
+        return Triangle(uintBitsToFloat(texelFetch(triangle_texels, t)),
+                        uintBitsToFloat(texelFetch(triangle_texels, t + 1)),
+                        uintBitsToFloat(texelFetch(triangle_texels, t + 2)));
+    }
+    return triangles[i];
+}
+
+BvhPair load_pair(uint i)
+{
+    if (TEXEL_LOADS) {
+        int t = int(4u * i);
+        return BvhPair(uintBitsToFloat(texelFetch(node_texels, t)),
+                       uintBitsToFloat(texelFetch(node_texels, t + 1)),
+                       uintBitsToFloat(texelFetch(node_texels, t + 2)), texelFetch(node_texels, t + 3));
+    }
+    return bvh_pairs[i];
 }
 
 #endif

@@ -18,7 +18,7 @@ Hit brute_closest(RayShear s, float tmin, float tmax)
 {
     Hit hit = Hit(tmax, 0.0, 0.0, VKRT_NO_HIT);
     for (uint i = frame.range.x; i < frame.range.y; ++i) {
-        Triangle tri = triangles[i];
+        Triangle tri = load_triangle(i);
         float t, u, v;
         if (intersect_triangle(s, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tmin, hit.t, t, u, v))
             hit = Hit(t, u, v, i);
@@ -30,7 +30,7 @@ Hit brute_closest(RayShear s, float tmin, float tmax)
 bool brute_any(RayShear s, float tmin, float tmax)
 {
     for (uint i = frame.range.x; i < frame.range.y; ++i) {
-        Triangle tri = triangles[i];
+        Triangle tri = load_triangle(i);
         float t, u, v;
         if (intersect_triangle(s, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tmin, tmax, t, u, v))
             return true;

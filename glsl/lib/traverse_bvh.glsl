@@ -66,7 +66,7 @@ bool bvh_leaf(RayShear s, uint first, uint count, float tmin, inout Hit hit)
         ++traversal_leaves;
     }
     for (uint i = first; i < first + count; ++i) {
-        Triangle tri = triangles[i];
+        Triangle tri = load_triangle(i);
         float t, u, v;
         if (intersect_triangle(s, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tmin, hit.t, t, u, v)) {
             hit = Hit(t, u, v, i);
@@ -100,7 +100,7 @@ void order_pair(inout float ka, inout uint ra, inout float kb, inout uint rb)
 uint bvh_pair_step(RayShear s, vec3 inv_dir, float tmin, float hit_t, bool any_hit, uint node,
                    out uint push)
 {
-    BvhPair n = bvh_pairs[node];
+    BvhPair n = load_pair(node);
     if (TRAVERSAL_STATS)
         ++traversal_steps;
     vec4 tx = (n.x - s.origin.x) * inv_dir.x;
@@ -144,7 +144,18 @@ Hit bvh_traverse(RayShear s, vec3 dir, float tmin, float tmax, bool any_hit)
             if (push != NO_NODE)
                 stack[top++] = push;
         } else {
-            BvhQuad n = bvh_nodes[ref];
+            /* Loaded here rather than through a function like load_pair: glslang's propagation of
+             * `precise` (below) through a struct returned by a function never ended. */
+            BvhQuad n;
+            if (TEXEL_LOADS) {
+                int t = int(4u * ref);
+                n.origin = uintBitsToFloat(texelFetch(node_texels, t));
+                n.planes = texelFetch(node_texels, t + 1);
+                n.planes_z = texelFetch(node_texels, t + 2);
+                n.refs = texelFetch(node_texels, t + 3);
+            } else {
+                n = bvh_nodes[ref];
+            }
             if (TRAVERSAL_STATS)
                 ++traversal_steps;
             uint meta = floatBitsToUint(n.origin.w);

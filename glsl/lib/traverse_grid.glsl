@@ -42,7 +42,7 @@ Hit grid_traverse(RayShear s, vec3 dir, float tmin, float tmax, bool any_hit)
         uint end = grid_cell_start[index + 1u];
         for (uint r = grid_cell_start[index]; r < end; ++r) {
             uint i = grid_refs[r];
-            Triangle tri = triangles[i];
+            Triangle tri = load_triangle(i);
             float t, u, v;
             if (intersect_triangle(s, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tmin, hit.t, t, u, v)) {
                 hit = Hit(t, u, v, i);

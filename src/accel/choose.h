@@ -5,9 +5,11 @@
  * of triangles. Above that, how unevenly the triangles fill space, read off the uniform grid's
  * occupancy (O(n) to build): a scene with much of its geometry in a few crowded cells (the
  * teapot in a stadium) gets the BVH everywhere. An evenly spread scene gets the grid on a CPU
- * device, where it traced about as fast as the BVH (each ahead on some scenes) and builds two to
- * three times faster, and the BVH on a GPU, where it traced 1.2 to 2.1 times faster than the grid
- * on every scene measured (docs/performance.md).
+ * device whose traversal reads storage buffers, where it traced about as fast as the BVH (each
+ * ahead on some scenes) and builds two to three times faster, and the BVH otherwise: on a GPU it
+ * traced 1.2 to 2.1 times faster than the grid on every scene measured, and on lavapipe with
+ * texel loads (the default there) 1.6 to 4 times (docs/performance.md). cpu_device below means
+ * such a storage-reading CPU device.
  */
 #ifndef VKRT_ACCEL_CHOOSE_H
 #define VKRT_ACCEL_CHOOSE_H
@@ -27,7 +29,7 @@ typedef struct accel_choice {
 uint32_t accel_brute_force_limit(void);
 
 /* True when the choice for this scene and device needs the grid's statistics: above the brute
- * force limit on a CPU device. (On a GPU the BVH wins either way, so no grid is built.) */
+ * force limit on a CPU device. (Elsewhere the BVH wins either way, so no grid is built.) */
 bool accel_choice_needs_grid(uint32_t triangle_count, bool cpu_device);
 
 /* Chooses for a scene of triangle_count triangles on a CPU or GPU device. g is the scene's grid at

@@ -73,6 +73,7 @@ bool gpu_buffer_create(gpu_context *ctx, gpu_buffer *buf, size_t size, const cha
     }
     if (!create_with_memory(ctx, buf, size,
                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
                                 VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
                                 /* the wave buffer holds indirect dispatch arguments */
                                 VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
@@ -87,6 +88,37 @@ bool gpu_buffer_create_usage(gpu_context *ctx, gpu_buffer *buf, size_t size,
     if (!create_with_memory(ctx, buf, size, usage, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, err))
         return vkrt_error_prefix(err, "%s (%zu bytes)", what, size);
     return true;
+}
+
+bool gpu_buffer_view_create(gpu_context *ctx, const gpu_buffer *buf, VkBufferView *view,
+                            bool *covered, vkrt_error *err)
+{
+    const VkDeviceSize texel = 16;
+    VkDeviceSize texels = buf->size / texel, max = ctx->properties.limits.maxTexelBufferElements;
+    *view = VK_NULL_HANDLE;
+    *covered = texels <= max && texels * texel == buf->size;
+    if (texels > max)
+        texels = max;
+    if (texels == 0)
+        texels = 1;
+    VkBufferViewCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO,
+        .buffer = buf->buffer,
+        .format = VK_FORMAT_R32G32B32A32_UINT,
+        .range = texels * texel,
+    };
+    GPU_CHECK(vkCreateBufferView(ctx->device, &info, NULL, view));
+    return true;
+fail:
+    *covered = false;
+    return false;
+}
+
+void gpu_buffer_view_destroy(gpu_context *ctx, VkBufferView *view)
+{
+    if (*view && !ctx->lost)
+        vkDestroyBufferView(ctx->device, *view, NULL);
+    *view = VK_NULL_HANDLE;
 }
 
 bool gpu_staging_create(gpu_context *ctx, gpu_buffer *buf, size_t size, vkrt_error *err)

@@ -18,7 +18,8 @@ typedef struct gpu_buffer {
 } gpu_buffer;
 
 /* Creates a device-local storage buffer of size bytes (at least 16, since Vulkan has no empty
- * buffers), usable as a transfer source and destination. what names the buffer in messages:
+ * buffers), usable as a transfer source and destination and as a uniform texel buffer
+ * (gpu_buffer_view_create). what names the buffer in messages:
  * a buffer larger than the device's maxStorageBufferRange is refused with its size and the limit.
  * On failure nothing is left allocated. */
 bool gpu_buffer_create(gpu_context *ctx, gpu_buffer *buf, size_t size, const char *what,
@@ -31,6 +32,15 @@ bool gpu_buffer_create(gpu_context *ctx, gpu_buffer *buf, size_t size, const cha
  * and shader binding tables; what names it in messages. On failure nothing is left allocated. */
 bool gpu_buffer_create_usage(gpu_context *ctx, gpu_buffer *buf, size_t size,
                              VkBufferUsageFlags usage, const char *what, vkrt_error *err);
+
+/* A view of buf as 16-byte texels (RGBA32_UINT), for kernels to read it as a uniform texel
+ * buffer: as many texels as the buffer holds and the device's maxTexelBufferElements allows.
+ * *covered says whether that is all of the buffer. */
+bool gpu_buffer_view_create(gpu_context *ctx, const gpu_buffer *buf, VkBufferView *view,
+                            bool *covered, vkrt_error *err);
+
+/* Frees the view and zeroes it. Safe on VK_NULL_HANDLE. */
+void gpu_buffer_view_destroy(gpu_context *ctx, VkBufferView *view);
 
 /* Creates a host-visible, coherent, persistently mapped buffer for transfers. */
 bool gpu_staging_create(gpu_context *ctx, gpu_buffer *buf, size_t size, vkrt_error *err);

@@ -12,35 +12,43 @@
 bool gpu_storage_set_create(gpu_context *ctx, gpu_storage_set *set, uint32_t binding_count,
                             uint32_t push_size, vkrt_error *err)
 {
+    return gpu_storage_set_create_texels(ctx, set, binding_count, 0, push_size, err);
+}
+
+bool gpu_storage_set_create_texels(gpu_context *ctx, gpu_storage_set *set, uint32_t binding_count,
+                                   uint32_t texel_count, uint32_t push_size, vkrt_error *err)
+{
     memset(set, 0, sizeof *set);
+    uint32_t total = binding_count + texel_count;
     if (push_size > ctx->properties.limits.maxPushConstantsSize)
         return vkrt_error_set(err, "%u bytes of push constants exceed the device's %u", push_size,
                               ctx->properties.limits.maxPushConstantsSize);
-    VkDescriptorSetLayoutBinding *bindings = calloc(binding_count, sizeof *bindings);
+    VkDescriptorSetLayoutBinding *bindings = calloc(total, sizeof *bindings);
     if (!bindings)
         return vkrt_error_set(err, "out of memory");
-    for (uint32_t i = 0; i < binding_count; ++i)
+    for (uint32_t i = 0; i < total; ++i)
         bindings[i] = (VkDescriptorSetLayoutBinding){
             .binding = i,
-            .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+            .descriptorType = i < binding_count ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
+                                                : VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
             .descriptorCount = 1,
             .stageFlags = VK_SHADER_STAGE_COMPUTE_BIT,
         };
     VkDescriptorSetLayoutCreateInfo layout_info = {
         .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
-        .bindingCount = binding_count,
+        .bindingCount = total,
         .pBindings = bindings,
     };
     GPU_CHECK(vkCreateDescriptorSetLayout(ctx->device, &layout_info, NULL, &set->layout));
-    VkDescriptorPoolSize pool_size = {
-        .type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-        .descriptorCount = binding_count,
+    VkDescriptorPoolSize pool_sizes[2] = {
+        {.type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .descriptorCount = binding_count},
+        {.type = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, .descriptorCount = texel_count},
     };
     VkDescriptorPoolCreateInfo pool_info = {
         .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
         .maxSets = 1,
-        .poolSizeCount = 1,
-        .pPoolSizes = &pool_size,
+        .poolSizeCount = texel_count ? 2 : 1,
+        .pPoolSizes = pool_sizes,
     };
     GPU_CHECK(vkCreateDescriptorPool(ctx->device, &pool_info, NULL, &set->pool));
     VkDescriptorSetAllocateInfo alloc = {
@@ -63,7 +71,7 @@ bool gpu_storage_set_create(gpu_context *ctx, gpu_storage_set *set, uint32_t bin
     };
     GPU_CHECK(vkCreatePipelineLayout(ctx->device, &pipeline_layout_info, NULL,
                                      &set->pipeline_layout));
-    set->binding_count = binding_count;
+    set->binding_count = total;
     set->push_size = push_size;
     free(bindings);
     return true;
@@ -100,6 +108,20 @@ void gpu_storage_set_bind(gpu_context *ctx, gpu_storage_set *set, uint32_t bindi
         .descriptorCount = 1,
         .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
         .pBufferInfo = &info,
+    };
+    vkUpdateDescriptorSets(ctx->device, 1, &write, 0, NULL);
+}
+
+void gpu_storage_set_bind_view(gpu_context *ctx, gpu_storage_set *set, uint32_t binding,
+                               VkBufferView view)
+{
+    VkWriteDescriptorSet write = {
+        .sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
+        .dstSet = set->set,
+        .dstBinding = binding,
+        .descriptorCount = 1,
+        .descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
+        .pTexelBufferView = &view,
     };
     vkUpdateDescriptorSets(ctx->device, 1, &write, 0, NULL);
 }

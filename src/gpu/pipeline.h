@@ -31,12 +31,21 @@ typedef struct gpu_storage_set {
 bool gpu_storage_set_create(gpu_context *ctx, gpu_storage_set *set, uint32_t binding_count,
                             uint32_t push_size, vkrt_error *err);
 
+/* The same with texel_count uniform texel buffers after the storage buffers, at bindings
+ * binding_count .. binding_count + texel_count - 1 (gpu_storage_set_bind_view). */
+bool gpu_storage_set_create_texels(gpu_context *ctx, gpu_storage_set *set, uint32_t binding_count,
+                                   uint32_t texel_count, uint32_t push_size, vkrt_error *err);
+
 /* Frees the set. Safe on a zeroed one. */
 void gpu_storage_set_destroy(gpu_context *ctx, gpu_storage_set *set);
 
 /* Points binding at the whole of buf. Call before recording dispatches that use it. */
 void gpu_storage_set_bind(gpu_context *ctx, gpu_storage_set *set, uint32_t binding,
                           const gpu_buffer *buf);
+
+/* Points the uniform texel buffer at binding at view. */
+void gpu_storage_set_bind_view(gpu_context *ctx, gpu_storage_set *set, uint32_t binding,
+                               VkBufferView view);
 
 /* A specialization constant: constant_id and its 32-bit value (bool: 0 or 1). */
 typedef struct gpu_spec_constant {

@@ -58,6 +58,8 @@ typedef struct vkrt_accel_desc {
                                  references); 0: 2 on GPUs, bvh.h's default on CPU devices */
     float bvh_traversal_cost; /* bvh_build_desc.traversal_cost; 0: 0.5 on GPUs, bvh.h's default
                                  on CPU devices */
+    bool storage_loads;       /* traversal will read storage buffers even on a CPU device
+                                 (vkrt_loads): there auto weighs the grid against the BVH */
 } vkrt_accel_desc;
 
 /* Builds the structure desc asks for over positions (9 floats per triangle) and uploads it. On

@@ -41,6 +41,14 @@ enum {
     BINDING_COUNT,
 };
 
+/* The uniform texel buffers after the storage buffers (glsl/lib/bindings.glsl): views of the
+ * triangles and of the acceleration structure's nodes. */
+enum {
+    BINDING_TRIANGLE_TEXELS = BINDING_COUNT,
+    BINDING_NODE_TEXELS,
+    TEXEL_BINDING_END,
+};
+
 /* 64 invocations fill two NVIDIA warps or one AMD wave64 and suit lavapipe's 8-wide SIMD; to be
  * tuned by measurement with the faster traversals. */
 static const uint32_t default_workgroup_size = 64;
@@ -80,6 +88,7 @@ enum {
     SPEC_BVH_WIDTH = 6,
     SPEC_DYNAMIC_FETCH = 7,
     SPEC_SORT_CELLS = 8,
+    SPEC_TEXEL_LOADS = 9,
 };
 
 /* The ray sort's constants (glsl/lib/ray_sort.glsl): rays per workgroup of its count and scatter
@@ -322,6 +331,32 @@ static void bind_all(vkrt_renderer *r)
     };
     for (uint32_t i = 0; i < BINDING_COUNT; ++i)
         gpu_storage_set_bind(r->ctx, &r->set, i, bound[i]);
+    gpu_storage_set_bind_view(r->ctx, &r->set, BINDING_TRIANGLE_TEXELS, r->triangle_view);
+    gpu_storage_set_bind_view(r->ctx, &r->set, BINDING_NODE_TEXELS, r->node_view);
+}
+
+/* The texel views of the triangles and the nodes, always made (every trace kernel declares them),
+ * and whether traversal reads through them (vkrt_loads): asked for, or by default on CPU devices,
+ * and only where the views hold the whole buffers. */
+static bool create_texel_views(vkrt_renderer *r, vkrt_loads loads, vkrt_error *err)
+{
+    bool whole_triangles, whole_nodes;
+    if (!gpu_buffer_view_create(r->ctx, &r->triangles, &r->triangle_view, &whole_triangles, err) ||
+        !gpu_buffer_view_create(r->ctx, &r->accel.nodes, &r->node_view, &whole_nodes, err))
+        return false;
+    /* Only the BVH's walk reads nodes through a view (the grid's cells stay storage buffers). */
+    if (r->accel.stats.kind != VKRT_ACCEL_BVH)
+        whole_nodes = true;
+    bool cpu = r->ctx->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    bool wanted = loads == VKRT_LOADS_TEXEL || (loads == VKRT_LOADS_DEFAULT && cpu);
+    if (loads == VKRT_LOADS_TEXEL && !(whole_triangles && whole_nodes))
+        return vkrt_error_set(err, "texel loads: the triangles (%zu bytes) or the structure's "
+                                   "nodes (%zu) exceed %s's %u texels of a texel buffer",
+                              (size_t)r->triangles.size, (size_t)r->accel.nodes.size,
+                              r->ctx->properties.deviceName,
+                              r->ctx->properties.limits.maxTexelBufferElements);
+    r->texel_loads = wanted && whole_triangles && whole_nodes;
+    return true;
 }
 
 static bool make_pipeline(vkrt_renderer *r, gpu_pipeline *pipe, const char *path,
@@ -406,6 +441,7 @@ static bool create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoord
         {SPEC_TRAVERSAL_STATS, traversal_stats},
         {SPEC_BVH_WIDTH, r->accel.stats.bvh_width},
         {SPEC_DYNAMIC_FETCH, r->dynamic_fetch},
+        {SPEC_TEXEL_LOADS, r->texel_loads},
     };
     const uint32_t count = sizeof spec / sizeof *spec;
     gpu_spec_constant sort_spec[] = {{SPEC_SORT_CELLS, r->sort_cells}};
@@ -482,16 +518,20 @@ bool vkrt_renderer_create(vkrt_renderer *r, gpu_context *ctx, const vkrt_scene *
     if (r->capacity > r->max_capacity)
         r->capacity = r->max_capacity;
     bool has_texcoords = mats->reads_texcoords && scene->mesh.texcoords;
-    ok = ok && gpu_storage_set_create(ctx, &r->set, BINDING_COUNT, sizeof(FrameParams), err) &&
+    ok = ok &&
+         gpu_storage_set_create_texels(ctx, &r->set, BINDING_COUNT,
+                                       TEXEL_BINDING_END - BINDING_COUNT, sizeof(FrameParams),
+                                       err) &&
          vkrt_accel_gpu_create(&r->accel, ctx,
                                &(vkrt_accel_desc){.kind = desc->accel,
                                                   .grid_density = desc->grid_density,
                                                   .bvh_width = desc->bvh_width,
                                                   .bvh_max_leaf = desc->bvh_max_leaf,
-                                                  .bvh_traversal_cost = desc->bvh_traversal_cost},
+                                                  .bvh_traversal_cost = desc->bvh_traversal_cost,
+                                                  .storage_loads = desc->loads == VKRT_LOADS_STORAGE},
                                scene->mesh.positions, scene->mesh.triangle_count, err) &&
          vkrt_material_kernel_create(&kernel, mats, ctx->float_atomics, err) &&
-         upload_geometry(r, &scene->mesh, mats, err) &&
+         upload_geometry(r, &scene->mesh, mats, err) && create_texel_views(r, desc->loads, err) &&
          upload_materials(r, mats, &kernel, err) && upload_lights(r, &scene->config, err) &&
          create_frame_buffers(r, err) &&
          create_kernels(r, scene->mesh.normals != NULL, has_texcoords, workgroup_size,
@@ -1094,6 +1134,9 @@ void vkrt_renderer_destroy(vkrt_renderer *r)
                                  &r->sort_scan,    &r->sort_count};
     for (size_t i = 0; i < sizeof pipelines / sizeof *pipelines; ++i)
         gpu_pipeline_destroy(r->ctx, pipelines[i]);
+    /* The views before the buffers they look into. */
+    gpu_buffer_view_destroy(r->ctx, &r->triangle_view);
+    gpu_buffer_view_destroy(r->ctx, &r->node_view);
     destroy_ray_buffers(r);
     gpu_buffer *buffers[] = {&r->counters,      &r->image,          &r->waves,
                              &r->lights,        &r->materials,      &r->triangle_material,

@@ -37,6 +37,16 @@ typedef enum vkrt_ray_fetch {
     VKRT_RAY_FETCH_DYNAMIC,
 } vkrt_ray_fetch;
 
+/* How the traversal reads triangles and BVH nodes: as storage buffers, or through uniform texel
+ * buffer views of the same buffers (texelFetch). The default is texel loads on CPU devices, where
+ * Mesa's llvmpipe loads a storage buffer one lane and one word at a time, with a branch for each
+ * (docs/performance.md), and storage loads elsewhere. */
+typedef enum vkrt_loads {
+    VKRT_LOADS_DEFAULT,
+    VKRT_LOADS_STORAGE,
+    VKRT_LOADS_TEXEL,
+} vkrt_loads;
+
 typedef struct vkrt_render_desc {
     uint32_t width, height;   /* required */
     uint32_t samples;         /* samples per pixel; 0 means 1 */
@@ -47,6 +57,7 @@ typedef struct vkrt_render_desc {
     uint32_t bvh_max_leaf;    /* the BVH build's largest leaf (1..16); 0: the default */
     float bvh_traversal_cost; /* the BVH build's SAH cost of a node against a triangle; 0: the default */
     vkrt_ray_fetch ray_fetch; /* how trace kernels take their rays (2-wide BVH); 0: the default */
+    vkrt_loads loads;         /* how traversal reads triangles and nodes; 0: the default */
     uint32_t max_depth;       /* generations of secondary rays; 0: the scene's max-depth */
     uint32_t ray_capacity;    /* rays per buffer to start with; 0 (or below the pixel count):
                                  one per pixel. Tests start small to force growth. */
@@ -115,6 +126,8 @@ typedef struct vkrt_renderer {
     bool profile;
     vkrt_ray_fetch ray_fetch; /* as asked in the desc */
     bool dynamic_fetch;       /* the trace kernels fetch rays from trace_cursor */
+    bool texel_loads;         /* traversal reads triangles and nodes through the views below */
+    VkBufferView triangle_view, node_view; /* texel views of triangles and accel.nodes */
     uint32_t profile_repeat;  /* timed frames of a profile */
     uint32_t *light_kinds;    /* VKRT_LIGHT_KIND_* per light, kept for the loop budget check */
     char **material_names;    /* per uploaded material, "name (file:line)", for messages */
