@@ -497,6 +497,54 @@ def pass3_values():
     }
 
 
+def loads_values():
+    """Texel loads against storage loads: lavapipe (this session's cpu-run-embree.sh against the
+    run before texel loads, kept in bench/results/lavapipe-storage-loads/) and the H200."""
+    def rows(path):
+        return {r["scene"].split("/")[-1].replace(".cfg", ""): r
+                for r in json.load(open(path, encoding="utf-8"))["rows"]}
+    old = rows("bench/results/lavapipe-storage-loads/vkrt-lavapipe-vs-embree.json")
+    new = rows("bench/results/vkrt-lavapipe-vs-embree.json")
+    lp = io.StringIO()
+    lp.write("| scene | BVH, storage loads | BVH, texel loads | texel over storage | "
+             "grid, texel loads | BVH over grid |\n|---|---:|---:|---:|---:|---:|\n")
+    gains, over_grid = [], []
+    for n in ISSUE8_SCENES:
+        a, b = old[n]["vkrt_bvh"], new[n]["vkrt_bvh"]
+        g = new[n]["vkrt_auto"] if new[n]["vkrt_auto"]["accel"] == "grid" else None
+        cells = " / ".join(f"{a[k + '_mrays_per_s']:.2f}" for k in KINDS)
+        cells2 = " / ".join(f"{b[k + '_mrays_per_s']:.2f}" for k in KINDS)
+        ratio = " / ".join(f"{b[k + '_mrays_per_s'] / a[k + '_mrays_per_s']:.1f}x" for k in KINDS)
+        gains += [b[k + "_mrays_per_s"] / a[k + "_mrays_per_s"] for k in KINDS]
+        if g:
+            grid_cells = " / ".join(f"{g[k + '_mrays_per_s']:.2f}" for k in KINDS)
+            vs_grid = " / ".join(f"{b[k + '_mrays_per_s'] / g[k + '_mrays_per_s']:.1f}x" for k in KINDS)
+            over_grid += [b[k + "_mrays_per_s"] / g[k + "_mrays_per_s"] for k in KINDS]
+        else:
+            grid_cells = vs_grid = "(not run)"
+        lp.write(f"| {n} | {cells} | {cells2} | {ratio} | {grid_cells} | {vs_grid} |\n")
+    h200 = rates_table("loads", [("storage (the default on GPUs)", f"{PASS3}/loads/storage.json"),
+                                 ("texel", f"{PASS3}/loads/texel.json"),
+                                 ("storage again", f"{PASS3}/loads/storage-again.json"),
+                                 ("texel again", f"{PASS3}/loads/texel-again.json")])
+    st, tx = by_scene(f"{PASS3}/loads/storage.json"), by_scene(f"{PASS3}/loads/texel.json")
+    change = lambda k: ", ".join(
+        f"{n} {100 * (tx[n][k + '_mrays_per_s'] / st[n][k + '_mrays_per_s'] - 1):+.0f}%"
+        for n in ISSUE8_SCENES)
+    return {
+        "@LOADS_LAVAPIPE@": lp.getvalue().strip(),
+        "@LOADS_GAIN@": f"{min(gains):.1f}-{max(gains):.1f}x",
+        "@LOADS_OVER_GRID@": f"{min(over_grid):.1f}-{max(over_grid):.1f}x" if over_grid else "(not run)",
+        "@LOADS_OLD_COMMIT@": json.load(open(
+            "bench/results/lavapipe-storage-loads/vkrt-lavapipe-vs-embree.json",
+            encoding="utf-8"))["machine"]["vkrt_commit"],
+        "@LOADS_H200@": h200,
+        "@LOADS_H200_PRIMARY@": change("primary"),
+        "@LOADS_H200_SHADOW@": change("shadow"),
+        "@LOADS_H200_DIFFUSE@": change("diffuse"),
+    }
+
+
 def main():
     h100 = json.load(open("bench/results/bench-h100.json", encoding="utf-8"))
     lavapipe = json.load(open("bench/results/bench-lavapipe.json", encoding="utf-8"))
@@ -513,6 +561,7 @@ def main():
     values.update(issue8_values())
     values.update(pass2_values())
     values.update(pass3_values())
+    values.update(loads_values())
     for key, value in values.items():
         text = text.replace(key, value)
     open("docs/performance.md", "w", encoding="utf-8").write(
