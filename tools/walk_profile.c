@@ -368,7 +368,8 @@ static void report(const char *kind, const walk_count *c, uint32_t count, uint32
     qsort(widest, groups, sizeof *widest, compare_u32);
     printf("  per subgroup (its busiest lane): median %u, 99%% %u, longest %.0f (subgroup %u of "
            "%u)\n",
-           widest[groups / 2], widest[(uint32_t)(groups * 0.99)], longest_group, longest_at, groups);
+           widest[groups / 2], widest[(uint32_t)(groups * 0.99)], longest_group, longest_at,
+           groups);
     printf("  on %u subgroup slots in dispatch order: %.0f iterations, balanced %.0f: %.2fx, "
            "the longest subgroup alone %.0f%% of it\n",
            slots, span, balanced, span / balanced, 100.0 * longest_group / span);
@@ -463,7 +464,8 @@ int main(int argc, char **argv)
     }
     uint32_t pixels = width * height;
     float *positions = malloc(tree.prim_count * 9 * sizeof *positions);
-    Ray *primary = malloc(pixels * sizeof *primary), *secondary = malloc(pixels * sizeof *secondary);
+    Ray *primary = malloc(pixels * sizeof *primary);
+    Ray *secondary = malloc(pixels * sizeof *secondary);
     Hit *hits = malloc(pixels * sizeof *hits), *scratch = malloc(pixels * sizeof *scratch);
     walk_count *counts = malloc(pixels * sizeof *counts);
     if (!positions || !primary || !secondary || !hits || !scratch || !counts) {

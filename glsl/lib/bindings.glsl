@@ -133,7 +133,8 @@ BvhPair load_pair(uint i)
         int t = int(4u * i);
         return BvhPair(uintBitsToFloat(texelFetch(node_texels, t)),
                        uintBitsToFloat(texelFetch(node_texels, t + 1)),
-                       uintBitsToFloat(texelFetch(node_texels, t + 2)), texelFetch(node_texels, t + 3));
+                       uintBitsToFloat(texelFetch(node_texels, t + 2)),
+                       texelFetch(node_texels, t + 3));
     }
     return bvh_pairs[i];
 }

@@ -9,7 +9,7 @@
  * Sibenik and the grid 29% on the teapot; the grid built two to three times faster, and the BVH
  * was again about 100 times faster in the stadium. Those lavapipe figures are of traversal reading
  * storage buffers; reading triangles and nodes through texel buffers (vkrt_loads, lavapipe's
- * default since) made the BVH 1.6 to 4 times faster than the grid on every scene, so the grid is
+ * default since) made the BVH 1.5 to 3.9 times faster than the grid on every scene, so the grid is
  * weighed only on a CPU device that reads storage buffers. What separates the
  * stadium is how much of the scene sits in crowded cells: there the grid tests every triangle of
  * a cell for each ray that crosses it, while a BVH keeps subdividing.

@@ -170,7 +170,7 @@ bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel
     if (kind == VKRT_ACCEL_AUTO) {
         double start = now_ms();
         /* The grid traced about as fast as the BVH only on a CPU device reading storage buffers;
-         * with texel loads, lavapipe's default, the BVH was 1.6 to 4 times faster on every scene
+         * with texel loads, lavapipe's default, the BVH was 1.5 to 3.9 times faster on every scene
          * measured (docs/performance.md), as on GPUs. */
         bool cpu_device = ctx->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU &&
                           desc->storage_loads;

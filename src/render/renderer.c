@@ -528,7 +528,8 @@ bool vkrt_renderer_create(vkrt_renderer *r, gpu_context *ctx, const vkrt_scene *
                                                   .bvh_width = desc->bvh_width,
                                                   .bvh_max_leaf = desc->bvh_max_leaf,
                                                   .bvh_traversal_cost = desc->bvh_traversal_cost,
-                                                  .storage_loads = desc->loads == VKRT_LOADS_STORAGE},
+                                                  .storage_loads =
+                                                      desc->loads == VKRT_LOADS_STORAGE},
                                scene->mesh.positions, scene->mesh.triangle_count, err) &&
          vkrt_material_kernel_create(&kernel, mats, ctx->float_atomics, err) &&
          upload_geometry(r, &scene->mesh, mats, err) && create_texel_views(r, desc->loads, err) &&
