@@ -63,6 +63,20 @@ const char *vkrt_usage(void)
            "  Esc               quit\n";
 }
 
+/* option's value as 1 (first) or 2 (second), the values of bench's two-way choices. */
+static bool parse_choice(const char *option, const char *text, const char *first,
+                         const char *second, int *out, vkrt_error *err)
+{
+    if (text && strcmp(text, first) == 0)
+        *out = 1;
+    else if (text && strcmp(text, second) == 0)
+        *out = 2;
+    else
+        return vkrt_error_set(err, "%s: '%s' is not one of %s, %s", option, text ? text : "",
+                              first, second);
+    return true;
+}
+
 static bool parse_u32(const char *option, const char *text, uint32_t min, uint32_t max,
                       uint32_t *out, vkrt_error *err)
 {
@@ -175,22 +189,12 @@ bool vkrt_options_parse(int argc, char **argv, vkrt_options *opts, vkrt_error *e
                 return vkrt_error_set(err, "--bvh-width: 3 is not one of 2, 4");
             ++i;
         } else if (strcmp(arg, "--loads") == 0) {
-            if (value && strcmp(value, "storage") == 0)
-                opts->loads = 1;
-            else if (value && strcmp(value, "texel") == 0)
-                opts->loads = 2;
-            else
-                return vkrt_error_set(err, "--loads: '%s' is not one of storage, texel",
-                                      value ? value : "");
+            if (!parse_choice(arg, value, "storage", "texel", &opts->loads, err))
+                return false;
             ++i;
         } else if (strcmp(arg, "--ray-fetch") == 0) {
-            if (value && strcmp(value, "static") == 0)
-                opts->ray_fetch = 1;
-            else if (value && strcmp(value, "dynamic") == 0)
-                opts->ray_fetch = 2;
-            else
-                return vkrt_error_set(err, "--ray-fetch: '%s' is not one of static, dynamic",
-                                      value ? value : "");
+            if (!parse_choice(arg, value, "static", "dynamic", &opts->ray_fetch, err))
+                return false;
             ++i;
         } else if (strcmp(arg, "--stats") == 0) {
             opts->stats = true;

@@ -49,6 +49,15 @@ typedef struct walk_count {
     uint32_t nodes, tests;
 } walk_count;
 
+/* The ray's origin, direction and the kernel's safe inverse of it (traverse_bvh.glsl). */
+static void ray_frame(const Ray *ray, double o[3], double d[3], double inv[3])
+{
+    o[0] = ray->origin.x, o[1] = ray->origin.y, o[2] = ray->origin.z;
+    d[0] = ray->direction.x, d[1] = ray->direction.y, d[2] = ray->direction.z;
+    for (int a = 0; a < 3; ++a)
+        inv[a] = 1.0 / (fabs(d[a]) < 1e-30 ? (d[a] < 0 ? -1e-30 : 1e-30) : d[a]);
+}
+
 static bool triangle_hit(const float *p, const double o[3], const double d[3], double tmin,
                          double tmax, double *t_out, double *u_out, double *v_out)
 {
@@ -95,10 +104,8 @@ static double box_entry(const bvh_pair *n, int k, const double o[3], const doubl
 static walk_count walk(const walk_tree *tree, const Ray *ray, bool any_hit, Hit *hit)
 {
     walk_count c = {0};
-    double o[3] = {ray->origin.x, ray->origin.y, ray->origin.z};
-    double d[3] = {ray->direction.x, ray->direction.y, ray->direction.z}, inv[3];
-    for (int a = 0; a < 3; ++a)
-        inv[a] = 1.0 / (fabs(d[a]) < 1e-30 ? (d[a] < 0 ? -1e-30 : 1e-30) : d[a]);
+    double o[3], d[3], inv[3];
+    ray_frame(ray, o, d, inv);
     double tmin = ray->origin.w, best = ray->direction.w, bu = 0, bv = 0;
     uint32_t found = VKRT_NO_HIT, stack[stack_size];
     int top = 0;
@@ -155,10 +162,8 @@ typedef struct share_lane {
 /* One step of lane l (a node or a leaf) of the walk for any hit; returns true when it hit. */
 static bool share_step(const walk_tree *tree, const Ray *ray, share_lane *l)
 {
-    double o[3] = {ray->origin.x, ray->origin.y, ray->origin.z};
-    double d[3] = {ray->direction.x, ray->direction.y, ray->direction.z}, inv[3];
-    for (int a = 0; a < 3; ++a)
-        inv[a] = 1.0 / (fabs(d[a]) < 1e-30 ? (d[a] < 0 ? -1e-30 : 1e-30) : d[a]);
+    double o[3], d[3], inv[3];
+    ray_frame(ray, o, d, inv);
     double tmin = ray->origin.w, tmax = ray->direction.w;
     uint32_t ref = l->ref;
     if (ref & BVH_LEAF_REF) {
@@ -232,10 +237,8 @@ static uint32_t shared_subgroup(const walk_tree *tree, const Ray *rays, uint32_t
  * slot order: the iterations it takes. */
 static uint32_t walk_quads_any(const bvh_quads *quads, const float *positions, const Ray *ray)
 {
-    double o[3] = {ray->origin.x, ray->origin.y, ray->origin.z};
-    double d[3] = {ray->direction.x, ray->direction.y, ray->direction.z}, inv[3];
-    for (int a = 0; a < 3; ++a)
-        inv[a] = 1.0 / (fabs(d[a]) < 1e-30 ? (d[a] < 0 ? -1e-30 : 1e-30) : d[a]);
+    double o[3], d[3], inv[3];
+    ray_frame(ray, o, d, inv);
     double tmin = ray->origin.w, tmax = ray->direction.w;
     uint32_t stack[stack_size], ref = 0, iterations = 0;
     int top = 0;
