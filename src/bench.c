@@ -44,6 +44,7 @@ typedef struct bench_row {
     uint32_t sort_diffuse;                       /* --sort-diffuse cells per side, 0: none */
     bench_times diffuse_sort;                    /* with sort_diffuse: the sort alone */
     bool texel_loads;                            /* traversal read through texel buffers */
+    bool nested_walk;                            /* the BVH's walk in nested loops */
     bool kernel_stats;                           /* --kernel-stats: the two below are filled */
     char trace_kernel[1024], occlusion_kernel[1024]; /* the driver's statistics, JSON pairs */
     bool stats;                                  /* counted, not timed (--stats) */
@@ -101,6 +102,7 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
         vkrt_error_set(err, "out of memory for %u rays", pixels);
     row->accel = r.accel.stats;
     row->texel_loads = r.texel_loads;
+    row->nested_walk = r.nested_walk;
     row->triangles = scene->mesh.triangle_count;
     if (ok && row->kernel_stats)
         ok = gpu_pipeline_statistics(ctx, &r.trace, row->trace_kernel, sizeof row->trace_kernel,
@@ -248,11 +250,11 @@ static bool write_json(const char *path, const gpu_context *ctx, const bench_row
         const bench_row *b = &rows[i];
         fprintf(f, "    {\"workgroup_size\": %u, \"sort_diffuse\": %u, \"bvh_max_leaf\": %u, "
                    "\"bvh_traversal_cost\": %g, \"sah_cost\": %.3f, \"stats\": %s, "
-                   "\"loads\": \"%s\", ",
+                   "\"loads\": \"%s\", \"walk\": \"%s\", ",
                 b->workgroup_size, b->sort_diffuse, b->accel.bvh_max_leaf,
                 (double)b->accel.bvh_traversal_cost,
                 b->accel.sah_cost, b->stats ? "true" : "false",
-                b->texel_loads ? "texel" : "storage");
+                b->texel_loads ? "texel" : "storage", b->nested_walk ? "nested" : "one-loop");
         if (b->kernel_stats)
             fprintf(f, "\"trace_kernel\": {%s}, \"occlusion_kernel\": {%s}, ", b->trace_kernel,
                     b->occlusion_kernel);
@@ -328,6 +330,7 @@ int vkrt_bench_run(const vkrt_options *opts)
             .bvh_traversal_cost = opts->bvh_traversal_cost,
             .ray_fetch = (vkrt_ray_fetch)opts->ray_fetch,
             .loads = (vkrt_loads)opts->loads,
+            .walk = (vkrt_walk)opts->walk,
             .traversal_stats = opts->stats,
             .sort_cells = opts->stats ? 0 : opts->sort_diffuse,
         };

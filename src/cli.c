@@ -15,6 +15,7 @@ const char *vkrt_usage(void)
            "                  [--bvh-width 2|4] [--ray-fetch static|dynamic]\n"
            "                  [--whole-scene] [--sort-diffuse CELLS] [--kernel-stats]\n"
            "                  [--bvh-leaf N] [--bvh-cost C] [--loads storage|texel]\n"
+           "                  [--walk one-loop|nested]\n"
            "                                         time primary and shadow rays per structure\n"
            "       vkrt --list-devices               list Vulkan devices\n"
            "       vkrt --help | --version\n"
@@ -190,6 +191,10 @@ bool vkrt_options_parse(int argc, char **argv, vkrt_options *opts, vkrt_error *e
             ++i;
         } else if (strcmp(arg, "--loads") == 0) {
             if (!parse_choice(arg, value, "storage", "texel", &opts->loads, err))
+                return false;
+            ++i;
+        } else if (strcmp(arg, "--walk") == 0) {
+            if (!parse_choice(arg, value, "one-loop", "nested", &opts->walk, err))
                 return false;
             ++i;
         } else if (strcmp(arg, "--ray-fetch") == 0) {

@@ -31,6 +31,7 @@ typedef struct vkrt_options {
     uint32_t bvh_max_leaf;    /* bench --bvh-leaf: the build's largest leaf, 1..16; 0: the default */
     float bvh_traversal_cost; /* bench --bvh-cost: the build's node cost; 0: the default */
     int loads;                /* bench --loads: 1 storage, 2 texel (vkrt_loads); 0: default */
+    int walk;                 /* bench --walk: 1 one-loop, 2 nested (vkrt_walk); 0: default */
     int ray_fetch;            /* bench --ray-fetch: 1 static, 2 dynamic (vkrt_ray_fetch); 0: default */
     uint32_t workgroup_size;  /* bench --workgroup: invocations per workgroup; 0: the default */
     uint32_t sort_diffuse;    /* bench --sort-diffuse: direction cells per side (2..16) of the GPU's

@@ -7,7 +7,9 @@
  * Rays: camera-like rays from outside the scene's bounds, random rays from random points inside
  * them, and rays exactly along the six axis directions. Scenes: every OBJ scene in
  * ../shared/scenes (skipped with a message where that folder is absent), an icosphere and the
- * teapot-in-a-stadium scene made by tools/teapot_stadium.py.
+ * teapot-in-a-stadium scene made by tools/teapot_stadium.py. The BVH is walked four ways: both
+ * GPU layouts (pairs, quads), each with the one-loop walk (the default on GPUs) and the nested one
+ * (the default on CPU devices such as lavapipe), so that every default is checked on every device.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -78,17 +80,35 @@ static void make_rays(const vkrt_mesh *mesh, Ray *rays)
     }
 }
 
-static void trace_with(gpu_context *ctx, const vkrt_scene *scene, vkrt_accel_kind kind,
-                       const Ray *rays, uint32_t count, bool any_hit, Hit *hits,
-                       vkrt_accel_kind *built)
+/* A structure and the way the kernels walk it. */
+typedef struct tracer {
+    const char *name;
+    vkrt_accel_kind kind;
+    uint32_t bvh_width; /* 0: the default */
+    vkrt_walk walk;     /* VKRT_WALK_DEFAULT: the device's default */
+} tracer;
+
+static const tracer brute = {"brute", VKRT_ACCEL_BRUTE, 0, VKRT_WALK_DEFAULT};
+static const tracer fast_tracers[] = {
+    {"grid", VKRT_ACCEL_GRID, 0, VKRT_WALK_DEFAULT},
+    {"bvh pairs, one loop", VKRT_ACCEL_BVH, 2, VKRT_WALK_ONE_LOOP},
+    {"bvh pairs, nested", VKRT_ACCEL_BVH, 2, VKRT_WALK_NESTED},
+    {"bvh quads, one loop", VKRT_ACCEL_BVH, 4, VKRT_WALK_ONE_LOOP},
+    {"bvh quads, nested", VKRT_ACCEL_BVH, 4, VKRT_WALK_NESTED},
+};
+enum { FAST_TRACERS = sizeof fast_tracers / sizeof *fast_tracers };
+
+static void trace_as(gpu_context *ctx, const vkrt_scene *scene, const tracer *t, const Ray *rays,
+                     uint32_t count, bool any_hit, Hit *hits, vkrt_accel_kind *built)
 {
     vkrt_error err = {{0}};
     vkrt_renderer r;
-    vkrt_render_desc desc = {.width = count, .height = 1, .accel = kind};
+    vkrt_render_desc desc = {.width = count, .height = 1, .accel = t->kind,
+                             .bvh_width = t->bvh_width, .walk = t->walk};
     if (!vkrt_renderer_create(&r, ctx, scene, &desc, &err))
-        fail_msg("renderer (%s): %s", vkrt_accel_name(kind), err.msg);
+        fail_msg("renderer (%s): %s", t->name, err.msg);
     if (!vkrt_renderer_trace(&r, rays, count, any_hit, hits, 1, NULL, &err))
-        fail_msg("trace (%s): %s", vkrt_accel_name(kind), err.msg);
+        fail_msg("trace (%s): %s", t->name, err.msg);
     if (built)
         *built = r.accel.stats.kind;
     vkrt_renderer_destroy(&r);
@@ -158,18 +178,17 @@ static void check_scene_mesh(const char *name, vkrt_scene *scene)
     Hit *ref_any = calloc(RAY_COUNT, sizeof *ref_any);
     assert_true(rays && segments && ref && hits && ref_any);
     make_rays(&scene->mesh, rays);
-    trace_with(&ctx, scene, VKRT_ACCEL_BRUTE, rays, RAY_COUNT, false, ref, NULL);
+    trace_as(&ctx, scene, &brute, rays, RAY_COUNT, false, ref, NULL);
     uint32_t n = make_segments(rays, ref, RAY_COUNT, segments);
     if (n)
-        trace_with(&ctx, scene, VKRT_ACCEL_BRUTE, segments, n, true, ref_any, NULL);
-    const vkrt_accel_kind kinds[] = {VKRT_ACCEL_GRID, VKRT_ACCEL_BVH};
-    for (int k = 0; k < 2; ++k) {
-        const char *kind = vkrt_accel_name(kinds[k]);
-        trace_with(&ctx, scene, kinds[k], rays, RAY_COUNT, false, hits, NULL);
-        compare_hits(name, kind, ref, hits, RAY_COUNT);
+        trace_as(&ctx, scene, &brute, segments, n, true, ref_any, NULL);
+    for (int k = 0; k < FAST_TRACERS; ++k) {
+        const tracer *t = &fast_tracers[k];
+        trace_as(&ctx, scene, t, rays, RAY_COUNT, false, hits, NULL);
+        compare_hits(name, t->name, ref, hits, RAY_COUNT);
         if (n) {
-            trace_with(&ctx, scene, kinds[k], segments, n, true, hits, NULL);
-            compare_any(name, kind, ref_any, hits, n);
+            trace_as(&ctx, scene, t, segments, n, true, hits, NULL);
+            compare_any(name, t->name, ref_any, hits, n);
         }
     }
     free(rays);
@@ -242,7 +261,8 @@ static void test_teapot_in_stadium(void **state)
     Ray ray = make_ray((float[]){0, 0, 5}, (float[]){0, 0, -1}, 3.4e38f);
     Hit hit;
     vkrt_accel_kind built;
-    trace_with(&ctx, &scene, VKRT_ACCEL_AUTO, &ray, 1, false, &hit, &built);
+    const tracer automatic = {"auto", VKRT_ACCEL_AUTO, 0, VKRT_WALK_DEFAULT};
+    trace_as(&ctx, &scene, &automatic, &ray, 1, false, &hit, &built);
     fixture_context_destroy(&ctx);
     assert_int_equal(built, VKRT_ACCEL_BVH);
     vkrt_scene_free(&scene);
@@ -342,22 +362,21 @@ static void check_watertight(const char *name, vkrt_scene *scene, bool from_insi
     }
     gpu_context ctx;
     fixture_context_create(&ctx);
-    const vkrt_accel_kind kinds[] = {VKRT_ACCEL_BRUTE, VKRT_ACCEL_GRID, VKRT_ACCEL_BVH};
-    for (int k = 0; k < 3; ++k) {
-        trace_with(&ctx, scene, kinds[k], rays, 2 * count, false, hits, NULL);
+    for (int k = -1; k < FAST_TRACERS; ++k) {
+        const tracer *t = k < 0 ? &brute : &fast_tracers[k];
+        trace_as(&ctx, scene, t, rays, 2 * count, false, hits, NULL);
         uint32_t leaks = 0;
         for (uint32_t i = 0; i < 2 * count; ++i) {
             float dist = rays[i].importance.w;
             if (hits[i].triangle == VKRT_NO_HIT || hits[i].t > dist * (1 + 1e-5f) + 1e-6f) {
                 if (leaks < 3)
                     print_message("%s %s: ray %u at a %s leaked (t %g, target at %g)\n", name,
-                                  vkrt_accel_name(kinds[k]), i, i % 2 ? "edge" : "vertex",
-                                  hits[i].t, dist);
+                                  t->name, i, i % 2 ? "edge" : "vertex", hits[i].t, dist);
                 ++leaks;
             }
         }
-        print_message("%s %s: %u of %u rays at vertices and edges leaked\n", name,
-                      vkrt_accel_name(kinds[k]), leaks, 2 * count);
+        print_message("%s %s: %u of %u rays at vertices and edges leaked\n", name, t->name,
+                      leaks, 2 * count);
         assert_int_equal(leaks, 0);
     }
     fixture_context_destroy(&ctx);
@@ -498,9 +517,9 @@ static void test_bunny_watertight(void **state)
     }
     gpu_context ctx;
     fixture_context_create(&ctx);
-    const vkrt_accel_kind kinds[] = {VKRT_ACCEL_BRUTE, VKRT_ACCEL_GRID, VKRT_ACCEL_BVH};
-    for (int k = 0; k < 3; ++k) {
-        trace_with(&ctx, &scene, kinds[k], rays, count, false, hits, NULL);
+    for (int k = -1; k < FAST_TRACERS; ++k) {
+        const tracer *t = k < 0 ? &brute : &fast_tracers[k];
+        trace_as(&ctx, &scene, t, rays, count, false, hits, NULL);
         uint32_t leaks = 0;
         for (uint32_t i = 0; i < count; ++i)
             if (hits[i].triangle == VKRT_NO_HIT ||
@@ -508,14 +527,13 @@ static void test_bunny_watertight(void **state)
                 if (leaks < 3)
                     print_message("bunny %s: ray %u at (%.9g %.9g %.9g) dir (%.9g %.9g %.9g): hit "
                                   "%u at t %g, vertex at %g\n",
-                                  vkrt_accel_name(kinds[k]), i, rays[i].origin.x, rays[i].origin.y,
+                                  t->name, i, rays[i].origin.x, rays[i].origin.y,
                                   rays[i].origin.z, rays[i].direction.x, rays[i].direction.y,
                                   rays[i].direction.z, hits[i].triangle, hits[i].t,
                                   rays[i].importance.w);
                 ++leaks;
             }
-        print_message("bunny %s: %u of %u rays onto vertices leaked\n", vkrt_accel_name(kinds[k]),
-                      leaks, count);
+        print_message("bunny %s: %u of %u rays onto vertices leaked\n", t->name, leaks, count);
         assert_int_equal(leaks, 0);
     }
     fixture_context_destroy(&ctx);

@@ -173,7 +173,7 @@ bench_run() { # bench_run NAME ARGS...: a small bench of the Cornell box into $t
         --json "$tmp/$name.json" "$@" >"$tmp/$name.txt" 2>&1
 }
 counts() { grep -o '"\(hits\|blocked\|diffuse_hits\)": [0-9]*' "$1" | tr '\n' ' '; }
-bench_run pairs
+bench_run pairs --bvh-width 2
 check "bench exits 0" test $? -eq 0
 check "bench JSON has the rates" grep -q '"primary_mrays_per_s": [0-9]' "$tmp/pairs.json"
 check "bench JSON has hits" grep -q '"hits": [1-9]' "$tmp/pairs.json"
@@ -190,6 +190,18 @@ check "bench --loads texel exits 0" test $? -eq 0
 check "the JSON names texel loads" grep -q '"loads": "texel"' "$tmp/texel.json"
 check "storage and texel loads hit the same" test "$(counts "$tmp/storage.json")" = "$(counts "$tmp/texel.json")"
 check "and what the default loads hit" test "$(counts "$tmp/texel.json")" = "$(counts "$tmp/pairs.json")"
+# The BVH's two walks (one loop; nested loops, the default on CPU devices) on both layouts.
+for width in 2 4; do
+    for walk in one-loop nested; do
+        bench_run walk-$width-$walk --bvh-width $width --walk $walk
+        check "bench --bvh-width $width --walk $walk exits 0" test $? -eq 0
+        check "the JSON names the $walk walk" grep -q "\"walk\": \"$walk\"" "$tmp/walk-$width-$walk.json"
+        check "width $width, $walk walk: the same hits as the pairs" test \
+            "$(counts "$tmp/walk-$width-$walk.json")" = "$(counts "$tmp/pairs.json")"
+    done
+done
+"$vkrt" bench "$src/scenes/cornell/scene.cfg" --walk sideways >/dev/null 2>"$tmp/err"
+check "--walk sideways is refused" test $? -ne 0
 bench_run quads-storage --bvh-width 4 --loads storage
 check "the 4-wide layout with storage loads hits what the pairs hit" test "$(counts "$tmp/quads-storage.json")" = "$(counts "$tmp/pairs.json")"
 for accel in grid brute; do

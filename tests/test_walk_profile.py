@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """test_walk_profile.py: tools/walk_profile.c walks the rays vkrt bench traces the way the GPU
 kernel walks them (docs/performance.md, third pass). Its counts are held to the kernel's own:
-`vkrt bench --stats` on the same scene, size and tree (on lavapipe in tests), nodes and triangles
+`vkrt bench --stats` on the same scene, size and tree, walked as it models (the pairs, in one
+loop: `--bvh-width 2 --walk one-loop`, which lavapipe, the device in tests, does not default to),
+nodes and triangles
 per ray for primary, shadow and diffuse rays, and the hits and blocked shadow rays. The two test
 triangles differently (Moller-Trumbore in double against the watertight test in float), so a ray
 through an edge may go either way: a few rays' worth of difference is allowed, no more.
@@ -24,7 +26,7 @@ def main():
         out = os.path.join(tmp, "stats.json")
         subprocess.run([vkrt, "bench", scene, "--accel", "bvh", "--stats", "--width", str(WIDTH),
                         "--height", str(HEIGHT), "--bvh-leaf", str(LEAF), "--bvh-cost", str(COST),
-                        "--json", out], check=True, stdout=subprocess.DEVNULL)
+                        "--bvh-width", "2", "--walk", "one-loop", "--json", out], check=True, stdout=subprocess.DEVNULL)
         gpu = json.load(open(out, encoding="utf-8"))["results"][0]
     text = subprocess.run([walk_profile, scene, str(WIDTH), str(HEIGHT), str(LEAF), str(COST)],
                           check=True, capture_output=True, text=True).stdout

@@ -101,15 +101,19 @@ static double box_entry(const bvh_pair *n, int k, const double o[3], const doubl
 }
 
 /* traverse_bvh.glsl's pairs walk, counting; fills hit (triangle in scene order) unless any_hit. */
-static walk_count walk(const walk_tree *tree, const Ray *ray, bool any_hit, Hit *hit)
+static walk_count walk_from(const walk_tree *tree, const Ray *ray, bool any_hit, uint32_t start,
+                            Hit *hit)
 {
     walk_count c = {0};
+    *hit = (Hit){ray->direction.w, 0, 0, VKRT_NO_HIT};
+    if (start == VKRT_NO_HIT)
+        return c;
     double o[3], d[3], inv[3];
     ray_frame(ray, o, d, inv);
     double tmin = ray->origin.w, best = ray->direction.w, bu = 0, bv = 0;
     uint32_t found = VKRT_NO_HIT, stack[stack_size];
     int top = 0;
-    uint32_t ref = 0;
+    uint32_t ref = start;
     for (;;) {
         ++c.iterations;
         if (ref & BVH_LEAF_REF) {
@@ -149,6 +153,26 @@ static walk_count walk(const walk_tree *tree, const Ray *ray, bool any_hit, Hit 
     *hit = (Hit){(float)best, (float)bu, (float)bv,
                      found == VKRT_NO_HIT ? VKRT_NO_HIT : tree->prim_order[found]};
     return c;
+}
+
+static walk_count walk(const walk_tree *tree, const Ray *ray, bool any_hit, Hit *hit)
+{
+    return walk_from(tree, ray, any_hit, 0, hit);
+}
+
+/* Where part `part` of `parts` (1, 2 or 4) of a split shadow walk starts: the root, one of its
+ * children, or one of its grandchildren; VKRT_NO_HIT when that part has nothing (a leaf met
+ * above its level belongs to the part whose lower bit is 0). */
+static uint32_t part_start(const walk_tree *tree, uint32_t part, uint32_t parts)
+{
+    uint32_t ref = 0;
+    for (uint32_t level = parts; level > 1; level /= 2) {
+        uint32_t bit = (part / (level / 2)) & 1u;
+        if (ref & BVH_LEAF_REF)
+            return part % level ? VKRT_NO_HIT : ref;
+        ref = tree->pairs[ref].ref[bit];
+    }
+    return ref;
 }
 
 
@@ -382,6 +406,47 @@ static void report(const char *kind, const walk_count *c, uint32_t count, uint32
     free(widest);
 }
 
+/* The shadow rays' walks split into `parts` lanes each, lane k walking the subtree of
+ * part_start(k): the subgroups' costs on `slots` slots when a ray's parts are neighbours (ray
+ * major) and when each part takes its own run of the dispatch (part major), in order and in
+ * reverse. */
+static void split_walks(const walk_tree *w, const Ray *rays, uint32_t n, uint32_t parts,
+                        uint32_t slots)
+{
+    uint32_t tasks = n * parts, groups = (tasks + subgroup - 1) / subgroup;
+    uint32_t *it = malloc(tasks * sizeof *it), *cost = malloc(groups * sizeof *cost);
+    if (!it || !cost) {
+        fprintf(stderr, "walk-profile: out of memory\n");
+        exit(1);
+    }
+    double iterations = 0;
+    for (uint32_t i = 0; i < n; ++i) {
+        for (uint32_t k = 0; k < parts; ++k) {
+            Hit h;
+            it[i * parts + k] = walk_from(w, &rays[i], true, part_start(w, k, parts), &h).iterations;
+            iterations += it[i * parts + k];
+        }
+    }
+    for (int major = 0; major < 2; ++major) {
+        memset(cost, 0, groups * sizeof *cost);
+        uint32_t longest = 0;
+        for (uint32_t t = 0; t < tasks; ++t) {
+            /* Task t of the dispatch: ray major, or part major. */
+            uint32_t i = major ? t / parts : (t % n) * parts + t / n;
+            uint32_t g = t / subgroup;
+            cost[g] = it[i] > cost[g] ? it[i] : cost[g];
+            longest = cost[g] > longest ? cost[g] : longest;
+        }
+        double span = schedule(cost, groups, slots);
+        reverse(cost, groups);
+        printf("  split in %u, %s: %.1f iterations per ray, longest subgroup %u; on %u slots %.0f, "
+               "reversed %.0f\n", parts, major ? "ray major" : "part major", iterations / n,
+               longest, slots, span, schedule(cost, groups, slots));
+    }
+    free(cost);
+    free(it);
+}
+
 /* What two other walks of the same shadow rays would take, in loop iterations, per subgroup and
  * on `slots` slots in dispatch order: the 4-wide tree of bvh_quads.h (its decoded boxes), and the
  * pairs with idle lanes taking subtrees from busy ones (shared_subgroup). */
@@ -418,6 +483,8 @@ static void shadow_alternatives(const walk_tree *w, const bvh *tree, const Ray *
     printf("  pairs, idle lanes taking subtrees: %.1f iterations per subgroup, longest %.0f; on %u "
            "slots %.0f\n", iterations / groups, longest, slots, schedule(cost, groups, slots));
     free(cost);
+    for (uint32_t parts = 2; parts <= 4; parts *= 2)
+        split_walks(w, rays, n, parts, slots);
 }
 
 /* walk-profile's HEATMAP.png: shadow ray i's iterations at the pixel of the primary

@@ -50,6 +50,10 @@ layout(set = 0, binding = 20) uniform usamplerBuffer triangle_texels;
 layout(set = 0, binding = 21) uniform usamplerBuffer node_texels;
 layout(constant_id = 9) const bool TEXEL_LOADS = false;
 
+/* Set when the BVH's walk runs inner nodes and leaves in two loops of their own
+ * (lib/traverse_bvh.glsl, bvh_traverse_nested): on CPU devices, by default. */
+layout(constant_id = 10) const bool NESTED_WALK = false;
+
 /* The wave machinery: one WaveState per depth, light visibility bits (frame.range.w words per
  * ray, bit k of word k / 32 set when light k reaches the hit), and for each ray the first slot and
  * number of the rays its material casts. */

@@ -122,86 +122,178 @@ uint bvh_pair_step(RayShear s, vec3 inv_dir, float tmin, float hit_t, bool any_h
     return hit_a ? n.refs.x : hit_b ? n.refs.y : NO_NODE;
 }
 
-/* The closest hit (any_hit false) or the first hit found (any_hit true) in (tmin, tmax). */
-Hit bvh_traverse(RayShear s, vec3 dir, float tmin, float tmax, bool any_hit)
+/* One step at the 4-wide node `node`: tests its children against (tmin, hit_t) and returns the
+ * nearest hit, or NO_NODE; the others hit, farthest first, come back in push_far, push_mid and
+ * push_near (NO_NODE where fewer were hit), to be pushed in that order. */
+uint bvh_quad_step(RayShear s, vec3 inv_dir, float tmin, float hit_t, uint node, out uint push_far,
+                   out uint push_mid, out uint push_near)
 {
     const float inf = uintBitsToFloat(0x7f800000u);
+    /* Loaded here rather than through a function like load_pair: glslang's propagation of
+     * `precise` (below) through a struct returned by a function never ended. */
+    BvhQuad n;
+    if (TEXEL_LOADS) {
+        int t = int(4u * node);
+        n.origin = uintBitsToFloat(texelFetch(node_texels, t));
+        n.planes = texelFetch(node_texels, t + 1);
+        n.planes_z = texelFetch(node_texels, t + 2);
+        n.refs = texelFetch(node_texels, t + 3);
+    } else {
+        n = bvh_nodes[node];
+    }
+    if (TRAVERSAL_STATS)
+        ++traversal_steps;
+    uint meta = floatBitsToUint(n.origin.w);
+    vec3 scale = vec3(uintBitsToFloat((meta & 0xFFu) << 23),
+                      uintBitsToFloat(((meta >> 8) & 0xFFu) << 23),
+                      uintBitsToFloat(((meta >> 16) & 0xFFu) << 23));
+    /* q * scale is exact, so each decoded plane is rounded once whether or not the
+     * compiler fuses; precise keeps it from being reassociated with the subtraction. */
+    precise vec4 x_lo = n.origin.x + plane_bytes(n.planes.x) * scale.x;
+    precise vec4 x_hi = n.origin.x + plane_bytes(n.planes.y) * scale.x;
+    precise vec4 y_lo = n.origin.y + plane_bytes(n.planes.z) * scale.y;
+    precise vec4 y_hi = n.origin.y + plane_bytes(n.planes.w) * scale.y;
+    precise vec4 z_lo = n.origin.z + plane_bytes(n.planes_z.x) * scale.z;
+    precise vec4 z_hi = n.origin.z + plane_bytes(n.planes_z.y) * scale.z;
+    vec4 tx0 = (x_lo - s.origin.x) * inv_dir.x, tx1 = (x_hi - s.origin.x) * inv_dir.x;
+    vec4 ty0 = (y_lo - s.origin.y) * inv_dir.y, ty1 = (y_hi - s.origin.y) * inv_dir.y;
+    vec4 tz0 = (z_lo - s.origin.z) * inv_dir.z, tz1 = (z_hi - s.origin.z) * inv_dir.z;
+    vec4 enter = max(max(min(tx0, tx1), min(ty0, ty1)), max(min(tz0, tz1), vec4(tmin)));
+    vec4 leave = min(min(max(tx0, tx1), max(ty0, ty1)), min(max(tz0, tz1), vec4(hit_t)));
+    /* Missed children, and the slots past the node's child count, sort last as +inf. */
+    vec4 key = mix(vec4(inf), enter, lessThanEqual(enter, leave * BOX_EXIT_SCALE));
+    key = mix(vec4(inf), key, lessThan(uvec4(0u, 1u, 2u, 3u), uvec4(meta >> 24)));
+    float k0 = key.x, k1 = key.y, k2 = key.z, k3 = key.w;
+    uint r0 = n.refs.x, r1 = n.refs.y, r2 = n.refs.z, r3 = n.refs.w;
+    order_pair(k0, r0, k1, r1);
+    order_pair(k2, r2, k3, r3);
+    order_pair(k0, r0, k2, r2);
+    order_pair(k1, r1, k3, r3);
+    order_pair(k1, r1, k2, r2);
+    push_far = k3 != inf ? r3 : NO_NODE;
+    push_mid = k2 != inf ? r2 : NO_NODE;
+    push_near = k1 != inf ? r1 : NO_NODE;
+    return k0 != inf ? r0 : NO_NODE;
+}
+
+/* The traversal stack of the invocation's walk: subtrees still to visit, the nearest on top. The
+ * host refused trees whose paths could overflow it (one entry per level of pairs, up to 3 per
+ * level of quads); the checks below only keep a corrupt tree from writing past it. */
+uint bvh_stack[BVH_STACK_SIZE];
+int bvh_top = 0;
+
+void bvh_push(uint ref)
+{
+    if (ref != NO_NODE && bvh_top < BVH_STACK_SIZE)
+        bvh_stack[bvh_top++] = ref;
+}
+
+/* The top of the stack, or NO_NODE when it is empty. */
+uint bvh_pop()
+{
+    return bvh_top > 0 ? bvh_stack[--bvh_top] : NO_NODE;
+}
+
+/* One step at inner node `node` of either width: pushes the other children hit and returns the
+ * one to visit next, or NO_NODE. */
+uint bvh_node_step(RayShear s, vec3 inv_dir, float tmin, float hit_t, bool any_hit, uint node)
+{
+    uint push_far, push_mid = NO_NODE, push_near = NO_NODE;
+    uint next;
+    if (BVH_WIDTH == 2u)
+        next = bvh_pair_step(s, inv_dir, tmin, hit_t, any_hit, node, push_far);
+    else
+        next = bvh_quad_step(s, inv_dir, tmin, hit_t, node, push_far, push_mid, push_near);
+    bvh_push(push_far);
+    bvh_push(push_mid);
+    bvh_push(push_near);
+    return next;
+}
+
+/* Tests leaf reference `leaf`'s triangles; true when one was hit. */
+bool bvh_leaf_ref(RayShear s, uint leaf, float tmin, inout Hit hit)
+{
+    return bvh_leaf(s, leaf & 0x07FFFFFFu, ((leaf >> 27) & 0xFu) + 1u, tmin, hit);
+}
+
+/* The walk as one loop that visits a node or a leaf per iteration ("if-if", Aila and Laine, HPG
+ * 2009): the default on GPUs. */
+Hit bvh_traverse_one_loop(RayShear s, vec3 inv_dir, float tmin, float tmax, bool any_hit)
+{
     Hit hit = Hit(tmax, 0.0, 0.0, VKRT_NO_HIT);
-    vec3 inv_dir = safe_inverse(dir);
-    uint stack[BVH_STACK_SIZE];
-    int top = 0;
-    uint ref = 0u; /* the root node */
-    while (true) {
+    bvh_top = 0;
+    uint ref = 0u; /* the root node: a tree of one leaf has a record too */
+    while (ref != NO_NODE) {
         if ((ref & VKRT_BVH_LEAF) != 0u) {
-            if (bvh_leaf(s, ref & 0x07FFFFFFu, ((ref >> 27) & 0xFu) + 1u, tmin, hit) && any_hit)
+            if (bvh_leaf_ref(s, ref, tmin, hit) && any_hit)
                 return hit;
             ref = NO_NODE;
-        } else if (BVH_WIDTH == 2u) {
-            uint push;
-            ref = bvh_pair_step(s, inv_dir, tmin, hit.t, any_hit, ref, push);
-            /* The stack cannot overflow: one entry per level at most, and the host refused
-             * deeper trees. */
-            if (push != NO_NODE)
-                stack[top++] = push;
         } else {
-            /* Loaded here rather than through a function like load_pair: glslang's propagation of
-             * `precise` (below) through a struct returned by a function never ended. */
-            BvhQuad n;
-            if (TEXEL_LOADS) {
-                int t = int(4u * ref);
-                n.origin = uintBitsToFloat(texelFetch(node_texels, t));
-                n.planes = texelFetch(node_texels, t + 1);
-                n.planes_z = texelFetch(node_texels, t + 2);
-                n.refs = texelFetch(node_texels, t + 3);
-            } else {
-                n = bvh_nodes[ref];
-            }
-            if (TRAVERSAL_STATS)
-                ++traversal_steps;
-            uint meta = floatBitsToUint(n.origin.w);
-            vec3 scale = vec3(uintBitsToFloat((meta & 0xFFu) << 23),
-                              uintBitsToFloat(((meta >> 8) & 0xFFu) << 23),
-                              uintBitsToFloat(((meta >> 16) & 0xFFu) << 23));
-            /* q * scale is exact, so each decoded plane is rounded once whether or not the
-             * compiler fuses; precise keeps it from being reassociated with the subtraction. */
-            precise vec4 x_lo = n.origin.x + plane_bytes(n.planes.x) * scale.x;
-            precise vec4 x_hi = n.origin.x + plane_bytes(n.planes.y) * scale.x;
-            precise vec4 y_lo = n.origin.y + plane_bytes(n.planes.z) * scale.y;
-            precise vec4 y_hi = n.origin.y + plane_bytes(n.planes.w) * scale.y;
-            precise vec4 z_lo = n.origin.z + plane_bytes(n.planes_z.x) * scale.z;
-            precise vec4 z_hi = n.origin.z + plane_bytes(n.planes_z.y) * scale.z;
-            vec4 tx0 = (x_lo - s.origin.x) * inv_dir.x, tx1 = (x_hi - s.origin.x) * inv_dir.x;
-            vec4 ty0 = (y_lo - s.origin.y) * inv_dir.y, ty1 = (y_hi - s.origin.y) * inv_dir.y;
-            vec4 tz0 = (z_lo - s.origin.z) * inv_dir.z, tz1 = (z_hi - s.origin.z) * inv_dir.z;
-            vec4 enter = max(max(min(tx0, tx1), min(ty0, ty1)), max(min(tz0, tz1), vec4(tmin)));
-            vec4 leave = min(min(max(tx0, tx1), max(ty0, ty1)), min(max(tz0, tz1), vec4(hit.t)));
-            /* Missed children, and the slots past the node's child count, sort last as +inf. */
-            vec4 key = mix(vec4(inf), enter, lessThanEqual(enter, leave * BOX_EXIT_SCALE));
-            key = mix(vec4(inf), key, lessThan(uvec4(0u, 1u, 2u, 3u), uvec4(meta >> 24)));
-            float k0 = key.x, k1 = key.y, k2 = key.z, k3 = key.w;
-            uint r0 = n.refs.x, r1 = n.refs.y, r2 = n.refs.z, r3 = n.refs.w;
-            order_pair(k0, r0, k1, r1);
-            order_pair(k2, r2, k3, r3);
-            order_pair(k0, r0, k2, r2);
-            order_pair(k1, r1, k3, r3);
-            order_pair(k1, r1, k2, r2);
-            if (k3 != inf && top < BVH_STACK_SIZE)
-                stack[top++] = r3;
-            if (k2 != inf && top < BVH_STACK_SIZE)
-                stack[top++] = r2;
-            if (k1 != inf && top < BVH_STACK_SIZE)
-                stack[top++] = r1;
-            ref = k0 != inf ? r0 : NO_NODE;
+            ref = bvh_node_step(s, inv_dir, tmin, hit.t, any_hit, ref);
         }
-        if (ref == NO_NODE) {
-            /* Pop the next subtree or leaf; its box was hit when it was pushed, and may since lie
-             * beyond the closest hit, which its own box tests (or triangle tests) catch. */
-            if (top == 0)
+        /* Pop the next subtree or leaf; its box was hit when it was pushed, and may since lie
+         * beyond the closest hit, which its own box tests (or triangle tests) catch. */
+        if (ref == NO_NODE)
+            ref = bvh_pop();
+    }
+    return hit;
+}
+
+/* Whether every lane of the subgroup still walking has c: with subgroup operations, else this
+ * lane's c (the nested walk then stops at a lane's second leaf). */
+#ifdef VKRT_SUBGROUPS
+#define VKRT_ALL_LANES(c) subgroupAll(c)
+#else
+#define VKRT_ALL_LANES(c) (c)
+#endif
+
+/* The walk as two loops in a loop ("while-while", Aila and Laine, HPG 2009, section 3, with their
+ * speculative traversal): inner nodes in one, leaves in the other. A lane postpones the first
+ * leaf it meets and walks on from the stack; the node loop ends at a lane's second leaf or when
+ * every lane of the subgroup still walking holds one. The default on CPU devices: Mesa's
+ * llvmpipe runs both sides of every branch that any lane takes, so in the one-loop walk each
+ * iteration paid for a triangle test and a node step (docs/performance.md). On an H200 it was
+ * slower (bench/variants/while-while.patch). */
+Hit bvh_traverse_nested(RayShear s, vec3 inv_dir, float tmin, float tmax, bool any_hit)
+{
+    Hit hit = Hit(tmax, 0.0, 0.0, VKRT_NO_HIT);
+    bvh_top = 0;
+    uint ref = 0u;
+    while (ref != NO_NODE) {
+        uint leaf = NO_NODE;
+        while (ref != NO_NODE && (ref & VKRT_BVH_LEAF) == 0u) {
+            ref = bvh_node_step(s, inv_dir, tmin, hit.t, any_hit, ref);
+            if (ref == NO_NODE)
+                ref = bvh_pop();
+            if (ref != NO_NODE && (ref & VKRT_BVH_LEAF) != 0u && leaf == NO_NODE) {
+                leaf = ref;
+                ref = bvh_pop();
+            }
+            if (VKRT_ALL_LANES(leaf != NO_NODE))
                 break;
-            ref = stack[--top];
+        }
+        /* The postponed leaf, then the one that ended the loop, if any: one place in the code for
+         * the triangle test. */
+        while (leaf != NO_NODE) {
+            if (bvh_leaf_ref(s, leaf, tmin, hit) && any_hit)
+                return hit;
+            leaf = NO_NODE;
+            if (ref != NO_NODE && (ref & VKRT_BVH_LEAF) != 0u) {
+                leaf = ref;
+                ref = bvh_pop();
+            }
         }
     }
     return hit;
+}
+
+/* The closest hit (any_hit false) or the first hit found (any_hit true) in (tmin, tmax). */
+Hit bvh_traverse(RayShear s, vec3 dir, float tmin, float tmax, bool any_hit)
+{
+    vec3 inv_dir = safe_inverse(dir);
+    if (NESTED_WALK)
+        return bvh_traverse_nested(s, inv_dir, tmin, tmax, any_hit);
+    return bvh_traverse_one_loop(s, inv_dir, tmin, tmax, any_hit);
 }
 
 #endif

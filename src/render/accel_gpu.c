@@ -106,7 +106,7 @@ static bool build_bvh(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc
                                                        : 0,
     };
     if (width == 0)
-        width = VKRT_BVH_DEFAULT_WIDTH;
+        width = gpu ? VKRT_BVH_GPU_DEFAULT_WIDTH : VKRT_BVH_CPU_DEFAULT_WIDTH;
     if (width != 2 && width != 4)
         return vkrt_error_set(err, "BVH width %u: the GPU layouts are 2 and 4 wide", width);
     bvh b;

@@ -17,9 +17,12 @@
 #include "../gpu/buffer.h"
 #include "../gpu/context.h"
 
-/* Children per node of the BVH's GPU layout unless asked otherwise: the pairs of two float
- * boxes outran the quantized 4-wide nodes on every scene measured (docs/performance.md). */
-#define VKRT_BVH_DEFAULT_WIDTH 2u
+/* Children per node of the BVH's GPU layout unless asked otherwise. On GPUs the pairs of two
+ * float boxes outran the quantized 4-wide nodes on every scene measured; on CPU devices (lavapipe,
+ * whose texel fetches cost more than the nodes' decoding) the 4-wide nodes were the faster with
+ * the nested walk on every scene's primary rays (docs/performance.md). */
+#define VKRT_BVH_GPU_DEFAULT_WIDTH 2u
+#define VKRT_BVH_CPU_DEFAULT_WIDTH 4u
 
 typedef struct vkrt_accel_stats {
     vkrt_accel_kind kind;       /* what was built (never auto) */
@@ -52,8 +55,8 @@ typedef struct vkrt_accel_gpu {
 typedef struct vkrt_accel_desc {
     vkrt_accel_kind kind;     /* auto (0) chooses from the scene */
     float grid_density;       /* cells per triangle; 0: the grid's default */
-    uint32_t bvh_width;       /* GPU layout: 2 (bvh_pairs.h) or 4 (bvh_quads.h); 0:
-                                 VKRT_BVH_DEFAULT_WIDTH */
+    uint32_t bvh_width;       /* GPU layout: 2 (bvh_pairs.h) or 4 (bvh_quads.h); 0: the
+                                 device kind's default above */
     uint32_t bvh_max_leaf;    /* bvh_build_desc.max_leaf_size, at most 16 (the GPU's leaf
                                  references); 0: 2 on GPUs, bvh.h's default on CPU devices */
     float bvh_traversal_cost; /* bvh_build_desc.traversal_cost; 0: 0.5 on GPUs, bvh.h's default

@@ -89,6 +89,7 @@ enum {
     SPEC_DYNAMIC_FETCH = 7,
     SPEC_SORT_CELLS = 8,
     SPEC_TEXEL_LOADS = 9,
+    SPEC_NESTED_WALK = 10,
 };
 
 /* The ray sort's constants (glsl/lib/ray_sort.glsl): rays per workgroup of its count and scatter
@@ -442,6 +443,7 @@ static bool create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoord
         {SPEC_BVH_WIDTH, r->accel.stats.bvh_width},
         {SPEC_DYNAMIC_FETCH, r->dynamic_fetch},
         {SPEC_TEXEL_LOADS, r->texel_loads},
+        {SPEC_NESTED_WALK, r->nested_walk},
     };
     const uint32_t count = sizeof spec / sizeof *spec;
     gpu_spec_constant sort_spec[] = {{SPEC_SORT_CELLS, r->sort_cells}};
@@ -476,6 +478,9 @@ bool vkrt_renderer_create(vkrt_renderer *r, gpu_context *ctx, const vkrt_scene *
     r->min_importance = desc->min_importance > 0 ? desc->min_importance : default_min_importance;
     r->profile = desc->profile;
     r->ray_fetch = desc->ray_fetch;
+    r->nested_walk = desc->walk == VKRT_WALK_NESTED ||
+                     (desc->walk == VKRT_WALK_DEFAULT &&
+                      ctx->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU);
     r->sort_cells = desc->sort_cells;
     if (r->sort_cells != 0 && (r->sort_cells < sort_min_cells || r->sort_cells > sort_max_cells))
         return vkrt_error_set(err, "ray sort: %u cells per side, not %d to %d", r->sort_cells,

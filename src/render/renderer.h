@@ -47,6 +47,16 @@ typedef enum vkrt_loads {
     VKRT_LOADS_TEXEL,
 } vkrt_loads;
 
+/* How the BVH's walk is laid out: one loop that visits a node or a leaf per iteration, or inner
+ * nodes and leaves in two loops of their own inside a third (glsl/lib/traverse_bvh.glsl). The
+ * default is the nested walk on CPU devices, where Mesa's llvmpipe runs both sides of every
+ * branch any lane takes, and one loop elsewhere, where it measured faster (docs/performance.md). */
+typedef enum vkrt_walk {
+    VKRT_WALK_DEFAULT,
+    VKRT_WALK_ONE_LOOP,
+    VKRT_WALK_NESTED,
+} vkrt_walk;
+
 typedef struct vkrt_render_desc {
     uint32_t width, height;   /* required */
     uint32_t samples;         /* samples per pixel; 0 means 1 */
@@ -58,6 +68,7 @@ typedef struct vkrt_render_desc {
     float bvh_traversal_cost; /* the BVH build's SAH cost of a node against a triangle; 0: the default */
     vkrt_ray_fetch ray_fetch; /* how trace kernels take their rays (2-wide BVH); 0: the default */
     vkrt_loads loads;         /* how traversal reads triangles and nodes; 0: the default */
+    vkrt_walk walk;           /* how the BVH's walk loops; 0: the default */
     uint32_t max_depth;       /* generations of secondary rays; 0: the scene's max-depth */
     uint32_t ray_capacity;    /* rays per buffer to start with; 0 (or below the pixel count):
                                  one per pixel. Tests start small to force growth. */
@@ -127,6 +138,7 @@ typedef struct vkrt_renderer {
     vkrt_ray_fetch ray_fetch; /* as asked in the desc */
     bool dynamic_fetch;       /* the trace kernels fetch rays from trace_cursor */
     bool texel_loads;         /* traversal reads triangles and nodes through the views below */
+    bool nested_walk;         /* the BVH's walk loops over nodes and leaves apart (vkrt_walk) */
     VkBufferView triangle_view, node_view; /* texel views of triangles and accel.nodes */
     uint32_t profile_repeat;  /* timed frames of a profile */
     uint32_t *light_kinds;    /* VKRT_LIGHT_KIND_* per light, kept for the loop budget check */
