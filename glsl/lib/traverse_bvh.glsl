@@ -253,35 +253,38 @@ Hit bvh_traverse_one_loop(RayShear s, vec3 inv_dir, float tmin, float tmax, bool
  * every lane of the subgroup still walking holds one. The default on CPU devices: Mesa's
  * llvmpipe runs both sides of every branch that any lane takes, so in the one-loop walk each
  * iteration paid for a triangle test and a node step (docs/performance.md). On an H200 it was
- * slower (bench/variants/while-while.patch). */
+ * slower (bench/variants/while-while.patch). Each loop pops at most once per iteration: llvmpipe
+ * gathers a pop lane by lane, whether or not a lane pops. */
 Hit bvh_traverse_nested(RayShear s, vec3 inv_dir, float tmin, float tmax, bool any_hit)
 {
     Hit hit = Hit(tmax, 0.0, 0.0, VKRT_NO_HIT);
     bvh_top = 0;
-    uint ref = 0u;
+    uint ref = 0u, leaf = NO_NODE;
+    /* NO_NODE has the leaf bit set: a reference without it is an inner node. */
     while (ref != NO_NODE) {
-        uint leaf = NO_NODE;
-        while (ref != NO_NODE && (ref & VKRT_BVH_LEAF) == 0u) {
+        while ((ref & VKRT_BVH_LEAF) == 0u) {
             ref = bvh_node_step(s, inv_dir, tmin, hit.t, any_hit, ref);
+            if (leaf == NO_NODE && ref != NO_NODE && (ref & VKRT_BVH_LEAF) != 0u) {
+                leaf = ref;
+                ref = NO_NODE;
+            }
             if (ref == NO_NODE)
                 ref = bvh_pop();
-            if (ref != NO_NODE && (ref & VKRT_BVH_LEAF) != 0u && leaf == NO_NODE) {
-                leaf = ref;
-                ref = bvh_pop();
-            }
             if (VKRT_ALL_LANES(leaf != NO_NODE))
                 break;
         }
-        /* The postponed leaf, then the one that ended the loop, if any: one place in the code for
-         * the triangle test. */
-        while (leaf != NO_NODE) {
-            if (bvh_leaf_ref(s, leaf, tmin, hit) && any_hit)
-                return hit;
-            leaf = NO_NODE;
-            if (ref != NO_NODE && (ref & VKRT_BVH_LEAF) != 0u) {
+        /* The postponed leaf, then each leaf met next, until the walk is at an inner node again
+         * or done: one place in the code for the triangle test. */
+        while (true) {
+            if (leaf == NO_NODE && ref != NO_NODE && (ref & VKRT_BVH_LEAF) != 0u) {
                 leaf = ref;
                 ref = bvh_pop();
             }
+            if (leaf == NO_NODE)
+                break;
+            if (bvh_leaf_ref(s, leaf, tmin, hit) && any_hit)
+                return hit;
+            leaf = NO_NODE;
         }
     }
     return hit;
