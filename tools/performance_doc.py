@@ -3,6 +3,7 @@
 page's numbers are the measured ones. Run from the repository root after a benchmark run."""
 import io
 import json
+import os
 import re
 import subprocess
 import sys
@@ -138,9 +139,10 @@ def stats_table(path):
     return out.getvalue().strip()
 
 
-def rates_table(first, rows, mib_scene=None):
+def rates_table(first, rows, mib_scene=None, digits=0):
     """A row per (label, JSON path): primary / shadow / diffuse Mrays/s of each issue-8 scene,
-    and with mib_scene the structure's MiB on that scene; first names the label column."""
+    and with mib_scene the structure's MiB on that scene; first names the label column; digits
+    after the point (lavapipe's rates need 2)."""
     out = io.StringIO()
     out.write(f"| {first} | " + " | ".join(ISSUE8_SCENES) +
               (f" | MiB, {mib_scene} |\n" if mib_scene else " |\n") + "|---|" +
@@ -148,7 +150,7 @@ def rates_table(first, rows, mib_scene=None):
     for label, path in rows:
         run = by_scene(path)
         out.write(f"| {label} | " + " | ".join(
-            " / ".join(f"{run[n][k + '_mrays_per_s']:,.0f}" for k in KINDS)
+            " / ".join(f"{run[n][k + '_mrays_per_s']:,.{digits}f}" for k in KINDS)
             for n in ISSUE8_SCENES) +
             (f" | {run[mib_scene]['bytes'] / 2**20:.2f} |\n" if mib_scene else " |\n"))
     return out.getvalue().strip()
@@ -504,7 +506,7 @@ def loads_values():
         return {r["scene"].split("/")[-1].replace(".cfg", ""): r
                 for r in json.load(open(path, encoding="utf-8"))["rows"]}
     old = rows("bench/results/lavapipe-storage-loads/vkrt-lavapipe-vs-embree.json")
-    new = rows("bench/results/vkrt-lavapipe-vs-embree.json")
+    new = rows("bench/results/lavapipe-texel-one-loop/vkrt-lavapipe-vs-embree.json")
     lp = io.StringIO()
     lp.write("| scene | BVH, storage loads | BVH, texel loads | texel over storage | "
              "grid, texel loads | BVH over grid |\n|---|---:|---:|---:|---:|---:|\n")
@@ -546,6 +548,72 @@ def loads_values():
     }
 
 
+# ---------------------------------------------------------------- issue 8, fourth pass
+
+LAVAPIPE_WALKS = "bench/results/lavapipe-walks"
+PASS4 = "bench/results/issue8-h200-pass4"
+# (label, file name without round and .json) of bench/cpu-run-walks.sh's runs.
+CPU_WALK_RUNS = [("pairs, one loop (the default before)", "2-one-loop"),
+             ("pairs, nested", "2-nested"),
+             ("quads, one loop", "4-one-loop"),
+             ("quads, nested (the default on CPU devices now)", "4-nested")]
+
+
+def walks_values():
+    """The BVH's walks on lavapipe (bench/cpu-run-walks.sh) and on the H200
+    (bench/gpu-run-walks.sh), and the probe of a branch no lane takes."""
+    rows = [(f"{label}, round {r}", f"{LAVAPIPE_WALKS}/{name}-{r}.json")
+            for r in (1, 2) for label, name in CPU_WALK_RUNS]
+    mean = lambda name, n, k: sum(by_scene(f"{LAVAPIPE_WALKS}/{name}-{r}.json")[n][k + "_mrays_per_s"]
+                                  for r in (1, 2)) / 2
+    gain = lambda k: ", ".join(f"{n} {mean('4-nested', n, k) / mean('2-one-loop', n, k):.2f}x"
+                               for n in ISSUE8_SCENES)
+    probe = [float(line.split()[6]) for line in open(f"{LAVAPIPE_WALKS}/dead-branch.txt", encoding="utf-8")
+             if line.startswith("scenes/")]
+    as_is, patched = probe[0::2], probe[1::2]
+    values = {
+        "@WALKS_LAVAPIPE@": rates_table("walk, round", rows, mib_scene="sponza", digits=2),
+        "@WALKS_GAIN_PRIMARY@": gain("primary"),
+        "@WALKS_GAIN_SHADOW@": gain("shadow"),
+        "@WALKS_GAIN_DIFFUSE@": gain("diffuse"),
+        "@WALKS_PROBE@": (f"{' and '.join(f'{x:.2f}' for x in as_is)} Mrays/s as it is, "
+                          f"{' and '.join(f'{x:.2f}' for x in patched)} with the branch "
+                          f"({100 * (sum(patched) / sum(as_is) - 1):+.0f}%)"),
+    }
+    text = open("bench/results/walk-profile/bunny-1920x1080.txt", encoding="utf-8").read()
+    shadow = text[text.index("shadow:"):text.index("diffuse:")]
+    in_order = re.search(r"dispatch order: (\d+) iterations", shadow).group(1)
+    reversed_ = re.search(r"reverse order (\d+)", shadow).group(1)
+    splits = re.findall(r"split in (\d), (part|ray) major: [\d.]+ iterations per ray, longest "
+                        r"subgroup \d+; on \d+ slots (\d+), reversed (\d+)", shadow)
+    values["@WALKS_SPLIT@"] = (
+        f"the bunny's 1080p shadow dispatch takes {in_order} iterations in dispatch order and "
+        f"{reversed_} reversed; split, " + "; ".join(
+            f"in {n} with each {'part' if m == 'part' else 'ray'}'s "
+            f"{'rays in a run of their own' if m == 'part' else 'parts side by side'}, "
+            f"{a} in order and {b} reversed" for n, m, a, b in splits) +
+        " (`bench/results/walk-profile/bunny-1920x1080.txt`)")
+    if os.path.exists(f"{PASS4}/one-loop.json"):
+        gpu = [("one loop (the default on GPUs), after the refactoring", "one-loop"),
+               ("nested", "nested"), ("quads, nested", "nested-width4"),
+               ("quads, one loop", "one-loop-width4"), ("one loop again", "one-loop-again")]
+        values["@WALKS_H200@"] = rates_table("walk", [(label, f"{PASS4}/{name}.json")
+                                                      for label, name in gpu])
+        new, old = by_scene(f"{PASS4}/one-loop.json"), by_scene(f"{PASS3}/vkrt.json")
+        nested = by_scene(f"{PASS4}/nested.json")
+        def change(a, b):
+            """Per ray kind, the range over the scenes of a's rate against b's."""
+            parts = []
+            for k in KINDS:
+                d = [100 * (a[n][k + "_mrays_per_s"] / b[n][k + "_mrays_per_s"] - 1)
+                     for n in ISSUE8_SCENES]
+                parts.append(f"{k} {min(d):+.0f}% to {max(d):+.0f}%")
+            return ", ".join(parts)
+        values["@WALKS_H200_VS_PASS3@"] = change(new, old)
+        values["@WALKS_H200_NESTED@"] = change(nested, new)
+    return values
+
+
 def main():
     h100 = json.load(open("bench/results/bench-h100.json", encoding="utf-8"))
     lavapipe = json.load(open("bench/results/bench-lavapipe.json", encoding="utf-8"))
@@ -563,6 +631,7 @@ def main():
     values.update(pass2_values())
     values.update(pass3_values())
     values.update(loads_values())
+    values.update(walks_values())
     for key, value in values.items():
         text = text.replace(key, value)
     open("docs/performance.md", "w", encoding="utf-8").write(

@@ -16,8 +16,9 @@
  * GPU that holds SLOTS subgroups at once would take to run the subgroups in dispatch order, each
  * taking its busiest lane's iterations, against the perfectly balanced sum / SLOTS: the share of
  * the dispatch that is its tail, and the same in reverse order and longest first. For shadow
- * rays also what the 4-wide tree of bvh_quads.h would take, and the pairs walk if lanes that are
- * done took subtrees from the stacks of lanes that are not. With HEATMAP.png, an image of the
+ * rays also what the 4-wide tree of bvh_quads.h would take, the pairs walk if lanes that are
+ * done took subtrees from the stacks of lanes that are not, and each ray's walk split over 2 or 4
+ * lanes, one per subtree of the root's children or grandchildren (split_walks). With HEATMAP.png, an image of the
  * shadow rays' iterations per pixel (black: no shadow ray; brighter: longer walks, the longest
  * white).
  */
