@@ -1,6 +1,8 @@
 # gpu-prelude.sh: sourced by the bench/gpu-run-*.sh scripts on the GPU machine. Sets $out (the
 # folder whose files come back, $OUT) and $root, unpacks .bundle/scenes.tar.gz and links it
-# where the scene files expect ../shared/scenes.
+# where the scene files expect ../shared/scenes. The caller unpacks .gl/*.deb first: libvulkan1,
+# and since the fourth pass of issue 8 libegl1 and libglvnd0 too (Debian's; the machine's NVIDIA
+# driver 580 would not create an instance without glvnd's libEGL).
 set -u
 out=${OUT:-/tmp/vkrt-out}
 mkdir -p "$out"

@@ -593,24 +593,36 @@ def walks_values():
             f"{'rays in a run of their own' if m == 'part' else 'parts side by side'}, "
             f"{a} in order and {b} reversed" for n, m, a, b in splits) +
         " (`bench/results/walk-profile/bunny-1920x1080.txt`)")
-    if os.path.exists(f"{PASS4}/one-loop.json"):
-        gpu = [("one loop (the default on GPUs), after the refactoring", "one-loop"),
-               ("nested", "nested"), ("quads, nested", "nested-width4"),
-               ("quads, one loop", "one-loop-width4"), ("one loop again", "one-loop-again")]
-        values["@WALKS_H200@"] = rates_table("walk", [(label, f"{PASS4}/{name}.json")
-                                                      for label, name in gpu])
-        new, old = by_scene(f"{PASS4}/one-loop.json"), by_scene(f"{PASS3}/vkrt.json")
-        nested = by_scene(f"{PASS4}/nested.json")
-        def change(a, b):
-            """Per ray kind, the range over the scenes of a's rate against b's."""
-            parts = []
-            for k in KINDS:
-                d = [100 * (a[n][k + "_mrays_per_s"] / b[n][k + "_mrays_per_s"] - 1)
-                     for n in ISSUE8_SCENES]
-                parts.append(f"{k} {min(d):+.0f}% to {max(d):+.0f}%")
-            return ", ".join(parts)
-        values["@WALKS_H200_VS_PASS3@"] = change(new, old)
-        values["@WALKS_H200_NESTED@"] = change(nested, new)
+    gpu = [("pairs, one loop, written with the nested walk's stack (first call)", "one-loop"),
+           ("pairs, nested", "nested"), ("quads, nested", "nested-width4"),
+           ("quads, one loop", "one-loop-width4"), ("pairs, one loop again", "one-loop-again")]
+    values["@WALKS_H200@"] = rates_table("walk", [(label, f"{PASS4}/{name}.json")
+                                                  for label, name in gpu])
+    ab = [(f"{label}, round {r}", f"{PASS4}/ab/{name}-{r}.json") for r in (1, 2)
+          for label, name in (("one loop, the nested walk's stack", "refactored"),
+                              ("the third pass's kernels", "pass3"),
+                              ("one loop, a stack of its own (committed)", "local"))]
+    ab += [("committed, last call", f"{PASS4}/final/final.json"),
+           ("committed, nested walk, last call", f"{PASS4}/final/final-nested.json")]
+    values["@WALKS_H200_AB@"] = rates_table("kernels", ab)
+
+    def change(a, b):
+        """Per ray kind, the range over the scenes of a's rate against b's."""
+        parts = []
+        for k in KINDS:
+            d = [100 * (a[n][k + "_mrays_per_s"] / b[n][k + "_mrays_per_s"] - 1)
+                 for n in ISSUE8_SCENES]
+            parts.append(f"{k} {min(d):+.1f}% to {max(d):+.1f}%")
+        return ", ".join(parts)
+    runs = lambda name: [by_scene(f"{PASS4}/ab/{name}-{r}.json") for r in (1, 2)]
+    ref, old, local = runs("refactored"), runs("pass3"), runs("local")
+    final = by_scene(f"{PASS4}/final/final.json")
+    values["@WALKS_H200_REFACTORED@"] = change(ref[0], old[0]) + " (round 1); " + \
+        change(ref[1], old[1]) + " (round 2)"
+    values["@WALKS_H200_LOCAL@"] = change(local[0], old[0]) + " (round 1); " + \
+        change(local[1], old[1]) + " (round 2)"
+    values["@WALKS_H200_VS_PASS3@"] = change(final, by_scene(f"{PASS3}/vkrt.json"))
+    values["@WALKS_H200_NESTED@"] = change(by_scene(f"{PASS4}/final/final-nested.json"), final)
     return values
 
 

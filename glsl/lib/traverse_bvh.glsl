@@ -176,9 +176,10 @@ uint bvh_quad_step(RayShear s, vec3 inv_dir, float tmin, float hit_t, uint node,
     return k0 != inf ? r0 : NO_NODE;
 }
 
-/* The traversal stack of the invocation's walk: subtrees still to visit, the nearest on top. The
- * host refused trees whose paths could overflow it (one entry per level of pairs, up to 3 per
- * level of quads); the checks below only keep a corrupt tree from writing past it. */
+/* The nested walk's traversal stack: subtrees still to visit, the nearest on top. The host
+ * refused trees whose paths could overflow it (one entry per level of pairs, up to 3 per level of
+ * quads); the checks below only keep a corrupt tree from writing past it. (The one-loop walk
+ * keeps a stack of its own, below.) */
 uint bvh_stack[BVH_STACK_SIZE];
 int bvh_top = 0;
 
@@ -194,8 +195,8 @@ uint bvh_pop()
     return bvh_top > 0 ? bvh_stack[--bvh_top] : NO_NODE;
 }
 
-/* One step at inner node `node` of either width: pushes the other children hit and returns the
- * one to visit next, or NO_NODE. */
+/* One step of the nested walk at inner node `node` of either width: pushes the other children hit
+ * and returns the one to visit next, or NO_NODE. */
 uint bvh_node_step(RayShear s, vec3 inv_dir, float tmin, float hit_t, bool any_hit, uint node)
 {
     uint push_far, push_mid = NO_NODE, push_near = NO_NODE;
@@ -217,24 +218,40 @@ bool bvh_leaf_ref(RayShear s, uint leaf, float tmin, inout Hit hit)
 }
 
 /* The walk as one loop that visits a node or a leaf per iteration ("if-if", Aila and Laine, HPG
- * 2009): the default on GPUs. */
+ * 2009): the default on GPUs. Its stack is an array of this function's, and the pairs' push is
+ * unchecked (the host refused deeper trees): written with the nested walk's stack and its
+ * helpers, it ran 2-6% slower on an H200 (bench/results/issue8-h200-pass4/ab/). */
 Hit bvh_traverse_one_loop(RayShear s, vec3 inv_dir, float tmin, float tmax, bool any_hit)
 {
     Hit hit = Hit(tmax, 0.0, 0.0, VKRT_NO_HIT);
-    bvh_top = 0;
-    uint ref = 0u; /* the root node: a tree of one leaf has a record too */
-    while (ref != NO_NODE) {
+    uint stack[BVH_STACK_SIZE];
+    int top = 0;
+    uint ref = 0u;
+    while (true) {
         if ((ref & VKRT_BVH_LEAF) != 0u) {
             if (bvh_leaf_ref(s, ref, tmin, hit) && any_hit)
                 return hit;
             ref = NO_NODE;
+        } else if (BVH_WIDTH == 2u) {
+            uint push;
+            ref = bvh_pair_step(s, inv_dir, tmin, hit.t, any_hit, ref, push);
+            if (push != NO_NODE)
+                stack[top++] = push;
         } else {
-            ref = bvh_node_step(s, inv_dir, tmin, hit.t, any_hit, ref);
+            uint far, mid, near;
+            ref = bvh_quad_step(s, inv_dir, tmin, hit.t, ref, far, mid, near);
+            if (far != NO_NODE && top < BVH_STACK_SIZE)
+                stack[top++] = far;
+            if (mid != NO_NODE && top < BVH_STACK_SIZE)
+                stack[top++] = mid;
+            if (near != NO_NODE && top < BVH_STACK_SIZE)
+                stack[top++] = near;
         }
-        /* Pop the next subtree or leaf; its box was hit when it was pushed, and may since lie
-         * beyond the closest hit, which its own box tests (or triangle tests) catch. */
-        if (ref == NO_NODE)
-            ref = bvh_pop();
+        if (ref == NO_NODE) {
+            if (top == 0)
+                break;
+            ref = stack[--top];
+        }
     }
     return hit;
 }
