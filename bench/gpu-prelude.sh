@@ -29,3 +29,20 @@ gpu_tests() {
         echo "test_$t exit $status"
     done
 }
+
+# For the scripts from gpu-run-walks.sh on: begin NAME sets the bundle's environment, $log
+# ($out/NAME-log.txt, opened with the GPU's name, driver and clocks) and $json (a folder for the
+# runs' JSON); end NAME packs $json into $out/NAME-json.tar and appends the clocks, temperature
+# and power after the runs to $log.
+begin() {
+    export LD_LIBRARY_PATH="$root/.bundle/lib" VKRT_VALIDATION=0 VKRT_SOURCE_DIR="$root" \
+        VKRT_SCENES_DIR="$root/.bundle/scenes" VKRT_STADIUM_CFG="$root/.bundle/stadium/scene.cfg"
+    log="$out/$1-log.txt"
+    json=/tmp/$1-json
+    mkdir -p "$json"
+    nvidia-smi --query-gpu=name,driver_version,clocks.sm,clocks.max.sm --format=csv >"$log" 2>&1
+}
+end() {
+    tar cf "$out/$1-json.tar" -C "$json" .
+    nvidia-smi --query-gpu=clocks.sm,temperature.gpu,power.draw --format=csv >>"$log" 2>&1
+}

@@ -7,16 +7,11 @@
 #   .bundle/variants/local/glsl   (the variant, kept as bench/variants/one-loop-local-stack.patch)
 # Writes $OUT/walks-ab-log.txt and $OUT/walks-ab-json.tar.
 . bench/gpu-prelude.sh
-export LD_LIBRARY_PATH="$root/.bundle/lib" VKRT_VALIDATION=0
-log="$out/walks-ab-log.txt"
-json=/tmp/walks-ab-json
-mkdir -p $json
-nvidia-smi --query-gpu=name,driver_version,clocks.sm,clocks.max.sm --format=csv >"$log" 2>&1
+begin walks-ab
 issue="scenes/shared/bunny.cfg scenes/shared/sponza.cfg scenes/shared/sibenik.cfg scenes/shared/lost-empire.cfg"
 for round in 1 2; do
     run refactored-$round 1920 1080 .bundle/vkrt bench $issue --accel bvh
     run pass3-$round 1920 1080 env VKRT_GLSL_DIR="$root/.bundle/variants/pass3/glsl" .bundle/vkrt bench $issue --accel bvh
     run local-$round 1920 1080 env VKRT_GLSL_DIR="$root/.bundle/variants/local/glsl" .bundle/vkrt bench $issue --accel bvh
 done
-tar cf "$out/walks-ab-json.tar" -C $json .
-nvidia-smi --query-gpu=clocks.sm,temperature.gpu,power.draw --format=csv >>"$log" 2>&1
+end walks-ab

@@ -4,15 +4,9 @@
 # gpu-run-walks-ab.sh). Expects the bundle of gpu-run-walks.sh.
 # Writes $OUT/final-log.txt and $OUT/final-json.tar.
 . bench/gpu-prelude.sh
-export LD_LIBRARY_PATH="$root/.bundle/lib" VKRT_VALIDATION=0 VKRT_SOURCE_DIR="$root" \
-    VKRT_SCENES_DIR="$root/.bundle/scenes" VKRT_STADIUM_CFG="$root/.bundle/stadium/scene.cfg"
-log="$out/final-log.txt"
-json=/tmp/final-json
-mkdir -p $json
-nvidia-smi --query-gpu=name,driver_version,clocks.sm,clocks.max.sm --format=csv >"$log" 2>&1
+begin final
 gpu_tests layout accel stability render
 issue="scenes/shared/bunny.cfg scenes/shared/sponza.cfg scenes/shared/sibenik.cfg scenes/shared/lost-empire.cfg"
 run final 1920 1080 .bundle/vkrt bench $issue --accel bvh
 run final-nested 1920 1080 .bundle/vkrt bench $issue --accel bvh --walk nested
-tar cf "$out/final-json.tar" -C $json .
-nvidia-smi --query-gpu=clocks.sm,temperature.gpu,power.draw --format=csv >>"$log" 2>&1
+end final

@@ -7,12 +7,7 @@
 # and the stadium scene in .bundle/stadium/, as for gpu-run-pass3.sh).
 # Writes $OUT/walks-log.txt and $OUT/walks-json.tar.
 . bench/gpu-prelude.sh
-export LD_LIBRARY_PATH="$root/.bundle/lib" VKRT_VALIDATION=0 VKRT_SOURCE_DIR="$root" \
-    VKRT_SCENES_DIR="$root/.bundle/scenes" VKRT_STADIUM_CFG="$root/.bundle/stadium/scene.cfg"
-log="$out/walks-log.txt"
-json=/tmp/walks-json
-mkdir -p $json
-nvidia-smi --query-gpu=name,driver_version,clocks.sm,clocks.max.sm --format=csv >"$log" 2>&1
+begin walks
 gpu_tests layout accel stability render
 issue="scenes/shared/bunny.cfg scenes/shared/sponza.cfg scenes/shared/sibenik.cfg scenes/shared/lost-empire.cfg"
 run one-loop 1920 1080 .bundle/vkrt bench $issue --accel bvh
@@ -20,5 +15,4 @@ run nested 1920 1080 .bundle/vkrt bench $issue --accel bvh --walk nested
 run nested-width4 1920 1080 .bundle/vkrt bench $issue --accel bvh --walk nested --bvh-width 4
 run one-loop-width4 1920 1080 .bundle/vkrt bench $issue --accel bvh --bvh-width 4
 run one-loop-again 1920 1080 .bundle/vkrt bench $issue --accel bvh
-tar cf "$out/walks-json.tar" -C $json .
-nvidia-smi --query-gpu=clocks.sm,temperature.gpu,power.draw --format=csv >>"$log" 2>&1
+end walks
