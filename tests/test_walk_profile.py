@@ -3,8 +3,7 @@
 kernel walks them (docs/performance.md, third pass). Its counts are held to the kernel's own:
 `vkrt bench --stats` on the same scene, size and tree, walked as it models (the pairs, in one
 loop: `--bvh-width 2 --walk one-loop`, which lavapipe, the device in tests, does not default to),
-nodes and triangles
-per ray for primary, shadow and diffuse rays, and the hits and blocked shadow rays. The two test
+nodes and triangles per ray for primary, shadow and diffuse rays, and the hits and blocked shadow rays. The two test
 triangles differently (Moller-Trumbore in double against the watertight test in float), so a ray
 through an edge may go either way: a few rays' worth of difference is allowed, no more.
     usage: test_walk_profile.py VKRT WALK_PROFILE SCENE.cfg
@@ -26,7 +25,8 @@ def main():
         out = os.path.join(tmp, "stats.json")
         subprocess.run([vkrt, "bench", scene, "--accel", "bvh", "--stats", "--width", str(WIDTH),
                         "--height", str(HEIGHT), "--bvh-leaf", str(LEAF), "--bvh-cost", str(COST),
-                        "--bvh-width", "2", "--walk", "one-loop", "--json", out], check=True, stdout=subprocess.DEVNULL)
+                        "--bvh-width", "2", "--walk", "one-loop", "--json", out],
+                       check=True, stdout=subprocess.DEVNULL)
         gpu = json.load(open(out, encoding="utf-8"))["results"][0]
     text = subprocess.run([walk_profile, scene, str(WIDTH), str(HEIGHT), str(LEAF), str(COST)],
                           check=True, capture_output=True, text=True).stdout

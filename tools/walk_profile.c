@@ -18,9 +18,9 @@
  * the dispatch that is its tail, and the same in reverse order and longest first. For shadow
  * rays also what the 4-wide tree of bvh_quads.h would take, the pairs walk if lanes that are
  * done took subtrees from the stacks of lanes that are not, and each ray's walk split over 2 or 4
- * lanes, one per subtree of the root's children or grandchildren (split_walks). With HEATMAP.png, an image of the
- * shadow rays' iterations per pixel (black: no shadow ray; brighter: longer walks, the longest
- * white).
+ * lanes, one per subtree of the root's children or grandchildren (split_walks). With HEATMAP.png,
+ * an image of the shadow rays' iterations per pixel (black: no shadow ray; brighter: longer
+ * walks, the longest white).
  */
 #include <math.h>
 #include <stdio.h>
@@ -101,7 +101,8 @@ static double box_entry(const bvh_pair *n, int k, const double o[3], const doubl
     return enter <= leave * 1.0000004 ? enter : INFINITY;
 }
 
-/* traverse_bvh.glsl's pairs walk, counting; fills hit (triangle in scene order) unless any_hit. */
+/* traverse_bvh.glsl's one-loop pairs walk from `start` (the root is 0; VKRT_NO_HIT: nothing to
+ * walk), counting; fills hit (triangle in scene order). */
 static walk_count walk_from(const walk_tree *tree, const Ray *ray, bool any_hit, uint32_t start,
                             Hit *hit)
 {

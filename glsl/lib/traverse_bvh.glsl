@@ -226,7 +226,7 @@ Hit bvh_traverse_one_loop(RayShear s, vec3 inv_dir, float tmin, float tmax, bool
     Hit hit = Hit(tmax, 0.0, 0.0, VKRT_NO_HIT);
     uint stack[BVH_STACK_SIZE];
     int top = 0;
-    uint ref = 0u;
+    uint ref = 0u; /* the root node: a tree of one leaf has a record too */
     while (true) {
         if ((ref & VKRT_BVH_LEAF) != 0u) {
             if (bvh_leaf_ref(s, ref, tmin, hit) && any_hit)
@@ -235,6 +235,8 @@ Hit bvh_traverse_one_loop(RayShear s, vec3 inv_dir, float tmin, float tmax, bool
         } else if (BVH_WIDTH == 2u) {
             uint push;
             ref = bvh_pair_step(s, inv_dir, tmin, hit.t, any_hit, ref, push);
+            /* The stack cannot overflow: one entry per level at most, and the host refused
+             * deeper trees. */
             if (push != NO_NODE)
                 stack[top++] = push;
         } else {
@@ -248,6 +250,8 @@ Hit bvh_traverse_one_loop(RayShear s, vec3 inv_dir, float tmin, float tmax, bool
                 stack[top++] = near;
         }
         if (ref == NO_NODE) {
+            /* Pop the next subtree or leaf; its box was hit when it was pushed, and may since lie
+             * beyond the closest hit, which its own box tests (or triangle tests) catch. */
             if (top == 0)
                 break;
             ref = stack[--top];
