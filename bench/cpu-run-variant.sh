@@ -19,18 +19,21 @@ export LP_NUM_THREADS=$(nproc) VKRT_VALIDATION=0
 mkdir -p $dir
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-git archive HEAD glsl | tar x -C "$work"
-(cd "$work" && patch -s -p1 <"$OLDPWD/$patch_file")
+# Both sides from the last commit, so that uncommitted changes of glsl/ are on neither.
+mkdir -p "$work/committed" "$work/variant"
+git archive HEAD glsl | tar x -C "$work/committed"
+git archive HEAD glsl | tar x -C "$work/variant"
+(cd "$work/variant" && patch -s -p1 <"$OLDPWD/$patch_file")
 {
     echo "$(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; vkrt $(git describe --always --dirty);"
-    echo "LP_NUM_THREADS=$LP_NUM_THREADS, 480x270, $rounds rounds; the committed kernels (glsl) and $patch_file in turn"
+    echo "LP_NUM_THREADS=$LP_NUM_THREADS, 480x270, $rounds rounds; the committed kernels (glsl/ at HEAD) and $patch_file in turn"
     echo "round scene kernels primary shadow diffuse hits blocked (Mrays/s, vkrt bench's median of 11 timed runs)"
 } >$out
 for round in $(seq "$rounds"); do
     for s in $scenes; do
-        for kernels in glsl "$work/glsl"; do
-            label=$([ "$kernels" = glsl ] && echo committed || echo "$name")
-            VKRT_GLSL_DIR=$kernels build/vkrt bench "scenes/shared/$s.cfg" --accel bvh \
+        for kernels in committed variant; do
+            label=$([ $kernels = committed ] && echo committed || echo "$name")
+            VKRT_GLSL_DIR=$work/$kernels/glsl build/vkrt bench "scenes/shared/$s.cfg" --accel bvh \
                 --width 480 --height 270 2>&1 | tail -1 |
                 awk -v r="$round" -v s="$s" -v k="$label" '{ print r, s, k, $6, $7, $8, $9, $10 }' >>$out
         done

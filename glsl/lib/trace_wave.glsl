@@ -23,7 +23,7 @@ void trace_wave(bool any_hit)
     bool busy_lane = false, exhausted = false;
     uint index = 0u, ref = NO_NODE;
     RayShear s = ray_shear_make(vec3(0.0), vec3(0.0, 0.0, 1.0));
-    vec3 inv_dir = vec3(0.0);
+    SlabRay b = slab_ray_make(vec3(0.0), vec3(1.0));
     float tmin = 0.0, tmax = 0.0;
     Hit hit = Hit(0.0, 0.0, 0.0, VKRT_NO_HIT);
     uint stack[BVH_STACK_SIZE];
@@ -47,7 +47,7 @@ void trace_wave(bool any_hit)
                         hits[index] = Hit(tmax, 0.0, 0.0, VKRT_NO_HIT);
                     } else {
                         s = ray_shear_make(ray.origin.xyz, ray.direction.xyz);
-                        inv_dir = safe_inverse(ray.direction.xyz);
+                        b = slab_ray_make(ray.origin.xyz, safe_inverse(ray.direction.xyz));
                         tmin = ray.origin.w;
                         hit = Hit(tmax, 0.0, 0.0, VKRT_NO_HIT);
                         ref = 0u; /* the root */
@@ -73,7 +73,7 @@ void trace_wave(bool any_hit)
                 ref = NO_NODE;
             } else {
                 uint push;
-                ref = bvh_pair_step(s, inv_dir, tmin, hit.t, any_hit, ref, push);
+                ref = bvh_pair_step(b, tmin, hit.t, any_hit, ref, push);
                 if (push != NO_NODE)
                     stack[top++] = push;
             }

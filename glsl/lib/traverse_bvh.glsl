@@ -21,9 +21,11 @@ const int BVH_STACK_SIZE = 64;
 
 /* Ize, "Robust BVH Ray Traversal" (JCGT 2013): scaling the exit distance by 1 + 2 gamma(3) makes
  * the slab test conservative, so rounding never culls a box whose triangle the watertight test
- * would hit. It holds for the (plane - origin) * inverse form used below, which rounds twice per
- * plane; a fused plane * inverse - origin * inverse would round the product of the origin apart
- * from the plane's and lose the bound. The planes are decoded first, conservatively: each
+ * would hit. It holds where each plane's distance errs by at most two roundings relative to
+ * itself, as (plane - origin) * inverse does. The BVH's steps compute the distance as one fma of
+ * the plane with per-ray constants instead, whose product origin * inverse rounds apart from the
+ * plane's; SlabRay (below) moves those constants by a margin that brings each distance back
+ * within one rounding, on the safe side. The planes are decoded first, conservatively: each
  * contains its child's float box (src/accel/bvh_quads.c). */
 const float BOX_EXIT_SCALE = 1.0000004;
 
@@ -44,6 +46,39 @@ vec3 safe_inverse(vec3 d)
     return 1.0 / vec3(abs(d.x) < tiny ? (d.x < 0.0 ? -tiny : tiny) : d.x,
                       abs(d.y) < tiny ? (d.y < 0.0 ? -tiny : tiny) : d.y,
                       abs(d.z) < tiny ? (d.z < 0.0 ? -tiny : tiny) : d.z);
+}
+
+/* The per-ray constants of the BVH's slab tests: a plane p's distance is fma(p, inv_dir, bias),
+ * one operation where (p - origin) * inv_dir took two. The bias, -origin * inv_dir, is rounded
+ * once per ray, and its error is relative to |origin * inv_dir|, not to the distance, which is
+ * far smaller for a ray that starts near a box but far from the scene's origin. So each bias is
+ * moved by a margin of 2^-21 |origin * inv_dir|, towards smaller distances for the plane a ray
+ * enters a box by (lo where inv_dir >= 0) and towards larger ones for the plane it leaves by.
+ * That is 8 units of rounding of the product; the errors it must cover come to about 3 (the
+ * product's, the bias's own rounding, and p * inv_dir's where a compiler does not fuse), after
+ * which each distance errs by at most one rounding relative to itself, which BOX_EXIT_SCALE
+ * covers. The floor keeps the margin where the product flushes to zero. tests/test_accel.c
+ * checks it with a sphere far from the origin, which leaks without the margin. */
+struct SlabRay {
+    vec3 inv_dir;
+    vec3 lo_bias;
+    vec3 hi_bias;
+};
+
+SlabRay slab_ray_make(vec3 origin, vec3 inv_dir)
+{
+    precise vec3 product = origin * inv_dir;
+    precise vec3 margin = max(abs(product) * (1.0 / 2097152.0), vec3(1e-30));
+    vec3 toward = mix(vec3(-1.0), vec3(1.0), greaterThanEqual(inv_dir, vec3(0.0)));
+    precise vec3 lo_bias = -product - toward * margin;
+    precise vec3 hi_bias = -product + toward * margin;
+    return SlabRay(inv_dir, lo_bias, hi_bias);
+}
+
+/* The distances to one axis's planes of a pair record: (lo, hi, lo, hi) of its two boxes. */
+vec4 slab_distances(vec4 planes, float inv_dir, float lo_bias, float hi_bias)
+{
+    return fma(planes, vec4(inv_dir), vec4(lo_bias, hi_bias, lo_bias, hi_bias));
 }
 
 /* Where the ray enters and leaves the box, clipped to [tmin, tmax]: the slab test of one box
@@ -97,15 +132,14 @@ void order_pair(inout float ka, inout uint ra, inout float kb, inout uint rb)
 /* One step at the pair record `node`: tests both children against (tmin, hit_t) and returns the
  * one to visit next (the nearer, or any for a shadow ray), or NO_NODE when neither was hit; push
  * is the other when both were, else NO_NODE. */
-uint bvh_pair_step(RayShear s, vec3 inv_dir, float tmin, float hit_t, bool any_hit, uint node,
-                   out uint push)
+uint bvh_pair_step(SlabRay b, float tmin, float hit_t, bool any_hit, uint node, out uint push)
 {
     BvhPair n = load_pair(node);
     if (TRAVERSAL_STATS)
         ++traversal_steps;
-    vec4 tx = (n.x - s.origin.x) * inv_dir.x;
-    vec4 ty = (n.y - s.origin.y) * inv_dir.y;
-    vec4 tz = (n.z - s.origin.z) * inv_dir.z;
+    vec4 tx = slab_distances(n.x, b.inv_dir.x, b.lo_bias.x, b.hi_bias.x);
+    vec4 ty = slab_distances(n.y, b.inv_dir.y, b.lo_bias.y, b.hi_bias.y);
+    vec4 tz = slab_distances(n.z, b.inv_dir.z, b.lo_bias.z, b.hi_bias.z);
     float a_in = max(max(min(tx.x, tx.y), min(ty.x, ty.y)), max(min(tz.x, tz.y), tmin));
     float a_out = min(min(max(tx.x, tx.y), max(ty.x, ty.y)), min(max(tz.x, tz.y), hit_t));
     float b_in = max(max(min(tx.z, tx.w), min(ty.z, ty.w)), max(min(tz.z, tz.w), tmin));
@@ -125,7 +159,7 @@ uint bvh_pair_step(RayShear s, vec3 inv_dir, float tmin, float hit_t, bool any_h
 /* One step at the 4-wide node `node`: tests its children against (tmin, hit_t) and returns the
  * nearest hit, or NO_NODE; the others hit, farthest first, come back in push_far, push_mid and
  * push_near (NO_NODE where fewer were hit), to be pushed in that order. */
-uint bvh_quad_step(RayShear s, vec3 inv_dir, float tmin, float hit_t, uint node, out uint push_far,
+uint bvh_quad_step(SlabRay b, float tmin, float hit_t, uint node, out uint push_far,
                    out uint push_mid, out uint push_near)
 {
     const float inf = uintBitsToFloat(0x7f800000u);
@@ -148,16 +182,19 @@ uint bvh_quad_step(RayShear s, vec3 inv_dir, float tmin, float hit_t, uint node,
                       uintBitsToFloat(((meta >> 8) & 0xFFu) << 23),
                       uintBitsToFloat(((meta >> 16) & 0xFFu) << 23));
     /* q * scale is exact, so each decoded plane is rounded once whether or not the
-     * compiler fuses; precise keeps it from being reassociated with the subtraction. */
+     * compiler fuses; precise keeps it from being merged into the distances' fma below. */
     precise vec4 x_lo = n.origin.x + plane_bytes(n.planes.x) * scale.x;
     precise vec4 x_hi = n.origin.x + plane_bytes(n.planes.y) * scale.x;
     precise vec4 y_lo = n.origin.y + plane_bytes(n.planes.z) * scale.y;
     precise vec4 y_hi = n.origin.y + plane_bytes(n.planes.w) * scale.y;
     precise vec4 z_lo = n.origin.z + plane_bytes(n.planes_z.x) * scale.z;
     precise vec4 z_hi = n.origin.z + plane_bytes(n.planes_z.y) * scale.z;
-    vec4 tx0 = (x_lo - s.origin.x) * inv_dir.x, tx1 = (x_hi - s.origin.x) * inv_dir.x;
-    vec4 ty0 = (y_lo - s.origin.y) * inv_dir.y, ty1 = (y_hi - s.origin.y) * inv_dir.y;
-    vec4 tz0 = (z_lo - s.origin.z) * inv_dir.z, tz1 = (z_hi - s.origin.z) * inv_dir.z;
+    vec4 tx0 = fma(x_lo, vec4(b.inv_dir.x), vec4(b.lo_bias.x));
+    vec4 tx1 = fma(x_hi, vec4(b.inv_dir.x), vec4(b.hi_bias.x));
+    vec4 ty0 = fma(y_lo, vec4(b.inv_dir.y), vec4(b.lo_bias.y));
+    vec4 ty1 = fma(y_hi, vec4(b.inv_dir.y), vec4(b.hi_bias.y));
+    vec4 tz0 = fma(z_lo, vec4(b.inv_dir.z), vec4(b.lo_bias.z));
+    vec4 tz1 = fma(z_hi, vec4(b.inv_dir.z), vec4(b.hi_bias.z));
     vec4 enter = max(max(min(tx0, tx1), min(ty0, ty1)), max(min(tz0, tz1), vec4(tmin)));
     vec4 leave = min(min(max(tx0, tx1), max(ty0, ty1)), min(max(tz0, tz1), vec4(hit_t)));
     /* Missed children, and the slots past the node's child count, sort last as +inf. */
@@ -197,14 +234,14 @@ uint bvh_pop()
 
 /* One step of the nested walk at inner node `node` of either width: pushes the other children hit
  * and returns the one to visit next, or NO_NODE. */
-uint bvh_node_step(RayShear s, vec3 inv_dir, float tmin, float hit_t, bool any_hit, uint node)
+uint bvh_node_step(SlabRay b, float tmin, float hit_t, bool any_hit, uint node)
 {
     uint push_far, push_mid = NO_NODE, push_near = NO_NODE;
     uint next;
     if (BVH_WIDTH == 2u)
-        next = bvh_pair_step(s, inv_dir, tmin, hit_t, any_hit, node, push_far);
+        next = bvh_pair_step(b, tmin, hit_t, any_hit, node, push_far);
     else
-        next = bvh_quad_step(s, inv_dir, tmin, hit_t, node, push_far, push_mid, push_near);
+        next = bvh_quad_step(b, tmin, hit_t, node, push_far, push_mid, push_near);
     bvh_push(push_far);
     bvh_push(push_mid);
     bvh_push(push_near);
@@ -221,7 +258,7 @@ bool bvh_leaf_ref(RayShear s, uint leaf, float tmin, inout Hit hit)
  * 2009): the default on GPUs. Its stack is an array of this function's, and the pairs' push is
  * unchecked (the host refused deeper trees): written with the nested walk's stack and its
  * helpers, it ran 2-6% slower on an H200 (bench/results/issue8-h200-pass4/ab/). */
-Hit bvh_traverse_one_loop(RayShear s, vec3 inv_dir, float tmin, float tmax, bool any_hit)
+Hit bvh_traverse_one_loop(RayShear s, SlabRay b, float tmin, float tmax, bool any_hit)
 {
     Hit hit = Hit(tmax, 0.0, 0.0, VKRT_NO_HIT);
     uint stack[BVH_STACK_SIZE];
@@ -234,14 +271,14 @@ Hit bvh_traverse_one_loop(RayShear s, vec3 inv_dir, float tmin, float tmax, bool
             ref = NO_NODE;
         } else if (BVH_WIDTH == 2u) {
             uint push;
-            ref = bvh_pair_step(s, inv_dir, tmin, hit.t, any_hit, ref, push);
+            ref = bvh_pair_step(b, tmin, hit.t, any_hit, ref, push);
             /* The stack cannot overflow: one entry per level at most, and the host refused
              * deeper trees. */
             if (push != NO_NODE)
                 stack[top++] = push;
         } else {
             uint far, mid, near;
-            ref = bvh_quad_step(s, inv_dir, tmin, hit.t, ref, far, mid, near);
+            ref = bvh_quad_step(b, tmin, hit.t, ref, far, mid, near);
             if (far != NO_NODE && top < BVH_STACK_SIZE)
                 stack[top++] = far;
             if (mid != NO_NODE && top < BVH_STACK_SIZE)
@@ -276,7 +313,7 @@ Hit bvh_traverse_one_loop(RayShear s, vec3 inv_dir, float tmin, float tmax, bool
  * iteration paid for a triangle test and a node step (docs/performance.md). On an H200 it was
  * slower (bench/variants/while-while.patch). Each loop pops at most once per iteration: llvmpipe
  * gathers a pop lane by lane, whether or not a lane pops. */
-Hit bvh_traverse_nested(RayShear s, vec3 inv_dir, float tmin, float tmax, bool any_hit)
+Hit bvh_traverse_nested(RayShear s, SlabRay b, float tmin, float tmax, bool any_hit)
 {
     Hit hit = Hit(tmax, 0.0, 0.0, VKRT_NO_HIT);
     bvh_top = 0;
@@ -284,7 +321,7 @@ Hit bvh_traverse_nested(RayShear s, vec3 inv_dir, float tmin, float tmax, bool a
     /* NO_NODE has the leaf bit set: a reference without it is an inner node. */
     while (ref != NO_NODE) {
         while ((ref & VKRT_BVH_LEAF) == 0u) {
-            ref = bvh_node_step(s, inv_dir, tmin, hit.t, any_hit, ref);
+            ref = bvh_node_step(b, tmin, hit.t, any_hit, ref);
             if (leaf == NO_NODE && ref != NO_NODE && (ref & VKRT_BVH_LEAF) != 0u) {
                 leaf = ref;
                 ref = NO_NODE;
@@ -314,10 +351,10 @@ Hit bvh_traverse_nested(RayShear s, vec3 inv_dir, float tmin, float tmax, bool a
 /* The closest hit (any_hit false) or the first hit found (any_hit true) in (tmin, tmax). */
 Hit bvh_traverse(RayShear s, vec3 dir, float tmin, float tmax, bool any_hit)
 {
-    vec3 inv_dir = safe_inverse(dir);
+    SlabRay b = slab_ray_make(s.origin, safe_inverse(dir));
     if (NESTED_WALK)
-        return bvh_traverse_nested(s, inv_dir, tmin, tmax, any_hit);
-    return bvh_traverse_one_loop(s, inv_dir, tmin, tmax, any_hit);
+        return bvh_traverse_nested(s, b, tmin, tmax, any_hit);
+    return bvh_traverse_one_loop(s, b, tmin, tmax, any_hit);
 }
 
 #endif
