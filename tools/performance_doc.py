@@ -53,9 +53,9 @@ def embree_values(path, lavapipe):
     for r in rows:
         e, v = r["embree"], r["vkrt_auto"]
         hits.append(f"{name(r)} {e['hits'] - v['hits']:+d} / {e['blocked'] - v['blocked']:+d}")
-    same = all(r["embree"]["hits"] == r["vkrt_auto"]["hits"] == r["vkrt_bvh"]["hits"] and
-               r["embree"]["blocked"] == r["vkrt_auto"]["blocked"] == r["vkrt_bvh"]["blocked"]
-               for r in rows)
+    hits_equal = all(r["embree"]["hits"] == r["vkrt_auto"]["hits"] == r["vkrt_bvh"]["hits"] and
+                     r["embree"]["blocked"] == r["vkrt_auto"]["blocked"] == r["vkrt_bvh"]["blocked"]
+                     for r in rows)
     busy = [r["others_cpu_share"] for r in rows if r.get("others_cpu_share") is not None]
     # This run's vkrt BVH against the lavapipe table's, where the scene and size are the same: how
     # much the load of the moment took from lavapipe.
@@ -79,7 +79,7 @@ def embree_values(path, lavapipe):
                             f"(Debian's libembree3-3), {vs['embree_threads']} threads",
         "@EMBREE_VERDICT@": "; ".join(parts),
         "@EMBREE_HITS@": ("Embree's hits and shadowed counts are vkrt's exactly on every scene"
-                          if same else "Embree's hits / shadowed counts less vkrt's (accel auto): "
+                          if hits_equal else "Embree's hits / shadowed counts less vkrt's (accel auto): "
                           + ", ".join(hits)),
         "@EMBREE_OTHERS@": (f"{100 * min(busy):.0f}% to {100 * max(busy):.0f}%" if busy
                             else "an unrecorded share"),
@@ -559,6 +559,16 @@ CPU_WALK_RUNS = [("pairs, one loop (the default before)", "2-one-loop"),
              ("quads, nested (the default on CPU devices now)", "4-nested")]
 
 
+def change(a, b):
+    """Per ray kind, the range over the issue's scenes of a's rate against b's (by_scene runs)."""
+    parts = []
+    for k in KINDS:
+        d = [100 * (a[n][k + "_mrays_per_s"] / b[n][k + "_mrays_per_s"] - 1)
+             for n in ISSUE8_SCENES]
+        parts.append(f"{k} {min(d):+.1f}% to {max(d):+.1f}%")
+    return ", ".join(parts)
+
+
 def walks_values():
     """The BVH's walks on lavapipe (bench/cpu-run-walks.sh) and on the H200
     (bench/gpu-run-walks.sh), and the probe of a branch no lane takes."""
@@ -606,14 +616,6 @@ def walks_values():
            ("committed, nested walk, last call", f"{PASS4}/final/final-nested.json")]
     values["@WALKS_H200_AB@"] = rates_table("kernels", ab)
 
-    def change(a, b):
-        """Per ray kind, the range over the scenes of a's rate against b's."""
-        parts = []
-        for k in KINDS:
-            d = [100 * (a[n][k + "_mrays_per_s"] / b[n][k + "_mrays_per_s"] - 1)
-                 for n in ISSUE8_SCENES]
-            parts.append(f"{k} {min(d):+.1f}% to {max(d):+.1f}%")
-        return ", ".join(parts)
     runs = lambda name: [by_scene(f"{PASS4}/ab/{name}-{r}.json") for r in (1, 2)]
     ref, old, local = runs("refactored"), runs("pass3"), runs("local")
     final = by_scene(f"{PASS4}/final/final.json")
@@ -624,6 +626,97 @@ def walks_values():
     values["@WALKS_H200_VS_PASS3@"] = change(final, by_scene(f"{PASS3}/vkrt.json"))
     values["@WALKS_H200_NESTED@"] = change(by_scene(f"{PASS4}/final/final-nested.json"), final)
     return values
+
+
+# ---------------------------------------------------------------- issue 8, fifth pass
+
+PASS5 = "bench/results/issue8-h200-pass5"
+
+
+def whitted_frame(path):
+    """(frame ms, frame over trace + light) from a --profile output's first frame line."""
+    m = re.search(r"frame ([\d.]+) ms .*costs ([\d.]+)x its tracing", open(path, encoding="utf-8").read())
+    return float(m.group(1)), float(m.group(2))
+
+
+def kernel_registers(path):
+    r = json.load(open(path, encoding="utf-8"))["results"][0]
+    return r["trace_kernel"]["Register Count"], r["occlusion_kernel"]["Register Count"]
+
+
+def pass5_values():
+    """The fifth pass: where every target stands (bench/gpu-run-pass5.sh, one call), and the fma
+    slab tests against the fourth pass's kernels (bench/gpu-run-fma-ab.sh)."""
+    v, d = by_scene(f"{PASS5}/vkrt.json"), by_scene(f"{PASS5}/rtpipe.json")
+    k4 = by_scene(f"{PASS5}/vkrt-4k.json")
+    frame, over = whitted_frame(f"{PASS5}/whitted.txt")
+    build_2core = re.search(r"build and pairs layout: min ([\d.]+) ms, median ([\d.]+) ms",
+                            open("bench/results/bvh-build-2core.txt", encoding="utf-8").read())
+    embree = json.load(open("bench/results/vkrt-lavapipe-vs-embree.json", encoding="utf-8"))
+    ratios = [(r["scene"].split("/")[-1].replace(".cfg", ""), r["primary_ratio_auto"])
+              for r in embree["rows"]]
+    rows = []
+    for k in KINDS:
+        cells = ", ".join(f"{n} {v[n][k + '_mrays_per_s']:,.0f}" for n in ISSUE8_SCENES)
+        met = [n for n in ISSUE8_SCENES if v[n][k + "_mrays_per_s"] >= TARGETS[k]]
+        status = f"met on {len(met)} of {len(ISSUE8_SCENES)}"
+        if k == "shadow" and "bunny" not in met:
+            status += (f"; **missed on the bunny**, which reaches "
+                       f"{k4['bunny']['shadow_mrays_per_s']:,.0f} at 3840x2160")
+        rows.append((f"{k} rays at 1920x1080, at least {TARGETS[k]:,} Mrays/s", cells, status))
+    over_driver = ", ".join(
+        f"{k} {min(v[n][k + '_mrays_per_s'] / d[n][k + '_mrays_per_s'] for n in ISSUE8_SCENES):.2f}x"
+        for k in KINDS)
+    rows.append(("at least the driver's ray tracing pipeline, each ray kind, same rays",
+                 f"vkrt over the driver, the lowest of the four scenes: {over_driver}", "met"))
+    rows.append(("the Whitted Sponza frame at 1080p: under 5 ms, at most 1.3x its tracing",
+                 f"{frame:.2f} ms, {over:.2f}x", "met" if frame < 5 and over <= 1.3 else "missed"))
+    rows.append(("BVH build of 225k triangles (Lost Empire) under 100 ms, CPU (2 cores) or GPU",
+                 f"2 cores of the dev machine: median {build_2core.group(2)} ms, least "
+                 f"{build_2core.group(1)} ms over 20 processes (`bench/results/bvh-build-2core.txt`)",
+                 "met"))
+    low = sum(x >= embree["target_primary_ratio"] for _, x in ratios)
+    rows.append(("lavapipe: at least half Embree 3's primary rays per second",
+                 ", ".join(f"{n} {x:.2f}x" for n, x in ratios),
+                 f"**missed** (met on {low} of {len(ratios)})" if low < len(ratios) else "met"))
+    targets = io.StringIO()
+    targets.write("| target | measured | |\n|---|---|---|\n")
+    for t, m, st in rows:
+        targets.write(f"| {t} | {m} | {st} |\n")
+    ab = [(f"{label}, round {r}", f"{PASS5}/fma-ab/{name}-{r}.json") for r in (1, 2)
+          for label, name in (("one fma per plane (committed)", "fma"),
+                              ("the fourth pass's kernels", "pass4"))]
+    ab += [("one fma per plane, 4-wide nodes", f"{PASS5}/fma-ab/fma-width4.json"),
+           ("the fourth pass's kernels, 4-wide nodes", f"{PASS5}/fma-ab/pass4-width4.json")]
+    runs = lambda name: [by_scene(f"{PASS5}/fma-ab/{name}-{r}.json") for r in (1, 2)]
+    fma, old = runs("fma"), runs("pass4")
+    new_regs, old_regs = (kernel_registers(f"{PASS5}/fma-ab/{n}-kernel.json") for n in ("fma", "pass4"))
+    again_v, again_d = by_scene(f"{PASS5}/vkrt-again.json"), by_scene(f"{PASS5}/rtpipe-again.json")
+    return {
+        "@PASS5_TARGETS@": targets.getvalue().strip(),
+        "@PASS5_VS_DRIVER@": vs_driver_table(f"{PASS5}/vkrt.json", f"{PASS5}/rtpipe.json"),
+        "@PASS5_AGAIN@": (f"vkrt's second run against its first: {change(again_v, v)}; the "
+                          f"driver's: {change(again_d, d)}"),
+        "@PASS5_FMA_AB@": rates_table("kernels", ab),
+        "@PASS5_FMA_CHANGE@": (change(fma[0], old[0]) + " (round 1); " +
+                               change(fma[1], old[1]) + " (round 2); 4-wide nodes: " +
+                               change(by_scene(f"{PASS5}/fma-ab/fma-width4.json"),
+                                      by_scene(f"{PASS5}/fma-ab/pass4-width4.json"))),
+        "@PASS5_REGISTERS@": (f"{old_regs[0]} to {new_regs[0]} registers for the closest-hit "
+                              f"kernel and {old_regs[1]} to {new_regs[1]} for the shadow-ray one"),
+        "@PASS5_WHITTED@": whitted_profile(f"{PASS5}/whitted.txt"),
+        "@PASS5_BUNNY_SHADOW@": f"{v['bunny']['shadow_mrays_per_s']:,.0f}",
+        "@PASS5_BUNNY_SHADOW_4K@": f"{k4['bunny']['shadow_mrays_per_s']:,.0f}",
+        "@PASS5_LAVAPIPE_AB@": variant_summary("slab-sub-mul"),
+        "@PASS5_GROUP_STACK@": variant_summary("group-stack"),
+    }
+
+
+def variant_summary(name):
+    """The machine line and the medians of a bench/cpu-run-variant.sh result."""
+    lines = open(f"bench/results/lavapipe-variants/{name}.txt", encoding="utf-8").read().splitlines()
+    start = next(i for i, line in enumerate(lines) if line.startswith("median"))
+    return "\n".join(lines[:2] + lines[start:])
 
 
 def main():
@@ -644,6 +737,7 @@ def main():
     values.update(pass3_values())
     values.update(loads_values())
     values.update(walks_values())
+    values.update(pass5_values())
     for key, value in values.items():
         text = text.replace(key, value)
     open("docs/performance.md", "w", encoding="utf-8").write(
