@@ -708,8 +708,29 @@ def pass5_values():
         "@PASS5_BUNNY_SHADOW@": f"{v['bunny']['shadow_mrays_per_s']:,.0f}",
         "@PASS5_BUNNY_SHADOW_4K@": f"{k4['bunny']['shadow_mrays_per_s']:,.0f}",
         "@PASS5_LAVAPIPE_AB@": variant_summary("slab-sub-mul"),
+        **mesa25_values(),
         "@PASS5_GROUP_STACK@": variant_summary("group-stack"),
     }
+
+
+MESA25 = "bench/results/lavapipe-mesa25"
+
+
+def mesa25_values():
+    """Debian 12's lavapipe against Mesa 25.0's from bookworm-backports (bench/cpu-run-mesa25.sh),
+    and each one's best primary rate over the two rounds against Embree's of the same day."""
+    ways = (("4-nested", "4-wide, nested (the CPU default)"), ("2-one-loop", "pairs, one loop"))
+    rows = [(f"Mesa {m / 10:.1f}, {label}, round {r}", f"{MESA25}/mesa{m // 10}-{way}-{r}.json")
+            for r in (1, 2) for m in (223, 250) for way, label in ways]
+    embree = by_scene("bench/results/embree-lavapipe.json")
+    best = []
+    for m in (22, 25):
+        runs = [by_scene(f"{MESA25}/mesa{m}-{way}-{r}.json") for way, _ in ways for r in (1, 2)]
+        best.append(f"Mesa {'22.3' if m == 22 else '25.0'}: " + ", ".join(
+            f"{n} {max(x[n]['primary_mrays_per_s'] for x in runs) / embree[n]['primary_mrays_per_s']:.2f}x"
+            for n in ISSUE8_SCENES))
+    return {"@MESA25_TABLE@": rates_table("lavapipe, layout and walk, round", rows, digits=2),
+            "@MESA25_BEST@": "; ".join(best)}
 
 
 def variant_summary(name):
