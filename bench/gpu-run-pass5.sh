@@ -9,9 +9,13 @@
 #   4. the Whitted Sponza frame's profile (bench/gpu-run-whitted.sh).
 # The BVH build times are in vkrt bench's JSON (build_ms, on the GPU machine's CPU). Expects the
 # bundle of gpu-run-fma-ab.sh with rtpipe-bench (meson -Drtpipe_bench=true). Writes
-# $OUT/pass5-log.txt, $OUT/pass5-json.tar, and what gpu-run-whitted.sh writes.
+# $OUT/NAME-log.txt, $OUT/NAME-json.tar, and what gpu-run-whitted.sh writes.
+#   sh bench/gpu-run-pass5.sh [NAME]
+# NAME is pass5 by default (the second call); given (the last call, `final`, with the triangle
+# test's rows of fmas committed and a new bundle), the GPU tests run first.
 . bench/gpu-prelude.sh
-begin pass5
+begin ${1:-pass5}
+[ $# -gt 0 ] && gpu_tests layout accel stability render
 issue="scenes/shared/bunny.cfg scenes/shared/sponza.cfg scenes/shared/sibenik.cfg scenes/shared/lost-empire.cfg"
 more="scenes/cornell/scene.cfg scenes/cornell-spheres/scene.cfg scenes/shared/cornell-original.cfg
       scenes/shared/teapot.cfg .bundle/stadium/scene.cfg"
@@ -22,5 +26,5 @@ run rtpipe-again 1920 1080 .bundle/rtpipe-bench $issue
 run vkrt-stats 1920 1080 .bundle/vkrt bench $issue --accel bvh --stats
 run vkrt-4k 3840 2160 .bundle/vkrt bench scenes/shared/bunny.cfg scenes/shared/sponza.cfg --accel bvh
 run rtpipe-4k 3840 2160 .bundle/rtpipe-bench scenes/shared/bunny.cfg scenes/shared/sponza.cfg
-end pass5
+end ${1:-pass5}
 sh bench/gpu-run-whitted.sh >>"$log" 2>&1

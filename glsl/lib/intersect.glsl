@@ -16,11 +16,13 @@
 /* |det| below this fraction of the largest edge-function product is rounding noise (2^-18). */
 const float RELIABLE_DET_FRACTION = 1.0 / 262144.0;
 
-/* Per-ray constants of the watertight test: the axis permutation and the shear. */
+/* Per-ray constants of the watertight test: the axis permutation and the shear, as the rows of
+ * the map from a vertex (relative to the origin) to its sheared coordinates, so that the test
+ * multiplies where it would otherwise pick vector components by a per-ray index: row_x has 1 at
+ * kx and -Sx at kz, row_y 1 at ky and -Sy at kz, row_z Sz at kz, zeros elsewhere. */
 struct RayShear {
     vec3 origin;
-    int kx, ky, kz;
-    vec3 shear; /* Sx, Sy, Sz */
+    vec3 row_x, row_y, row_z;
 };
 
 RayShear ray_shear_make(vec3 origin, vec3 dir)
@@ -28,16 +30,24 @@ RayShear ray_shear_make(vec3 origin, vec3 dir)
     RayShear s;
     s.origin = origin;
     vec3 a = abs(dir);
-    s.kz = (a.x > a.y) ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
-    s.kx = (s.kz + 1) % 3;
-    s.ky = (s.kx + 1) % 3;
+    int kz = (a.x > a.y) ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
+    int kx = (kz + 1) % 3;
+    int ky = (kx + 1) % 3;
     /* Keep the winding of the sheared triangle independent of the ray's z sign. */
-    if (dir[s.kz] < 0.0) {
-        int t = s.kx;
-        s.kx = s.ky;
-        s.ky = t;
+    if ((kz == 0 ? dir.x : kz == 1 ? dir.y : dir.z) < 0.0) {
+        int t = kx;
+        kx = ky;
+        ky = t;
     }
-    s.shear = vec3(dir[s.kx] / dir[s.kz], dir[s.ky] / dir[s.kz], 1.0 / dir[s.kz]);
+    /* One-hot axes, and the components they pick, without indexing by a per-ray value: a
+     * product by 0 or 1 and a sum of zeros are exact, so dot(dir, ex) is dir[kx]. */
+    vec3 ex = vec3(equal(ivec3(0, 1, 2), ivec3(kx)));
+    vec3 ey = vec3(equal(ivec3(0, 1, 2), ivec3(ky)));
+    vec3 ez = vec3(equal(ivec3(0, 1, 2), ivec3(kz)));
+    float dz = dot(dir, ez);
+    s.row_x = ex - (dot(dir, ex) / dz) * ez;
+    s.row_y = ey - (dot(dir, ey) / dz) * ez;
+    s.row_z = (1.0 / dz) * ez;
     return s;
 }
 
@@ -49,12 +59,15 @@ bool intersect_triangle(RayShear s, vec3 p0, vec3 p1, vec3 p2, float tmin, float
     vec3 a = p0 - s.origin;
     vec3 b = p1 - s.origin;
     vec3 c = p2 - s.origin;
-    precise float ax = a[s.kx] - s.shear.x * a[s.kz];
-    precise float ay = a[s.ky] - s.shear.y * a[s.kz];
-    precise float bx = b[s.kx] - s.shear.x * b[s.kz];
-    precise float by = b[s.ky] - s.shear.y * b[s.kz];
-    precise float cx = c[s.kx] - s.shear.x * c[s.kz];
-    precise float cy = c[s.ky] - s.shear.y * c[s.kz];
+    /* Each sheared coordinate as fmas along a row: the zero terms add exactly nothing, so it is
+     * one product and one sum of the vertex's own components, the same whichever triangle the
+     * vertex belongs to (precise: no other contraction). */
+    precise float ax = fma(a.x, s.row_x.x, fma(a.y, s.row_x.y, a.z * s.row_x.z));
+    precise float ay = fma(a.x, s.row_y.x, fma(a.y, s.row_y.y, a.z * s.row_y.z));
+    precise float bx = fma(b.x, s.row_x.x, fma(b.y, s.row_x.y, b.z * s.row_x.z));
+    precise float by = fma(b.x, s.row_y.x, fma(b.y, s.row_y.y, b.z * s.row_y.z));
+    precise float cx = fma(c.x, s.row_x.x, fma(c.y, s.row_x.y, c.z * s.row_x.z));
+    precise float cy = fma(c.x, s.row_y.x, fma(c.y, s.row_y.y, c.z * s.row_y.z));
 
     precise float eu = cx * by - cy * bx;
     precise float ev = ax * cy - ay * cx;
@@ -79,9 +92,9 @@ bool intersect_triangle(RayShear s, vec3 p0, vec3 p1, vec3 p2, float tmin, float
         return false;
 
     /* Scaled distance; compared before the division, which is the expensive part. */
-    float az = s.shear.z * a[s.kz];
-    float bz = s.shear.z * b[s.kz];
-    float cz = s.shear.z * c[s.kz];
+    float az = dot(a, s.row_z);
+    float bz = dot(b, s.row_z);
+    float cz = dot(c, s.row_z);
     float scaled_t = eu * az + ev * bz + ew * cz;
     float inv_det = 1.0 / det;
     float hit_t = scaled_t * inv_det;
