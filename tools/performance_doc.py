@@ -647,9 +647,10 @@ def kernel_registers(path):
 def pass5_values():
     """The fifth pass: where every target stands (bench/gpu-run-pass5.sh, one call), and the fma
     slab tests against the fourth pass's kernels (bench/gpu-run-fma-ab.sh)."""
-    v, d = by_scene(f"{PASS5}/vkrt.json"), by_scene(f"{PASS5}/rtpipe.json")
-    k4 = by_scene(f"{PASS5}/vkrt-4k.json")
-    frame, over = whitted_frame(f"{PASS5}/whitted.txt")
+    final = f"{PASS5}/final"
+    v, d = by_scene(f"{final}/vkrt.json"), by_scene(f"{final}/rtpipe.json")
+    k4 = by_scene(f"{final}/vkrt-4k.json")
+    frame, over = whitted_frame(f"{final}/whitted.txt")
     build_2core = re.search(r"build and pairs layout: min ([\d.]+) ms, median ([\d.]+) ms",
                             open("bench/results/bvh-build-2core.txt", encoding="utf-8").read())
     embree = json.load(open("bench/results/vkrt-lavapipe-vs-embree.json", encoding="utf-8"))
@@ -691,10 +692,33 @@ def pass5_values():
     runs = lambda name: [by_scene(f"{PASS5}/fma-ab/{name}-{r}.json") for r in (1, 2)]
     fma, old = runs("fma"), runs("pass4")
     new_regs, old_regs = (kernel_registers(f"{PASS5}/fma-ab/{n}-kernel.json") for n in ("fma", "pass4"))
-    again_v, again_d = by_scene(f"{PASS5}/vkrt-again.json"), by_scene(f"{PASS5}/rtpipe-again.json")
+    again_v, again_d = by_scene(f"{final}/vkrt-again.json"), by_scene(f"{final}/rtpipe-again.json")
+    rows_ab = [(f"{label}, {call} call, round {r}", f"{PASS5}/shear-rows/{sub}{name}-{r}.json")
+               for call, sub, names in (("first", "", (("committed", "committed"),
+                                                      ("rows written through the index", "rows"))),
+                                        ("second", "second/", (("committed", "committed"),
+                                                               ("rows written through the index", "rows"),
+                                                               ("rows from one-hot axes", "onehot"))))
+               for r in (1, 2) for label, name in names]
+    second = lambda name: [by_scene(f"{PASS5}/shear-rows/second/{name}-{r}.json") for r in (1, 2)]
+    onehot, before = second("onehot"), second("committed")
+    rows_regs = kernel_registers(f"{PASS5}/shear-rows/second/onehot-kernel.json")
+    s4 = lambda name: by_scene(f"{PASS5}/sponza-4k/{name}.json")["sponza"]
+    final_4k = by_scene(f"{final}/vkrt-4k.json")["sponza"]
     return {
         "@PASS5_TARGETS@": targets.getvalue().strip(),
-        "@PASS5_VS_DRIVER@": vs_driver_table(f"{PASS5}/vkrt.json", f"{PASS5}/rtpipe.json"),
+        "@PASS5_VS_DRIVER@": vs_driver_table(f"{final}/vkrt.json", f"{final}/rtpipe.json"),
+        "@ROWS_AB@": rates_table("kernels", rows_ab),
+        "@ROWS_CHANGE@": (change(onehot[0], before[0]) + " (round 1); " +
+                          change(onehot[1], before[1]) + " (round 2)"),
+        "@ROWS_REGISTERS@": (f"{new_regs[0]} to {rows_regs[0]} registers for the closest-hit kernel "
+                             f"and {new_regs[1]} to {rows_regs[1]} for the shadow-ray one"),
+        "@ROWS_LAVAPIPE@": variant_summary("shear-rows-onehot"),
+        "@SPONZA_4K@": (f"{final_4k['shadow_ms']:.3f} ms (least {final_4k['shadow_ms_min']:.3f}, most "
+                        f"{final_4k['shadow_ms_max']:.3f}), {final_4k['shadow_mrays_per_s']:,.0f} Mrays/s"),
+        "@SPONZA_4K_AGAIN@": ", ".join(
+            f"{label} {s4(f'{name}-4k-{r}')['shadow_mrays_per_s']:,.0f}"
+            for r in (1, 2) for label, name in (("committed", "committed"), ("the fma kernels", "fma"))),
         "@PASS5_AGAIN@": (f"vkrt's second run against its first: {change(again_v, v)}; the "
                           f"driver's: {change(again_d, d)}"),
         "@PASS5_FMA_AB@": rates_table("kernels", ab),
@@ -704,9 +728,11 @@ def pass5_values():
                                       by_scene(f"{PASS5}/fma-ab/pass4-width4.json"))),
         "@PASS5_REGISTERS@": (f"{old_regs[0]} to {new_regs[0]} registers for the closest-hit "
                               f"kernel and {old_regs[1]} to {new_regs[1]} for the shadow-ray one"),
-        "@PASS5_WHITTED@": whitted_profile(f"{PASS5}/whitted.txt"),
-        "@PASS5_BUNNY_SHADOW@": f"{v['bunny']['shadow_mrays_per_s']:,.0f}",
-        "@PASS5_BUNNY_SHADOW_4K@": f"{k4['bunny']['shadow_mrays_per_s']:,.0f}",
+        "@PASS5_WHITTED@": whitted_profile(f"{final}/whitted.txt"),
+        "@PASS5_BUNNY_SHADOW@": f"{by_scene(f'{PASS5}/vkrt.json')['bunny']['shadow_mrays_per_s']:,.0f}",
+        "@PASS5_BUNNY_SHADOW_4K@": f"{by_scene(f'{PASS5}/vkrt-4k.json')['bunny']['shadow_mrays_per_s']:,.0f}",
+        "@FINAL_BUNNY_SHADOW@": f"{v['bunny']['shadow_mrays_per_s']:,.0f}",
+        "@FINAL_BUNNY_SHADOW_4K@": f"{k4['bunny']['shadow_mrays_per_s']:,.0f}",
         "@PASS5_LAVAPIPE_AB@": variant_summary("slab-sub-mul"),
         **mesa25_values(),
         "@PASS5_GROUP_STACK@": variant_summary("group-stack"),
