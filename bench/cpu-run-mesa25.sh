@@ -33,7 +33,8 @@ scenes="scenes/shared/bunny.cfg scenes/shared/sponza.cfg scenes/shared/sibenik.c
 export LP_NUM_THREADS=$(nproc) VKRT_VALIDATION=0
 {
     echo "$(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; vkrt $(git describe --always --dirty);"
-    echo "Mesa 22.3: $(dpkg-query -W -f '${Version}' mesa-vulkan-drivers); Mesa 25.0: $(ls "$dir/debs" | sed -n 's/^mesa-vulkan-drivers_\(.*\)_amd64.deb$/\1/p')"
+    backport=$(ls "$dir/debs" | sed -n 's/^mesa-vulkan-drivers_\(.*\)_amd64.deb$/\1/p')
+    echo "Mesa 22.3: $(dpkg-query -W -f '${Version}' mesa-vulkan-drivers); Mesa 25.0: $backport"
     echo "LP_NUM_THREADS=$LP_NUM_THREADS, 480x270, Mrays/s, median of 11 timed runs"
 } >$log
 for round in 1 2; do
@@ -41,7 +42,8 @@ for round in 1 2; do
         for way in "4 nested" "2 one-loop"; do
             set -- $way
             name=mesa$mesa-$1-$2-$round
-            cmd="build/vkrt bench $scenes --accel bvh --bvh-width $1 --walk $2 --width 480 --height 270 --json $out/$name.json"
+            cmd="build/vkrt bench $scenes --accel bvh --bvh-width $1 --walk $2 --width 480"
+            cmd="$cmd --height 270 --json $out/$name.json"
             echo "\$ $([ $mesa = 25 ] && echo 'VK_DRIVER_FILES=.mesa25/lvp_icd.json ')$cmd" >>$log
             if [ $mesa = 25 ]; then
                 VK_DRIVER_FILES=$dir/lvp_icd.json LD_LIBRARY_PATH=$lib $cmd >>$log 2>&1

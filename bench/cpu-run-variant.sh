@@ -23,10 +23,12 @@ trap 'rm -rf "$work"' EXIT
 mkdir -p "$work/committed" "$work/variant"
 git archive HEAD glsl | tar x -C "$work/committed"
 git archive HEAD glsl | tar x -C "$work/variant"
-(cd "$work/variant" && patch -s -p1 <"$OLDPWD/$patch_file")
+patch_path=$(cd "$(dirname "$patch_file")" && pwd)/$(basename "$patch_file")
+(cd "$work/variant" && patch -s -p1 --batch --forward <"$patch_path")
 {
     echo "$(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; vkrt $(git describe --always --dirty);"
-    echo "LP_NUM_THREADS=$LP_NUM_THREADS, 480x270, $rounds rounds; the committed kernels (glsl/ at HEAD) and $patch_file in turn"
+    echo "LP_NUM_THREADS=$LP_NUM_THREADS, 480x270, $rounds rounds;" \
+        "the committed kernels (glsl/ at HEAD) and $patch_file in turn"
     echo "round scene kernels primary shadow diffuse hits blocked (Mrays/s, vkrt bench's median of 11 timed runs)"
 } >$out
 for round in $(seq "$rounds"); do
