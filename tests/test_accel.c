@@ -364,7 +364,7 @@ static void check_watertight(const char *name, vkrt_scene *scene, bool from_insi
     }
     /* A target (an edge's midpoint above all) is rounded to the coordinates' float grid, so a ray
      * may pass beside the edge and meet the neighbouring triangle a few steps of that grid
-     * farther: slack for a sphere far from the origin, nothing for one around it. */
+     * farther: about 2e-3 for the sphere far from the origin, 5e-7 for the one around it. */
     float coords = 0;
     for (int k = 0; k < 3; ++k)
         coords = fmaxf(coords, fmaxf(fabsf(mesh->bounds_min[k]), fabsf(mesh->bounds_max[k])));
