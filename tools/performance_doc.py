@@ -739,6 +739,107 @@ def pass5_values():
     }
 
 
+PASS6 = "bench/results/issue8-h200-pass6"
+ORACLE_ORDERS = ("in order", "subgroups reversed", "subgroups longest first", "rays longest first")
+ORACLE_LINE = re.compile(r"oracle \S+/(\S+)\.cfg shadow, (.+?): ([\d.e+]+) Mrays/s \(median ([\d.]+) "
+                         r"ms, fastest ([\d.]+) ms\), blocked (\d+), SIMD (\d+)%, longest subgroup (\d+)")
+
+
+def oracle_runs(path):
+    """bench/gpu-run-oracle.sh's log: {(run name, width, height, scene): {order: its figures}}."""
+    runs, run = {}, None
+    for line in open(path, encoding="utf-8"):
+        head = re.match(r"== (\S+) (\d+)x(\d+):", line)
+        if head:
+            run = (head.group(1), int(head.group(2)), int(head.group(3)))
+            continue
+        m = ORACLE_LINE.match(line)
+        if m:
+            runs.setdefault(run + (m.group(1),), {})[m.group(2)] = {
+                "mrays": float(m.group(3)), "ms": float(m.group(4)), "blocked": int(m.group(6)),
+                "simd": int(m.group(7)), "longest": int(m.group(8))}
+    return runs
+
+
+def pass6_values():
+    """The sixth pass: the shadow rays in orders known only after tracing them
+    (bench/gpu-run-oracle.sh), and lavapipe on this session's machine (bench/cpu-run-pass6.sh)."""
+    runs = oracle_runs(f"{PASS6}/oracle-log.txt")
+    rows = io.StringIO()
+    rows.write("| scene, size | shadow rays | longest subgroup | " + " | ".join(ORACLE_ORDERS) +
+               " | best over in order |\n|---|---:|---:|" + "---:|" * (len(ORACLE_ORDERS) + 1) + "\n")
+    for (name, w, h, scene), orders in runs.items():
+        rays = by_scene(f"{PASS6}/oracle/{name}.json")[scene]["shadow_rays_timed"]
+        blocked = {o["blocked"] for o in orders.values()}
+        assert len(blocked) == 1, f"{scene} {w}x{h}: the orders blocked different rays"
+        best = max(o["mrays"] for o in orders.values())
+        rows.write(f"| {scene}, {w}x{h} | {rays:,} | {orders['in order']['longest']} | " +
+                   " | ".join(f"{orders[o]['mrays']:,.0f}" for o in ORACLE_ORDERS) +
+                   f" | {best / orders['in order']['mrays']:.2f}x |\n")
+    bunny = runs[("oracle-1080", 1920, 1080, "bunny")]
+    first = bunny["subgroups longest first"]
+    committed = [by_scene(f"{PASS6}/oracle/{n}.json") for n in ("committed", "committed-again")]
+    rays = committed[0]["bunny"]["shadow_rays_timed"]
+    shadow = lambda n: " and ".join(f"{c[n]['shadow_mrays_per_s']:,.0f}" for c in committed)
+    model = walk_profile("bench/results/walk-profile/bunny-1920x1080.txt")["shadow"]
+    reversed_ = bunny["subgroups reversed"]["mrays"] / bunny["in order"]["mrays"]
+    qhd, uhd = runs[("oracle-1440", 2560, 1440, "bunny")], runs[("oracle-4k", 3840, 2160, "bunny")]
+    return {
+        "@PASS6_MODEL@": (f"{model['longest_first']} against {model['in_order']} iterations, "
+                          f"{model['in_order'] / model['longest_first']:.2f}x"),
+        "@PASS6_MODEL_REVERSED@": (f"{model['in_order'] / model['reversed']:.2f}x predicted, "
+                                   f"{reversed_:.2f}x measured"),
+        "@PASS6_1440@": (f"{qhd['in order']['mrays']:,.0f} Mrays/s in dispatch order and "
+                         f"{qhd['subgroups longest first']['mrays']:,.0f} longest first"),
+        "@PASS6_4K@": f"{uhd['in order']['mrays']:,.0f} Mrays/s in dispatch order",
+        "@PASS6_ORACLE@": rows.getvalue().strip(),
+        "@PASS6_BUNNY_BEST@": f"{first['mrays']:,.0f} Mrays/s ({first['ms']:.4f} ms)",
+        "@PASS6_BUNNY_NEEDED@": f"{rays / (TARGETS['shadow'] * 1e3):.4f} ms",
+        "@PASS6_BUNNY_GAIN@": f"{first['mrays'] / bunny['in order']['mrays']:.2f}x",
+        "@PASS6_COMMITTED@": ", ".join(f"{n} {shadow(n)}" for n in ISSUE8_SCENES),
+    }
+
+
+LAVAPIPE6 = "bench/results/lavapipe-pass6"
+
+
+def lavapipe6_values():
+    """bench/cpu-run-pass6.sh: Embree and vkrt at three llvmpipe vector widths, two rounds; and
+    against the fifth pass's machine (bench/results/vkrt-lavapipe-vs-embree.json), each tracer's
+    primary rates here over its rates there."""
+    widths = (("256", "vkrt, 256 bits (llvmpipe's own choice)"),
+              ("512", "vkrt, 512 bits (LP_NATIVE_VECTOR_WIDTH=512)"),
+              ("128", "vkrt, 128 bits (GALLIUM_OVERRIDE_CPU_CAPS=sse4.1)"))
+    rows = []
+    for r in (1, 2):
+        rows.append((f"Embree 3, round {r}", f"{LAVAPIPE6}/embree-{r}.json"))
+        rows += [(f"{label}, round {r}", f"{LAVAPIPE6}/vkrt-{w}-{r}.json") for w, label in widths]
+    primary = lambda run: {n: run[n]["primary_mrays_per_s"] for n in ISSUE8_SCENES}
+    embree = [primary(by_scene(f"{LAVAPIPE6}/embree-{r}.json")) for r in (1, 2)]
+    vkrt = [primary(by_scene(f"{LAVAPIPE6}/vkrt-256-{r}.json")) for r in (1, 2)]
+    before = json.load(open("bench/results/vkrt-lavapipe-vs-embree.json", encoding="utf-8"))
+    then = {scene_of(r): r for r in before["rows"]}
+    span = lambda xs: f"{min(xs):.2f}-{max(xs):.2f}x"
+    ratio = lambda a, b: [a[n] / b[n] for n in ISSUE8_SCENES]
+    ours = [x for v in vkrt for x in ratio(v, {n: then[n]["vkrt_bvh"]["primary_mrays_per_s"]
+                                               for n in ISSUE8_SCENES})]
+    theirs = [x for e in embree for x in ratio(e, {n: then[n]["embree"]["primary_mrays_per_s"]
+                                                   for n in ISSUE8_SCENES})]
+    machine = open(f"{LAVAPIPE6}/log.txt", encoding="utf-8").read().split("\n==")[0].strip()
+    return {
+        "@LAVAPIPE6_TABLE@": rates_table("tracer, round", rows, digits=2),
+        "@LAVAPIPE6_RATIO@": "; ".join(
+            f"round {r + 1}: " + ", ".join(f"{n} {x:.2f}x" for n, x in
+                                           zip(ISSUE8_SCENES, ratio(vkrt[r], embree[r])))
+            for r in (0, 1)),
+        "@LAVAPIPE6_RANGE@": span([x for r in (0, 1) for x in ratio(vkrt[r], embree[r])]),
+        "@LAVAPIPE6_VS_PASS5@": (f"vkrt's primary rays ran at {span(ours)} of the fifth pass's "
+                                 f"and Embree's at {span(theirs)} of its"),
+        "@LAVAPIPE6_PASS5_RATIO@": span([r["primary_ratio_auto"] for r in before["rows"]]),
+        "@LAVAPIPE6_MACHINE@": machine,
+    }
+
+
 MESA25 = "bench/results/lavapipe-mesa25"
 
 
@@ -785,6 +886,8 @@ def main():
     values.update(loads_values())
     values.update(walks_values())
     values.update(pass5_values())
+    values.update(pass6_values())
+    values.update(lavapipe6_values())
     for key, value in values.items():
         text = text.replace(key, value)
     open("docs/performance.md", "w", encoding="utf-8").write(
