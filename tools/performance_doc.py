@@ -797,7 +797,26 @@ def pass6_values():
         "@PASS6_BUNNY_NEEDED@": f"{rays / (TARGETS['shadow'] * 1e3):.4f} ms",
         "@PASS6_BUNNY_GAIN@": f"{first['mrays'] / bunny['in order']['mrays']:.2f}x",
         "@PASS6_COMMITTED@": ", ".join(f"{n} {shadow(n)}" for n in ISSUE8_SCENES),
+        **refill_values(),
     }
+
+
+def refill_values():
+    """bench/gpu-run-refill.sh: dynamic ray fetch with the idle count taken every K steps and a
+    refill once 1/S of the subgroup is idle, against the committed one ray per invocation."""
+    rows = [(f"{label}, round {r}", f"{PASS6}/refill/{name}-{r}.json") for r in (1, 2)
+            for label, name in [("one ray per invocation (committed)", "static")] +
+            [(f"dynamic fetch, every {'step' if k == 1 else f'{k} steps'}, at 1/{d} idle",
+              f"k{k}-s{d}") for k in (1, 4, 16) for d in (2, 4)]]
+    counts = {(n, r[n]["hits"], r[n]["blocked"], r[n]["diffuse_hits"])
+              for _, path in rows for r in [by_scene(path)] for n in ISSUE8_SCENES}
+    assert len(counts) == len(ISSUE8_SCENES), "the refill variants traced other hits"
+    static = [by_scene(f"{PASS6}/refill/static-{r}.json") for r in (1, 2)]
+    best = lambda name: [by_scene(f"{PASS6}/refill/{name}-{r}.json") for r in (1, 2)]
+    return {"@PASS6_REFILL@": rates_table("trace kernels, round", rows),
+            "@PASS6_REFILL_FIRST@": change(best("k1-s2")[1], static[1]),
+            "@PASS6_REFILL_BEST@": change(best("k16-s2")[1], static[1]),
+            "@PASS6_REFILL_CADENCE@": change(best("k16-s2")[1], best("k1-s2")[1])}
 
 
 LAVAPIPE6 = "bench/results/lavapipe-pass6"
