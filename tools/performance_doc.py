@@ -795,6 +795,7 @@ def pass6_values():
         "@PASS6_ORACLE@": rows.getvalue().strip(),
         "@PASS6_BUNNY_BEST@": f"{first['mrays']:,.0f} Mrays/s ({first['ms']:.4f} ms)",
         "@PASS6_BUNNY_NEEDED@": f"{rays / (TARGETS['shadow'] * 1e3):.4f} ms",
+        "@PASS6_SHORT@": f"{TARGETS['shadow'] / first['mrays']:.2f}x",
         "@PASS6_BUNNY_GAIN@": f"{first['mrays'] / bunny['in order']['mrays']:.2f}x",
         "@PASS6_COMMITTED@": ", ".join(f"{n} {shadow(n)}" for n in ISSUE8_SCENES),
         **refill_values(),
