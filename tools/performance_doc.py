@@ -798,7 +798,6 @@ def pass6_values():
         "@PASS6_SHORT@": f"{TARGETS['shadow'] / first['mrays']:.2f}x",
         "@PASS6_BUNNY_GAIN@": f"{first['mrays'] / bunny['in order']['mrays']:.2f}x",
         "@PASS6_COMMITTED@": ", ".join(f"{n} {shadow(n)}" for n in ISSUE8_SCENES),
-        **refill_values(),
     }
 
 
@@ -841,10 +840,9 @@ def lavapipe6_values():
     then = {scene_of(r): r for r in before["rows"]}
     span = lambda xs: f"{min(xs):.2f}-{max(xs):.2f}x"
     ratio = lambda a, b: [a[n] / b[n] for n in ISSUE8_SCENES]
-    ours = [x for v in vkrt for x in ratio(v, {n: then[n]["vkrt_bvh"]["primary_mrays_per_s"]
-                                               for n in ISSUE8_SCENES})]
-    theirs = [x for e in embree for x in ratio(e, {n: then[n]["embree"]["primary_mrays_per_s"]
-                                                   for n in ISSUE8_SCENES})]
+    then_rates = lambda tracer: {n: then[n][tracer]["primary_mrays_per_s"] for n in ISSUE8_SCENES}
+    ours = [x for v in vkrt for x in ratio(v, then_rates("vkrt_bvh"))]
+    theirs = [x for e in embree for x in ratio(e, then_rates("embree"))]
     machine = open(f"{LAVAPIPE6}/log.txt", encoding="utf-8").read().split("\n==")[0].strip()
     return {
         "@LAVAPIPE6_TABLE@": rates_table("tracer, round", rows, digits=2),
@@ -907,6 +905,7 @@ def main():
     values.update(walks_values())
     values.update(pass5_values())
     values.update(pass6_values())
+    values.update(refill_values())
     values.update(lavapipe6_values())
     for key, value in values.items():
         text = text.replace(key, value)
