@@ -8,10 +8,12 @@
  * One invocation per window pixel; the window may differ in size from the image (while a resize
  * is waiting for the renderer to follow), and then shows it scaled, nearest pixel.
  */
-layout(local_size_x_id = 0) in;
+#include "shared.h"
 
-layout(std430, set = 0, binding = 0) readonly buffer ImageBuffer { vec4 image[]; };
-layout(std430, set = 0, binding = 1) writeonly buffer WindowBuffer { uint window_pixels[]; };
+layout(local_size_x_id = VKRT_SPEC_WORKGROUP_SIZE) in;
+
+layout(std430, set = 0, binding = VKRT_DISPLAY_BINDING_IMAGE) readonly buffer ImageBuffer { vec4 image[]; };
+layout(std430, set = 0, binding = VKRT_DISPLAY_BINDING_WINDOW) writeonly buffer WindowBuffer { uint window_pixels[]; };
 
 layout(push_constant) uniform Display {
     uvec4 size;   /* image width, height; window width, height */

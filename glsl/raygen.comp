@@ -43,9 +43,6 @@ void reset_waves(uint pixels)
     waves[0] = WaveState(groups_x, (groups + groups_x - 1u) / groups_x, 1u, pixels);
     for (uint depth = 1u; depth <= frame.wave.z + 1u; ++depth)
         waves[depth] = WaveState(0u, 0u, 0u, 0u);
-    /* The trace kernels' cursors of dynamic ray fetch (lib/trace_wave.glsl) start each pass at 0. */
-    for (uint depth = 0u; depth <= frame.wave.z + 1u; ++depth)
-        trace_cursor[depth] = 0u;
 }
 
 void main()

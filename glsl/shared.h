@@ -21,6 +21,54 @@ typedef uint32_t uint;
 #define VKRT_STRUCT(name) struct name
 #endif
 
+/* The wavefront's one descriptor set (set 0), binding by binding: glsl/lib/bindings.glsl declares
+ * each buffer at its number and src/render/renderer_bind.c binds it. The storage buffers come
+ * first, numbered from 0 without gaps, then the uniform texel buffers. */
+#define VKRT_BINDING_RAYS 0
+#define VKRT_BINDING_HITS 1
+#define VKRT_BINDING_TRIANGLES 2
+#define VKRT_BINDING_NORMALS 3
+#define VKRT_BINDING_TRIANGLE_MATERIAL 4
+#define VKRT_BINDING_MATERIALS 5
+#define VKRT_BINDING_LIGHTS 6
+#define VKRT_BINDING_IMAGE 7
+#define VKRT_BINDING_COUNTERS 8
+#define VKRT_BINDING_GRID_INFO 9
+#define VKRT_BINDING_ACCEL_NODES 10
+#define VKRT_BINDING_GRID_REFS 11
+#define VKRT_BINDING_RAYS_B 12
+#define VKRT_BINDING_WAVES 13
+#define VKRT_BINDING_VISIBILITY 14
+#define VKRT_BINDING_SLOTS 15
+#define VKRT_BINDING_TEXCOORDS 16
+#define VKRT_BINDING_TEXTURE_INFOS 17
+#define VKRT_BINDING_TEXELS 18
+#define VKRT_STORAGE_BINDINGS 19
+#define VKRT_BINDING_TRIANGLE_TEXELS 19
+#define VKRT_BINDING_NODE_TEXELS 20
+#define VKRT_TEXEL_BINDINGS 2
+
+/* The viewer's display pass (glsl/display.comp, src/view/display.c): a set of its own. */
+#define VKRT_DISPLAY_BINDING_IMAGE 0
+#define VKRT_DISPLAY_BINDING_WINDOW 1
+
+/* Specialization constant ids of the wavefront kernels (0 is the workgroup size). */
+#define VKRT_SPEC_WORKGROUP_SIZE 0
+#define VKRT_SPEC_HAS_NORMALS 1
+#define VKRT_SPEC_ACCEL_KIND 2
+#define VKRT_SPEC_HAS_TEXCOORDS 3
+#define VKRT_SPEC_WAVE_WORKGROUP 4
+#define VKRT_SPEC_TRAVERSAL_STATS 5
+#define VKRT_SPEC_BVH_WIDTH 6
+#define VKRT_SPEC_TEXEL_LOADS 7
+#define VKRT_SPEC_NESTED_WALK 8
+
+/* Sizes both sides must agree on. The BVH's traversal stack: src/render/accel_gpu.c refuses a
+ * tree whose paths could need more (one entry per level of pairs, up to 3 per level of quads).
+ * The most rays one hit may cast: a material's count_rays answer above it is its error. */
+#define VKRT_BVH_STACK_SIZE 64
+#define VKRT_MAX_CAST 64u
+
 /* Marks a hit record of a ray that missed every triangle. */
 #define VKRT_NO_HIT 0xFFFFFFFFu
 
@@ -117,7 +165,7 @@ VKRT_STRUCT(FrameParams) {
 
 /* One generation of rays: the indirect dispatch that covers it and how many rays it asked for.
  * ray_count may exceed the capacity: then the rays past it were not stored, and the host grows
- * the buffers and renders the frame again (see src/render/renderer.c). */
+ * the buffers and renders the frame again (see src/render/renderer_frame.c). */
 VKRT_STRUCT(WaveState) {
     uint groups_x;
     uint groups_y;

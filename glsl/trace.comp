@@ -8,17 +8,10 @@
 #include "lib/traverse.glsl"
 #ifdef VKRT_SUBGROUPS
 #include "lib/traversal_stats.glsl"
-#include "lib/trace_wave.glsl"
 #endif
 
 void main()
 {
-#ifdef VKRT_SUBGROUPS
-    if (ACCEL_KIND == VKRT_TRAVERSE_BVH && BVH_WIDTH == 2u && DYNAMIC_FETCH) {
-        trace_wave(false);
-        return;
-    }
-#endif
     uint index = invocation_index();
     if (index >= dispatch_ray_count())
         return;

@@ -25,6 +25,7 @@
 #include "bench_rays.h"
 #include "gpu/context.h"
 #include "render/renderer.h"
+#include "render/trace_api.h"
 #include "scene/scene.h"
 
 /* Ray-triangle tests brute force may spend per measurement: about a second on lavapipe, which
@@ -41,8 +42,6 @@ typedef struct bench_row {
     uint32_t hits, blocked, diffuse_hits;
     double grid_density;
     uint32_t workgroup_size;
-    uint32_t sort_diffuse;                       /* --sort-diffuse cells per side, 0: none */
-    bench_times diffuse_sort;                    /* with sort_diffuse: the sort alone */
     bool texel_loads;                            /* traversal read through texel buffers */
     bool nested_walk;                            /* the BVH's walk in nested loops */
     bool kernel_stats;                           /* --kernel-stats: the two below are filled */
@@ -51,22 +50,18 @@ typedef struct bench_row {
     vkrt_traversal_stats primary_stats, shadow_stats, diffuse_stats;
 } bench_row;
 
-/* What one timed run does, for bench_time_trace: vkrt_renderer_trace, or with sort
- * vkrt_renderer_trace_sorted (the GPU's ray sort, then the trace unless trace is false). */
+/* What one timed run does, for bench_time_trace: vkrt_renderer_trace. */
 typedef struct renderer_trace {
     vkrt_renderer *r;
     const Ray *rays;
     uint32_t count;
-    bool any_hit, sort, trace;
+    bool any_hit;
     Hit *hits;
 } renderer_trace;
 
 static bool run_renderer_trace(void *user, uint32_t repeats, double *ms, vkrt_error *err)
 {
     renderer_trace *t = user;
-    if (t->sort)
-        return vkrt_renderer_trace_sorted(t->r, t->rays, t->count, t->trace, t->hits, NULL,
-                                          repeats, ms, err);
     return vkrt_renderer_trace(t->r, t->rays, t->count, t->any_hit, t->hits, repeats, ms, err);
 }
 
@@ -76,22 +71,14 @@ static bool measure(vkrt_renderer *r, bool stats, const Ray *rays, uint32_t coun
 {
     if (stats)
         return vkrt_renderer_trace_stats(r, rays, count, any_hit, hits, counted, err);
-    renderer_trace t = {r, rays, count, any_hit, false, true, hits};
-    return bench_time_trace(run_renderer_trace, &t, times, err);
-}
-
-/* Times the GPU's ray sort followed by the trace (trace) or alone. */
-static bool measure_sorted(vkrt_renderer *r, const Ray *rays, uint32_t count, bool trace,
-                           Hit *hits, bench_times *times, vkrt_error *err)
-{
-    renderer_trace t = {r, rays, count, false, true, trace, hits};
+    renderer_trace t = {r, rays, count, any_hit, hits};
     return bench_time_trace(run_renderer_trace, &t, times, err);
 }
 
 static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_render_desc *desc,
                       bench_row *row, vkrt_error *err)
 {
-    vkrt_renderer r;
+    vkrt_renderer *r;
     if (!vkrt_renderer_create(&r, ctx, scene, desc, err))
         return false;
     uint32_t pixels = desc->width * desc->height;
@@ -100,15 +87,15 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
     bool ok = primary && shadow && hits;
     if (!ok)
         vkrt_error_set(err, "out of memory for %u rays", pixels);
-    row->accel = r.accel.stats;
-    row->texel_loads = r.texel_loads;
-    row->nested_walk = r.nested_walk;
+    row->accel = *vkrt_renderer_accel_stats(r);
+    row->texel_loads = vkrt_renderer_texel_loads(r);
+    row->nested_walk = vkrt_renderer_tuning(r)->nested_walk;
+    row->workgroup_size = vkrt_renderer_tuning(r)->workgroup_size;
     row->triangles = scene->mesh.triangle_count;
     if (ok && row->kernel_stats)
-        ok = gpu_pipeline_statistics(ctx, &r.trace, row->trace_kernel, sizeof row->trace_kernel,
-                                     err) &&
-             gpu_pipeline_statistics(ctx, &r.occlusion, row->occlusion_kernel,
-                                     sizeof row->occlusion_kernel, err);
+        ok = vkrt_renderer_trace_kernel_statistics(r, row->trace_kernel, sizeof row->trace_kernel,
+                                                   row->occlusion_kernel,
+                                                   sizeof row->occlusion_kernel, err);
     row->width = desc->width;
     row->height = desc->height;
     uint32_t timed = pixels;
@@ -125,7 +112,7 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
         uint32_t stride = pixels / timed;
         for (uint32_t i = 0; stride > 1 && i < timed; ++i)
             primary[i] = primary[i * stride];
-        ok = measure(&r, row->stats, primary, timed, false, hits, &row->primary,
+        ok = measure(r, row->stats, primary, timed, false, hits, &row->primary,
                      &row->primary_stats, err);
         row->primary_ms = row->primary.median_ms;
     }
@@ -141,7 +128,7 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
         ok = primary_hits != NULL;
         if (ok)
             memcpy(primary_hits, hits, timed * sizeof *hits);
-        ok = ok && (n == 0 || measure(&r, row->stats, shadow, n, true, hits, &row->shadow,
+        ok = ok && (n == 0 || measure(r, row->stats, shadow, n, true, hits, &row->shadow,
                                       &row->shadow_stats, err));
         row->shadow_ms = row->shadow.median_ms;
         for (uint32_t i = 0; ok && i < n; ++i)
@@ -149,18 +136,8 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
         /* The shadow buffer is free again: it holds the diffuse rays now. */
         n = ok ? bench_diffuse_rays(scene, primary, primary_hits, timed, shadow) : 0;
         row->diffuse_timed = n;
-        if (row->sort_diffuse && !row->stats) {
-            /* Sorted on the GPU: timed with the sort, then the sort alone. */
-            ok = ok && (n == 0 || (measure_sorted(&r, shadow, n, true, hits, &row->diffuse, err) &&
-                                   measure_sorted(&r, shadow, n, false, NULL, &row->diffuse_sort,
-                                                  err)));
-        } else {
-            /* --stats counts the rays in the order the sort would give them, sorted here. */
-            if (ok && !bench_sort_by_direction(shadow, n, row->sort_diffuse))
-                ok = vkrt_error_set(err, "out of memory sorting %u rays", n);
-            ok = ok && (n == 0 || measure(&r, row->stats, shadow, n, false, hits, &row->diffuse,
-                                          &row->diffuse_stats, err));
-        }
+        ok = ok && (n == 0 || measure(r, row->stats, shadow, n, false, hits, &row->diffuse,
+                                      &row->diffuse_stats, err));
         row->diffuse_ms = row->diffuse.median_ms;
         for (uint32_t i = 0; ok && i < n; ++i)
             row->diffuse_hits += hits[i].triangle != VKRT_NO_HIT;
@@ -169,7 +146,7 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
     free(primary);
     free(shadow);
     free(hits);
-    vkrt_renderer_destroy(&r);
+    vkrt_renderer_destroy(r);
     return ok;
 }
 
@@ -202,10 +179,6 @@ static void print_row(FILE *out, const bench_row *b)
     if (b->kernel_stats)
         fprintf(out, "  trace.comp: %s\n  occlusion.comp: %s\n", b->trace_kernel,
                 b->occlusion_kernel);
-    if (b->sort_diffuse)
-        fprintf(out, "  diffuse rays sorted on the GPU into %ux%u direction cells: %.4f ms of "
-                     "sort and trace %.4f ms\n",
-                b->sort_diffuse, b->sort_diffuse, b->diffuse_sort.median_ms, b->diffuse_ms);
 }
 
 static void print_header(FILE *out, bool stats)
@@ -248,10 +221,10 @@ static bool write_json(const char *path, const gpu_context *ctx, const bench_row
                "  \"results\": [\n", BENCH_WARMUP_MS, BENCH_TIMED_RUNS);
     for (uint32_t i = 0; i < count; ++i) {
         const bench_row *b = &rows[i];
-        fprintf(f, "    {\"workgroup_size\": %u, \"sort_diffuse\": %u, \"bvh_max_leaf\": %u, "
+        fprintf(f, "    {\"workgroup_size\": %u, \"bvh_max_leaf\": %u, "
                    "\"bvh_traversal_cost\": %g, \"sah_cost\": %.3f, \"stats\": %s, "
                    "\"loads\": \"%s\", \"walk\": \"%s\", ",
-                b->workgroup_size, b->sort_diffuse, b->accel.bvh_max_leaf,
+                b->workgroup_size, b->accel.bvh_max_leaf,
                 (double)b->accel.bvh_traversal_cost,
                 b->accel.sah_cost, b->stats ? "true" : "false",
                 b->texel_loads ? "texel" : "storage", b->nested_walk ? "nested" : "one-loop");
@@ -273,7 +246,7 @@ static bool write_json(const char *path, const gpu_context *ctx, const bench_row
                 "\"shadow_ms_max\": %.4f, \"shadow_mrays_per_s\": %.3f, "
                 "\"diffuse_rays_timed\": %u, \"diffuse_ms\": %.4f, \"diffuse_ms_min\": %.4f, "
                 "\"diffuse_ms_max\": %.4f, \"diffuse_mrays_per_s\": %.3f, "
-                "\"diffuse_sort_ms\": %.4f, \"diffuse_hits\": %u, \"hits\": %u, \"blocked\": %u, \"grid_density\": %g}%s\n",
+                "\"diffuse_hits\": %u, \"hits\": %u, \"blocked\": %u, \"grid_density\": %g}%s\n",
                 b->scene, vkrt_accel_name(b->accel.kind), b->accel.reason, b->triangles, b->width,
                 b->height, b->accel.build_ms, b->accel.bytes, b->accel.nodes, b->accel.bvh_width,
                 b->accel.triangles_per_leaf, b->primary_timed, b->primary_ms, b->primary.min_ms,
@@ -281,7 +254,7 @@ static bool write_json(const char *path, const gpu_context *ctx, const bench_row
                 b->shadow_ms, b->shadow.min_ms, b->shadow.max_ms,
                 mrays(b->shadow_timed, b->shadow_ms), b->diffuse_timed, b->diffuse_ms,
                 b->diffuse.min_ms, b->diffuse.max_ms, mrays(b->diffuse_timed, b->diffuse_ms),
-                b->diffuse_sort.median_ms, b->diffuse_hits, b->hits, b->blocked, b->grid_density,
+                b->diffuse_hits, b->hits, b->blocked, b->grid_density,
                 i + 1 < count ? "," : "");
     }
     fprintf(f, "  ]\n}\n");
@@ -292,19 +265,19 @@ static bool write_json(const char *path, const gpu_context *ctx, const bench_row
     return true;
 }
 
-int vkrt_bench_run(const vkrt_options *opts)
+int vkrt_bench_run(const vkrt_bench_options *opts)
 {
     vkrt_error err = {{0}};
     gpu_context ctx;
-    gpu_context_desc ctx_desc = {.device_index = opts->device, .validation = opts->validation,
+    gpu_context_desc ctx_desc = {.device_index = opts->common.device, .validation = opts->common.validation,
                                  .pipeline_statistics = opts->kernel_stats};
     if (!gpu_context_create(&ctx, &ctx_desc, &err)) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
         return 1;
     }
     static const vkrt_accel_kind all[] = {VKRT_ACCEL_BRUTE, VKRT_ACCEL_GRID, VKRT_ACCEL_BVH};
-    const vkrt_accel_kind *kinds = opts->accel_given ? &opts->accel : all;
-    uint32_t kind_count = opts->accel_given ? 1 : 3;
+    const vkrt_accel_kind *kinds = opts->common.accel_given ? &opts->common.accel : all;
+    uint32_t kind_count = opts->common.accel_given ? 1 : 3;
     bench_row *rows = calloc((size_t)opts->scene_count * kind_count, sizeof *rows);
     uint32_t row_count = 0;
     bool ok = rows != NULL;
@@ -319,27 +292,13 @@ int vkrt_bench_run(const vkrt_options *opts)
             ok = false;
             break;
         }
-        vkrt_render_desc desc = {
-            .width = opts->width ? opts->width : scene.config.width,
-            .height = opts->height ? opts->height : scene.config.height,
-            .samples = 1,
-            .grid_density = opts->grid_density,
-            .workgroup_size = opts->workgroup_size,
-            .bvh_width = opts->bvh_width,
-            .bvh_max_leaf = opts->bvh_max_leaf,
-            .bvh_traversal_cost = opts->bvh_traversal_cost,
-            .ray_fetch = (vkrt_ray_fetch)opts->ray_fetch,
-            .loads = (vkrt_loads)opts->loads,
-            .walk = (vkrt_walk)opts->walk,
-            .traversal_stats = opts->stats,
-            .sort_cells = opts->stats ? 0 : opts->sort_diffuse,
-        };
+        vkrt_render_desc desc = vkrt_render_desc_for(&scene.config, &opts->common, 1);
+        desc.tuning = opts->tuning;
+        desc.traversal_stats = opts->stats;
         for (uint32_t k = 0; ok && k < kind_count; ++k) {
             bench_row *row = &rows[row_count];
             row->scene = opts->scene_paths[s];
-            row->grid_density = opts->grid_density;
-            row->workgroup_size = opts->workgroup_size ? opts->workgroup_size : 64;
-            row->sort_diffuse = opts->sort_diffuse;
+            row->grid_density = opts->tuning.grid_density;
             row->kernel_stats = opts->kernel_stats;
             row->stats = opts->stats;
             desc.accel = kinds[k];
@@ -355,11 +314,7 @@ int vkrt_bench_run(const vkrt_options *opts)
     if (ok && opts->json)
         ok = write_json(opts->json, &ctx, rows, row_count, &err);
     free(rows);
-    if (ok)
-        ok = gpu_context_finish(&ctx, &err);
-    else
-        gpu_context_destroy(&ctx);
-    if (!ok) {
+    if (!gpu_context_close(&ctx, ok, &err)) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
         return 1;
     }

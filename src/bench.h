@@ -11,6 +11,6 @@
 #include "cli.h"
 
 /* Runs the benchmark the options describe; returns the process exit code. */
-int vkrt_bench_run(const vkrt_options *opts);
+int vkrt_bench_run(const vkrt_bench_options *opts);
 
 #endif

@@ -1,6 +1,6 @@
 /*
  * bench_rays.c: the rays of `vkrt bench` (see bench_rays.h), moved here from bench.c unchanged
- * so that tools/rtpipe_bench traces the very same rays.
+ * so that research/yardsticks/rtpipe_bench traces the very same rays.
  */
 #include "bench_rays.h"
 
@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include "../glsl/shared.h"
-#include "render/renderer.h"
+#include "render/camera_frame.h"
 
 /* As raygen.comp's normalize, in float. */
 static void normalize3(float v[3])
@@ -187,48 +187,4 @@ uint32_t bench_diffuse_rays(const vkrt_scene *scene, const Ray *primary, const H
         };
     }
     return n;
-}
-
-/* As sort_key of glsl/lib/ray_sort.glsl: |x| + |y| + |z| = 1 folded onto a square. */
-uint32_t bench_direction_cell(const float d[3], uint32_t cells)
-{
-    float l1 = fabsf(d[0]) + fabsf(d[1]) + fabsf(d[2]);
-    float u = d[0] / l1, v = d[1] / l1;
-    if (d[2] < 0) {
-        float fu = (1 - fabsf(v)) * (u < 0 ? -1.0f : 1.0f);
-        float fv = (1 - fabsf(u)) * (v < 0 ? -1.0f : 1.0f);
-        u = fu;
-        v = fv;
-    }
-    float fu = (u * 0.5f + 0.5f) * cells, fv = (v * 0.5f + 0.5f) * cells;
-    uint32_t cu = fu < 0 ? 0 : fu >= cells ? cells - 1 : (uint32_t)fu;
-    uint32_t cv = fv < 0 ? 0 : fv >= cells ? cells - 1 : (uint32_t)fv;
-    return cv * cells + cu;
-}
-
-bool bench_sort_by_direction(Ray *rays, uint32_t count, uint32_t cells)
-{
-    if (cells <= 1 || count == 0)
-        return true;
-    uint32_t bins = cells * cells;
-    uint32_t *start = calloc(bins + 1, sizeof *start);
-    uint32_t *key = malloc(count * sizeof *key);
-    Ray *copy = malloc(count * sizeof *copy);
-    bool ok = start && key && copy;
-    if (ok) {
-        for (uint32_t i = 0; i < count; ++i) {
-            const float d[3] = {rays[i].direction.x, rays[i].direction.y, rays[i].direction.z};
-            key[i] = bench_direction_cell(d, cells);
-            ++start[key[i] + 1];
-        }
-        for (uint32_t b = 0; b < bins; ++b)
-            start[b + 1] += start[b];
-        for (uint32_t i = 0; i < count; ++i)
-            copy[start[key[i]]++] = rays[i];
-        memcpy(rays, copy, count * sizeof *rays);
-    }
-    free(start);
-    free(key);
-    free(copy);
-    return ok;
 }

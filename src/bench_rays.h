@@ -1,6 +1,6 @@
 /*
  * bench_rays.h: the rays `vkrt bench` traces, made on the CPU so that any tracer (vkrt's
- * kernels, or the driver's ray tracing pipeline in tools/rtpipe_bench) gets exactly the same
+ * kernels, or the driver's ray tracing pipeline in research/yardsticks/rtpipe_bench) gets exactly the same
  * ones: primary rays through pixel centres, then from their hits shadow rays (any hit) and
  * cosine-distributed diffuse bounce rays (closest hit). Pure CPU, no Vulkan.
  */
@@ -34,16 +34,5 @@ uint32_t bench_shadow_rays(const vkrt_scene *scene, const Ray *primary, const Hi
  * them to diffuse (room for count) and returns how many. */
 uint32_t bench_diffuse_rays(const vkrt_scene *scene, const Ray *primary, const Hit *hits,
                             uint32_t count, Ray *diffuse);
-
-/* The cell of unit direction d on a cells x cells octahedral map of the sphere, row by row: the
- * key of bench_sort_by_direction and of the GPU's ray sort (glsl/lib/ray_sort.glsl). */
-uint32_t bench_direction_cell(const float d[3], uint32_t cells);
-
-/* Reorders rays[0, count) by direction, stably: by the cell of a cells x cells octahedral map of
- * the unit sphere (Engelhardt and Dachsbacher's octahedron, cells of about equal solid angle)
- * that each direction falls in, keeping the rays' order within a cell. Diffuse bounce rays in
- * tile order share origins but not directions; after this, a subgroup's rays share a direction
- * and come from a strip of the image. cells 0 or 1 leaves the order; false when out of memory. */
-bool bench_sort_by_direction(Ray *rays, uint32_t count, uint32_t cells);
 
 #endif

@@ -1,12 +1,13 @@
 /* bench_timing.c: the warm-up and median of bench_timing.h. */
 #include "bench_timing.h"
 
-#include <math.h>
 #include <stdlib.h>
 
-/* Warm-up runs at least (the probe's own time may be noise) and at most (a trace of
- * microseconds would otherwise ask for hundreds of thousands). */
-enum { min_warmup_runs = 2, max_warmup_runs = 4000, max_attempts = 5 };
+#include "render/tuning.h"
+
+/* Warm-up runs at least (the probe's own time may be noise); at most VKRT_WARMUP_MAX_RUNS (a
+ * trace of microseconds would otherwise ask for hundreds of thousands). */
+enum { min_warmup_runs = 2, max_attempts = 5 };
 
 static int compare_doubles(const void *a, const void *b)
 {
@@ -20,10 +21,7 @@ bool bench_time_trace(bench_trace_fn trace, void *user, bench_times *times, vkrt
     if (!trace(user, 1, &probe, err))
         return false;
     for (int attempt = 0;; ++attempt) {
-        double runs = probe > 0 ? ceil(BENCH_WARMUP_MS / probe) : 1;
-        uint32_t warmup = runs < min_warmup_runs   ? min_warmup_runs
-                          : runs > max_warmup_runs ? max_warmup_runs
-                                                   : (uint32_t)runs;
+        uint32_t warmup = vkrt_warmup_runs(probe, min_warmup_runs);
         double *ms = malloc((warmup + BENCH_TIMED_RUNS) * sizeof *ms);
         if (!ms)
             return vkrt_error_set(err, "out of memory");
@@ -39,7 +37,7 @@ bool bench_time_trace(bench_trace_fn trace, void *user, bench_times *times, vkrt
         *times = (bench_times){timed[BENCH_TIMED_RUNS / 2], timed[0], timed[BENCH_TIMED_RUNS - 1]};
         free(ms);
         probe = times->median_ms;
-        if (warmed >= 0.9 * BENCH_WARMUP_MS || warmup == max_warmup_runs ||
+        if (warmed >= 0.9 * VKRT_WARMUP_MS || warmup == VKRT_WARMUP_MAX_RUNS ||
             attempt + 1 == max_attempts)
             return true;
     }

@@ -1,5 +1,5 @@
 /*
- * bench_timing.h: how `vkrt bench` and tools/rtpipe_bench time a trace on a GPU, in one place so
+ * bench_timing.h: how `vkrt bench` and research/yardsticks/rtpipe_bench time a trace on a GPU, in one place so
  * that both tracers are timed alike: a probe run sizes a warm-up worth BENCH_WARMUP_MS of GPU
  * time, then the warm-up and BENCH_TIMED_RUNS runs go back to back in one submission, with GPU
  * timestamps between them; the median of the timed runs is kept, with the fastest and slowest.
@@ -15,8 +15,10 @@
 #include <stdint.h>
 
 #include "error.h"
+#include "render/tuning.h"
 
-#define BENCH_WARMUP_MS 300.0
+/* The warm-up is tuning.h's, shared with the renderer's profiles. */
+#define BENCH_WARMUP_MS VKRT_WARMUP_MS
 #define BENCH_TIMED_RUNS 11
 
 /* A trace's GPU times: median, fastest and slowest of the timed runs. */

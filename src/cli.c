@@ -3,6 +3,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -10,13 +11,8 @@ const char *vkrt_usage(void)
 {
     return "usage: vkrt render SCENE.cfg [options]   render every frame (camera) of a scene\n"
            "       vkrt view SCENE.cfg [options]     fly through a scene in a window\n"
-           "       vkrt bench SCENE.cfg... [--accel A] [--json OUT.json] [--width W --height H]\n"
-           "                  [--grid-density CELLS_PER_TRIANGLE] [--workgroup N] [--stats]\n"
-           "                  [--bvh-width 2|4] [--ray-fetch static|dynamic]\n"
-           "                  [--whole-scene] [--sort-diffuse CELLS] [--kernel-stats]\n"
-           "                  [--bvh-leaf N] [--bvh-cost C] [--loads storage|texel]\n"
-           "                  [--walk one-loop|nested]\n"
-           "                                         time primary and shadow rays per structure\n"
+           "       vkrt bench SCENE.cfg... [options]  time primary, shadow and diffuse rays per\n"
+           "                                         scene and acceleration structure\n"
            "       vkrt --list-devices               list Vulkan devices\n"
            "       vkrt --help | --version\n"
            "\n"
@@ -44,7 +40,18 @@ const char *vkrt_usage(void)
            "  --list-devices    list Vulkan devices and exit\n"
            "  --help, --version\n"
            "\n"
-           "view options: --width, --height, --spp, --accel, --exposure, --device, --validation\n"
+           "bench options: --width, --height, --accel, --device, --validation, --quiet,\n"
+           "  --verbose as for render (without --accel: brute, grid and bvh in turn)\n"
+           "  --json PATH       write the results as JSON too\n"
+           "  --stats           count nodes, triangles and SIMD use per ray instead of timing\n"
+           "  --kernel-stats    print the driver's statistics of the trace kernels\n"
+           "  --whole-scene     load materials and textures too (tracing reads neither)\n"
+           "  tuning, each against the device's default (research/journal.md):\n"
+           "  --workgroup N  --grid-density CELLS_PER_TRIANGLE  --bvh-width 2|4  --bvh-leaf N\n"
+           "  --bvh-cost C  --loads storage|texel  --walk one-loop|nested\n"
+           "\n"
+           "view options: --width, --height, --spp, --accel, --exposure, --device, --validation,\n"
+           "  --quiet"
            "  as for render; the window opens at the scene's resolution, from its first camera,\n"
            "  and a still picture gathers samples until it has --spp of them (default: the\n"
            "  scene's `samples`, at least 16)\n"
@@ -106,162 +113,266 @@ static bool parse_float(const char *option, const char *text, float *out, vkrt_e
     return true;
 }
 
-bool vkrt_options_parse(int argc, char **argv, vkrt_options *opts, vkrt_error *err)
+/* Which commands take each option; the parser refuses an option its command does not take. */
+enum { RENDER = 1 << VKRT_COMMAND_RENDER, VIEW = 1 << VKRT_COMMAND_VIEW,
+       BENCH = 1 << VKRT_COMMAND_BENCH, ALL = RENDER | VIEW | BENCH };
+
+static const struct known_option {
+    const char *name;
+    unsigned commands;
+} known_options[] = {
+    {"--width", ALL},        {"--height", ALL},         {"--accel", ALL},
+    {"--device", ALL},       {"--validation", ALL},     {"--quiet", ALL},
+    {"--verbose", ALL},      {"-o", RENDER},            {"--spp", RENDER | VIEW},
+    {"--exposure", RENDER | VIEW},                      {"--profile", RENDER},
+    {"--profile-repeat", RENDER},                       {"--resume", RENDER},
+    {"--script", VIEW},      {"--record", VIEW},        {"--json", BENCH},
+    {"--stats", BENCH},      {"--kernel-stats", BENCH}, {"--whole-scene", BENCH},
+    {"--workgroup", BENCH},  {"--grid-density", BENCH}, {"--bvh-width", BENCH},
+    {"--bvh-leaf", BENCH},   {"--bvh-cost", BENCH},     {"--loads", BENCH},
+    {"--walk", BENCH},
+};
+
+static const char *command_name(vkrt_command command)
 {
-    memset(opts, 0, sizeof *opts);
-    opts->device = -1;
+    return command == VKRT_COMMAND_BENCH ? "bench" : command == VKRT_COMMAND_VIEW ? "view"
+                                                                                  : "render";
+}
+
+/* Refuses arg unless it is an option that command takes. */
+static bool check_option(vkrt_command command, const char *arg, vkrt_error *err)
+{
+    for (size_t i = 0; i < sizeof known_options / sizeof *known_options; ++i) {
+        const struct known_option *o = &known_options[i];
+        if (strcmp(arg, o->name) != 0)
+            continue;
+        if (o->commands & (1u << command))
+            return true;
+        char takers[32] = "";
+        for (vkrt_command c = VKRT_COMMAND_RENDER; c <= VKRT_COMMAND_VIEW; ++c)
+            if (o->commands & (1u << c))
+                snprintf(takers + strlen(takers), sizeof takers - strlen(takers), "%s%s",
+                         takers[0] ? " and " : "", command_name(c));
+        return vkrt_error_set(err, "vkrt %s does not take %s (an option of vkrt %s)",
+                              command_name(command), arg, takers);
+    }
+    return vkrt_error_set(err, "unknown option '%s' (see vkrt --help)", arg);
+}
+
+/* Parses an option every command takes into c; *used says whether arg was one, *consumed how
+ * many arguments after it were its values. */
+static bool parse_common(const char *arg, const char *value, vkrt_common_options *c, bool *used,
+                         int *consumed, vkrt_error *err)
+{
+    *used = true;
+    *consumed = 0;
+    uint32_t device;
+    if (strcmp(arg, "--width") == 0 || strcmp(arg, "--height") == 0) {
+        *consumed = 1;
+        return parse_u32(arg, value, 1, 16384, arg[2] == 'w' ? &c->width : &c->height, err);
+    } else if (strcmp(arg, "--device") == 0) {
+        *consumed = 1;
+        if (!parse_u32(arg, value, 0, 1000, &device, err))
+            return false;
+        c->device = (int)device;
+    } else if (strcmp(arg, "--accel") == 0) {
+        *consumed = 1;
+        if (!value || !vkrt_accel_parse(value, &c->accel))
+            return vkrt_error_set(err, "--accel: '%s' is not one of auto, brute, grid, bvh",
+                                  value ? value : "");
+        c->accel_given = true;
+    } else if (strcmp(arg, "--validation") == 0) {
+        c->validation = true;
+    } else if (strcmp(arg, "--quiet") == 0) {
+        c->quiet = true;
+    } else if (strcmp(arg, "--verbose") == 0) {
+        c->verbose = true;
+    } else {
+        *used = false;
+    }
+    return true;
+}
+
+static bool parse_render(const char *arg, const char *value, vkrt_render_options *o,
+                         int *consumed, vkrt_error *err)
+{
+    *consumed = 1;
+    if (strcmp(arg, "-o") == 0) {
+        if (!value)
+            return vkrt_error_set(err, "-o needs a path");
+        o->output = value;
+    } else if (strcmp(arg, "--spp") == 0) {
+        return parse_u32(arg, value, 1, 65536, &o->samples, err);
+    } else if (strcmp(arg, "--exposure") == 0) {
+        return parse_float(arg, value, &o->exposure, err);
+    } else if (strcmp(arg, "--profile-repeat") == 0) {
+        o->profile = true;
+        return parse_u32(arg, value, 1, 1000, &o->profile_repeat, err);
+    } else {
+        *consumed = 0;
+        if (strcmp(arg, "--profile") == 0)
+            o->profile = true;
+        else if (strcmp(arg, "--resume") == 0)
+            o->resume = true;
+    }
+    return true;
+}
+
+static bool parse_view(const char *arg, const char *value, vkrt_view_options *o, int *consumed,
+                       vkrt_error *err)
+{
+    *consumed = 1;
+    if (strcmp(arg, "--spp") == 0)
+        return parse_u32(arg, value, 1, 65536, &o->samples, err);
+    if (strcmp(arg, "--exposure") == 0)
+        return parse_float(arg, value, &o->exposure, err);
+    if (!value)
+        return vkrt_error_set(err, "%s needs a path", arg);
+    if (strcmp(arg, "--script") == 0)
+        o->script = value;
+    else
+        o->record = value;
+    return true;
+}
+
+static bool parse_bench(const char *arg, const char *value, vkrt_bench_options *o, int *consumed,
+                        vkrt_error *err)
+{
+    vkrt_tuning_overrides *t = &o->tuning;
+    *consumed = 1;
+    int choice;
+    if (strcmp(arg, "--json") == 0) {
+        if (!value)
+            return vkrt_error_set(err, "--json needs a path");
+        o->json = value;
+    } else if (strcmp(arg, "--workgroup") == 0) {
+        return parse_u32(arg, value, 1, 1024, &t->workgroup_size, err);
+    } else if (strcmp(arg, "--grid-density") == 0) {
+        if (!parse_float(arg, value, &t->grid_density, err))
+            return false;
+        if (t->grid_density <= 0 || t->grid_density > 1000)
+            return vkrt_error_set(err, "--grid-density: '%s' is not in (0, 1000]", value);
+    } else if (strcmp(arg, "--bvh-leaf") == 0) {
+        return parse_u32(arg, value, 1, 16, &t->bvh_max_leaf, err);
+    } else if (strcmp(arg, "--bvh-cost") == 0) {
+        if (!parse_float(arg, value, &t->bvh_traversal_cost, err))
+            return false;
+        if (!(t->bvh_traversal_cost > 0 && t->bvh_traversal_cost <= 100))
+            return vkrt_error_set(err, "--bvh-cost: '%s' is not in (0, 100]", value);
+    } else if (strcmp(arg, "--bvh-width") == 0) {
+        if (!parse_u32(arg, value, 2, 4, &t->bvh_width, err))
+            return false;
+        if (t->bvh_width == 3)
+            return vkrt_error_set(err, "--bvh-width: 3 is not one of 2, 4");
+    } else if (strcmp(arg, "--loads") == 0) {
+        if (!parse_choice(arg, value, "storage", "texel", &choice, err))
+            return false;
+        t->loads = choice == 1 ? VKRT_LOADS_STORAGE : VKRT_LOADS_TEXEL;
+    } else if (strcmp(arg, "--walk") == 0) {
+        if (!parse_choice(arg, value, "one-loop", "nested", &choice, err))
+            return false;
+        t->walk = choice == 1 ? VKRT_WALK_ONE_LOOP : VKRT_WALK_NESTED;
+    } else {
+        *consumed = 0;
+        if (strcmp(arg, "--stats") == 0)
+            o->stats = true;
+        else if (strcmp(arg, "--kernel-stats") == 0)
+            o->kernel_stats = true;
+        else if (strcmp(arg, "--whole-scene") == 0)
+            o->whole_scene = true;
+    }
+    return true;
+}
+
+static vkrt_command parse_command_word(const char *word)
+{
+    static const struct {
+        const char *word;
+        vkrt_command command;
+    } words[] = {
+        {"render", VKRT_COMMAND_RENDER},      {"view", VKRT_COMMAND_VIEW},
+        {"bench", VKRT_COMMAND_BENCH},        {"--help", VKRT_COMMAND_HELP},
+        {"-h", VKRT_COMMAND_HELP},            {"--version", VKRT_COMMAND_VERSION},
+        {"--list-devices", VKRT_COMMAND_LIST_DEVICES},
+    };
+    for (size_t i = 0; i < sizeof words / sizeof *words; ++i)
+        if (strcmp(word, words[i].word) == 0)
+            return words[i].command;
+    return VKRT_COMMAND_NONE;
+}
+
+bool vkrt_command_line_parse(int argc, char **argv, vkrt_command_line *cl, vkrt_error *err)
+{
+    memset(cl, 0, sizeof *cl);
+    if (argc < 2)
+        return vkrt_error_set(err, "no command given (see vkrt --help)");
+    cl->command = parse_command_word(argv[1]);
+    if (cl->command == VKRT_COMMAND_NONE)
+        return vkrt_error_set(err, argv[1][0] == '-'
+                                       ? "no command given before '%s' (see vkrt --help)"
+                                       : "unknown command '%s' (see vkrt --help)",
+                              argv[1]);
+    if (cl->command >= VKRT_COMMAND_HELP)
+        return true;
+    vkrt_common_options *common = cl->command == VKRT_COMMAND_RENDER ? &cl->render.common
+                                  : cl->command == VKRT_COMMAND_VIEW ? &cl->view.common
+                                                                     : &cl->bench.common;
+    common->device = -1;
     const char *env = getenv("VKRT_VALIDATION");
-    opts->validation = env && strcmp(env, "0") != 0 && *env;
-    for (int i = 1; i < argc; ++i) {
+    common->validation = env && strcmp(env, "0") != 0 && *env;
+    const char *scene = NULL;
+    vkrt_bench_options *bench = &cl->bench;
+    for (int i = 2; i < argc; ++i) {
         const char *arg = argv[i];
         const char *value = i + 1 < argc ? argv[i + 1] : NULL;
-        uint32_t device;
         if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
-            opts->command = VKRT_COMMAND_HELP;
+            cl->command = VKRT_COMMAND_HELP;
             return true;
-        } else if (strcmp(arg, "--version") == 0) {
-            opts->command = VKRT_COMMAND_VERSION;
-            return true;
-        } else if (strcmp(arg, "--list-devices") == 0) {
-            opts->command = VKRT_COMMAND_LIST_DEVICES;
-            return true;
-        } else if (strcmp(arg, "-o") == 0) {
-            if (!value)
-                return vkrt_error_set(err, "-o needs a path");
-            opts->output = value;
-            ++i;
-        } else if (strcmp(arg, "--width") == 0) {
-            if (!parse_u32(arg, value, 1, 16384, &opts->width, err))
-                return false;
-            ++i;
-        } else if (strcmp(arg, "--height") == 0) {
-            if (!parse_u32(arg, value, 1, 16384, &opts->height, err))
-                return false;
-            ++i;
-        } else if (strcmp(arg, "--spp") == 0) {
-            if (!parse_u32(arg, value, 1, 65536, &opts->samples, err))
-                return false;
-            ++i;
-        } else if (strcmp(arg, "--device") == 0) {
-            if (!parse_u32(arg, value, 0, 1000, &device, err))
-                return false;
-            opts->device = (int)device;
-            ++i;
-        } else if (strcmp(arg, "--exposure") == 0) {
-            if (!parse_float(arg, value, &opts->exposure, err))
-                return false;
-            ++i;
-        } else if (strcmp(arg, "--accel") == 0) {
-            if (!value || !vkrt_accel_parse(value, &opts->accel))
-                return vkrt_error_set(err, "--accel: '%s' is not one of auto, brute, grid, bvh",
-                                      value ? value : "");
-            opts->accel_given = true;
-            ++i;
-        } else if (strcmp(arg, "--grid-density") == 0) {
-            if (!parse_float(arg, value, &opts->grid_density, err))
-                return false;
-            if (opts->grid_density <= 0 || opts->grid_density > 1000)
-                return vkrt_error_set(err, "--grid-density: '%s' is not in (0, 1000]", value);
-            ++i;
-        } else if (strcmp(arg, "--workgroup") == 0) {
-            if (!parse_u32(arg, value, 1, 1024, &opts->workgroup_size, err))
-                return false;
-            ++i;
-        } else if (strcmp(arg, "--bvh-leaf") == 0) {
-            if (!parse_u32(arg, value, 1, 16, &opts->bvh_max_leaf, err))
-                return false;
-            ++i;
-        } else if (strcmp(arg, "--bvh-cost") == 0) {
-            if (!parse_float(arg, value, &opts->bvh_traversal_cost, err))
-                return false;
-            if (!(opts->bvh_traversal_cost > 0 && opts->bvh_traversal_cost <= 100))
-                return vkrt_error_set(err, "--bvh-cost: '%s' is not in (0, 100]", value);
-            ++i;
-        } else if (strcmp(arg, "--sort-diffuse") == 0) {
-            if (!parse_u32(arg, value, 0, 16, &opts->sort_diffuse, err))
-                return false;
-            if (opts->sort_diffuse == 1)
-                return vkrt_error_set(err, "--sort-diffuse: 1 cell sorts nothing; 0 (none) or 2..16");
-            ++i;
-        } else if (strcmp(arg, "--bvh-width") == 0) {
-            if (!parse_u32(arg, value, 2, 4, &opts->bvh_width, err))
-                return false;
-            if (opts->bvh_width == 3)
-                return vkrt_error_set(err, "--bvh-width: 3 is not one of 2, 4");
-            ++i;
-        } else if (strcmp(arg, "--loads") == 0) {
-            if (!parse_choice(arg, value, "storage", "texel", &opts->loads, err))
-                return false;
-            ++i;
-        } else if (strcmp(arg, "--walk") == 0) {
-            if (!parse_choice(arg, value, "one-loop", "nested", &opts->walk, err))
-                return false;
-            ++i;
-        } else if (strcmp(arg, "--ray-fetch") == 0) {
-            if (!parse_choice(arg, value, "static", "dynamic", &opts->ray_fetch, err))
-                return false;
-            ++i;
-        } else if (strcmp(arg, "--stats") == 0) {
-            opts->stats = true;
-        } else if (strcmp(arg, "--kernel-stats") == 0) {
-            opts->kernel_stats = true;
-        } else if (strcmp(arg, "--whole-scene") == 0) {
-            opts->whole_scene = true;
-        } else if (strcmp(arg, "--script") == 0 || strcmp(arg, "--record") == 0) {
-            if (!value)
-                return vkrt_error_set(err, "%s needs a path", arg);
-            if (arg[2] == 's')
-                opts->script = value;
-            else
-                opts->record = value;
-            ++i;
-        } else if (strcmp(arg, "--json") == 0) {
-            if (!value)
-                return vkrt_error_set(err, "--json needs a path");
-            opts->json = value;
-            ++i;
-        } else if (strcmp(arg, "--resume") == 0) {
-            opts->resume = true;
-        } else if (strcmp(arg, "--verbose") == 0) {
-            opts->verbose = true;
-        } else if (strcmp(arg, "--profile") == 0) {
-            opts->profile = true;
-        } else if (strcmp(arg, "--profile-repeat") == 0) {
-            if (!parse_u32(arg, value, 1, 1000, &opts->profile_repeat, err))
-                return false;
-            opts->profile = true;
-            ++i;
-        } else if (strcmp(arg, "--quiet") == 0) {
-            opts->quiet = true;
-        } else if (strcmp(arg, "--validation") == 0) {
-            opts->validation = true;
-        } else if (arg[0] == '-' && arg[1]) {
-            return vkrt_error_set(err, "unknown option '%s' (see vkrt --help)", arg);
-        } else if (opts->command == VKRT_COMMAND_NONE) {
-            if (strcmp(arg, "render") == 0)
-                opts->command = VKRT_COMMAND_RENDER;
-            else if (strcmp(arg, "bench") == 0)
-                opts->command = VKRT_COMMAND_BENCH;
-            else if (strcmp(arg, "view") == 0)
-                opts->command = VKRT_COMMAND_VIEW;
-            else
-                return vkrt_error_set(err, "unknown command '%s' (see vkrt --help)", arg);
-        } else if (!opts->scene_path) {
-            opts->scene_path = arg;
-            opts->scene_paths[opts->scene_count++] = arg;
-        } else if (opts->command == VKRT_COMMAND_BENCH &&
-                   opts->scene_count < sizeof opts->scene_paths / sizeof *opts->scene_paths) {
-            opts->scene_paths[opts->scene_count++] = arg;
-        } else {
-            return vkrt_error_set(err, "unexpected argument '%s'", arg);
         }
+        if (arg[0] != '-' || !arg[1]) {
+            if (!scene)
+                scene = arg;
+            else if (cl->command != VKRT_COMMAND_BENCH)
+                return vkrt_error_set(err, "unexpected argument '%s'", arg);
+            if (cl->command == VKRT_COMMAND_BENCH) {
+                if (bench->scene_count == sizeof bench->scene_paths / sizeof *bench->scene_paths)
+                    return vkrt_error_set(err, "bench takes at most %zu scenes",
+                                          sizeof bench->scene_paths / sizeof *bench->scene_paths);
+                bench->scene_paths[bench->scene_count++] = arg;
+            }
+            continue;
+        }
+        if (!check_option(cl->command, arg, err))
+            return false;
+        bool used;
+        int consumed;
+        bool ok = parse_common(arg, value, common, &used, &consumed, err);
+        if (ok && !used)
+            ok = cl->command == VKRT_COMMAND_RENDER ? parse_render(arg, value, &cl->render,
+                                                                   &consumed, err)
+                 : cl->command == VKRT_COMMAND_VIEW ? parse_view(arg, value, &cl->view,
+                                                                 &consumed, err)
+                                                    : parse_bench(arg, value, bench, &consumed,
+                                                                  err);
+        if (!ok)
+            return false;
+        i += consumed;
     }
-    if (opts->command == VKRT_COMMAND_NONE)
-        return vkrt_error_set(err, "no command given (see vkrt --help)");
-    const char *name = opts->command == VKRT_COMMAND_BENCH  ? "bench"
-                       : opts->command == VKRT_COMMAND_VIEW ? "view"
-                                                            : "render";
-    if (!opts->scene_path)
+    const char *name = command_name(cl->command);
+    if (!scene)
         return vkrt_error_set(err, "%s needs a scene file: vkrt %s SCENE.cfg", name, name);
+    cl->render.scene_path = scene;
+    cl->view.scene_path = scene;
     return true;
+}
+
+vkrt_render_desc vkrt_render_desc_for(const vkrt_config *cfg, const vkrt_common_options *common,
+                                      uint32_t samples)
+{
+    return (vkrt_render_desc){
+        .width = common->width ? common->width : cfg->width,
+        .height = common->height ? common->height : cfg->height,
+        .samples = samples ? samples : cfg->samples,
+        .accel = common->accel_given ? common->accel : cfg->accel,
+    };
 }

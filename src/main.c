@@ -96,24 +96,19 @@ static void print_accel_stats(FILE *out, const vkrt_accel_stats *s)
         fprintf(out, "vkrt: choosing took %.1f ms\n", s->choose_ms);
 }
 
-static bool render_frames(const vkrt_options *opts, const vkrt_scene *scene, const char *output,
-                          gpu_context *ctx, render_totals *totals, vkrt_accel_stats *accel,
-                          vkrt_error *err)
+static bool render_frames(const vkrt_render_options *opts, const vkrt_scene *scene,
+                          const char *output, gpu_context *ctx, render_totals *totals,
+                          vkrt_accel_stats *accel, vkrt_error *err)
 {
     const vkrt_config *cfg = &scene->config;
-    vkrt_render_desc desc = {
-        .width = opts->width ? opts->width : cfg->width,
-        .height = opts->height ? opts->height : cfg->height,
-        .samples = opts->samples ? opts->samples : cfg->samples,
-        .accel = opts->accel_given ? opts->accel : cfg->accel,
-        .profile = opts->profile,
-        .profile_repeat = opts->profile_repeat,
-    };
-    vkrt_renderer renderer;
+    vkrt_render_desc desc = vkrt_render_desc_for(cfg, &opts->common, opts->samples);
+    desc.profile = opts->profile;
+    desc.profile_repeat = opts->profile_repeat;
+    vkrt_renderer *renderer;
     if (!vkrt_renderer_create(&renderer, ctx, scene, &desc, err))
         return false;
-    *accel = renderer.accel.stats;
-    if (opts->verbose)
+    *accel = *vkrt_renderer_accel_stats(renderer);
+    if (opts->common.verbose)
         print_accel_stats(stderr, accel);
     float *rgb = malloc((size_t)desc.width * desc.height * 3 * sizeof *rgb);
     bool ok = rgb != NULL;
@@ -133,33 +128,33 @@ static bool render_frames(const vkrt_options *opts, const vkrt_scene *scene, con
         }
         if (ok)
             vkrt_image_remove_stale_temporaries(path);
-        ok = ok && vkrt_renderer_render(&renderer, &cfg->cameras[f], f, rgb, &stats, err) &&
+        ok = ok && vkrt_renderer_render(renderer, &cfg->cameras[f], f, rgb, &stats, err) &&
              vkrt_image_write(path, desc.width, desc.height, rgb, opts->exposure, err);
         if (ok) {
             totals->seconds += stats.seconds;
             totals->rays += stats.primary_rays + stats.shadow_rays + stats.secondary_rays;
             ++totals->rendered;
-            if (stats.dropped_rays && !opts->quiet)
+            if (stats.dropped_rays && !opts->common.quiet)
                 fprintf(stderr, "vkrt: warning: frame %u: %llu rays did not fit the largest ray "
                                 "buffers the device allows (%u rays) and were not traced\n",
                         f, (unsigned long long)stats.dropped_rays, stats.ray_capacity);
-            if (stats.nonfinite && !opts->quiet)
+            if (stats.nonfinite && !opts->common.quiet)
                 fprintf(stderr, "vkrt: warning: frame %u: %u shading results were NaN or "
                                 "infinite and were dropped\n",
                         f, stats.nonfinite);
-            if (stats.profiled && !opts->quiet)
-                vkrt_frame_stats_print_profile(stderr, &stats);
-            if (opts->verbose && stats.attempts > 1)
+            if (stats.profile.profiled && !opts->common.quiet)
+                vkrt_frame_profile_print(stderr, &stats.profile);
+            if (opts->common.verbose && stats.attempts > 1)
                 fprintf(stderr, "vkrt: frame %u: ray buffers grew to %u rays (%u attempts)\n", f,
                         stats.ray_capacity, stats.attempts);
         }
     }
     free(rgb);
-    vkrt_renderer_destroy(&renderer);
+    vkrt_renderer_destroy(renderer);
     return ok;
 }
 
-static int run_render(const vkrt_options *opts)
+static int run_render(const vkrt_render_options *opts)
 {
     vkrt_error err = {{0}};
     vkrt_scene scene;
@@ -167,7 +162,7 @@ static int run_render(const vkrt_options *opts)
         fprintf(stderr, "vkrt: %s\n", err.msg);
         return 1;
     }
-    if (scene.mesh.warnings[0] && !opts->quiet)
+    if (scene.mesh.warnings[0] && !opts->common.quiet)
         fprintf(stderr, "vkrt: warning: %s: %s\n", scene.config.geometry, scene.mesh.warnings);
     const char *output = opts->output ? opts->output : scene.config.output;
     if (!check_output(output, scene.config.camera_count, &err)) {
@@ -179,18 +174,15 @@ static int run_render(const vkrt_options *opts)
     signal(SIGINT, request_stop);
     signal(SIGTERM, request_stop);
     gpu_context ctx;
-    gpu_context_desc ctx_desc = {.device_index = opts->device, .validation = opts->validation};
+    gpu_context_desc ctx_desc = {.device_index = opts->common.device,
+                                 .validation = opts->common.validation};
     render_totals totals = {0};
     vkrt_accel_stats accel = {0};
     bool ok = gpu_context_create(&ctx, &ctx_desc, &err) &&
               render_frames(opts, &scene, output, &ctx, &totals, &accel, &err);
     char device[256];
     snprintf(device, sizeof device, "%s", ctx.properties.deviceName);
-    if (ok)
-        ok = gpu_context_finish(&ctx, &err);
-    else
-        gpu_context_destroy(&ctx);
-    if (!ok) {
+    if (!gpu_context_close(&ctx, ok, &err)) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
         vkrt_scene_free(&scene);
         return 1;
@@ -202,17 +194,17 @@ static int run_render(const vkrt_options *opts)
         vkrt_scene_free(&scene);
         return 130;
     }
-    if (!opts->quiet && totals.skipped)
+    if (!opts->common.quiet && totals.skipped)
         fprintf(stderr, "vkrt: resumed: %u of %u frames were already complete\n", totals.skipped,
                 scene.config.camera_count);
-    if (!opts->quiet) {
+    if (!opts->common.quiet) {
         uint32_t frames = totals.rendered;
         fprintf(stderr,
                 "vkrt: %s | %u triangles | accel %s | %u frame%s | %.1f ms/frame | %.3g Mrays/s\n",
                 device, scene.mesh.triangle_count, vkrt_accel_name(accel.kind), frames,
                 frames == 1 ? "" : "s", frames ? 1e3 * totals.seconds / frames : 0.0,
                 totals.seconds > 0 ? totals.rays / totals.seconds * 1e-6 : 0.0);
-        if (!opts->verbose)
+        if (!opts->common.verbose)
             fprintf(stderr, "vkrt: accel %s: %s\n", vkrt_accel_name(accel.kind), accel.reason);
     }
     vkrt_scene_free(&scene);
@@ -221,13 +213,13 @@ static int run_render(const vkrt_options *opts)
 
 int main(int argc, char **argv)
 {
-    vkrt_options opts;
+    vkrt_command_line cl;
     vkrt_error err = {{0}};
-    if (!vkrt_options_parse(argc, argv, &opts, &err)) {
+    if (!vkrt_command_line_parse(argc, argv, &cl, &err)) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
         return 2;
     }
-    switch (opts.command) {
+    switch (cl.command) {
     case VKRT_COMMAND_HELP:
         fputs(vkrt_usage(), stdout);
         return 0;
@@ -241,12 +233,12 @@ int main(int argc, char **argv)
         }
         return 0;
     case VKRT_COMMAND_RENDER:
-        return run_render(&opts);
+        return run_render(&cl.render);
     case VKRT_COMMAND_BENCH:
-        return vkrt_bench_run(&opts);
+        return vkrt_bench_run(&cl.bench);
     case VKRT_COMMAND_VIEW:
 #ifdef VKRT_VIEWER
-        return vkrt_view_run(&opts);
+        return vkrt_view_run(&cl.view);
 #else
         fprintf(stderr, "vkrt: this vkrt was built without the viewer: GLFW was not found "
                         "(Debian: apt-get install libglfw3-dev, then rebuild)\n");

@@ -59,10 +59,10 @@ bool scene_dir_render(uint32_t w, uint32_t h, const vkrt_render_desc *desc, floa
     d.width = w;
     d.height = h;
     d.samples = 1;
-    vkrt_renderer r;
+    vkrt_renderer *r = NULL;
     bool ok = vkrt_renderer_create(&r, &ctx, &scene, &d, err) &&
-              vkrt_renderer_render(&r, &scene.config.cameras[0], 0, rgb, stats, err);
-    vkrt_renderer_destroy(&r);
+              vkrt_renderer_render(r, &scene.config.cameras[0], 0, rgb, stats, err);
+    vkrt_renderer_destroy(r);
     fixture_context_destroy(&ctx);
     vkrt_scene_free(&scene);
     return ok;

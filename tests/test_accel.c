@@ -26,6 +26,7 @@
 #include "../glsl/shared.h"
 #include "gpu_fixture.h"
 #include "render/renderer.h"
+#include "render/trace_api.h"
 #include "scene/scene.h"
 
 enum { RAYS_PER_KIND = 1024, RAY_KINDS = 3, RAY_COUNT = RAYS_PER_KIND * RAY_KINDS };
@@ -104,16 +105,16 @@ static void trace_as(gpu_context *ctx, const vkrt_scene *scene, const tracer *t,
                      uint32_t count, bool any_hit, Hit *hits, vkrt_accel_kind *built)
 {
     vkrt_error err = {{0}};
-    vkrt_renderer r;
+    vkrt_renderer *r = NULL;
     vkrt_render_desc desc = {.width = count, .height = 1, .accel = t->kind,
-                             .bvh_width = t->bvh_width, .walk = t->walk};
+                             .tuning = {.bvh_width = t->bvh_width, .walk = t->walk}};
     if (!vkrt_renderer_create(&r, ctx, scene, &desc, &err))
         fail_msg("renderer (%s): %s", t->name, err.msg);
-    if (!vkrt_renderer_trace(&r, rays, count, any_hit, hits, 1, NULL, &err))
+    if (!vkrt_renderer_trace(r, rays, count, any_hit, hits, 1, NULL, &err))
         fail_msg("trace (%s): %s", t->name, err.msg);
     if (built)
-        *built = r.accel.stats.kind;
-    vkrt_renderer_destroy(&r);
+        *built = vkrt_renderer_accel_stats(r)->kind;
+    vkrt_renderer_destroy(r);
 }
 
 /* Hits of kind must equal brute force's: same hit or miss, same t, same triangle unless tied. */

@@ -1,8 +1,8 @@
 /*
  * test_bvh_lanes.c: the BVH builder's SIMD lanes (SSE2 on x86-64) against its plain-C lanes.
  *
- * src/accel/bvh.c does its box arithmetic in 4-lane vectors, with an SSE2 version and a portable
- * one that other architectures compile. Both must give the same tree, byte for byte, or the
+ * src/accel/bvh.c and bvh_split.c do their box arithmetic in 4-lane vectors (bvh_lanes.h), with
+ * an SSE2 version and a portable one that other architectures compile. Both must give the same tree, byte for byte, or the
  * GPU's traversal would differ between a user's x86 machine and an ARM render node. This test
  * links the same source twice: once as the library has it, once compiled with
  * BVH_SCALAR_LANES (meson renames that copy's functions to *_scalar), and compares the trees over
@@ -24,7 +24,7 @@
 #include "accel/bvh.h"
 #include "scene/obj_load.h"
 
-/* The plain-C copy, built from the same bvh.c (tests/meson.build). */
+/* The plain-C copy, built from the same bvh.c and bvh_split.c (tests/meson.build). */
 bool bvh_build_scalar(bvh *out, const float *positions, uint32_t triangle_count,
                       const bvh_build_desc *desc, vkrt_error *err);
 void bvh_free_scalar(bvh *b);

@@ -30,11 +30,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 
 #include <cmocka.h>
 
 #include "accel/grid.h"
+#include "clock.h"
 #include "scene/obj_load.h"
 
 #define SEED 0x9e3779b97f4a7c15ull
@@ -65,13 +65,6 @@ static double rng_unit(rng *r)
 static double rng_range(rng *r, double lo, double hi)
 {
     return lo + (hi - lo) * rng_unit(r);
-}
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
 /* The GPU's point-to-cell formula, written again here on purpose (not taken from grid.c). */
@@ -631,13 +624,13 @@ static void density_sweep(const char *name, const vkrt_mesh *m)
         rng r = { SEED };
         dda_stats st = { 0, 0 };
         const uint32_t rays = 100000;
-        double t0 = now_ms();
+        double t0 = vkrt_clock_ms();
         for (uint32_t k = 0; k < rays; ++k) {
             double o[3], d[3];
             random_ray(&r, &g, (int)(k % 2), o, d);
             grid_traverse(&g, m->positions, o, d, false, &st);
         }
-        double ms = now_ms() - t0;
+        double ms = vkrt_clock_ms() - t0;
         print_message("%s sweep: density %4.1f cells %8u build %6.1f ms, %6.2f steps %7.2f tests "
                       "per ray, %.0f ns per ray\n", name, (double)densities[i], g.cell_count,
                       g.build_ms, (double)st.steps / rays, (double)st.tests / rays, ms * 1e6 / rays);

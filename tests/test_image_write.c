@@ -31,65 +31,40 @@
 #include <stb_image.h>
 
 #include "output/image_write.h"
+#include "temp_dir.h"
 
 /* ---------------------------------------------------------------------------------------------
  * Fixture: a fresh temporary folder per test
  * ------------------------------------------------------------------------------------------- */
 
+/* The folder comes from temp_dir.h; the buffers are this file's own. */
 typedef struct fixture {
-    char dir[64];
+    temp_dir *tmp;
     void *buffers[2]; /* freed by the teardown, whether the test passed or not */
 } fixture;
 
-static int make_temp_dir(void **state)
+static int make_fixture(void **state)
 {
     fixture *fx = calloc(1, sizeof *fx);
-    if (!fx)
-        return -1;
-    snprintf(fx->dir, sizeof fx->dir, "/tmp/vkrt_image_write_XXXXXX");
-    if (!mkdtemp(fx->dir)) {
+    void *tmp = NULL;
+    if (!fx || temp_dir_make(&tmp) != 0) {
         free(fx);
         return -1;
     }
+    fx->tmp = tmp;
     *state = fx;
     return 0;
 }
 
-/* Removes dir and everything below it (the tests only ever create one level of nesting). */
-static void remove_tree(const char *dir)
-{
-    DIR *d = opendir(dir);
-    if (!d)
-        return;
-    struct dirent *entry;
-    while ((entry = readdir(d)) != NULL) {
-        if (strcmp(entry->d_name, ".") == 0 || strcmp(entry->d_name, "..") == 0)
-            continue;
-        char child[512];
-        snprintf(child, sizeof child, "%s/%s", dir, entry->d_name);
-        struct stat st;
-        if (lstat(child, &st) == 0 && S_ISDIR(st.st_mode))
-            remove_tree(child);
-        else
-            unlink(child);
-    }
-    closedir(d);
-    rmdir(dir);
-}
-
-static int remove_temp_dir(void **state)
+static int remove_fixture(void **state)
 {
     fixture *fx = *state;
-    remove_tree(fx->dir);
+    void *tmp = fx->tmp;
+    temp_dir_remove(&tmp);
     free(fx->buffers[0]);
     free(fx->buffers[1]);
     free(fx);
     return 0;
-}
-
-static void path_in(const fixture *fx, const char *name, char *out, size_t out_size)
-{
-    snprintf(out, out_size, "%s/%s", fx->dir, name);
 }
 
 /* The names in dir, sorted and joined with spaces, so a test can compare the whole listing
@@ -109,14 +84,6 @@ static void list_dir(const char *dir, char *out, size_t out_size)
         free(entries[i]);
     }
     free(entries);
-}
-
-static void write_text_file(const char *path, const char *text)
-{
-    FILE *f = fopen(path, "wb");
-    assert_non_null(f);
-    assert_int_equal(fputs(text, f) >= 0, 1);
-    assert_int_equal(fclose(f), 0);
 }
 
 static void assert_file_contains(const char *path, const char *expected)
@@ -177,8 +144,7 @@ static unsigned char *load_png(const char *path, int expect_w, int expect_h)
 static void test_png_matches_srgb_curve(void **state)
 {
     fixture *fx = *state;
-    char path[256];
-    path_in(fx, "gradient.png", path, sizeof path);
+    const char *path = temp_dir_path(fx->tmp, "gradient.png");
     float rgb[GRADIENT_W * GRADIENT_H * 3];
     fill_gradient(rgb);
 
@@ -200,16 +166,16 @@ static void test_png_matches_srgb_curve(void **state)
     stbi_image_free(pixels);
 
     char listing[256];
-    list_dir(fx->dir, listing, sizeof listing);
+    list_dir(fx->tmp->dir, listing, sizeof listing);
     assert_string_equal(listing, "gradient.png");
 }
 
 static void test_png_exposure_plus_one_doubles(void **state)
 {
     fixture *fx = *state;
-    char half_path[256], quarter_path[256];
-    path_in(fx, "half.png", half_path, sizeof half_path);
-    path_in(fx, "quarter.png", quarter_path, sizeof quarter_path);
+    char half_path[256]; /* a copy: temp_dir_path keeps only the path it made last */
+    snprintf(half_path, sizeof half_path, "%s", temp_dir_path(fx->tmp, "half.png"));
+    const char *quarter_path = temp_dir_path(fx->tmp, "quarter.png");
     float half[4 * 3], quarter[4 * 3];
     for (size_t i = 0; i < 12; i++) {
         half[i] = 0.05f * (float)(i + 1);
@@ -309,8 +275,7 @@ static void read_exr(const char *path, uint32_t w, uint32_t h, float *rgb)
 
 static void check_exr_roundtrip(fixture *fx, uint32_t w, uint32_t h)
 {
-    char path[256];
-    path_in(fx, "frame.exr", path, sizeof path);
+    const char *path = temp_dir_path(fx->tmp, "frame.exr");
     size_t count = (size_t)w * h * 3;
     /* owned by the fixture, so a failed assertion (a longjmp) does not leak them */
     float *written = fx->buffers[0] = malloc(count * sizeof(float));
@@ -339,7 +304,7 @@ static void check_exr_roundtrip(fixture *fx, uint32_t w, uint32_t h)
     assert_true(read_back[((size_t)(h - 1) * w) * 3 + 0] == 1000.0f + (float)((h - 1) * 100));
 
     char listing[256];
-    list_dir(fx->dir, listing, sizeof listing);
+    list_dir(fx->tmp->dir, listing, sizeof listing);
     assert_string_equal(listing, "frame.exr");
 }
 
@@ -360,8 +325,8 @@ static void test_exr_roundtrip_several_chunks(void **state)
 
 static void check_missing_folder(const fixture *fx, const char *name)
 {
-    char path[256], expected[512];
-    path_in(fx, name, path, sizeof path);
+    char expected[512];
+    const char *path = temp_dir_path(fx->tmp, name);
     float rgb[3] = {0.5f, 0.5f, 0.5f};
     vkrt_error err = {{0}};
     assert_false(vkrt_image_write(path, 1, 1, rgb, 0.0f, &err));
@@ -369,7 +334,7 @@ static void check_missing_folder(const fixture *fx, const char *name)
     assert_string_equal(err.msg, expected);
 
     char listing[256];
-    list_dir(fx->dir, listing, sizeof listing);
+    list_dir(fx->tmp->dir, listing, sizeof listing);
     assert_string_equal(listing, "");
 }
 
@@ -383,8 +348,7 @@ static void test_missing_folder_fails_cleanly(void **state)
  * fully written: the temp file must be removed and the directory left as it was. */
 static void check_path_is_directory(const fixture *fx, const char *name)
 {
-    char path[256];
-    path_in(fx, name, path, sizeof path);
+    const char *path = temp_dir_path(fx->tmp, name);
     assert_int_equal(mkdir(path, 0755), 0);
     float rgb[2 * 2 * 3] = {0};
     vkrt_error err = {{0}};
@@ -396,7 +360,7 @@ static void check_path_is_directory(const fixture *fx, const char *name)
     assert_int_equal(stat(path, &st), 0);
     assert_true(S_ISDIR(st.st_mode));
     char listing[256];
-    list_dir(fx->dir, listing, sizeof listing);
+    list_dir(fx->tmp->dir, listing, sizeof listing);
     assert_string_equal(listing, name);
     assert_int_equal(rmdir(path), 0);
 }
@@ -411,9 +375,7 @@ static void test_path_is_directory_fails_cleanly(void **state)
  * bits would not stop root) must leave the previous file at path byte for byte. */
 static void check_failed_write_keeps_old_file(fixture *fx, const char *name)
 {
-    char path[256];
-    path_in(fx, name, path, sizeof path);
-    write_text_file(path, "previous frame");
+    const char *path = temp_dir_write_text(fx->tmp, name, "previous frame");
 
     enum { W = 64, H = 64 };
     free(fx->buffers[0]);
@@ -445,7 +407,7 @@ static void check_failed_write_keeps_old_file(fixture *fx, const char *name)
     assert_string_equal(err.msg, expected);
     assert_file_contains(path, "previous frame");
     char listing[256];
-    list_dir(fx->dir, listing, sizeof listing);
+    list_dir(fx->tmp->dir, listing, sizeof listing);
     assert_string_equal(listing, name);
     assert_int_equal(unlink(path), 0);
 }
@@ -459,9 +421,7 @@ static void test_failed_write_keeps_old_file(void **state)
 static void test_success_replaces_old_file(void **state)
 {
     fixture *fx = *state;
-    char path[256];
-    path_in(fx, "replace.png", path, sizeof path);
-    write_text_file(path, "previous frame");
+    const char *path = temp_dir_write_text(fx->tmp, "replace.png", "previous frame");
     float rgb[3] = {1.0f, 0.0f, 0.0f};
     vkrt_error err = {{0}};
     assert_true(vkrt_image_write(path, 1, 1, rgb, 0.0f, &err));
@@ -475,23 +435,22 @@ static void test_success_replaces_old_file(void **state)
 static void test_unknown_extension(void **state)
 {
     fixture *fx = *state;
-    char path[256], expected[512];
-    path_in(fx, "x.jpg", path, sizeof path);
+    char expected[512];
+    const char *path = temp_dir_path(fx->tmp, "x.jpg");
     float rgb[3] = {0};
     vkrt_error err = {{0}};
     assert_false(vkrt_image_write(path, 1, 1, rgb, 0.0f, &err));
     snprintf(expected, sizeof expected, "%s: unknown image format (use .png or .exr)", path);
     assert_string_equal(err.msg, expected);
     char listing[256];
-    list_dir(fx->dir, listing, sizeof listing);
+    list_dir(fx->tmp->dir, listing, sizeof listing);
     assert_string_equal(listing, "");
 }
 
 static void test_empty_image_rejected(void **state)
 {
     fixture *fx = *state;
-    char path[256];
-    path_in(fx, "empty.png", path, sizeof path);
+    const char *path = temp_dir_path(fx->tmp, "empty.png");
     float rgb[3] = {0};
     vkrt_error err = {{0}};
     assert_false(vkrt_image_write(path, 0, 4, rgb, 0.0f, &err));
@@ -598,26 +557,16 @@ static void test_frame_pattern_has_number(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test_setup_teardown(test_png_matches_srgb_curve, make_temp_dir,
-                                        remove_temp_dir),
-        cmocka_unit_test_setup_teardown(test_png_exposure_plus_one_doubles, make_temp_dir,
-                                        remove_temp_dir),
-        cmocka_unit_test_setup_teardown(test_exr_roundtrip_small, make_temp_dir,
-                                        remove_temp_dir),
-        cmocka_unit_test_setup_teardown(test_exr_roundtrip_several_chunks, make_temp_dir,
-                                        remove_temp_dir),
-        cmocka_unit_test_setup_teardown(test_missing_folder_fails_cleanly, make_temp_dir,
-                                        remove_temp_dir),
-        cmocka_unit_test_setup_teardown(test_path_is_directory_fails_cleanly, make_temp_dir,
-                                        remove_temp_dir),
-        cmocka_unit_test_setup_teardown(test_failed_write_keeps_old_file, make_temp_dir,
-                                        remove_temp_dir),
-        cmocka_unit_test_setup_teardown(test_success_replaces_old_file, make_temp_dir,
-                                        remove_temp_dir),
-        cmocka_unit_test_setup_teardown(test_unknown_extension, make_temp_dir,
-                                        remove_temp_dir),
-        cmocka_unit_test_setup_teardown(test_empty_image_rejected, make_temp_dir,
-                                        remove_temp_dir),
+        cmocka_unit_test_setup_teardown(test_png_matches_srgb_curve, make_fixture, remove_fixture),
+        cmocka_unit_test_setup_teardown(test_png_exposure_plus_one_doubles, make_fixture, remove_fixture),
+        cmocka_unit_test_setup_teardown(test_exr_roundtrip_small, make_fixture, remove_fixture),
+        cmocka_unit_test_setup_teardown(test_exr_roundtrip_several_chunks, make_fixture, remove_fixture),
+        cmocka_unit_test_setup_teardown(test_missing_folder_fails_cleanly, make_fixture, remove_fixture),
+        cmocka_unit_test_setup_teardown(test_path_is_directory_fails_cleanly, make_fixture, remove_fixture),
+        cmocka_unit_test_setup_teardown(test_failed_write_keeps_old_file, make_fixture, remove_fixture),
+        cmocka_unit_test_setup_teardown(test_success_replaces_old_file, make_fixture, remove_fixture),
+        cmocka_unit_test_setup_teardown(test_unknown_extension, make_fixture, remove_fixture),
+        cmocka_unit_test_setup_teardown(test_empty_image_rejected, make_fixture, remove_fixture),
         cmocka_unit_test(test_format_of),
         cmocka_unit_test(test_frame_path_expands),
         cmocka_unit_test(test_frame_path_rejects),

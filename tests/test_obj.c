@@ -23,60 +23,9 @@
 #include <cmocka.h>
 
 #include "scene/obj_load.h"
+#include "temp_dir.h"
 
 /* ------------------------------------------------------------------------ helpers */
-
-typedef struct fixture {
-    char dir[64];
-    char path[512]; /* of the last file written */
-} fixture;
-
-static int make_dir(void **state)
-{
-    fixture *fx = calloc(1, sizeof *fx);
-    if (!fx)
-        return -1;
-    strcpy(fx->dir, "/tmp/vkrt_test_obj_XXXXXX");
-    if (!mkdtemp(fx->dir)) {
-        free(fx);
-        return -1;
-    }
-    *state = fx;
-    return 0;
-}
-
-/* The tests only write plain files into the folder, so one level of removal is enough. */
-static int remove_dir(void **state)
-{
-    fixture *fx = *state;
-    DIR *d = opendir(fx->dir);
-    struct dirent *e;
-    while (d && (e = readdir(d))) {
-        char p[600];
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, "..")) {
-            snprintf(p, sizeof p, "%s/%s", fx->dir, e->d_name);
-            unlink(p);
-        }
-    }
-    if (d)
-        closedir(d);
-    rmdir(fx->dir);
-    free(fx);
-    return 0;
-}
-
-/* Writes len bytes (strlen when len is 0) to dir/name; fx->path is left naming it. */
-static const char *write_file(fixture *fx, const char *name, const char *data, size_t len)
-{
-    snprintf(fx->path, sizeof fx->path, "%s/%s", fx->dir, name);
-    FILE *f = fopen(fx->path, "wb");
-    assert_non_null(f);
-    if (len == 0)
-        len = strlen(data);
-    assert_int_equal(fwrite(data, 1, len, f), len);
-    fclose(f);
-    return fx->path;
-}
 
 static void assert_close(float got, float want)
 {
@@ -104,6 +53,13 @@ static void assert_load_fails(const char *path, const char *after)
     assert_int_equal(mesh.triangle_count, 0);
 }
 
+/* Writes text to name in the folder and loads it, expecting the failure assert_load_fails
+ * checks. */
+static void assert_text_fails(temp_dir *fx, const char *name, const char *text, const char *after)
+{
+    assert_load_fails(temp_dir_write_text(fx, name, text), after);
+}
+
 static vkrt_mesh load_ok(const char *path)
 {
     vkrt_mesh mesh;
@@ -119,7 +75,7 @@ static const char QUAD[] = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
 
 static void quad_becomes_fan(void **state)
 {
-    vkrt_mesh m = load_ok(write_file(*state, "quad.obj", QUAD, 0));
+    vkrt_mesh m = load_ok(temp_dir_write_text(*state, "quad.obj", QUAD));
     assert_int_equal(m.triangle_count, 2);
     /* fan: (v0 v1 v2), (v0 v2 v3) */
     assert_vec3(&m.positions[0], 0, 0, 0);
@@ -154,7 +110,7 @@ static void big_polygon_keeps_all_corners(void **state)
     for (int i = 1; i <= N; i++)
         len += (size_t)snprintf(text + len, sizeof text - len, " %d", i);
     snprintf(text + len, sizeof text - len, "\nf 1 2 3\n");
-    vkrt_mesh m = load_ok(write_file(*state, "big.obj", text, 0));
+    vkrt_mesh m = load_ok(temp_dir_write_text(*state, "big.obj", text));
     assert_int_equal(m.triangle_count, N - 2 + 1);
     assert_vec3(&m.positions[9 * (N - 3) + 6], (float)cos(6.283185307179586 * (N - 1) / N),
                 (float)sin(6.283185307179586 * (N - 1) / N), 0);
@@ -165,7 +121,7 @@ static void negative_indices(void **state)
 {
     const char *text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0.25 0.5\nvn 0 0 1\n"
                        "f -4/-1/-1 -3/-1/-1 -2/-1/-1 -1/-1/-1\n";
-    vkrt_mesh m = load_ok(write_file(*state, "neg.obj", text, 0));
+    vkrt_mesh m = load_ok(temp_dir_write_text(*state, "neg.obj", text));
     assert_int_equal(m.triangle_count, 2);
     assert_vec3(&m.positions[6], 1, 1, 0);
     assert_vec3(&m.positions[15], 0, 1, 0);
@@ -185,7 +141,7 @@ static void geometric_normal_for_faces_without(void **state)
                        "f 1//1 2//1 3//1\n"
                        "f 1 2 3\n"
                        "f 1 1 1\n";
-    vkrt_mesh m = load_ok(write_file(*state, "normals.obj", text, 0));
+    vkrt_mesh m = load_ok(temp_dir_write_text(*state, "normals.obj", text));
     assert_int_equal(m.triangle_count, 3);
     assert_non_null(m.normals);
     for (int k = 0; k < 3; k++) {
@@ -199,7 +155,7 @@ static void geometric_normal_for_faces_without(void **state)
 static void unusable_file_normal_becomes_geometric(void **state)
 {
     const char *text = "v 0 0 0\nv 0 0 1\nv 1 0 0\nvn nan 0 0\nvn 0 0 0\nf 1//1 2//1 3//1\nf 1//2 2//2 3//2\n";
-    vkrt_mesh m = load_ok(write_file(*state, "badnormal.obj", text, 0));
+    vkrt_mesh m = load_ok(temp_dir_write_text(*state, "badnormal.obj", text));
     assert_int_equal(m.triangle_count, 2);
     assert_vec3(&m.normals[0], 0, 1, 0);
     assert_vec3(&m.normals[9], 0, 1, 0);
@@ -212,7 +168,7 @@ static void unusable_file_normal_becomes_geometric(void **state)
 static void references_to_absent_normals_are_dropped(void **state)
 {
     const char *text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1/1 2/2/2 3/3/3\n";
-    vkrt_mesh m = load_ok(write_file(*state, "stripped.obj", text, 0));
+    vkrt_mesh m = load_ok(temp_dir_write_text(*state, "stripped.obj", text));
     assert_int_equal(m.triangle_count, 1);
     assert_null(m.normals);
     assert_null(m.texcoords);
@@ -223,67 +179,66 @@ static void references_to_absent_normals_are_dropped(void **state)
 
 static void crlf_line_endings(void **state)
 {
-    fixture *fx = *state;
-    vkrt_mesh m = load_ok(write_file(fx, "crlf.obj", "v 0 0 0\r\nv 1 0 0\r\nv 1 1 0\r\nv 0 1 0\r\nf 1 2 3 4\r\n", 0));
+    temp_dir *fx = *state;
+    const char *text = "v 0 0 0\r\nv 1 0 0\r\nv 1 1 0\r\nv 0 1 0\r\nf 1 2 3 4\r\n";
+    vkrt_mesh m = load_ok(temp_dir_write_text(fx, "crlf.obj", text));
     assert_int_equal(m.triangle_count, 2);
     assert_vec3(&m.positions[15], 0, 1, 0);
     vkrt_mesh_free(&m);
     /* line numbers count CRLF (and lone CR) as one line end */
-    write_file(fx, "crlf_nan.obj", "v 0 0 0\r\n\r\nv 1 nan 0\r\nv 0 1 0\r\nf 1 2 3\r\n", 0);
-    assert_load_fails(fx->path, ":3: vertex coordinate is not finite");
-    write_file(fx, "cr_nan.obj", "v 0 0 0\rv 1 0 0\rv inf 1 0\rf 1 2 3\r", 0);
-    assert_load_fails(fx->path, ":3: vertex coordinate is not finite");
+    assert_text_fails(fx, "crlf_nan.obj", "v 0 0 0\r\n\r\nv 1 nan 0\r\nv 0 1 0\r\nf 1 2 3\r\n",
+                      ":3: vertex coordinate is not finite");
+    assert_text_fails(fx, "cr_nan.obj", "v 0 0 0\rv 1 0 0\rv inf 1 0\rf 1 2 3\r",
+                      ":3: vertex coordinate is not finite");
 }
 
 static void non_finite_vertex_names_line(void **state)
 {
-    fixture *fx = *state;
+    temp_dir *fx = *state;
     const char *bad[] = {"nan", "-nan", "inf", "-inf", "1e999", "1.#IND", "1e39"};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         char text[200];
         snprintf(text, sizeof text, "# comment\nv 0 0 0\nv 1 %s 0\nv 0 1 0\nf 1 2 3\n", bad[i]);
-        write_file(fx, "nan.obj", text, 0);
-        assert_load_fails(fx->path, ":3: vertex coordinate is not finite");
+        assert_text_fails(fx, "nan.obj", text, ":3: vertex coordinate is not finite");
     }
     /* tinyobjloader would read these as 0 or as a prefix; we refuse them */
-    write_file(fx, "abc.obj", "v 0 0 0\nv 1 abc 0\nv 0 1 0\nf 1 2 3\n", 0);
-    assert_load_fails(fx->path, ":2: vertex coordinate 'abc' is not a number");
-    write_file(fx, "plus.obj", "v 0 0 0\nv 1 0 0\nv 3.1+e2 1 0\nf 1 2 3\n", 0);
-    assert_load_fails(fx->path, ":3: vertex coordinate '3.1+e2' is not a number");
-    write_file(fx, "short.obj", "v 0 0 0\nv 1 0\nv 0 1 0\nf 1 2 3\n", 0);
-    assert_load_fails(fx->path, ":2: vertex has 2 coordinates, needs 3");
-    write_file(fx, "vt.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt inf 0\nf 1/1 2/1 3/1\n", 0);
-    assert_load_fails(fx->path, ":4: texture coordinate is not finite");
+    assert_text_fails(fx, "abc.obj", "v 0 0 0\nv 1 abc 0\nv 0 1 0\nf 1 2 3\n",
+                      ":2: vertex coordinate 'abc' is not a number");
+    assert_text_fails(fx, "plus.obj", "v 0 0 0\nv 1 0 0\nv 3.1+e2 1 0\nf 1 2 3\n",
+                      ":3: vertex coordinate '3.1+e2' is not a number");
+    assert_text_fails(fx, "short.obj", "v 0 0 0\nv 1 0\nv 0 1 0\nf 1 2 3\n",
+                      ":2: vertex has 2 coordinates, needs 3");
+    assert_text_fails(fx, "vt.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt inf 0\nf 1/1 2/1 3/1\n",
+                      ":4: texture coordinate is not finite");
 }
 
 static void out_of_range_index_names_line(void **state)
 {
-    fixture *fx = *state;
-    write_file(fx, "range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 9\n", 0);
-    assert_load_fails(fx->path, ":5: face index 9 out of range (file has 3 vertices)");
-    write_file(fx, "huge.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999\n", 0);
-    assert_load_fails(fx->path, ":4: face index 99999999999 out of range");
-    write_file(fx, "rel.obj", "v 0 0 0\nv 1 0 0\nf -1 -2 -3\nv 0 1 0\n", 0);
-    assert_load_fails(fx->path, ":3: face index -3 out of range (only 2 vertices before this line)");
-    write_file(fx, "vn.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//2\n", 0);
-    assert_load_fails(fx->path, ":5: face normal index 2 out of range (file has 1 normals)");
-    write_file(fx, "vt_range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/4 3/1\n", 0);
-    assert_load_fails(fx->path, ":5: face texture coordinate index 4 out of range (file has 1 texture");
+    temp_dir *fx = *state;
+    assert_text_fails(fx, "range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 9\n",
+                      ":5: face index 9 out of range (file has 3 vertices)");
+    assert_text_fails(fx, "huge.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999\n",
+                      ":4: face index 99999999999 out of range");
+    assert_text_fails(fx, "rel.obj", "v 0 0 0\nv 1 0 0\nf -1 -2 -3\nv 0 1 0\n",
+                      ":3: face index -3 out of range (only 2 vertices before this line)");
+    assert_text_fails(fx, "vn.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//2\n",
+                      ":5: face normal index 2 out of range (file has 1 normals)");
+    assert_text_fails(fx, "vt_range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/4 3/1\n",
+                      ":5: face texture coordinate index 4 out of range (file has 1 texture");
 }
 
 static void empty_and_triangle_free_files_fail(void **state)
 {
-    fixture *fx = *state;
-    write_file(fx, "empty.obj", "", 0);
-    assert_load_fails(fx->path, ": no triangles");
-    write_file(fx, "lines.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\np 3\nf 1 2\n", 0);
-    assert_load_fails(fx->path, ": no triangles");
+    temp_dir *fx = *state;
+    assert_text_fails(fx, "empty.obj", "", ": no triangles");
+    assert_text_fails(fx, "lines.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\np 3\nf 1 2\n",
+                      ": no triangles");
     char missing[600];
     snprintf(missing, sizeof missing, "%s/does_not_exist.obj", fx->dir);
     assert_load_fails(missing, ": cannot open");
     /* a zero index is tinyobjloader's error, passed on with the path */
-    write_file(fx, "zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", 0);
-    assert_load_fails(fx->path, ": Failed parse `f' line");
+    assert_text_fails(fx, "zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n",
+                      ": Failed parse `f' line");
 }
 
 /* Deterministic bytes so a failure can be reproduced. */
@@ -299,15 +254,15 @@ static void fill_garbage(unsigned char *buf, size_t n, uint32_t seed, int allow_
 
 static void binary_garbage_fails_cleanly(void **state)
 {
-    fixture *fx = *state;
+    temp_dir *fx = *state;
     static unsigned char buf[8192];
     fill_garbage(buf, sizeof buf, 12345u, 1);
-    write_file(fx, "garbage.obj", (const char *)buf, sizeof buf);
+    temp_dir_write(fx, "garbage.obj", buf, sizeof buf);
     assert_load_fails(fx->path, ": not a text file");
     /* without NUL bytes the text goes through both parsers; any clean outcome will do */
     for (uint32_t seed = 1; seed <= 20; seed++) {
         fill_garbage(buf, sizeof buf, seed, 0);
-        write_file(fx, "garbage2.obj", (const char *)buf, sizeof buf);
+        temp_dir_write(fx, "garbage2.obj", buf, sizeof buf);
         vkrt_mesh m;
         vkrt_error err = {{0}};
         if (vkrt_obj_load(fx->path, &m, &err))
@@ -317,16 +272,17 @@ static void binary_garbage_fails_cleanly(void **state)
     }
     /* "v 0 0 0\n" in UTF-16LE with a BOM, and big-endian without one */
     const char le[] = "\xff\xfev\0 \0000\0 \0000\0 \0000\0\n\0";
-    write_file(fx, "utf16le.obj", le, sizeof le - 1);
+    temp_dir_write(fx, "utf16le.obj", le, sizeof le - 1);
     assert_load_fails(fx->path, ": looks like UTF-16 text; save it as UTF-8");
     const char be[] = "\0v\0 \0000\0 \0000\0 \0000\0\n\0f\0 \0001\0 \0001\0 \0001\0\n";
-    write_file(fx, "utf16be.obj", be, sizeof be - 1);
+    temp_dir_write(fx, "utf16be.obj", be, sizeof be - 1);
     assert_load_fails(fx->path, ": looks like UTF-16 text");
 }
 
 static void utf8_bom_is_skipped(void **state)
 {
-    vkrt_mesh m = load_ok(write_file(*state, "bom.obj", "\xef\xbb\xbfv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 0));
+    vkrt_mesh m = load_ok(
+        temp_dir_write_text(*state, "bom.obj", "\xef\xbb\xbfv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
     assert_int_equal(m.triangle_count, 1);
     vkrt_mesh_free(&m);
 }
@@ -334,7 +290,7 @@ static void utf8_bom_is_skipped(void **state)
 static void missing_mtl_is_a_warning(void **state)
 {
     const char *text = "mtllib nothere.mtl\nusemtl red\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
-    vkrt_mesh m = load_ok(write_file(*state, "nomtl.obj", text, 0));
+    vkrt_mesh m = load_ok(temp_dir_write_text(*state, "nomtl.obj", text));
     assert_int_equal(m.triangle_count, 1);
     assert_int_equal(m.material[0], -1);
     assert_int_equal(m.material_count, 0);
@@ -344,16 +300,15 @@ static void missing_mtl_is_a_warning(void **state)
 
 static void mtl_fields_are_parsed(void **state)
 {
-    fixture *fx = *state;
-    write_file(fx, "tex.png", "not really a png", 0);
-    write_file(fx, "m.mtl",
+    temp_dir *fx = *state;
+    temp_dir_write_text(fx, "tex.png", "not really a png");
+    temp_dir_write_text(fx, "m.mtl",
                "newmtl shiny\r\n"
                "Kd 0.1 0.2 0.3\r\nKs 0.4 0.5 0.6\r\nKe 7 8 9\r\nNs 250\r\nNi 1.45\r\nd 0.5\r\nillum 5\r\n"
                "map_Kd tex.png\r\n"
-               "\r\nnewmtl plain\r\n",
-               0);
+               "\r\nnewmtl plain\r\n");
     const char *text = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl plain\nf 1 2 3\nusemtl shiny\nf 1 3 2\n";
-    vkrt_mesh m = load_ok(write_file(fx, "mtl.obj", text, 0));
+    vkrt_mesh m = load_ok(temp_dir_write_text(fx, "mtl.obj", text));
     assert_int_equal(m.triangle_count, 2);
     assert_int_equal(m.material_count, 2);
     const vkrt_mtl *shiny = &m.materials[m.material[1]];
@@ -390,29 +345,27 @@ static void mtl_fields_are_parsed(void **state)
 /* The fields texture errors need (which .mtl, which line), map_d and Tf, over two .mtl files. */
 static void mtl_texture_lines_and_tf(void **state)
 {
-    fixture *fx = *state;
+    temp_dir *fx = *state;
     char m_mtl[600], other_mtl[600], want[700];
-    write_file(fx, "m.mtl",
-               "# map_Kd commented.png\r\n"     /* 1 */
-               "newmtl glass\r\n"               /* 2 */
-               "  Tf 0.5 0.25 1\r\n"            /* 3 */
-               "\tmap_Kd first.png\r\n"         /* 4 */
-               "map_d maps\\alpha.png\r\n"      /* 5: Windows separator */
-               "\r\n"                           /* 6 */
-               "map_Kd -s 2 2 1 second.png\r\n" /* 7: the last one wins */
-               "newmtl plain\r\n"               /* 8 */
-               "Kd 0.5 0.5 0.5\r\n",            /* 9 */
-               0);
+    temp_dir_write_text(fx, "m.mtl",
+                        "# map_Kd commented.png\r\n"     /* 1 */
+                        "newmtl glass\r\n"               /* 2 */
+                        "  Tf 0.5 0.25 1\r\n"            /* 3 */
+                        "\tmap_Kd first.png\r\n"         /* 4 */
+                        "map_d maps\\alpha.png\r\n"      /* 5: Windows separator */
+                        "\r\n"                           /* 6 */
+                        "map_Kd -s 2 2 1 second.png\r\n" /* 7: the last one wins */
+                        "newmtl plain\r\n"               /* 8 */
+                        "Kd 0.5 0.5 0.5\r\n");           /* 9 */
     snprintf(m_mtl, sizeof m_mtl, "%s", fx->path);
-    write_file(fx, "other.mtl",
-               "newmtl leaves\n"       /* 1 */
-               "Kt 0.1 0.2 0.3\n"      /* 2: tinyobjloader reads Kt as Tf */
-               "map_d leaves_a.png\n", /* 3 */
-               0);
+    temp_dir_write_text(fx, "other.mtl",
+                        "newmtl leaves\n"       /* 1 */
+                        "Kt 0.1 0.2 0.3\n"      /* 2: tinyobjloader reads Kt as Tf */
+                        "map_d leaves_a.png\n"); /* 3 */
     snprintf(other_mtl, sizeof other_mtl, "%s", fx->path);
     const char *text = "mtllib m.mtl\nmtllib other.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
                        "usemtl glass\nf 1 2 3\nusemtl plain\nf 1 3 2\nusemtl leaves\nf 2 1 3\n";
-    vkrt_mesh m = load_ok(write_file(fx, "tex.obj", text, 0));
+    vkrt_mesh m = load_ok(temp_dir_write_text(fx, "tex.obj", text));
     assert_int_equal(m.material_count, 3);
     const vkrt_mtl *glass = &m.materials[m.material[0]];
     const vkrt_mtl *plain = &m.materials[m.material[1]];
@@ -675,21 +628,21 @@ static void stanford_bunny(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test_setup_teardown(quad_becomes_fan, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(big_polygon_keeps_all_corners, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(negative_indices, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(geometric_normal_for_faces_without, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(unusable_file_normal_becomes_geometric, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(references_to_absent_normals_are_dropped, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(crlf_line_endings, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(non_finite_vertex_names_line, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(out_of_range_index_names_line, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(empty_and_triangle_free_files_fail, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(binary_garbage_fails_cleanly, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(utf8_bom_is_skipped, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(missing_mtl_is_a_warning, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(mtl_fields_are_parsed, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(mtl_texture_lines_and_tf, make_dir, remove_dir),
+        temp_dir_test(quad_becomes_fan),
+        temp_dir_test(big_polygon_keeps_all_corners),
+        temp_dir_test(negative_indices),
+        temp_dir_test(geometric_normal_for_faces_without),
+        temp_dir_test(unusable_file_normal_becomes_geometric),
+        temp_dir_test(references_to_absent_normals_are_dropped),
+        temp_dir_test(crlf_line_endings),
+        temp_dir_test(non_finite_vertex_names_line),
+        temp_dir_test(out_of_range_index_names_line),
+        temp_dir_test(empty_and_triangle_free_files_fail),
+        temp_dir_test(binary_garbage_fails_cleanly),
+        temp_dir_test(utf8_bom_is_skipped),
+        temp_dir_test(missing_mtl_is_a_warning),
+        temp_dir_test(mtl_fields_are_parsed),
+        temp_dir_test(mtl_texture_lines_and_tf),
         cmocka_unit_test(tinyobjloader_suite),
         cmocka_unit_test(assimp_suite),
         cmocka_unit_test(cornell_box),

@@ -107,7 +107,7 @@ static double fresnel(double cos_i, double n1, double n2)
 static d3 mul(d3 a, d3 b) { return make(a.x * b.x, a.y * b.y, a.z * b.z); }
 static double largest(d3 a) { return fmax(a.x, fmax(a.y, a.z)); }
 
-/* The importance under which the renderer drops a cast ray (renderer.c, default_min_importance). */
+/* The importance under which the renderer drops a cast ray (tuning.c, default_min_importance). */
 static const double min_importance = 1e-3;
 
 /* Radiance along the ray o + t d, as docs/materials.md defines the built-ins (no vn in these
@@ -228,13 +228,13 @@ static void gpu_render(const vkrt_scene *scene, uint32_t w, uint32_t h, float *r
     gpu_context ctx;
     fixture_context_create(&ctx);
     vkrt_error err = {{0}};
-    vkrt_renderer r;
+    vkrt_renderer *r = NULL;
     vkrt_render_desc desc = {.width = w, .height = h, .samples = 1};
     if (!vkrt_renderer_create(&r, &ctx, scene, &desc, &err))
         fail_msg("renderer: %s", err.msg);
-    if (!vkrt_renderer_render(&r, &scene->config.cameras[0], 0, rgb, NULL, &err))
+    if (!vkrt_renderer_render(r, &scene->config.cameras[0], 0, rgb, NULL, &err))
         fail_msg("render: %s", err.msg);
-    vkrt_renderer_destroy(&r);
+    vkrt_renderer_destroy(r);
     fixture_context_destroy(&ctx);
 }
 
@@ -436,12 +436,12 @@ static void render_transformed(double scale, double offset, vkrt_accel_kind kind
         fail_msg("%s", err.msg);
     gpu_context ctx;
     fixture_context_create(&ctx);
-    vkrt_renderer r;
+    vkrt_renderer *r = NULL;
     vkrt_render_desc desc = {.width = w, .height = h, .samples = 1, .accel = kind};
     if (!vkrt_renderer_create(&r, &ctx, &scene, &desc, &err) ||
-        !vkrt_renderer_render(&r, &scene.config.cameras[0], 0, rgb, NULL, &err))
+        !vkrt_renderer_render(r, &scene.config.cameras[0], 0, rgb, NULL, &err))
         fail_msg("%s", err.msg);
-    vkrt_renderer_destroy(&r);
+    vkrt_renderer_destroy(r);
     fixture_context_destroy(&ctx);
     vkrt_scene_free(&scene);
     static const char *const files[] = {"box.obj", "cornell.mtl", "scene.cfg"};

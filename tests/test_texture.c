@@ -26,76 +26,14 @@
 #include "../glsl/shared.h"
 #include "scene/obj_load.h"
 #include "scene/texture.h"
+#include "temp_dir.h"
 
 /* ------------------------------------------------------------------------ helpers */
 
-typedef struct fixture {
-    char dir[64];
-    char path[512]; /* of the last file written */
-} fixture;
-
-static int make_dir(void **state)
-{
-    fixture *fx = calloc(1, sizeof *fx);
-    if (!fx)
-        return -1;
-    strcpy(fx->dir, "/tmp/vkrt_test_texture_XXXXXX");
-    if (!mkdtemp(fx->dir)) {
-        free(fx);
-        return -1;
-    }
-    *state = fx;
-    return 0;
-}
-
-/* Removes dir and what the tests put in it (plain files and one level of sub-folders). */
-static void remove_tree(const char *dir, int depth)
-{
-    DIR *d = opendir(dir);
-    struct dirent *e;
-    while (d && (e = readdir(d))) {
-        char p[700];
-        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, ".."))
-            continue;
-        snprintf(p, sizeof p, "%s/%s", dir, e->d_name);
-        struct stat st;
-        if (depth > 0 && lstat(p, &st) == 0 && S_ISDIR(st.st_mode))
-            remove_tree(p, depth - 1);
-        else
-            unlink(p);
-    }
-    if (d)
-        closedir(d);
-    rmdir(dir);
-}
-
-static int remove_dir(void **state)
-{
-    fixture *fx = *state;
-    remove_tree(fx->dir, 1);
-    free(fx);
-    return 0;
-}
-
-static const char *path_of(fixture *fx, const char *name)
-{
-    snprintf(fx->path, sizeof fx->path, "%s/%s", fx->dir, name);
-    return fx->path;
-}
-
-static const char *write_bytes(fixture *fx, const char *name, const void *data, size_t len)
-{
-    FILE *f = fopen(path_of(fx, name), "wb");
-    assert_non_null(f);
-    assert_int_equal(fwrite(data, 1, len, f), len);
-    fclose(f);
-    return fx->path;
-}
-
-static const char *write_png(fixture *fx, const char *name, int w, int h, int comp,
+static const char *write_png(temp_dir *fx, const char *name, int w, int h, int comp,
                              const unsigned char *px)
 {
-    assert_true(stbi_write_png(path_of(fx, name), w, h, comp, px, w * comp) != 0);
+    assert_true(stbi_write_png(temp_dir_path(fx, name), w, h, comp, px, w * comp) != 0);
     return fx->path;
 }
 
@@ -174,7 +112,7 @@ static void expected_texel(int x, int y, double out[4])
 
 static void png_texel_words_and_flags(void **state)
 {
-    fixture *fx = *state;
+    temp_dir *fx = *state;
     unsigned char px[2][3][4];
     for (int y = 0; y < 2; y++)
         for (int x = 0; x < 3; x++)
@@ -221,7 +159,7 @@ static void png_texel_words_and_flags(void **state)
 /* Every 8-bit level through the COLOUR path against the closed-form curve, alpha untouched. */
 static void srgb_decoding_matches_closed_form(void **state)
 {
-    fixture *fx = *state;
+    temp_dir *fx = *state;
     unsigned char px[256][4];
     for (int i = 0; i < 256; i++) {
         px[i][0] = (unsigned char)i;
@@ -255,7 +193,7 @@ static void srgb_decoding_matches_closed_form(void **state)
 
 static void tga_is_lossless_and_jpeg_close(void **state)
 {
-    fixture *fx = *state;
+    temp_dir *fx = *state;
     enum { N = 16 };
     unsigned char px[N][N][3];
     for (int y = 0; y < N; y++)
@@ -264,10 +202,10 @@ static void tga_is_lossless_and_jpeg_close(void **state)
             px[y][x][1] = (unsigned char)(y * 16);
             px[y][x][2] = (unsigned char)(128 + 4 * (x - y));
         }
-    assert_true(stbi_write_tga(path_of(fx, "grad.tga"), N, N, 3, px) != 0);
+    assert_true(stbi_write_tga(temp_dir_path(fx, "grad.tga"), N, N, 3, px) != 0);
     char tga[512];
     snprintf(tga, sizeof tga, "%s", fx->path);
-    assert_true(stbi_write_jpg(path_of(fx, "grad.jpg"), N, N, 3, px, 100) != 0);
+    assert_true(stbi_write_jpg(temp_dir_path(fx, "grad.jpg"), N, N, 3, px, 100) != 0);
     vkrt_texture_set set = {0};
     uint32_t t = add_ok(&set, tga, VKRT_TEXTURE_DATA);
     uint32_t j = add_ok(&set, fx->path, VKRT_TEXTURE_DATA);
@@ -291,7 +229,7 @@ static void tga_is_lossless_and_jpeg_close(void **state)
 /* Half-float bit patterns written out by hand (sign | exponent + 15 << 10 | mantissa). */
 static void hdr_becomes_half_floats(void **state)
 {
-    fixture *fx = *state;
+    temp_dir *fx = *state;
     /* Values whose channels share an exponent are exact in RGBE (8-bit mantissas), and then in
      * half, except below half's normal range (2^-14), where they round to steps of 2^-24. */
     const float tiny = 0x1p-30f;
@@ -304,7 +242,7 @@ static void hdr_becomes_half_floats(void **state)
         {{0x3C00, 0x3800, 0x3400}, {0x4400, 0x4000, 0x4200}, {0x0004, 0x0002, 0x0000}},
         {{0x3000, 0x2C00, 0x2E00}, {0x7BFF, 0x0000, 0x0000}, {0, 0, 0}}, /* beyond half: 65504 */
     };
-    assert_true(stbi_write_hdr(path_of(fx, "sky.hdr"), 3, 2, 3, &px[0][0][0]) != 0);
+    assert_true(stbi_write_hdr(temp_dir_path(fx, "sky.hdr"), 3, 2, 3, &px[0][0][0]) != 0);
     vkrt_texture_set set = {0};
     uint32_t t = add_ok(&set, fx->path, VKRT_TEXTURE_COLOUR);
     assert_int_equal(set.info[t].flags, VKRT_TEXTURE_HALF); /* linear already: no sRGB flag */
@@ -335,7 +273,7 @@ static void hdr_becomes_half_floats(void **state)
 
 static void bilinear_sample_and_wrap(void **state)
 {
-    fixture *fx = *state;
+    temp_dir *fx = *state;
     fill_test_rgb();
     const char *path = write_png(fx, "test.png", W, H, 3, &test_rgb[0][0][0]);
     vkrt_texture_set set = {0};
@@ -434,7 +372,7 @@ static void bilinear_sample_and_wrap(void **state)
 /* ALPHA: the alpha channel where the image has one, else its first channel, in all four. */
 static void alpha_usage_picks_the_channel(void **state)
 {
-    fixture *fx = *state;
+    temp_dir *fx = *state;
     const unsigned char grey[2] = {10, 200};
     const unsigned char grey_alpha[2][2] = {{10, 77}, {200, 3}};
     const unsigned char rgb[2][3] = {{30, 40, 50}, {60, 70, 80}};
@@ -466,7 +404,7 @@ static void alpha_usage_picks_the_channel(void **state)
         }
     }
     /* a grey image as a colour map expands to grey RGB, opaque */
-    uint32_t c = add_ok(&set, path_of(fx, "grey.png"), VKRT_TEXTURE_COLOUR);
+    uint32_t c = add_ok(&set, temp_dir_path(fx, "grey.png"), VKRT_TEXTURE_COLOUR);
     assert_int_equal(set.texels[set.info[c].offset + 1], 0xFFC8C8C8u);
     vkrt_texture_set_free(&set);
 }
@@ -475,7 +413,7 @@ static void alpha_usage_picks_the_channel(void **state)
 
 static void same_file_same_usage_is_loaded_once(void **state)
 {
-    fixture *fx = *state;
+    temp_dir *fx = *state;
     fill_test_rgb();
     char path[512], other[700];
     snprintf(path, sizeof path, "%s", write_png(fx, "tex.png", W, H, 3, &test_rgb[0][0][0]));
@@ -484,7 +422,7 @@ static void same_file_same_usage_is_loaded_once(void **state)
     assert_int_equal(add_ok(&set, path, VKRT_TEXTURE_COLOUR), 0);
     snprintf(other, sizeof other, "%s/./tex.png", fx->dir);
     assert_int_equal(add_ok(&set, other, VKRT_TEXTURE_COLOUR), 0);
-    assert_int_equal(mkdir(path_of(fx, "sub"), 0700), 0);
+    assert_int_equal(mkdir(temp_dir_path(fx, "sub"), 0700), 0);
     snprintf(other, sizeof other, "%s/sub/../tex.png", fx->dir);
     assert_int_equal(add_ok(&set, other, VKRT_TEXTURE_COLOUR), 0);
     snprintf(other, sizeof other, "%s/TEX.PNG", fx->dir); /* found ignoring case: the same file */
@@ -500,7 +438,7 @@ static void same_file_same_usage_is_loaded_once(void **state)
 
 static void file_name_case_and_backslashes(void **state)
 {
-    fixture *fx = *state;
+    temp_dir *fx = *state;
     const unsigned char px[4] = {1, 2, 3, 4};
     char path[700];
     write_png(fx, "sp_luk.JPG.png", 1, 1, 4, px);
@@ -513,7 +451,7 @@ static void file_name_case_and_backslashes(void **state)
     assert_int_equal(index, 0);
     assert_non_null(strstr(set.paths[0], "/sp_luk.JPG.png"));
     /* a backslash as folder separator, and the name's case wrong too */
-    assert_int_equal(mkdir(path_of(fx, "maps"), 0700), 0);
+    assert_int_equal(mkdir(temp_dir_path(fx, "maps"), 0700), 0);
     write_png(fx, "maps/Wall.png", 1, 1, 4, px);
     snprintf(path, sizeof path, "%s/maps\\WALL.png", fx->dir);
     assert_true(vkrt_texture_set_add(&set, path, VKRT_TEXTURE_COLOUR, "x.mtl:2", &index, &err));
@@ -536,24 +474,25 @@ static void file_name_case_and_backslashes(void **state)
 
 static void errors_name_referrer_and_path(void **state)
 {
-    fixture *fx = *state;
+    temp_dir *fx = *state;
     const unsigned char px[4] = {1, 2, 3, 4};
     vkrt_texture_set set = {0};
     /* start from a set with one texture: failures must leave it as it was */
     add_ok(&set, write_png(fx, "ok.png", 1, 1, 4, px), VKRT_TEXTURE_COLOUR);
 
-    add_fails(&set, path_of(fx, "missing.png"), VKRT_TEXTURE_COLOUR,
+    add_fails(&set, temp_dir_path(fx, "missing.png"), VKRT_TEXTURE_COLOUR,
               "cannot open: No such file or directory");
-    add_fails(&set, write_bytes(fx, "garbage.png", "this is not an image at all\n", 28),
+    add_fails(&set, temp_dir_write(fx, "garbage.png", "this is not an image at all\n", 28),
               VKRT_TEXTURE_COLOUR, "not an image vkrt can read (stb_image: ");
-    add_fails(&set, write_bytes(fx, "empty.png", "", 0), VKRT_TEXTURE_COLOUR, "the file is empty");
+    add_fails(&set, temp_dir_write(fx, "empty.png", "", 0), VKRT_TEXTURE_COLOUR,
+              "the file is empty");
     add_fails(&set, fx->dir, VKRT_TEXTURE_COLOUR, "not a regular file");
     /* a PNG header claiming a width of 0 (stb_image refuses it itself) */
     const unsigned char zero_width[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n', 0, 0, 0,
                                         13,   'I', 'H', 'D', 'R',  0,    0,    0,    0, 0, 0,
                                         0,    1,   8,   0,   0,    0,    0,    0,    0, 0, 0};
-    add_fails(&set, write_bytes(fx, "zero.png", zero_width, sizeof zero_width), VKRT_TEXTURE_COLOUR,
-              "not an image vkrt can read");
+    add_fails(&set, temp_dir_write(fx, "zero.png", zero_width, sizeof zero_width),
+              VKRT_TEXTURE_COLOUR, "not an image vkrt can read");
     /* a real PNG cut short: the header reads, the pixels do not */
     static unsigned char big[64][64][3];
     for (int i = 0; i < 64 * 64 * 3; i++)
@@ -565,7 +504,7 @@ static void errors_name_referrer_and_path(void **state)
     size_t n = fread(bytes, 1, sizeof bytes, f);
     fclose(f);
     assert_true(n > 200);
-    add_fails(&set, write_bytes(fx, "cut.png", bytes, n / 2), VKRT_TEXTURE_COLOUR,
+    add_fails(&set, temp_dir_write(fx, "cut.png", bytes, n / 2), VKRT_TEXTURE_COLOUR,
               "cannot decode the image (stb_image: ");
     vkrt_texture_set fresh = {0}; /* the room reserved for the texels is given back */
     add_fails(&fresh, fx->path, VKRT_TEXTURE_COLOUR, "cannot decode the image (stb_image: ");
@@ -581,8 +520,8 @@ static void errors_name_referrer_and_path(void **state)
     /* no referrer: the message starts at "texture" */
     vkrt_error err = {{0}};
     uint32_t index;
-    assert_false(vkrt_texture_set_add(&set, path_of(fx, "missing.png"), VKRT_TEXTURE_DATA, NULL,
-                                      &index, &err));
+    assert_false(vkrt_texture_set_add(&set, temp_dir_path(fx, "missing.png"), VKRT_TEXTURE_DATA,
+                                      NULL, &index, &err));
     char want[700];
     snprintf(want, sizeof want, "texture '%s': cannot open: No such file or directory", fx->path);
     assert_string_equal(err.msg, want);
@@ -595,7 +534,7 @@ static void errors_name_referrer_and_path(void **state)
 
 static void size_limit_is_reported_in_mib(void **state)
 {
-    fixture *fx = *state;
+    temp_dir *fx = *state;
     static unsigned char px[512][512];
     char first[512], second[512]; /* 1 MiB of texels each */
     snprintf(first, sizeof first, "%s", write_png(fx, "grey512.png", 512, 512, 1, &px[0][0]));
@@ -692,16 +631,16 @@ static void lost_empire_textures(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test_setup_teardown(png_texel_words_and_flags, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(srgb_decoding_matches_closed_form, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(tga_is_lossless_and_jpeg_close, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(hdr_becomes_half_floats, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(bilinear_sample_and_wrap, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(alpha_usage_picks_the_channel, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(same_file_same_usage_is_loaded_once, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(file_name_case_and_backslashes, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(errors_name_referrer_and_path, make_dir, remove_dir),
-        cmocka_unit_test_setup_teardown(size_limit_is_reported_in_mib, make_dir, remove_dir),
+        temp_dir_test(png_texel_words_and_flags),
+        temp_dir_test(srgb_decoding_matches_closed_form),
+        temp_dir_test(tga_is_lossless_and_jpeg_close),
+        temp_dir_test(hdr_becomes_half_floats),
+        temp_dir_test(bilinear_sample_and_wrap),
+        temp_dir_test(alpha_usage_picks_the_channel),
+        temp_dir_test(same_file_same_usage_is_loaded_once),
+        temp_dir_test(file_name_case_and_backslashes),
+        temp_dir_test(errors_name_referrer_and_path),
+        temp_dir_test(size_limit_is_reported_in_mib),
         cmocka_unit_test(dabrovic_sponza_textures),
         cmocka_unit_test(sibenik_cathedral_textures),
         cmocka_unit_test(lost_empire_textures),

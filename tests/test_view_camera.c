@@ -2,7 +2,7 @@
  * test_view_camera.c: the viewer's camera math (src/view/camera.c), without a window.
  *
  * Directions are checked against the renderer's own camera frame (right = forward x up, as
- * src/render/renderer.c builds it), so "drag right turns right" means right in the picture.
+ * src/render/camera_frame.c builds it), so "drag right turns right" means right in the picture.
  * Framing is checked by projecting the box's corners, not by repeating the formula. Tolerances
  * are a few float ULPs of unit vectors (1e-5) or of the scene's coordinates (1e-5 relative).
  */

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""test_walk_profile.py: tools/walk_profile.c walks the rays vkrt bench traces the way the GPU
-kernel walks them (docs/performance.md, third pass). Its counts are held to the kernel's own:
+"""test_walk_profile.py: research/yardsticks/walk_profile.c walks the rays vkrt bench traces the way the GPU
+kernel walks them (research/journal.md, "Third pass"). Its counts are held to the kernel's own:
 `vkrt bench --stats` on the same scene, size and tree, walked as it models (the pairs, in one
 loop: `--bvh-width 2 --walk one-loop`, which lavapipe, the device in tests, does not default to),
 nodes and triangles per ray for primary, shadow and diffuse rays, and the hits and blocked shadow rays. The two test

@@ -1,10 +1,22 @@
 #!/usr/bin/env python3
 """Embeds the GLSL kernels into a C file, so the vkrt binary compiles them at startup without
 looking for files beside it (a copied binary still runs). Usage:
-    embed_glsl.py [--table NAME] OUTPUT.c GLSL_ROOT FILE...
-FILE paths are relative to GLSL_ROOT and become the names the shader compiler looks up. The
-table is vkrt_kernel_sources unless --table names another (tools/rtpipe_bench's shaders)."""
+    embed_glsl.py [--table NAME] [--depfile DEP] OUTPUT.c GLSL_ROOT [FILE...]
+FILE paths are relative to GLSL_ROOT and become the names the shader compiler looks up; without
+any, every .comp, .glsl and .h file under GLSL_ROOT is embedded (so the kernel list is written
+nowhere by hand). --depfile writes a Makefile-style list of the files read, for the build system.
+The table is vkrt_kernel_sources unless --table names another (the rtpipe-bench yardstick's)."""
+import os
 import sys
+
+
+def every_kernel_file(root):
+    found = []
+    for folder, _, names in os.walk(root):
+        for name in names:
+            if name.endswith((".comp", ".glsl", ".h")):
+                found.append(os.path.relpath(os.path.join(folder, name), root))
+    return found
 
 
 def c_string(text):
@@ -17,10 +29,15 @@ def c_string(text):
 
 def main():
     args = sys.argv[1:]
-    table = "vkrt_kernel_sources"
-    if len(args) >= 2 and args[0] == "--table":
-        table, args = args[1], args[2:]
-    output, root, files = args[0], args[1], sorted(args[2:])
+    table, depfile = "vkrt_kernel_sources", None
+    while len(args) >= 2 and args[0] in ("--table", "--depfile"):
+        if args[0] == "--table":
+            table = args[1]
+        else:
+            depfile = args[1]
+        args = args[2:]
+    output, root = args[0], args[1]
+    files = sorted(args[2:] or every_kernel_file(root))
     entries = []
     for name in files:
         with open(f"{root}/{name}", encoding="utf-8") as f:
@@ -32,6 +49,10 @@ def main():
         f.write(f"const vkrt_kernel_source {table}[] = {{\n")
         f.write("\n".join(entries))
         f.write("\n    {0, 0},\n};\n")
+    if depfile:
+        with open(depfile, "w", encoding="utf-8") as f:
+            paths = " ".join(os.path.join(root, name).replace(" ", "\\ ") for name in files)
+            f.write(f"{output}: {paths}\n")
 
 
 if __name__ == "__main__":

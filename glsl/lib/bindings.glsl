@@ -1,85 +1,79 @@
 /*
  * bindings.glsl: the one descriptor set every wavefront kernel sees (set 0), and the frame's push
- * constants. The host binds the same set to every pipeline (src/render/renderer.c keeps the
- * binding numbers in the same order); a kernel simply ignores the buffers it does not read.
+ * constants. The host binds the same set to every pipeline; the numbers are glsl/shared.h's
+ * VKRT_BINDING_* and VKRT_SPEC_*, the names the host uses. A kernel simply ignores the buffers
+ * it does not read.
  */
 #ifndef VKRT_BINDINGS_GLSL
 #define VKRT_BINDINGS_GLSL
 
 #include "../shared.h"
 
-layout(local_size_x_id = 0) in;
+layout(local_size_x_id = VKRT_SPEC_WORKGROUP_SIZE) in;
 
 /* Set when the OBJ had normals and the TriangleNormals buffer is real. */
-layout(constant_id = 1) const bool HAS_NORMALS = false;
+layout(constant_id = VKRT_SPEC_HAS_NORMALS) const bool HAS_NORMALS = false;
 /* Set when a material reads textures and the TriangleTexcoords buffer is real. */
-layout(constant_id = 3) const bool HAS_TEXCOORDS = false;
+layout(constant_id = VKRT_SPEC_HAS_TEXCOORDS) const bool HAS_TEXCOORDS = false;
 /* The workgroup size of the wave kernels, for the kernel that writes their indirect dispatches. */
-layout(constant_id = 4) const uint WAVE_WORKGROUP_SIZE = 64u;
+layout(constant_id = VKRT_SPEC_WAVE_WORKGROUP) const uint WAVE_WORKGROUP_SIZE = 64u;
 
 /* Rays live in two buffers, A and B: one depth's rays in one, the rays they cast in the other
  * (frame.wave.x says which is which). Two bindings rather than two halves of one buffer, so each
  * can be as large as maxStorageBufferRange (128 MiB on lavapipe). */
-layout(std430, set = 0, binding = 0) buffer RayBuffer { Ray rays[]; };
-layout(std430, set = 0, binding = 12) buffer RayBufferB { Ray rays_b[]; };
-layout(std430, set = 0, binding = 1) buffer HitBuffer { Hit hits[]; };
-layout(std430, set = 0, binding = 2) readonly buffer TriangleBuffer { Triangle triangles[]; };
-layout(std430, set = 0, binding = 3) readonly buffer NormalBuffer { TriangleNormals triangle_normals[]; };
-layout(std430, set = 0, binding = 4) readonly buffer TriangleMaterialBuffer { uint triangle_material[]; };
-layout(std430, set = 0, binding = 5) readonly buffer MaterialBuffer { Material materials[]; };
-layout(std430, set = 0, binding = 6) readonly buffer LightBuffer { Light lights[]; };
-layout(std430, set = 0, binding = 7) buffer ImageBuffer { vec4 image[]; };
-layout(std430, set = 0, binding = 7) buffer ImageWords { uint image_words[]; };
-layout(std430, set = 0, binding = 8) buffer CounterBuffer { Counters counters; };
+layout(std430, set = 0, binding = VKRT_BINDING_RAYS) buffer RayBuffer { Ray rays[]; };
+layout(std430, set = 0, binding = VKRT_BINDING_RAYS_B) buffer RayBufferB { Ray rays_b[]; };
+layout(std430, set = 0, binding = VKRT_BINDING_HITS) buffer HitBuffer { Hit hits[]; };
+layout(std430, set = 0, binding = VKRT_BINDING_TRIANGLES) readonly buffer TriangleBuffer { Triangle triangles[]; };
+layout(std430, set = 0, binding = VKRT_BINDING_NORMALS) readonly buffer NormalBuffer { TriangleNormals triangle_normals[]; };
+layout(std430, set = 0, binding = VKRT_BINDING_TRIANGLE_MATERIAL) readonly buffer TriangleMaterialBuffer { uint triangle_material[]; };
+layout(std430, set = 0, binding = VKRT_BINDING_MATERIALS) readonly buffer MaterialBuffer { Material materials[]; };
+layout(std430, set = 0, binding = VKRT_BINDING_LIGHTS) readonly buffer LightBuffer { Light lights[]; };
+layout(std430, set = 0, binding = VKRT_BINDING_IMAGE) buffer ImageBuffer { vec4 image[]; };
+layout(std430, set = 0, binding = VKRT_BINDING_IMAGE) buffer ImageWords { uint image_words[]; };
+layout(std430, set = 0, binding = VKRT_BINDING_COUNTERS) buffer CounterBuffer { Counters counters; };
 
-/* The acceleration structure: binding 9 is the grid's frame, binding 10 the BVH's nodes (4-wide
- * or pairs) or the grid's cell starts (one binding, three views: only the chosen one is read), binding 11 the
- * grid's triangle references. */
-layout(std430, set = 0, binding = 9) readonly buffer GridInfoBuffer { GridInfo grid; };
-layout(std430, set = 0, binding = 10) readonly buffer BvhNodeBuffer { BvhQuad bvh_nodes[]; };
-layout(std430, set = 0, binding = 10) readonly buffer BvhPairBuffer { BvhPair bvh_pairs[]; };
-layout(std430, set = 0, binding = 10) readonly buffer GridCellBuffer { uint grid_cell_start[]; };
-layout(std430, set = 0, binding = 11) readonly buffer GridRefBuffer { uint grid_refs[]; };
+/* The acceleration structure: the grid's frame; the BVH's nodes (4-wide or pairs) or the grid's
+ * cell starts (one binding, three views: only the chosen one is read); the grid's triangle
+ * references. */
+layout(std430, set = 0, binding = VKRT_BINDING_GRID_INFO) readonly buffer GridInfoBuffer { GridInfo grid; };
+layout(std430, set = 0, binding = VKRT_BINDING_ACCEL_NODES) readonly buffer BvhNodeBuffer { BvhQuad bvh_nodes[]; };
+layout(std430, set = 0, binding = VKRT_BINDING_ACCEL_NODES) readonly buffer BvhPairBuffer { BvhPair bvh_pairs[]; };
+layout(std430, set = 0, binding = VKRT_BINDING_ACCEL_NODES) readonly buffer GridCellBuffer { uint grid_cell_start[]; };
+layout(std430, set = 0, binding = VKRT_BINDING_GRID_REFS) readonly buffer GridRefBuffer { uint grid_refs[]; };
 
 /* The triangles and the structure's nodes once more, as uniform texel buffers of 16-byte texels:
- * views of bindings 2 and 10 (src/render/renderer.c, create_texel_views). Traversal reads them
+ * views of the triangle and node buffers (src/render/renderer_upload.c). Traversal reads them
  * when TEXEL_LOADS is set (on CPU devices, by default): Mesa's llvmpipe loads from a storage
  * buffer one lane and one word at a time, each behind a bounds check and a branch, and fetches
- * from a texel buffer with vector gathers (docs/performance.md). */
-layout(set = 0, binding = 20) uniform usamplerBuffer triangle_texels;
-layout(set = 0, binding = 21) uniform usamplerBuffer node_texels;
-layout(constant_id = 9) const bool TEXEL_LOADS = false;
+ * from a texel buffer with vector gathers (research/journal.md). */
+layout(set = 0, binding = VKRT_BINDING_TRIANGLE_TEXELS) uniform usamplerBuffer triangle_texels;
+layout(set = 0, binding = VKRT_BINDING_NODE_TEXELS) uniform usamplerBuffer node_texels;
+layout(constant_id = VKRT_SPEC_TEXEL_LOADS) const bool TEXEL_LOADS = false;
 
 /* Set when the BVH's walk runs inner nodes and leaves in two loops of their own
  * (lib/traverse_bvh.glsl, bvh_traverse_nested): on CPU devices, by default. */
-layout(constant_id = 10) const bool NESTED_WALK = false;
+layout(constant_id = VKRT_SPEC_NESTED_WALK) const bool NESTED_WALK = false;
 
 /* The wave machinery: one WaveState per depth, light visibility bits (frame.range.w words per
  * ray, bit k of word k / 32 set when light k reaches the hit), and for each ray the first slot and
  * number of the rays its material casts. */
-layout(std430, set = 0, binding = 13) buffer WaveBuffer { WaveState waves[]; };
-layout(std430, set = 0, binding = 14) buffer VisibilityBuffer { uint light_visibility[]; };
-layout(std430, set = 0, binding = 15) buffer SlotBuffer { uvec2 ray_slots[]; };
-layout(std430, set = 0, binding = 16) readonly buffer TexcoordBuffer { TriangleTexcoords triangle_texcoords[]; };
-layout(std430, set = 0, binding = 17) readonly buffer TextureInfoBuffer { TextureInfo texture_infos[]; };
-layout(std430, set = 0, binding = 18) readonly buffer TexelBuffer { uint texels[]; };
-/* Per depth, how many of that depth's rays the trace kernels have taken (dynamic ray fetch,
- * lib/trace_wave.glsl); zeroed before each trace. */
-layout(std430, set = 0, binding = 19) buffer TraceCursorBuffer { uint trace_cursor[]; };
+layout(std430, set = 0, binding = VKRT_BINDING_WAVES) buffer WaveBuffer { WaveState waves[]; };
+layout(std430, set = 0, binding = VKRT_BINDING_VISIBILITY) buffer VisibilityBuffer { uint light_visibility[]; };
+layout(std430, set = 0, binding = VKRT_BINDING_SLOTS) buffer SlotBuffer { uvec2 ray_slots[]; };
+layout(std430, set = 0, binding = VKRT_BINDING_TEXCOORDS) readonly buffer TexcoordBuffer { TriangleTexcoords triangle_texcoords[]; };
+layout(std430, set = 0, binding = VKRT_BINDING_TEXTURE_INFOS) readonly buffer TextureInfoBuffer { TextureInfo texture_infos[]; };
+layout(std430, set = 0, binding = VKRT_BINDING_TEXELS) readonly buffer TexelBuffer { uint texels[]; };
 
 /* Set for `vkrt bench --stats`: the traversal counts its work into counters.trace_* (slower;
  * never set for timed runs or renders). */
-layout(constant_id = 5) const bool TRAVERSAL_STATS = false;
+layout(constant_id = VKRT_SPEC_TRAVERSAL_STATS) const bool TRAVERSAL_STATS = false;
 
 /* Children per node of the BVH's GPU layout: 2 (BvhPair) or 4 (BvhQuad). */
-layout(constant_id = 6) const uint BVH_WIDTH = 2u;
-
-/* Set when the trace kernels walk the (2-wide) BVH with dynamic ray fetch (lib/trace_wave.glsl)
- * rather than one ray per invocation. */
-layout(constant_id = 7) const bool DYNAMIC_FETCH = false;
+layout(constant_id = VKRT_SPEC_BVH_WIDTH) const uint BVH_WIDTH = 2u;
 
 /* Which structure trace_closest and trace_any walk (VKRT_TRAVERSE_*). */
-layout(constant_id = 2) const uint ACCEL_KIND = VKRT_TRAVERSE_BRUTE;
+layout(constant_id = VKRT_SPEC_ACCEL_KIND) const uint ACCEL_KIND = VKRT_TRAVERSE_BRUTE;
 
 layout(push_constant) uniform FramePush { FrameParams frame; };
 

@@ -15,9 +15,6 @@
 #include "surface.glsl"
 #include "texture.glsl"
 
-/* The most rays one hit may cast; a count_rays answer above it is an error of the material. */
-#define VKRT_MAX_CAST 64u
-
 /* Which material is being shaded (index into materials[]), and the ray that hit it. */
 uint vkrt_material;
 uint vkrt_ray_index;

@@ -7,7 +7,7 @@
  * a vec4 per plane. Of the children hit, the nearest is visited next and the others pushed, the
  * farthest deepest (4-wide: sorted by entry distance with a 5-exchange network). Leaves go
  * through the same loop as inner nodes, so the triangle test is compiled once: inlined at each
- * place a leaf can be met, it made the kernel slower on an H200 (docs/performance.md). After
+ * place a leaf can be met, it made the kernel slower on an H200 (research/journal.md). After
  * Aila and Laine, HPG 2009, and Ylitie, Karras and Laine, HPG 2017, without persistent threads.
  * Shadow rays return at the first hit. Triangles are stored in BVH order, so a leaf's triangles
  * are contiguous. Needs bindings.glsl and intersect.glsl included first.
@@ -15,9 +15,8 @@
 #ifndef VKRT_TRAVERSE_BVH_GLSL
 #define VKRT_TRAVERSE_BVH_GLSL
 
-/* Entries the stack can hold; src/render/accel_gpu.c refuses a tree whose paths could need more
- * (one per level of pairs, up to 3 per level of quads). */
-const int BVH_STACK_SIZE = 64;
+/* Entries the stack can hold (glsl/shared.h). */
+const int BVH_STACK_SIZE = VKRT_BVH_STACK_SIZE;
 
 /* Ize, "Robust BVH Ray Traversal" (JCGT 2013): scaling the exit distance by 1 + 2 gamma(3) makes
  * the slab test conservative, so rounding never culls a box whose triangle the watertight test
@@ -257,7 +256,7 @@ bool bvh_leaf_ref(RayShear s, uint leaf, float tmin, inout Hit hit)
 /* The walk as one loop that visits a node or a leaf per iteration ("if-if", Aila and Laine, HPG
  * 2009): the default on GPUs. Its stack is an array of this function's, and the pairs' push is
  * unchecked (the host refused deeper trees): written with the nested walk's stack and its
- * helpers, it ran 2-6% slower on an H200 (bench/results/issue8-h200-pass4/ab/). */
+ * helpers, it ran 2-6% slower on an H200 (research/results/issue8-h200-pass4/ab/). */
 Hit bvh_traverse_one_loop(RayShear s, SlabRay b, float tmin, float tmax, bool any_hit)
 {
     Hit hit = Hit(tmax, 0.0, 0.0, VKRT_NO_HIT);
@@ -310,8 +309,8 @@ Hit bvh_traverse_one_loop(RayShear s, SlabRay b, float tmin, float tmax, bool an
  * leaf it meets and walks on from the stack; the node loop ends at a lane's second leaf or when
  * every lane of the subgroup still walking holds one. The default on CPU devices: Mesa's
  * llvmpipe runs both sides of every branch that any lane takes, so in the one-loop walk each
- * iteration paid for a triangle test and a node step (docs/performance.md). On an H200 it was
- * slower (bench/variants/while-while.patch). Each loop pops at most once per iteration: llvmpipe
+ * iteration paid for a triangle test and a node step (research/journal.md). On an H200 it was
+ * slower (research/variants/while-while.patch). Each loop pops at most once per iteration: llvmpipe
  * gathers a pop lane by lane, whether or not a lane pops. */
 Hit bvh_traverse_nested(RayShear s, SlabRay b, float tmin, float tmax, bool any_hit)
 {

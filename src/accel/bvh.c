@@ -6,13 +6,12 @@
  * How it works:
  *  1. Every triangle gets a reference record (its exact float bounding box and its index); the
  *     records are computed in parallel, one contiguous chunk per thread.
- *  2. Each node bins the centroids of its box records along the 3 axes into K bins over the
- *     node's centroid bounds, sweeps the bins for the cheapest SAH split
+ *  2. Each node is split by bvh_split.c: the centroids of its records are binned along the 3
+ *     axes, the bins are swept for the cheapest SAH split
  *     (traversal_cost + (A_left N_left + A_right N_right) / A_parent, one triangle test costs 1)
- *     and partitions its record range in place (Hoare's scheme: only misplaced pairs move). The
- *     records themselves move, not indices into them, so binning reads memory sequentially.
- *     Boxes and centroids are 4-lane vectors (SSE2 on x86-64), which halved the build: written
- *     as float arrays, every box update went through memory lane by lane.
+ *     and the record range is partitioned in place. Boxes and centroids are 4-lane vectors
+ *     (bvh_lanes.h: SSE2 on x86-64), which halved the build: written as float arrays, every box
+ *     update went through memory lane by lane.
  *  3. Parallelism is a pool of desc->threads threads (the caller's thread included) sharing a
  *     stack of jobs. A job over more than SPAWN_MIN_PRIMS triangles splits its node and pushes
  *     its two children as new jobs; a smaller job builds its whole subtree alone, depth first,
@@ -30,13 +29,14 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "bvh.h"
+#include "bvh_split.h"
+#include "../clock.h"
 
 #include <math.h>
 #include <stddef.h>
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
 /* Defaults of bvh_build_desc's zero fields (bvh.h documents them). */
@@ -48,16 +48,7 @@ enum { DEFAULT_MAX_THREADS = 16 };
 #define DEFAULT_TRAVERSAL_COST BVH_DEFAULT_TRAVERSAL_COST
 
 /* Limits on the descriptor: bins live in fixed per-thread arrays. */
-enum { MIN_BINS = 2, MAX_BINS = 256, MAX_THREADS = 64 };
-
-/* A node this small is a leaf without looking at the SAH. */
-enum { ALWAYS_LEAF_PRIMS = 1 };
-
-/* A small node gets at most max(count, SMALL_NODE_MIN_BINS) bins (a departure from Wald's fixed
- * count): with a few triangles most of 16 bins would be empty, yet clearing and sweeping them is
- * a fixed cost per node, and the bottom levels hold most nodes. count bins still separate the two
- * extreme centroids and give count - 1 candidate planes, as many as an exact sweep has. */
-enum { SMALL_NODE_MIN_BINS = 4 };
+enum { MIN_BINS = 2, MAX_BINS = BVH_SPLIT_MAX_BINS, MAX_THREADS = 64 };
 
 /* Jobs over more triangles than this split one node and hand both children back to the pool;
  * smaller ones build their subtree alone. Small enough that a 70k-triangle mesh yields dozens of
@@ -66,90 +57,6 @@ enum { SPAWN_MIN_PRIMS = 2048 };
 
 /* bvh_node.count of an inner node (bvh.h). */
 enum { INNER_NODE_COUNT = 0 };
-
-#define MS_PER_S 1e3
-#define MS_PER_NS 1e-6
-
-#define MINF(a, b) ((a) < (b) ? (a) : (b))
-#define MAXF(a, b) ((a) > (b) ? (a) : (b))
-
-/* Four float lanes: SSE2 where the target has it (every x86-64), plain arrays elsewhere. The
- * hot loops (binning, partitioning) work on whole boxes in these, and keep them in registers:
- * boxes spelled as float arrays went through memory lane by lane. Both versions compute the same
- * IEEE operations per lane, min and max included (a < b ? a : b, as MINPS), so the tree does not
- * depend on which one is compiled. */
-#if defined(__SSE2__) && !defined(BVH_SCALAR_LANES)
-#include <emmintrin.h>
-typedef __m128 vec4;
-static inline vec4 v4_load(const void *p) { return _mm_loadu_ps(p); }
-static inline void v4_store(float *p, vec4 a) { _mm_storeu_ps(p, a); }
-static inline vec4 v4_set1(float x) { return _mm_set1_ps(x); }
-static inline vec4 v4_set3(float x, float y, float z) { return _mm_setr_ps(x, y, z, 0.0f); }
-static inline vec4 v4_min(vec4 a, vec4 b) { return _mm_min_ps(a, b); }
-static inline vec4 v4_max(vec4 a, vec4 b) { return _mm_max_ps(a, b); }
-static inline vec4 v4_add(vec4 a, vec4 b) { return _mm_add_ps(a, b); }
-static inline vec4 v4_sub(vec4 a, vec4 b) { return _mm_sub_ps(a, b); }
-static inline vec4 v4_mul(vec4 a, vec4 b) { return _mm_mul_ps(a, b); }
-/* Lanes truncated to integers; the caller keeps them in [0, 2^31). */
-static inline void v4_to_u32(vec4 a, uint32_t out[4]) { _mm_storeu_si128((__m128i *)out, _mm_cvttps_epi32(a)); }
-#else
-typedef struct vec4 {
-    float f[4];
-} vec4;
-static inline vec4 v4_load(const void *p) { vec4 r; memcpy(r.f, p, sizeof r.f); return r; }
-static inline void v4_store(float *p, vec4 a) { memcpy(p, a.f, sizeof a.f); }
-static inline vec4 v4_set1(float x) { return (vec4){ { x, x, x, x } }; }
-static inline vec4 v4_set3(float x, float y, float z) { return (vec4){ { x, y, z, 0.0f } }; }
-#define VEC4_LANEWISE(name, expr) \
-    static inline vec4 name(vec4 a, vec4 b) \
-    { \
-        vec4 r; \
-        for (int k = 0; k < 4; k++) \
-            r.f[k] = expr; \
-        return r; \
-    }
-VEC4_LANEWISE(v4_min, a.f[k] < b.f[k] ? a.f[k] : b.f[k])
-VEC4_LANEWISE(v4_max, a.f[k] > b.f[k] ? a.f[k] : b.f[k])
-VEC4_LANEWISE(v4_add, a.f[k] + b.f[k])
-VEC4_LANEWISE(v4_sub, a.f[k] - b.f[k])
-VEC4_LANEWISE(v4_mul, a.f[k] * b.f[k])
-#undef VEC4_LANEWISE
-static inline void v4_to_u32(vec4 a, uint32_t out[4])
-{
-    for (int k = 0; k < 4; k++)
-        out[k] = (uint32_t)a.f[k];
-}
-#endif
-
-/* A box in 4 lanes; lane 3 is padding whose value means nothing. */
-typedef struct aabb {
-    vec4 lo, hi;
-} aabb;
-
-/* One triangle's exact bounds and original index, 32 bytes; the build permutes these. Loaded as
- * 4 lanes, lo's lane 3 is the index (meaningless as a float) and hi's is zero. */
-typedef struct prim_ref {
-    float lo[3];
-    uint32_t index;
-    float hi[3];
-    uint32_t pad;
-} prim_ref;
-
-_Static_assert(sizeof(prim_ref) == 32 && offsetof(prim_ref, hi) == 16, "prim_ref lanes");
-
-/* A ref in lanes: its bounds and its centroid (lanes 0..2 meaningful). */
-typedef struct ref_lanes {
-    vec4 lo, hi, c;
-} ref_lanes;
-
-
-/* What one node's split decision says. */
-typedef struct split_result {
-    bool split;
-    uint32_t mid;          /* left child: [begin, mid), right child: [mid, end) */
-    aabb bounds[2];        /* exact bounds of the children */
-    aabb cbounds[2];       /* centroid bounds of the children */
-} split_result;
 
 /* A node still to be built: its place, its range of refs, its bounds. */
 typedef struct pending_node {
@@ -171,19 +78,14 @@ typedef struct build_job {
 
 /* Read-only parameters and shared arrays of one build. */
 typedef struct build_ctx {
-    uint32_t max_leaf;
-    uint32_t bins;
-    float traversal_cost;
+    bvh_split_params sah;
     prim_ref *refs;
     bvh_node *scratch_nodes; /* 2 * prim_count: job slices */
 } build_ctx;
 
 /* Per-thread scratch: bins and the depth-first stack of a local build. */
 typedef struct thread_scratch {
-    aabb bins[3][MAX_BINS];
-    uint32_t counts[3][MAX_BINS];
-    float right_area[MAX_BINS];
-    uint32_t right_count[MAX_BINS];
+    bvh_split_scratch bins;
     pending_node *stack;   /* capacity prim_count: pending ranges are disjoint and non-empty */
 } thread_scratch;
 
@@ -203,73 +105,6 @@ typedef struct worker_arg {
     job_pool *pool;
     thread_scratch *scratch;
 } worker_arg;
-
-/* ------------------------------------------------------------------------ boxes */
-
-static inline void aabb_empty(aabb *b)
-{
-    b->lo = v4_set1(INFINITY);
-    b->hi = v4_set1(-INFINITY);
-}
-
-static inline void aabb_grow_box(aabb *b, vec4 lo, vec4 hi)
-{
-    b->lo = v4_min(b->lo, lo);
-    b->hi = v4_max(b->hi, hi);
-}
-
-static inline void aabb_grow_point(aabb *b, vec4 p)
-{
-    aabb_grow_box(b, p, p);
-}
-
-static inline void aabb_grow(aabb *b, const aabb *other)
-{
-    aabb_grow_box(b, other->lo, other->hi);
-}
-
-/* Half the surface area; the SAH only uses ratios, so the factor 2 does not matter. */
-static inline float half_area(const aabb *b)
-{
-    float d[4];
-    v4_store(d, v4_sub(b->hi, b->lo));
-    return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
-}
-
-/* Every centroid of the build comes from here (the centroid bounds, the binning, the
- * partitioning), so they agree bit for bit. Halving before adding keeps huge coordinates from
- * overflowing. */
-static inline ref_lanes ref_load(const prim_ref *r)
-{
-    ref_lanes l;
-    l.lo = v4_load((const char *)r + offsetof(prim_ref, lo));
-    l.hi = v4_load((const char *)r + offsetof(prim_ref, hi));
-    vec4 half = v4_set1(0.5f);
-    l.c = v4_add(v4_mul(l.lo, half), v4_mul(l.hi, half));
-    return l;
-}
-
-/* How a node maps centroids to bins: bin = clamp((c - lo) * scale, 0, last), truncated, on all
- * three axes at once. Binning and partitioning both go through bins_of, so they agree on every
- * triangle's bin. The clamps keep the conversion defined even if rounding strays outside
- * [0, last] (a NaN lands in bin 0). */
-typedef struct bin_map {
-    vec4 lo, scale, last;
-} bin_map;
-
-static inline void bins_of(const bin_map *m, vec4 c, uint32_t k[4])
-{
-    vec4 f = v4_mul(v4_sub(c, m->lo), m->scale);
-    f = v4_min(v4_max(f, v4_set1(0.0f)), m->last);
-    v4_to_u32(f, k);
-}
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * MS_PER_S + (double)ts.tv_nsec * MS_PER_NS;
-}
 
 /* ------------------------------------------------------------------------ triangle records */
 
@@ -341,208 +176,14 @@ static bool build_refs(const float *positions, uint32_t n, uint32_t threads, pri
     return true;
 }
 
-/* ------------------------------------------------------------------------ one node's split */
-
-typedef struct bin_split {
-    int axis;              /* -1: no split with both sides non-empty */
-    uint32_t bin;          /* left side: bins [0, bin) */
-    bin_map map;           /* the node's bins */
-    float cost;            /* A_left N_left + A_right N_right */
-} bin_split;
-
-/* The bins of a node with centroid bounds cb: nb per axis where the extent is usable (positive
- * and finite). Other axes get scale 0 and lo 0, so their refs all fall into bin 0 without a
- * branch (finite centroid times 0), and are not swept. */
-static bin_map make_bin_map(const aabb *cb, uint32_t nb, bool active[3])
-{
-    float lo[4], hi[4], mlo[3], scale[3];
-    v4_store(lo, cb->lo);
-    v4_store(hi, cb->hi);
-    for (int a = 0; a < 3; a++) {
-        float extent = hi[a] - lo[a];
-        scale[a] = (float)nb / extent;
-        active[a] = extent > 0.0f && isfinite(extent) && isfinite(scale[a]);
-        mlo[a] = active[a] ? lo[a] : 0.0f;
-        scale[a] = active[a] ? scale[a] : 0.0f;
-    }
-    return (bin_map){ .lo = v4_set3(mlo[0], mlo[1], mlo[2]),
-                      .scale = v4_set3(scale[0], scale[1], scale[2]),
-                      .last = v4_set1((float)(nb - 1)) };
-}
-
-/* Bins the centroids of refs[begin, end) on all three axes. */
-static void fill_bins(thread_scratch *s, const prim_ref *refs, uint32_t begin, uint32_t end,
-                      const bin_map *map, uint32_t nb)
-{
-    for (int a = 0; a < 3; a++) {
-        for (uint32_t k = 0; k < nb; k++)
-            aabb_empty(&s->bins[a][k]);
-        memset(s->counts[a], 0, nb * sizeof s->counts[a][0]);
-    }
-    for (uint32_t i = begin; i < end; i++) {
-        ref_lanes l = ref_load(&refs[i]);
-        uint32_t k[4];
-        bins_of(map, l.c, k);
-        aabb_grow_box(&s->bins[0][k[0]], l.lo, l.hi);
-        aabb_grow_box(&s->bins[1][k[1]], l.lo, l.hi);
-        aabb_grow_box(&s->bins[2][k[2]], l.lo, l.hi);
-        s->counts[0][k[0]]++;
-        s->counts[1][k[1]]++;
-        s->counts[2][k[2]]++;
-    }
-}
-
-/* Sweeps one axis's bins: right-to-left areas first, then left to right for the costs.
- * Strict < keeps the first of equal costs, so the choice is reproducible. */
-static void sweep_axis(thread_scratch *s, int a, uint32_t nb, bin_split *best)
-{
-    const aabb *bins = s->bins[a];
-    const uint32_t *counts = s->counts[a];
-    aabb acc;
-    aabb_empty(&acc);
-    uint32_t cnt = 0;
-    for (uint32_t k = nb - 1; k > 0; k--) {
-        aabb_grow(&acc, &bins[k]);
-        cnt += counts[k];
-        s->right_count[k] = cnt;
-        s->right_area[k] = cnt ? half_area(&acc) : 0.0f;
-    }
-    aabb_empty(&acc);
-    cnt = 0;
-    for (uint32_t k = 1; k < nb; k++) {
-        aabb_grow(&acc, &bins[k - 1]);
-        cnt += counts[k - 1];
-        if (cnt == 0 || s->right_count[k] == 0)
-            continue;
-        float cost = half_area(&acc) * (float)cnt + s->right_area[k] * (float)s->right_count[k];
-        if (cost < best->cost) {
-            best->cost = cost;
-            best->axis = a;
-            best->bin = k;
-        }
-    }
-}
-
-static uint32_t bin_count(const build_ctx *ctx, uint32_t count)
-{
-    return MINF(ctx->bins, MAXF(count, (uint32_t)SMALL_NODE_MIN_BINS));
-}
-
-static bin_split find_bin_split(const build_ctx *ctx, thread_scratch *s, const prim_ref *refs,
-                                uint32_t begin, uint32_t end, const aabb *cb)
-{
-    uint32_t nb = bin_count(ctx, end - begin);
-    bool active[3];
-    bin_split best = { .axis = -1, .cost = INFINITY, .map = make_bin_map(cb, nb, active) };
-    fill_bins(s, refs, begin, end, &best.map, nb);
-    for (int a = 0; a < 3; a++) {
-        if (active[a])
-            sweep_axis(s, a, nb, &best);
-    }
-    return best;
-}
-
-/* Partitions refs[begin, end) in place, Hoare's way (each ref is looked at once, and only pairs
- * on the wrong sides move): bins below split->bin go left. Collects the children's bounds on the
- * way, so they are exact. Returns the first index of the right side. */
-static uint32_t partition_refs(prim_ref *refs, uint32_t begin, uint32_t end,
-                               const bin_split *split, split_result *out)
-{
-    const int a = split->axis;
-    const uint32_t left_bins = split->bin;
-    aabb lb, lcb, rb, rcb; /* locals, not out->..[side]: they stay in registers */
-    aabb_empty(&lb);
-    aabb_empty(&lcb);
-    aabb_empty(&rb);
-    aabb_empty(&rcb);
-    uint32_t i = begin, j = end; /* [begin, i) left, [j, end) right */
-    for (;;) {
-        ref_lanes li, lj;
-        uint32_t k[4];
-        for (; i < j; i++) { /* the first ref from the left that belongs right */
-            li = ref_load(&refs[i]);
-            bins_of(&split->map, li.c, k);
-            if (k[a] >= left_bins)
-                break;
-            aabb_grow_box(&lb, li.lo, li.hi);
-            aabb_grow_point(&lcb, li.c);
-        }
-        if (i == j)
-            break;
-        aabb_grow_box(&rb, li.lo, li.hi);
-        aabb_grow_point(&rcb, li.c);
-        for (j--; j > i; j--) { /* the first ref from the right that belongs left */
-            lj = ref_load(&refs[j]);
-            bins_of(&split->map, lj.c, k);
-            if (k[a] < left_bins)
-                break;
-            aabb_grow_box(&rb, lj.lo, lj.hi);
-            aabb_grow_point(&rcb, lj.c);
-        }
-        if (j == i)
-            break; /* refs[i] belongs right and is the right side's first */
-        aabb_grow_box(&lb, lj.lo, lj.hi);
-        aabb_grow_point(&lcb, lj.c);
-        prim_ref tmp = refs[i];
-        refs[i] = refs[j];
-        refs[j] = tmp;
-        i++;
-    }
-    out->bounds[0] = lb;
-    out->cbounds[0] = lcb;
-    out->bounds[1] = rb;
-    out->cbounds[1] = rcb;
-    return i;
-}
-
-/* The bounds of a range, for the median split. */
-static void range_bounds(const prim_ref *refs, uint32_t begin, uint32_t end, aabb *b, aabb *cb)
-{
-    aabb_empty(b);
-    aabb_empty(cb);
-    for (uint32_t i = begin; i < end; i++) {
-        ref_lanes l = ref_load(&refs[i]);
-        aabb_grow_box(b, l.lo, l.hi);
-        aabb_grow_point(cb, l.c);
-    }
-}
-
-/* Splits the range in the middle of its order: the fallback when binning finds no split with
- * both sides non-empty (all centroids equal, or extents that overflow) and the node is too big
- * for a leaf. Halving the count makes the recursion terminate. */
-static void median_split(const prim_ref *refs, uint32_t begin, uint32_t end, split_result *out)
-{
-    out->split = true;
-    out->mid = begin + (end - begin) / 2;
-    range_bounds(refs, begin, out->mid, &out->bounds[0], &out->cbounds[0]);
-    range_bounds(refs, out->mid, end, &out->bounds[1], &out->cbounds[1]);
-}
-
-/* Decides leaf or split for one node and, on a split, partitions its range.
- * Costs are compared unnormalised, times A_parent: split when
- * traversal_cost * A + A_l N_l + A_r N_r < N * A, which also behaves for a flat (A = 0) node. */
-static void split_node(const build_ctx *ctx, thread_scratch *s, const pending_node *n,
-                       split_result *out)
-{
-    uint32_t count = n->end - n->begin;
-    out->split = false;
-    if (count <= ALWAYS_LEAF_PRIMS)
-        return;
-    bool must_split = count > ctx->max_leaf;
-    bin_split b = find_bin_split(ctx, s, ctx->refs, n->begin, n->end, &n->cbounds);
-    float area = half_area(&n->bounds);
-    bool worth = b.axis >= 0 && ctx->traversal_cost * area + b.cost < (float)count * area;
-    if (b.axis >= 0 && (must_split || worth)) {
-        out->mid = partition_refs(ctx->refs, n->begin, n->end, &b, out);
-        out->split = out->mid > n->begin && out->mid < n->end;
-        if (out->split)
-            return;
-    }
-    if (must_split)
-        median_split(ctx->refs, n->begin, n->end, out);
-}
-
 /* ------------------------------------------------------------------------ building */
+
+/* Leaf or split for one pending node (bvh_split.h); on a split its range is partitioned. */
+static void split_node(const build_ctx *ctx, thread_scratch *s, const pending_node *n,
+                       bvh_split_result *out)
+{
+    bvh_split_node(&ctx->sah, &s->bins, ctx->refs, n->begin, n->end, &n->bounds, &n->cbounds, out);
+}
 
 static void set_node_bounds(bvh_node *node, const aabb *b)
 {
@@ -553,7 +194,7 @@ static void set_node_bounds(bvh_node *node, const aabb *b)
     memcpy(node->hi, hi, sizeof node->hi);
 }
 
-static pending_node child_pending(const pending_node *parent, const split_result *sr, int side,
+static pending_node child_pending(const pending_node *parent, const bvh_split_result *sr, int side,
                                   uint32_t node)
 {
     pending_node c = { .node = node, .depth = parent->depth + 1,
@@ -575,7 +216,7 @@ static void build_local(const build_ctx *ctx, thread_scratch *s, build_job *job)
         pending_node n = s->stack[--top];
         bvh_node *node = &nodes[n.node];
         set_node_bounds(node, &n.bounds);
-        split_result sr;
+        bvh_split_result sr;
         split_node(ctx, s, &n, &sr);
         if (!sr.split) {
             node->left_first = n.begin;
@@ -609,7 +250,7 @@ static void run_job(job_pool *pool, thread_scratch *s, uint32_t j)
     const build_ctx *ctx = pool->ctx;
     build_job *job = &pool->jobs[j];
     if (job->root.end - job->root.begin > SPAWN_MIN_PRIMS) {
-        split_result sr;
+        bvh_split_result sr;
         split_node(ctx, s, &job->root, &sr);
         if (sr.split) {
             pending_node left = child_pending(&job->root, &sr, 0, 0);
@@ -800,22 +441,22 @@ static bool read_desc(const bvh_build_desc *desc, build_ctx *ctx, uint32_t *thre
                       vkrt_error *err)
 {
     bvh_build_desc d = desc ? *desc : (bvh_build_desc){ 0 };
-    ctx->max_leaf = d.max_leaf_size ? d.max_leaf_size : DEFAULT_MAX_LEAF;
-    ctx->bins = d.bins ? d.bins : DEFAULT_BINS;
-    ctx->traversal_cost = d.traversal_cost != 0.0f ? d.traversal_cost : DEFAULT_TRAVERSAL_COST;
+    ctx->sah.max_leaf = d.max_leaf_size ? d.max_leaf_size : DEFAULT_MAX_LEAF;
+    ctx->sah.bins = d.bins ? d.bins : DEFAULT_BINS;
+    ctx->sah.traversal_cost = d.traversal_cost != 0.0f ? d.traversal_cost : DEFAULT_TRAVERSAL_COST;
     *threads = d.threads;
     if (*threads == 0) {
         long cores = sysconf(_SC_NPROCESSORS_ONLN);
         *threads = cores < 1 ? 1 : cores > DEFAULT_MAX_THREADS ? DEFAULT_MAX_THREADS : (uint32_t)cores;
     }
-    if (ctx->bins < MIN_BINS || ctx->bins > MAX_BINS)
+    if (ctx->sah.bins < MIN_BINS || ctx->sah.bins > MAX_BINS)
         return vkrt_error_set(err, "bvh: bins must be %d..%d, got %u", MIN_BINS, MAX_BINS,
-                              ctx->bins);
+                              ctx->sah.bins);
     if (*threads > MAX_THREADS)
         return vkrt_error_set(err, "bvh: threads must be 1..%d, got %u", MAX_THREADS, *threads);
-    if (!(ctx->traversal_cost > 0.0f) || !isfinite(ctx->traversal_cost))
+    if (!(ctx->sah.traversal_cost > 0.0f) || !isfinite(ctx->sah.traversal_cost))
         return vkrt_error_set(err, "bvh: traversal_cost must be positive and finite, got %g",
-                              (double)ctx->traversal_cost);
+                              (double)ctx->sah.traversal_cost);
     return true;
 }
 
@@ -868,7 +509,7 @@ static bool alloc_mem(build_mem *m, bvh *out, uint32_t n, uint32_t threads, vkrt
 bool bvh_build(bvh *out, const float *positions, uint32_t triangle_count,
                const bvh_build_desc *desc, vkrt_error *err)
 {
-    double t0 = now_ms();
+    double t0 = vkrt_clock_ms();
     if (!out)
         return vkrt_error_set(err, "bvh: no output");
     memset(out, 0, sizeof *out);
@@ -915,8 +556,8 @@ bool bvh_build(bvh *out, const float *positions, uint32_t triangle_count,
     bvh_node *shrunk = realloc(out->nodes, out->node_count * sizeof *out->nodes);
     if (shrunk)
         out->nodes = shrunk;
-    out->sah_cost = tree_sah(out->nodes, out->node_count, ctx.traversal_cost, &out->leaf_count);
-    out->build_ms = now_ms() - t0;
+    out->sah_cost = tree_sah(out->nodes, out->node_count, ctx.sah.traversal_cost, &out->leaf_count);
+    out->build_ms = vkrt_clock_ms() - t0;
     return true;
 }
 

@@ -3,7 +3,7 @@
  * children's float boxes (Aila and Laine, "Understanding the Efficiency of Ray Traversal on
  * GPUs", HPG 2009): a traversal step is one 64-byte fetch, where the 32-byte nodes of bvh.h need
  * the parent and then its two children. The 4-wide layout (bvh_quads.h) is the alternative;
- * docs/performance.md has the measurements that chose between them.
+ * research/journal.md has the measurements that chose between them.
  */
 #ifndef VKRT_BVH_PAIRS_H
 #define VKRT_BVH_PAIRS_H

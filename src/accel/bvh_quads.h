@@ -6,7 +6,7 @@
  * inner child of largest surface area is replaced by its own two until there are 4 or only
  * leaves remain. One 64-byte fetch then tests 4 boxes instead of the 2 of bvh_pairs.h, which
  * halves the nodes a ray visits. On an H200 it was nonetheless slower, the decoding and sorting
- * costing more than the fetches it saves (docs/performance.md): the kernel is bound by its
+ * costing more than the fetches it saves (research/journal.md): the kernel is bound by its
  * instructions, not by its loads. It stays as `vkrt bench --bvh-width 4`, the experiment that
  * showed this, with its test.
  *

@@ -1,6 +1,6 @@
 /*
- * choose.c: the rule behind `accel auto` (see choose.h; measurements in docs/performance.md and
- * bench/results/).
+ * choose.c: the rule behind `accel auto` (see choose.h; measurements in research/journal.md and
+ * research/results/).
  *
  * Measured with `vkrt bench`: on the H100 the BVH traced primary and shadow rays 1.2 to 2.1 times
  * faster than the grid on the bunny, Sponza, Sibenik, Lost Empire and the teapot, and 190 times

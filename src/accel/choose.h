@@ -8,7 +8,7 @@
  * device whose traversal reads storage buffers, where it traced about as fast as the BVH (each
  * ahead on some scenes) and builds two to three times faster, and the BVH otherwise: on a GPU it
  * traced 1.2 to 2.1 times faster than the grid on every scene measured, and on lavapipe with
- * texel loads (the default there) 1.5 to 3.9 times (docs/performance.md). cpu_device below means
+ * texel loads (the default there) 1.5 to 3.9 times (research/journal.md). cpu_device below means
  * such a storage-reading CPU device.
  */
 #ifndef VKRT_ACCEL_CHOOSE_H

@@ -29,14 +29,13 @@
  * formula may put one of its points in, is never rejected; the price is an occasional reference
  * to a cell the triangle only grazes within the epsilon.
  */
-#define _POSIX_C_SOURCE 200809L
 #include "grid.h"
+#include "../clock.h"
 
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 /* Why 2: the per-ray cost is about (cells stepped) * c_step + (triangles tested) * c_tri. Cells
  * stepped grow like cbrt(density), triangles tested fall like 1/density until a cell holds about
@@ -49,7 +48,7 @@
  * cell_start pair) it moves to 4..8, and 2 is 7% (lost empire) to 14% (bunny) above it, at a
  * quarter of the cell memory of 8 (4 bytes per cell). The CPU sweep's wall time per ray is lowest
  * at 0.5..1 (its steps recompute boundaries with divisions, so c_step is large there). Hence 2,
- * a middle value to start from. Measured since (`vkrt bench --grid-density`, docs/performance.md):
+ * a middle value to start from. Measured since (`vkrt bench --grid-density`, research/journal.md):
  * on the H100, 4 traces 2% to 30% faster than 2 on five scenes and 8 faster still on most, at 1.5
  * and 2.5 times the memory; but `accel auto` picks the grid only on CPU devices (the BVH wins on
  * GPUs), where 2 is the measured configuration, so 2 stays the default. */
@@ -72,13 +71,6 @@
 float grid_default_density(void)
 {
     return GRID_DEFAULT_DENSITY;
-}
-
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
 /* The cell of coordinate p along one axis: clamp(floor((p - lo) / cell_size), 0, dims - 1), in
@@ -428,7 +420,7 @@ static bool setup_frame(grid *g, const float *positions, uint32_t triangle_count
 bool grid_build(grid *out, const float *positions, uint32_t triangle_count,
                 const grid_build_desc *desc, vkrt_error *err)
 {
-    double t_start = now_ms();
+    double t_start = vkrt_clock_ms();
     memset(out, 0, sizeof *out);
     if (triangle_count == 0 || !positions)
         return vkrt_error_set(err, "grid: no triangles");
@@ -472,7 +464,7 @@ bool grid_build(grid *out, const float *positions, uint32_t triangle_count,
     memmove(g.cell_start + 1, g.cell_start, (size_t)g.cell_count * sizeof *g.cell_start);
     g.cell_start[0] = 0;
 
-    g.build_ms = now_ms() - t_start;
+    g.build_ms = vkrt_clock_ms() - t_start;
     *out = g;
     return true;
 }

@@ -157,6 +157,17 @@ static bool copy_buffer(gpu_context *ctx, VkBuffer src, VkBuffer dst, size_t siz
     return gpu_commands_submit(ctx, err);
 }
 
+bool gpu_buffer_create_from(gpu_context *ctx, gpu_buffer *buf, const void *data, size_t size,
+                            const char *what, vkrt_error *err)
+{
+    if (!gpu_buffer_create(ctx, buf, size, what, err))
+        return false;
+    if (gpu_buffer_upload(ctx, buf, data, size, err))
+        return true;
+    gpu_buffer_destroy(ctx, buf);
+    return false;
+}
+
 bool gpu_buffer_upload(gpu_context *ctx, gpu_buffer *buf, const void *data, size_t size,
                        vkrt_error *err)
 {

@@ -25,6 +25,11 @@ typedef struct gpu_buffer {
 bool gpu_buffer_create(gpu_context *ctx, gpu_buffer *buf, size_t size, const char *what,
                        vkrt_error *err);
 
+/* gpu_buffer_create, then gpu_buffer_upload of size bytes from data. On failure nothing is left
+ * allocated. */
+bool gpu_buffer_create_from(gpu_context *ctx, gpu_buffer *buf, const void *data, size_t size,
+                            const char *what, vkrt_error *err);
+
 /* Creates a device-local buffer of size bytes with exactly the given usage (add
  * VK_BUFFER_USAGE_TRANSFER_DST_BIT for gpu_buffer_upload). With
  * VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT its memory is allocated for device addresses, which

@@ -450,6 +450,14 @@ bool gpu_context_finish(gpu_context *ctx, vkrt_error *err)
     return true;
 }
 
+bool gpu_context_close(gpu_context *ctx, bool ok, vkrt_error *err)
+{
+    if (ok)
+        return gpu_context_finish(ctx, err);
+    gpu_context_destroy(ctx);
+    return false;
+}
+
 static const char *device_type_name(VkPhysicalDeviceType type)
 {
     switch (type) {

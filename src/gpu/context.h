@@ -30,7 +30,7 @@ typedef struct gpu_context_desc {
     bool (*create_surface)(void *user, VkInstance instance, VkSurfaceKHR *surface,
                            vkrt_error *err);
     void *surface_user;
-    /* Device extensions wanted together (a ray tracing pipeline's, for tools/rtpipe_bench). When
+    /* Device extensions wanted together (a ray tracing pipeline's, for research/yardsticks/rtpipe_bench). When
      * the device has every one, they are enabled with device_features (a pNext chain of feature
      * structs, e.g. VkPhysicalDeviceBufferDeviceAddressFeatures) chained into the device's
      * creation; when it lacks one, none is, ctx->missing_extension names the first it lacks,
@@ -81,6 +81,10 @@ void gpu_context_destroy(gpu_context *ctx);
 /* Destroys the context like gpu_context_destroy, then returns false with a message if the
  * validation layers reported anything during its life (they are the last word on a run). */
 bool gpu_context_finish(gpu_context *ctx, vkrt_error *err);
+
+/* The end of a command's run: after a run that went well (ok), gpu_context_finish; after one that
+ * failed (err already says why), gpu_context_destroy. Returns whether the run stays good. */
+bool gpu_context_close(gpu_context *ctx, bool ok, vkrt_error *err);
 
 /* Prints one line per Vulkan physical device: index, name, type, API version. */
 bool gpu_list_devices(FILE *out, vkrt_error *err);

@@ -83,47 +83,47 @@ fail:
 
 void gpu_storage_set_destroy(gpu_context *ctx, gpu_storage_set *set)
 {
-    /* The device may still be running work that uses it (see gpu_context.lost). */
-    if (ctx->lost) {
-        memset(set, 0, sizeof *set);
-        return;
+    /* After a lost device, work that uses the set may still be running (see gpu_context.lost):
+     * the handles are dropped, not destroyed. */
+    if (!ctx->lost) {
+        if (set->pipeline_layout)
+            vkDestroyPipelineLayout(ctx->device, set->pipeline_layout, NULL);
+        if (set->pool)
+            vkDestroyDescriptorPool(ctx->device, set->pool, NULL);
+        if (set->layout)
+            vkDestroyDescriptorSetLayout(ctx->device, set->layout, NULL);
     }
-    if (set->pipeline_layout)
-        vkDestroyPipelineLayout(ctx->device, set->pipeline_layout, NULL);
-    if (set->pool)
-        vkDestroyDescriptorPool(ctx->device, set->pool, NULL);
-    if (set->layout)
-        vkDestroyDescriptorSetLayout(ctx->device, set->layout, NULL);
     memset(set, 0, sizeof *set);
+}
+
+/* Writes one descriptor of the set: a storage buffer (info) or a uniform texel buffer (view). */
+static void write_descriptor(gpu_context *ctx, gpu_storage_set *set, uint32_t binding,
+                             const VkDescriptorBufferInfo *info, const VkBufferView *view)
+{
+    VkWriteDescriptorSet write = {
+        .sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
+        .dstSet = set->set,
+        .dstBinding = binding,
+        .descriptorCount = 1,
+        .descriptorType = view ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER
+                               : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+        .pBufferInfo = info,
+        .pTexelBufferView = view,
+    };
+    vkUpdateDescriptorSets(ctx->device, 1, &write, 0, NULL);
 }
 
 void gpu_storage_set_bind(gpu_context *ctx, gpu_storage_set *set, uint32_t binding,
                           const gpu_buffer *buf)
 {
     VkDescriptorBufferInfo info = {.buffer = buf->buffer, .range = VK_WHOLE_SIZE};
-    VkWriteDescriptorSet write = {
-        .sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
-        .dstSet = set->set,
-        .dstBinding = binding,
-        .descriptorCount = 1,
-        .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-        .pBufferInfo = &info,
-    };
-    vkUpdateDescriptorSets(ctx->device, 1, &write, 0, NULL);
+    write_descriptor(ctx, set, binding, &info, NULL);
 }
 
 void gpu_storage_set_bind_view(gpu_context *ctx, gpu_storage_set *set, uint32_t binding,
                                VkBufferView view)
 {
-    VkWriteDescriptorSet write = {
-        .sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
-        .dstSet = set->set,
-        .dstBinding = binding,
-        .descriptorCount = 1,
-        .descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER,
-        .pTexelBufferView = &view,
-    };
-    vkUpdateDescriptorSets(ctx->device, 1, &write, 0, NULL);
+    write_descriptor(ctx, set, binding, NULL, &view);
 }
 
 bool gpu_pipeline_create(gpu_context *ctx, gpu_pipeline *pipe, const gpu_storage_set *set,
@@ -189,12 +189,8 @@ fail:
 
 void gpu_pipeline_destroy(gpu_context *ctx, gpu_pipeline *pipe)
 {
-    /* The device may still be running work that uses it (see gpu_context.lost). */
-    if (ctx->lost) {
-        memset(pipe, 0, sizeof *pipe);
-        return;
-    }
-    if (pipe->pipeline)
+    /* As gpu_storage_set_destroy: after a lost device the handle is dropped, not destroyed. */
+    if (pipe->pipeline && !ctx->lost)
         vkDestroyPipeline(ctx->device, pipe->pipeline, NULL);
     memset(pipe, 0, sizeof *pipe);
 }
@@ -259,8 +255,9 @@ bool gpu_pipeline_statistics(gpu_context *ctx, const gpu_pipeline *pipe, char *t
     return true;
 }
 
-void gpu_dispatch(VkCommandBuffer cmd, const gpu_pipeline *pipe, const gpu_storage_set *set,
-                  const void *push, uint32_t items)
+/* The pipeline, its set and the push constants, before a dispatch. */
+static void bind_for_dispatch(VkCommandBuffer cmd, const gpu_pipeline *pipe,
+                              const gpu_storage_set *set, const void *push)
 {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipe->pipeline);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, set->pipeline_layout, 0, 1,
@@ -268,6 +265,12 @@ void gpu_dispatch(VkCommandBuffer cmd, const gpu_pipeline *pipe, const gpu_stora
     if (set->push_size)
         vkCmdPushConstants(cmd, set->pipeline_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
                            set->push_size, push);
+}
+
+void gpu_dispatch(VkCommandBuffer cmd, const gpu_pipeline *pipe, const gpu_storage_set *set,
+                  const void *push, uint32_t items)
+{
+    bind_for_dispatch(cmd, pipe, set, push);
     /* Past 65535 workgroups (the smallest maxComputeWorkGroupCount[0] Vulkan allows) the grid
      * folds into y; kernels flatten it back with invocation_index() in glsl/lib/bindings.glsl. */
     const uint32_t max_groups_x = 65535;
@@ -299,12 +302,7 @@ void gpu_dispatch_indirect(VkCommandBuffer cmd, const gpu_pipeline *pipe,
                            const gpu_storage_set *set, const void *push, const gpu_buffer *args,
                            VkDeviceSize offset)
 {
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipe->pipeline);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, set->pipeline_layout, 0, 1,
-                            &set->set, 0, NULL);
-    if (set->push_size)
-        vkCmdPushConstants(cmd, set->pipeline_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
-                           set->push_size, push);
+    bind_for_dispatch(cmd, pipe, set, push);
     vkCmdDispatchIndirect(cmd, args->buffer, offset);
     gpu_dispatch_barrier(cmd);
 }

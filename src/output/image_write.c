@@ -86,32 +86,18 @@ static bool temp_file_open(temp_file *tf, const char *target_path, vkrt_error *e
     return true;
 }
 
-/* Writes all of data at the current position, retrying short writes and EINTR.
- * Returns 0 or the errno of the failure. */
-static int write_all(int fd, const void *data, size_t size)
-{
-    const unsigned char *bytes = data;
-    while (size > 0) {
-        ssize_t n = write(fd, bytes, size);
-        if (n < 0) {
-            if (errno == EINTR)
-                continue;
-            return errno;
-        }
-        if (n == 0)
-            return EIO;
-        bytes += n;
-        size -= (size_t)n;
-    }
-    return 0;
-}
+/* write_all's offset for "where the file position is" (the PNG stream writes in order). */
+#define AT_FILE_POSITION ((off_t)-1)
 
-/* Same as write_all, at an absolute offset (OpenEXRCore seeks back to fill the offset table). */
-static int pwrite_all(int fd, const void *data, size_t size, off_t offset)
+/* Writes all of data, retrying short writes and EINTR: at the file position when offset is
+ * AT_FILE_POSITION, else at that absolute offset (OpenEXRCore seeks back to fill the offset
+ * table). Returns 0 or the errno of the failure. */
+static int write_all(int fd, const void *data, size_t size, off_t offset)
 {
     const unsigned char *bytes = data;
     while (size > 0) {
-        ssize_t n = pwrite(fd, bytes, size, offset);
+        ssize_t n =
+            offset == AT_FILE_POSITION ? write(fd, bytes, size) : pwrite(fd, bytes, size, offset);
         if (n < 0) {
             if (errno == EINTR)
                 continue;
@@ -121,7 +107,8 @@ static int pwrite_all(int fd, const void *data, size_t size, off_t offset)
             return EIO;
         bytes += n;
         size -= (size_t)n;
-        offset += n;
+        if (offset != AT_FILE_POSITION)
+            offset += n;
     }
     return 0;
 }
@@ -193,7 +180,7 @@ static void png_sink_write(void *context, void *data, int size)
 {
     png_sink *sink = context;
     if (sink->error == 0 && size > 0)
-        sink->error = write_all(sink->fd, data, (size_t)size);
+        sink->error = write_all(sink->fd, data, (size_t)size, AT_FILE_POSITION);
 }
 
 static bool png_size_fits(uint32_t width, uint32_t height)
@@ -266,7 +253,7 @@ static int64_t exr_stream_write(exr_const_context_t ctxt, void *userdata, const 
         stream->write_errno = EFBIG;
         return -1;
     }
-    int error = pwrite_all(stream->fd, buffer, (size_t)size, (off_t)offset);
+    int error = write_all(stream->fd, buffer, (size_t)size, (off_t)offset);
     if (error != 0) {
         if (stream->write_errno == 0)
             stream->write_errno = error;

@@ -1,34 +1,20 @@
 /* accel_gpu.c: build, choose and upload the acceleration structure (see accel_gpu.h). */
-#define _POSIX_C_SOURCE 200809L
 #include "accel_gpu.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "../../glsl/shared.h"
 #include "../accel/bvh.h"
 #include "../accel/bvh_pairs.h"
 #include "../accel/bvh_quads.h"
+#include "../clock.h"
 
 _Static_assert(sizeof(bvh_quad) == sizeof(BvhQuad), "bvh_quad and BvhQuad must be the same bytes");
 _Static_assert(sizeof(bvh_pair) == sizeof(BvhPair), "bvh_pair and BvhPair must be the same bytes");
 _Static_assert(BVH_LEAF_REF == VKRT_BVH_LEAF, "one leaf flag");
 
-static double now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
-
-static bool upload(gpu_context *ctx, gpu_buffer *buf, const void *data, size_t size,
-                   const char *what, vkrt_error *err)
-{
-    return gpu_buffer_create(ctx, buf, size, what, err) &&
-           gpu_buffer_upload(ctx, buf, data, size, err);
-}
 
 static bool upload_grid(vkrt_accel_gpu *a, gpu_context *ctx, const grid *g, vkrt_error *err)
 {
@@ -40,9 +26,9 @@ static bool upload_grid(vkrt_accel_gpu *a, gpu_context *ctx, const grid *g, vkrt
     };
     size_t starts = ((size_t)g->cell_count + 1) * sizeof(uint32_t);
     size_t refs = (size_t)g->ref_count * sizeof(uint32_t);
-    if (!upload(ctx, &a->info, &info, sizeof info, "grid frame", err) ||
-        !upload(ctx, &a->nodes, g->cell_start, starts, "grid cells", err) ||
-        !upload(ctx, &a->refs, g->refs, refs, "grid references", err))
+    if (!gpu_buffer_create_from(ctx, &a->info, &info, sizeof info, "grid frame", err) ||
+        !gpu_buffer_create_from(ctx, &a->nodes, g->cell_start, starts, "grid cells", err) ||
+        !gpu_buffer_create_from(ctx, &a->refs, g->refs, refs, "grid references", err))
         return false;
     vkrt_accel_stats *s = &a->stats;
     s->bytes = sizeof info + starts + refs;
@@ -82,10 +68,6 @@ static bool lay_out(const bvh *b, uint32_t width, gpu_layout *out, vkrt_error *e
     return true;
 }
 
-/* The BVH build's leaf size and node cost on GPUs (see build_bvh). */
-enum { gpu_bvh_max_leaf = 2 };
-static const float gpu_bvh_traversal_cost = 0.5f;
-
 static bool build_bvh(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc *desc,
                       const float *positions, uint32_t n, vkrt_error *err)
 {
@@ -93,37 +75,26 @@ static bool build_bvh(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc
     if (desc->bvh_max_leaf > BVH_LEAF_REF_MAX_COUNT)
         return vkrt_error_set(err, "BVH leaves of %u triangles: the GPU layouts hold at most %u",
                               desc->bvh_max_leaf, BVH_LEAF_REF_MAX_COUNT);
-    /* On a GPU a triangle test (the watertight one) costs more against a node step than the
-     * SAH's usual ratio says: smaller leaves (at most 2 triangles, a node costing half a triangle
-     * test) traced Sponza's diffuse rays 1.13x as fast on an H200 and no scene's rays more than
-     * about 3% slower (docs/performance.md). CPU devices keep bvh.h's defaults: one run on
-     * lavapipe showed no difference beyond noise, and that tree is the smaller. */
-    bool gpu = ctx->properties.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU;
     const bvh_build_desc build = {
-        .max_leaf_size = desc->bvh_max_leaf ? desc->bvh_max_leaf : gpu ? gpu_bvh_max_leaf : 0,
-        .traversal_cost = desc->bvh_traversal_cost > 0 ? desc->bvh_traversal_cost
-                          : gpu                        ? gpu_bvh_traversal_cost
-                                                       : 0,
+        .max_leaf_size = desc->bvh_max_leaf,
+        .traversal_cost = desc->bvh_traversal_cost,
     };
-    if (width == 0)
-        width = gpu ? VKRT_BVH_GPU_DEFAULT_WIDTH : VKRT_BVH_CPU_DEFAULT_WIDTH;
     if (width != 2 && width != 4)
         return vkrt_error_set(err, "BVH width %u: the GPU layouts are 2 and 4 wide", width);
     bvh b;
     if (!bvh_build(&b, positions, n, &build, err))
         return false;
-    double start = now_ms();
+    double start = vkrt_clock_ms();
     gpu_layout g = {0};
     bool ok = lay_out(&b, width, &g, err);
-    double layout_ms = now_ms() - start;
+    double layout_ms = vkrt_clock_ms() - start;
     /* glsl/lib/traverse_bvh.glsl's stack; a tree needing more would lose subtrees. */
-    const uint32_t stack_size = 64;
-    if (ok && g.stack > stack_size)
+    if (ok && g.stack > VKRT_BVH_STACK_SIZE)
         ok = vkrt_error_set(err, "BVH needs a traversal stack of %u entries, more than %u",
-                            g.stack, stack_size);
+                            g.stack, VKRT_BVH_STACK_SIZE);
     GridInfo unused = {0};
-    ok = ok && upload(ctx, &a->info, &unused, sizeof unused, "grid frame", err) &&
-         upload(ctx, &a->nodes, g.nodes, g.bytes, "BVH nodes", err) &&
+    ok = ok && gpu_buffer_create_from(ctx, &a->info, &unused, sizeof unused, "grid frame", err) &&
+         gpu_buffer_create_from(ctx, &a->nodes, g.nodes, g.bytes, "BVH nodes", err) &&
          gpu_buffer_create(ctx, &a->refs, 0, "grid references", err);
     if (ok) {
         vkrt_accel_stats *s = &a->stats;
@@ -150,7 +121,7 @@ static bool build_bvh(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc
 static bool build_brute(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_error *err)
 {
     GridInfo unused = {0};
-    return upload(ctx, &a->info, &unused, sizeof unused, "grid frame", err) &&
+    return gpu_buffer_create_from(ctx, &a->info, &unused, sizeof unused, "grid frame", err) &&
            gpu_buffer_create(ctx, &a->nodes, 0, "BVH nodes", err) &&
            gpu_buffer_create(ctx, &a->refs, 0, "grid references", err);
 }
@@ -168,12 +139,9 @@ bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel
     bool have_grid = false;
     snprintf(s->reason, sizeof s->reason, "asked for");
     if (kind == VKRT_ACCEL_AUTO) {
-        double start = now_ms();
-        /* The grid traced about as fast as the BVH only on a CPU device reading storage buffers;
-         * with texel loads, lavapipe's default, the BVH was 1.5 to 3.9 times faster on every scene
-         * measured (docs/performance.md), as on GPUs. */
-        bool cpu_device = ctx->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU &&
-                          desc->storage_loads;
+        double start = vkrt_clock_ms();
+        /* Whether the grid competes with the BVH is the tuning's (tuning.c). */
+        bool cpu_device = desc->grid_competes;
         if (accel_choice_needs_grid(triangle_count, cpu_device)) {
             /* The rule's thresholds were measured at the default density. */
             if (!grid_build(&g, positions, triangle_count, NULL, err))
@@ -183,7 +151,7 @@ bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel
         accel_choice c = accel_choose(triangle_count, cpu_device, have_grid ? &g : NULL);
         kind = c.kind;
         memcpy(s->reason, c.reason, sizeof s->reason);
-        s->choose_ms = now_ms() - start;
+        s->choose_ms = vkrt_clock_ms() - start;
     }
     s->kind = kind;
     bool ok;

@@ -17,13 +17,6 @@
 #include "../gpu/buffer.h"
 #include "../gpu/context.h"
 
-/* Children per node of the BVH's GPU layout unless asked otherwise. On GPUs the pairs of two
- * float boxes outran the quantized 4-wide nodes on every scene measured; on CPU devices (lavapipe,
- * whose texel fetches cost more than the nodes' decoding) the 4-wide nodes were the faster with
- * the nested walk on every scene's primary rays (docs/performance.md). */
-#define VKRT_BVH_GPU_DEFAULT_WIDTH 2u
-#define VKRT_BVH_CPU_DEFAULT_WIDTH 4u
-
 typedef struct vkrt_accel_stats {
     vkrt_accel_kind kind;       /* what was built (never auto) */
     char reason[256];           /* why: the auto rule's sentence, or "asked for" */
@@ -51,18 +44,15 @@ typedef struct vkrt_accel_gpu {
     vkrt_accel_stats stats;
 } vkrt_accel_gpu;
 
-/* What to build; zero fields are the defaults. All but kind are knobs for measuring. */
+/* What to build, as the tuning resolved it (tuning.h) for the device. */
 typedef struct vkrt_accel_desc {
     vkrt_accel_kind kind;     /* auto (0) chooses from the scene */
     float grid_density;       /* cells per triangle; 0: the grid's default */
-    uint32_t bvh_width;       /* GPU layout: 2 (bvh_pairs.h) or 4 (bvh_quads.h); 0: the
-                                 device kind's default above */
+    uint32_t bvh_width;       /* GPU layout: 2 (bvh_pairs.h) or 4 (bvh_quads.h) */
     uint32_t bvh_max_leaf;    /* bvh_build_desc.max_leaf_size, at most 16 (the GPU's leaf
-                                 references); 0: 2 on GPUs, bvh.h's default on CPU devices */
-    float bvh_traversal_cost; /* bvh_build_desc.traversal_cost; 0: 0.5 on GPUs, bvh.h's default
-                                 on CPU devices */
-    bool storage_loads;       /* traversal will read storage buffers even on a CPU device
-                                 (vkrt_loads): there auto weighs the grid against the BVH */
+                                 references); 0: bvh.h's default */
+    float bvh_traversal_cost; /* bvh_build_desc.traversal_cost; 0: bvh.h's default */
+    bool grid_competes;       /* auto weighs the grid against the BVH (vkrt_tuning) */
 } vkrt_accel_desc;
 
 /* Builds the structure desc asks for over positions (9 floats per triangle) and uploads it. On

@@ -10,12 +10,11 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "config.h"
+#include "line_parser.h"
 #include "text_file.h"
 
 #include <errno.h>
-#include <limits.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -45,10 +44,8 @@ enum {
 typedef vkrt_text_tokens tokens;
 
 typedef struct parser {
-    const char *name;     /* the file name shown in messages */
+    vkrt_line_parser at;  /* file name, line and error of messages */
     const char *base_dir; /* "" for the current folder */
-    int line;
-    vkrt_error *err;
     vkrt_config *cfg;
     int first_line[16];   /* per single-valued keyword: where it was given, 0 if not yet */
     uint32_t light_cap, camera_cap;
@@ -58,17 +55,8 @@ typedef struct parser {
  * Messages
  * ------------------------------------------------------------------------------------------- */
 
-static bool fail(parser *p, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-
-static bool fail(parser *p, const char *fmt, ...)
-{
-    char msg[900];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(msg, sizeof msg, fmt, ap);
-    va_end(ap);
-    return vkrt_error_set(p->err, "%s:%d: %s", p->name, p->line, msg);
-}
+/* Reports "file:line: message" and returns false (line_parser.h). */
+#define fail(p, ...) vkrt_line_fail(&(p)->at, __VA_ARGS__)
 
 /* A token as a message shows it, cut short if absurdly long (text_file.h). */
 static const char *shown(const char *tok, char buf[SHOWN_TOKEN_BYTES + 4])
@@ -252,7 +240,7 @@ static const char *frame_pattern_problem(const char *pattern, bool *two_numbers)
 
 static bool kw_geometry(parser *p, const tokens *t)
 {
-    p->cfg->geometry_line = p->line;
+    p->cfg->geometry_line = p->at.line;
     return parse_path(p, t, "geometry", false, &p->cfg->geometry);
 }
 
@@ -354,7 +342,7 @@ static bool kw_light(parser *p, const tokens *t)
     vkrt_config_light l;
     memset(&l, 0, sizeof l);
     l.kind = kinds[k].kind;
-    l.line = p->line;
+    l.line = p->at.line;
     switch (l.kind) {
     case VKRT_LIGHT_AMBIENT:
         if (!parse_colour(p, t, 2, "light ambient colour", l.colour))
@@ -412,7 +400,7 @@ static bool kw_camera(parser *p, const tokens *t)
 
     vkrt_config_camera c;
     memset(&c, 0, sizeof c);
-    c.line = p->line;
+    c.line = p->at.line;
     float *dest[4] = {c.eye, c.look, c.up, &c.fov_deg};
 
     int at = 1;
@@ -514,20 +502,11 @@ _Static_assert(sizeof keywords / sizeof keywords[0] <= sizeof((parser *)0)->firs
  * Lines
  * ------------------------------------------------------------------------------------------- */
 
-/* Checks one line (without its '\n') and splits the part before any '#' into tokens. */
-static bool split_line(parser *p, const char *line, size_t len, tokens *t)
+/* One line with at least one token (vkrt_line_fn). */
+static bool parse_line(void *ctx, const tokens *t)
 {
-    char why[200];
-    if (!vkrt_text_split(line, len, "scene.cfg", t, why, sizeof why))
-        return fail(p, "%s", why);
-    return true;
-}
-
-static bool parse_line(parser *p, const tokens *t)
-{
+    parser *p = ctx;
     char buf[SHOWN_TOKEN_BYTES + 4];
-    if (t->count == 0)
-        return true;
     int n = (int)(sizeof keywords / sizeof keywords[0]);
     for (int i = 0; i < n; i++) {
         if (strcmp(t->tok[0], keywords[i].word) != 0)
@@ -536,7 +515,7 @@ static bool parse_line(parser *p, const tokens *t)
             if (p->first_line[i])
                 return fail(p, "%s given twice (first on line %d)", keywords[i].word,
                             p->first_line[i]);
-            p->first_line[i] = p->line;
+            p->first_line[i] = p->at.line;
         }
         return keywords[i].parse(p, t);
     }
@@ -547,25 +526,15 @@ static bool parse_line(parser *p, const tokens *t)
 
 static bool parse_all(parser *p, const char *text, size_t size)
 {
-    vkrt_text_skip_bom(&text, &size);
-    tokens t;
-    size_t pos = 0;
-    while (pos < size) {
-        if (p->line == INT_MAX)
-            return fail(p, "too many lines");
-        p->line++;
-        size_t len;
-        const char *line = vkrt_text_next_line(text, size, &pos, &len);
-        if (!split_line(p, line, len, &t) || !parse_line(p, &t))
-            return false;
-    }
+    if (!vkrt_line_parse_all(&p->at, text, size, "scene.cfg", parse_line, p))
+        return false;
     vkrt_config *cfg = p->cfg;
     if (!cfg->geometry)
-        return vkrt_error_set(p->err, "%s: no 'geometry' line; the OBJ file is required",
-                              p->name);
+        return vkrt_error_set(p->at.err, "%s: no 'geometry' line; the OBJ file is required",
+                              p->at.name);
     if (cfg->camera_count == 0)
-        return vkrt_error_set(p->err, "%s: no 'camera' line; at least one is required",
-                              p->name);
+        return vkrt_error_set(p->at.err, "%s: no 'camera' line; at least one is required",
+                              p->at.name);
     return true;
 }
 
@@ -590,16 +559,16 @@ bool vkrt_config_parse(const char *text, size_t size, const char *name, const ch
 
     parser p;
     memset(&p, 0, sizeof p);
-    p.name = name ? name : "scene.cfg";
+    p.at.name = name ? name : "scene.cfg";
+    p.at.err = err;
     p.base_dir = base_dir ? base_dir : "";
-    p.err = err;
     p.cfg = &c;
 
     if (name && !(c.path = strdup(name)))
-        return vkrt_error_set(err, "%s: out of memory", p.name);
+        return vkrt_error_set(err, "%s: out of memory", p.at.name);
     if (!text && size > 0) {
         vkrt_config_free(&c);
-        return vkrt_error_set(err, "%s: no text to parse", p.name);
+        return vkrt_error_set(err, "%s: no text to parse", p.at.name);
     }
     if (!parse_all(&p, text ? text : "", text ? size : 0)) {
         vkrt_config_free(&c);
@@ -616,16 +585,10 @@ bool vkrt_config_load(const char *path, vkrt_config *cfg, vkrt_error *err)
     if (!path)
         return vkrt_error_set(err, "scene.cfg: no path given");
 
-    char *text;
+    char *text, *dir;
     size_t size;
-    if (!vkrt_text_read_file(path, MAX_FILE_BYTES, "scene.cfg", &text, &size, err))
+    if (!vkrt_line_read_file(path, MAX_FILE_BYTES, "scene.cfg", &text, &size, &dir, err))
         return false;
-    char *dir = vkrt_text_dir_of(path);
-    if (!dir) {
-        free(text);
-        return vkrt_error_set(err, "%s: out of memory", path);
-    }
-
     bool ok = vkrt_config_parse(text, size, path, dir, cfg, err);
     free(dir);
     free(text);

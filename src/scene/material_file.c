@@ -13,10 +13,9 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "material_file.h"
+#include "line_parser.h"
 #include "text_file.h"
 
-#include <limits.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -41,10 +40,8 @@ _Static_assert(2 + MAX_TEXTURES + 1 + MAX_PARAMS <= MAX_TOKENS,
 #define LINE_USAGE "write: NAME TEXTURE-COUNT TEXTURE-FILE... SHADER NUMBER..."
 
 typedef struct parser {
-    const char *name;     /* the file name shown in messages */
+    vkrt_line_parser at;  /* file name, line and error of messages */
     const char *base_dir; /* "" for the current folder */
-    int line;
-    vkrt_error *err;
     vkrt_material_file *file;
     uint32_t cap;         /* of file->defs */
     /* Open-addressing set of names seen so far, for duplicates in constant time per line (a
@@ -58,17 +55,8 @@ typedef struct parser {
  * Messages
  * ------------------------------------------------------------------------------------------- */
 
-static bool fail(parser *p, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-
-static bool fail(parser *p, const char *fmt, ...)
-{
-    char msg[900];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(msg, sizeof msg, fmt, ap);
-    va_end(ap);
-    return vkrt_error_set(p->err, "%s:%d: %s", p->name, p->line, msg);
-}
+/* Reports "file:line: message" and returns false (line_parser.h). */
+#define fail(p, ...) vkrt_line_fail(&(p)->at, __VA_ARGS__)
 
 /* ---------------------------------------------------------------------------------------------
  * Names seen so far
@@ -230,7 +218,7 @@ static void free_def(vkrt_material_def *d)
 static bool fill_def(parser *p, const vkrt_text_tokens *t, uint32_t n, int shader_at,
                      vkrt_material_def *d)
 {
-    d->line = p->line;
+    d->line = p->at.line;
     d->texture_count = n;
     if (!(d->name = strdup(t->tok[0])))
         return false;
@@ -245,8 +233,10 @@ static bool fill_def(parser *p, const vkrt_text_tokens *t, uint32_t n, int shade
     return d->shader != NULL;
 }
 
-static bool parse_material(parser *p, const vkrt_text_tokens *t)
+/* One line with at least one token (vkrt_line_fn). */
+static bool parse_material(void *ctx, const vkrt_text_tokens *t)
 {
+    parser *p = ctx;
     char nb[SHOWN], tb[SHOWN];
     const char *name = vkrt_text_shown(t->tok[0], nb);
 
@@ -318,26 +308,6 @@ static bool parse_material(parser *p, const vkrt_text_tokens *t)
     return true;
 }
 
-static bool parse_all(parser *p, const char *text, size_t size)
-{
-    vkrt_text_skip_bom(&text, &size);
-    vkrt_text_tokens t;
-    size_t pos = 0;
-    while (pos < size) {
-        if (p->line == INT_MAX)
-            return fail(p, "too many lines");
-        p->line++;
-        size_t len;
-        const char *line = vkrt_text_next_line(text, size, &pos, &len);
-        char why[200];
-        if (!vkrt_text_split(line, len, "material file", &t, why, sizeof why))
-            return fail(p, "%s", why);
-        if (t.count > 0 && !parse_material(p, &t))
-            return false;
-    }
-    return true;
-}
-
 /* ---------------------------------------------------------------------------------------------
  * Public API
  * ------------------------------------------------------------------------------------------- */
@@ -359,11 +329,12 @@ bool vkrt_material_file_parse(const char *text, size_t size, const char *name,
 
     parser p;
     memset(&p, 0, sizeof p);
-    p.name = shown_name;
+    p.at.name = shown_name;
+    p.at.err = err;
     p.base_dir = base_dir ? base_dir : "";
-    p.err = err;
     p.file = &f;
-    bool ok = parse_all(&p, text ? text : "", text ? size : 0);
+    bool ok = vkrt_line_parse_all(&p.at, text ? text : "", text ? size : 0, "material file",
+                                  parse_material, &p);
     free(p.slots);
     if (!ok) {
         vkrt_material_file_free(&f);
@@ -379,15 +350,10 @@ bool vkrt_material_file_load(const char *path, vkrt_material_file *file, vkrt_er
         memset(file, 0, sizeof *file);
     if (!path)
         return vkrt_error_set(err, DEFAULT_NAME ": no path given");
-    char *text;
+    char *text, *dir;
     size_t size;
-    if (!vkrt_text_read_file(path, MAX_FILE_BYTES, "material file", &text, &size, err))
+    if (!vkrt_line_read_file(path, MAX_FILE_BYTES, "material file", &text, &size, &dir, err))
         return false;
-    char *dir = vkrt_text_dir_of(path);
-    if (!dir) {
-        free(text);
-        return vkrt_error_set(err, "%s: out of memory", path);
-    }
     bool ok = vkrt_material_file_parse(text, size, path, dir, file, err);
     free(dir);
     free(text);

@@ -4,22 +4,14 @@
  * tinyobjloader does the parsing (faces, negative indices, mtllib/usemtl, the .mtl syntax), but it
  * is lenient in ways a renderer cannot afford and it keeps no line numbers, so this file wraps it:
  *
- *  1. The file is read once into memory (or the caller's text is copied). UTF-16 (BOM or NUL-interleaved text) and other files with
- *     NUL bytes are refused up front; a UTF-8 BOM is skipped.
- *  2. A pre-scan walks the lines exactly as tinyobjloader does (LF, CRLF and lone CR all end a line;
- *     leading blanks skipped) and records the line of every v, vn, vt and f record, the vertex count
- *     of every face, and checks the numbers of v/vt/vn records with a strict grammar. This matters
- *     because rc10's parser turns anything it cannot parse ("nan", "inf", "1.#IND", "abc") into 0
- *     without a word, and stops at the first bad character ("3.1+e2" becomes 3.1). Decisions:
- *       - v: all three coordinates must be plain decimal numbers that fit a float; otherwise
- *         "path:LINE: vertex coordinate is not finite (...)" or "... is not a number" is an error.
- *       - vt: the coordinates present (up to two) get the same check; a missing v defaults to 0.
- *       - vn: a normal that is not three finite numbers, or has zero length, is treated as absent:
- *         the triangles using it get their geometric normal and a warning is recorded.
- *       - any number of a v, vt or vn record whose exponent has more than 9 significant digits is
- *         an error: rc10 would overflow an int reading it (undefined behaviour, found by fuzzing).
- *     Records vkrt ignores and rc10 parses unsafely ("vw" skin weights, "t" tags) are then blanked
- *     in place (same offsets, same line numbers) so tinyobjloader never reads them.
+ *  1. The file is read once into memory (or the caller's text is copied).
+ *  2. The pre-scan of obj_scan.h refuses UTF-16 and NUL bytes (a UTF-8 BOM is skipped), walks the
+ *     lines exactly as tinyobjloader does, checks the numbers of v/vt/vn records with a strict
+ *     grammar (rc10 reads "nan" or "abc" as 0 without a word) and records the line of every v, vn,
+ *     vt and f record and the vertex count of every face. A vn that is not three finite numbers,
+ *     or has zero length, is treated as absent: the triangles using it get their geometric normal
+ *     and a warning is recorded. Records vkrt ignores and rc10 parses unsafely ("vw", "t") are
+ *     blanked in place (same offsets, same line numbers) so tinyobjloader never reads them.
  *  3. tinyobjloader parses the same bytes (through an istream over the buffer) with triangulation
  *     off. Its num_face_vertices is an unsigned char, so faces of more than 255 vertices come back
  *     with a wrapped count; the pre-scan's counts are used instead, and the two are cross-checked.
@@ -41,8 +33,6 @@
 #include <sys/stat.h>
 
 #include <algorithm>
-#include <cerrno>
-#include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -50,6 +40,7 @@
 #include <exception>
 #include <istream>
 #include <map>
+#include <memory>
 #include <new>
 #include <streambuf>
 #include <string>
@@ -57,61 +48,40 @@
 
 extern "C" {
 #include "obj_load.h"
+#include "text_file.h"
 }
+#include "obj_scan.h"
 
 namespace {
 
-/* Longest piece of user text quoted in a message, so a garbage line cannot flood it. */
-constexpr int QUOTE_MAX = 40;
+using obj_scan::blank_ignored_records;
+using obj_scan::check_encoding;
+using obj_scan::FaceLine;
+using obj_scan::has_keyword;
+using obj_scan::is_blank;
+using obj_scan::LineWalker;
+using obj_scan::next_token;
+using obj_scan::ObjScan;
+using obj_scan::prescan;
+using obj_scan::QUOTE_MAX;
+using obj_scan::Span;
 
-/* ---------------------------------------------------------------- file reading and encoding */
+/* Only a pipe that never ends reaches this: 16 GiB of OBJ text is hundreds of millions of triangles. */
+constexpr uint64_t OBJ_MAX_BYTES_64 = uint64_t(16) << 30;
+constexpr size_t OBJ_MAX_FILE_BYTES = OBJ_MAX_BYTES_64 < SIZE_MAX ? size_t(OBJ_MAX_BYTES_64) : SIZE_MAX;
 
-bool read_whole_file(const char *path, std::string *text, vkrt_error *err)
+/* ---------------------------------------------------------------------------- file reading */
+
+/* The whole of path as a string, read by text_file.h (a file or a pipe); kind names the format in
+ * the message for a file over OBJ_MAX_FILE_BYTES. */
+bool read_whole_file(const char *path, const char *kind, std::string *text, vkrt_error *err)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return vkrt_error_set(err, "%s: cannot open: %s", path, strerror(errno));
-    struct stat st;
-    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
-        fclose(f);
-        return vkrt_error_set(err, "%s: not a regular file", path);
-    }
-    text->resize(static_cast<size_t>(st.st_size));
-    size_t got = text->empty() ? 0 : fread(&(*text)[0], 1, text->size(), f);
-    bool failed = ferror(f) != 0;
-    fclose(f);
-    if (failed)
-        return vkrt_error_set(err, "%s: read error", path);
-    text->resize(got); /* the file may have shrunk meanwhile */
-    return true;
-}
-
-/* UTF-16 text without a BOM shows as NUL bytes on every other position. */
-bool looks_like_bomless_utf16(const std::string &text)
-{
-    size_t n = text.size() < 4096 ? text.size() : 4096;
-    size_t nul_even = 0, nul_odd = 0;
-    for (size_t i = 0; i < n; i++)
-        if (text[i] == '\0')
-            (i % 2 ? nul_odd : nul_even)++;
-    size_t half = n / 2;
-    return half > 0 && ((nul_even * 10 >= half * 8 && nul_odd * 10 < half) ||
-                        (nul_odd * 10 >= half * 8 && nul_even * 10 < half));
-}
-
-/* Refuses what is not 8-bit text; returns in *start how many leading bytes to skip (a BOM). */
-bool check_encoding(const char *path, const std::string &text, size_t *start, vkrt_error *err)
-{
-    *start = 0;
-    const unsigned char *u = reinterpret_cast<const unsigned char *>(text.data());
-    bool bom16 = text.size() >= 2 && ((u[0] == 0xFE && u[1] == 0xFF) || (u[0] == 0xFF && u[1] == 0xFE));
-    if (bom16 || looks_like_bomless_utf16(text))
-        return vkrt_error_set(err, "%s: looks like UTF-16 text; save it as UTF-8", path);
-    /* A NUL would silently cut a line short in tinyobjloader (it parses C strings). */
-    if (memchr(text.data(), '\0', text.size()))
-        return vkrt_error_set(err, "%s: not a text file (contains NUL bytes)", path);
-    if (text.size() >= 3 && u[0] == 0xEF && u[1] == 0xBB && u[2] == 0xBF)
-        *start = 3;
+    char *bytes;
+    size_t size;
+    if (!vkrt_text_read_file(path, OBJ_MAX_FILE_BYTES, kind, &bytes, &size, err))
+        return false;
+    std::unique_ptr<char, void (*)(void *)> owned(bytes, free);
+    text->assign(bytes, size);
     return true;
 }
 
@@ -127,288 +97,6 @@ public:
     }
 };
 
-/* -------------------------------------------------------------------------- line walking */
-
-struct Span {
-    const char *b = nullptr, *e = nullptr;
-    size_t len() const { return static_cast<size_t>(e - b); }
-};
-
-/* Splits text into lines the way tinyobjloader's safeGetline does: "\n", "\r\n" and "\r" all end
- * a line, so our line numbers are the ones its own messages use. */
-struct LineWalker {
-    const char *p, *end;
-    uint32_t number = 0;
-
-    LineWalker(const char *b, const char *e) : p(b), end(e) {}
-
-    bool next(Span *line)
-    {
-        if (p >= end)
-            return false;
-        line->b = p;
-        while (p < end && *p != '\n' && *p != '\r')
-            p++;
-        line->e = p;
-        if (p < end) {
-            char ending = *p++;
-            if (ending == '\r' && p < end && *p == '\n')
-                p++;
-        }
-        number++;
-        return true;
-    }
-};
-
-bool is_blank(char c) { return c == ' ' || c == '\t'; }
-
-/* Next blank-separated token of *rest, or false at the end of the line. */
-bool next_token(Span *rest, Span *token)
-{
-    while (rest->b < rest->e && is_blank(*rest->b))
-        rest->b++;
-    if (rest->b >= rest->e)
-        return false;
-    token->b = rest->b;
-    while (rest->b < rest->e && !is_blank(*rest->b))
-        rest->b++;
-    token->e = rest->b;
-    return true;
-}
-
-/* The record keyword, as tinyobjloader matches it: the word followed by a blank. */
-bool has_keyword(const Span &line, const char *word)
-{
-    size_t n = strlen(word);
-    return line.len() > n && memcmp(line.b, word, n) == 0 && is_blank(line.b[n]);
-}
-
-/* --------------------------------------------------------------------------------- numbers */
-
-enum class Number { ok, not_finite, invalid };
-
-/* Plain decimal as tinyobjloader understands it: [sign] (digits[.digits*] | .digits) [e[sign]digits].
- * strtod alone would also take hex, "nan" and "inf", which tinyobjloader reads as 0. */
-bool is_plain_decimal(const Span &t)
-{
-    const char *p = t.b, *e = t.e;
-    if (p < e && (*p == '+' || *p == '-'))
-        p++;
-    size_t int_digits = 0, frac_digits = 0;
-    while (p < e && *p >= '0' && *p <= '9')
-        p++, int_digits++;
-    if (p < e && *p == '.') {
-        p++;
-        while (p < e && *p >= '0' && *p <= '9')
-            p++, frac_digits++;
-    }
-    if (int_digits + frac_digits == 0)
-        return false;
-    if (p < e && (*p == 'e' || *p == 'E')) {
-        p++;
-        if (p < e && (*p == '+' || *p == '-'))
-            p++;
-        size_t exp_digits = 0;
-        while (p < e && *p >= '0' && *p <= '9')
-            p++, exp_digits++;
-        if (exp_digits == 0)
-            return false;
-    }
-    return p == e;
-}
-
-bool names_non_finite(const Span &t)
-{
-    std::string s(t.b, t.e);
-    char *end = nullptr;
-    double v = strtod(s.c_str(), &end);
-    if (end && *end == '\0' && !std::isfinite(v))
-        return true; /* nan, -nan, inf, infinity */
-    for (char &c : s)
-        c = static_cast<char>(toupper(static_cast<unsigned char>(c)));
-    return s.find("#IND") != std::string::npos || s.find("#INF") != std::string::npos ||
-           s.find("#QNAN") != std::string::npos; /* MSVC's printf of nan/inf */
-}
-
-/* rc10's tryParseDouble accumulates the exponent in an int, checking for overflow one digit too
- * late, so an exponent of ten or more significant digits ("1e-2147483649") is undefined behaviour
- * there. Such a number is no coordinate anyone writes; it is refused before tinyobjloader runs. */
-bool exponent_too_long(const Span &t)
-{
-    const char *p = t.b;
-    while (p < t.e && *p != 'e' && *p != 'E')
-        p++;
-    if (p < t.e)
-        p++;
-    if (p < t.e && (*p == '+' || *p == '-'))
-        p++;
-    while (p < t.e && *p == '0') /* leading zeros add nothing to the value */
-        p++;
-    size_t digits = 0;
-    while (p < t.e && *p >= '0' && *p <= '9')
-        p++, digits++;
-    return digits > 9;
-}
-
-Number classify_number(const Span &t)
-{
-    if (!is_plain_decimal(t))
-        return names_non_finite(t) ? Number::not_finite : Number::invalid;
-    std::string s(t.b, t.e);
-    double v = strtod(s.c_str(), nullptr); /* overflow (1e999) gives HUGE_VAL */
-    if (!std::isfinite(v) || std::fabs(v) > FLT_MAX)
-        return Number::not_finite; /* a float is what reaches the GPU */
-    return Number::ok;
-}
-
-/* ------------------------------------------------------------------------------- pre-scan */
-
-/* One f record that tinyobjloader keeps (3 or more corners). */
-struct FaceLine {
-    size_t offset;      /* of the line in the text, to quote an index in a message */
-    uint32_t line;
-    uint32_t corners;
-    uint32_t v_before, vt_before, vn_before; /* records seen before it: relative indices count back */
-};
-
-struct ObjScan {
-    std::vector<uint32_t> v_line, vt_line, vn_line; /* line of each record, by index */
-    std::vector<char> vn_usable;                    /* the vn record holds three finite numbers */
-    std::vector<FaceLine> faces;
-    size_t unusable_normals = 0;
-};
-
-bool fail_number(const char *path, uint32_t line, const char *what, Number kind, const Span &t,
-                 vkrt_error *err)
-{
-    int n = static_cast<int>(t.len() < QUOTE_MAX ? t.len() : QUOTE_MAX);
-    if (kind == Number::not_finite)
-        return vkrt_error_set(err, "%s:%u: %s is not finite (%.*s)", path, line, what, n, t.b);
-    return vkrt_error_set(err, "%s:%u: %s '%.*s' is not a number", path, line, what, n, t.b);
-}
-
-bool scan_vertex(const char *path, uint32_t line, Span rest, vkrt_error *err)
-{
-    Span t;
-    for (int i = 0; i < 3; i++) {
-        if (!next_token(&rest, &t))
-            return vkrt_error_set(err, "%s:%u: vertex has %d coordinates, needs 3", path, line, i);
-        Number kind = classify_number(t);
-        if (kind != Number::ok)
-            return fail_number(path, line, "vertex coordinate", kind, t, err);
-    }
-    return true;
-}
-
-bool scan_texcoord(const char *path, uint32_t line, Span rest, vkrt_error *err)
-{
-    Span t;
-    for (int i = 0; i < 2 && next_token(&rest, &t); i++) {
-        Number kind = classify_number(t);
-        if (kind != Number::ok)
-            return fail_number(path, line, "texture coordinate", kind, t, err);
-    }
-    return true;
-}
-
-bool normal_is_usable(Span rest)
-{
-    Span t;
-    for (int i = 0; i < 3; i++)
-        if (!next_token(&rest, &t) || classify_number(t) != Number::ok)
-            return false;
-    return true;
-}
-
-uint32_t count_tokens(Span rest)
-{
-    uint32_t n = 0;
-    Span t;
-    while (next_token(&rest, &t))
-        n++;
-    return n;
-}
-
-/* Every token of a v, vt or vn record goes through tinyobjloader's number parser (v also reads
- * up to three colour values), so none may carry an exponent it cannot hold; see exponent_too_long. */
-bool scan_exponents(const char *path, uint32_t line, Span rest, vkrt_error *err)
-{
-    Span t;
-    while (next_token(&rest, &t))
-        if (exponent_too_long(t)) {
-            int n = static_cast<int>(t.len() < QUOTE_MAX ? t.len() : QUOTE_MAX);
-            return vkrt_error_set(err, "%s:%u: number '%.*s' has an exponent of more than 9 digits",
-                                  path, line, n, t.b);
-        }
-    return true;
-}
-
-/* Classifies one line (leading blanks already skipped) and records what it is. */
-bool scan_line(const char *path, const std::string &text, uint32_t number, Span line, ObjScan *scan,
-               vkrt_error *err)
-{
-    if (has_keyword(line, "v")) {
-        scan->v_line.push_back(number);
-        return scan_vertex(path, number, Span{line.b + 2, line.e}, err) &&
-               scan_exponents(path, number, Span{line.b + 2, line.e}, err);
-    }
-    if (has_keyword(line, "vt")) {
-        scan->vt_line.push_back(number);
-        return scan_texcoord(path, number, Span{line.b + 3, line.e}, err) &&
-               scan_exponents(path, number, Span{line.b + 3, line.e}, err);
-    }
-    if (has_keyword(line, "vn")) {
-        if (!scan_exponents(path, number, Span{line.b + 3, line.e}, err))
-            return false;
-        scan->vn_line.push_back(number);
-        bool usable = normal_is_usable(Span{line.b + 3, line.e});
-        scan->vn_usable.push_back(usable);
-        scan->unusable_normals += !usable;
-        return true;
-    }
-    if (has_keyword(line, "f")) {
-        uint32_t corners = count_tokens(Span{line.b + 2, line.e});
-        if (corners >= 3) /* tinyobjloader drops shorter faces with a warning */
-            scan->faces.push_back(FaceLine{static_cast<size_t>(line.b - text.data()), number, corners,
-                                           static_cast<uint32_t>(scan->v_line.size()),
-                                           static_cast<uint32_t>(scan->vt_line.size()),
-                                           static_cast<uint32_t>(scan->vn_line.size())});
-    }
-    return true;
-}
-
-bool prescan(const char *path, const std::string &text, size_t start, ObjScan *scan, vkrt_error *err)
-{
-    LineWalker walker(text.data() + start, text.data() + text.size());
-    Span line;
-    while (walker.next(&line)) {
-        while (line.b < line.e && is_blank(*line.b))
-            line.b++;
-        if (!scan_line(path, text, walker.number, line, scan, err))
-            return false;
-    }
-    return true;
-}
-
-/* Records vkrt has no use for, which rc10 parses unsafely: "vw" skin weights (a joint id such as
- * 8.9e9 is cast from float to int, undefined behaviour) and "t" tags (their numbers go through
- * the same exponent parser as above, unchecked). Blanking them in place keeps every offset and line
- * number while tinyobjloader sees only empty lines. */
-bool is_ignored_record(const Span &line) { return has_keyword(line, "vw") || has_keyword(line, "t"); }
-
-void blank_ignored_records(std::string *text, size_t start)
-{
-    char *base = &(*text)[0];
-    LineWalker walker(base + start, base + text->size());
-    Span line;
-    while (walker.next(&line)) {
-        while (line.b < line.e && is_blank(*line.b))
-            line.b++;
-        if (is_ignored_record(line))
-            memset(base + (line.b - base), ' ', line.len());
-    }
-}
-
 /* ------------------------------------------------------------------------------ materials */
 
 bool file_exists(const std::string &path)
@@ -417,17 +105,25 @@ bool file_exists(const std::string &path)
     return stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
 }
 
-std::string folder_of(const std::string &path)
+/* A malloc'd string from text_file.c as a std::string; NULL is text_file.c's out of memory. */
+std::string take_string(char *s)
 {
-    size_t slash = path.find_last_of('/');
-    return slash == std::string::npos ? std::string() : path.substr(0, slash);
+    if (!s)
+        throw std::bad_alloc();
+    std::unique_ptr<char, void (*)(void *)> owned(s, free);
+    return std::string(s);
 }
 
+/* The folder of path, "" for a bare name (vkrt_text_dir_of). */
+std::string folder_of(const std::string &path)
+{
+    return take_string(vkrt_text_dir_of(path.c_str()));
+}
+
+/* name under folder, unless name is absolute or folder is "" (vkrt_text_join_path). */
 std::string join_path(const std::string &folder, const std::string &name)
 {
-    if (folder.empty() || name.empty() || name[0] == '/')
-        return name;
-    return folder + "/" + name;
+    return take_string(vkrt_text_join_path(folder.c_str(), name.c_str(), false));
 }
 
 /* Which fields a material's .mtl block set, so absent ones get obj_load.h's defaults, and where
@@ -501,7 +197,7 @@ public:
     {
         std::string path = join_path(obj_folder_, name);
         std::string text;
-        if (!file_exists(path) || !read_whole_file(path.c_str(), &text, nullptr)) {
+        if (!file_exists(path) || !read_whole_file(path.c_str(), "material library", &text, nullptr)) {
             if (warn)
                 *warn += "material file " + path + " not found\n";
             return false;
@@ -987,7 +683,7 @@ bool parse(const char *path, std::string *text_in, const std::string *mtl_folder
 bool load(const char *path, vkrt_mesh *mesh, vkrt_error *err)
 {
     std::string text;
-    if (!read_whole_file(path, &text, err))
+    if (!read_whole_file(path, "Wavefront OBJ file", &text, err))
         return false;
     std::string folder = folder_of(path);
     return parse(path, &text, &folder, mesh, err);

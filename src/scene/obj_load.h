@@ -1,7 +1,8 @@
 /*
  * obj_load.h: Wavefront OBJ (and its .mtl) loading, through tinyobjloader.
  *
- * The one C++ file of the project (obj_load.cpp) wraps tinyobjloader behind this C interface.
+ * The loader (obj_load.cpp, with its pre-scan in obj_scan.cpp: the project's C++ files) wraps
+ * tinyobjloader behind this C interface.
  * The result is de-indexed, one record per triangle corner, which is what the kernels read:
  * polygons become triangle fans, negative indices are resolved, faces without normals get their
  * geometric normal, and non-finite coordinates or out-of-range indices are errors naming the

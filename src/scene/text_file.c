@@ -7,9 +7,11 @@
 #include <errno.h>
 #include <float.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 bool vkrt_text_read_file(const char *path, size_t max_bytes, const char *kind, char **text,
                          size_t *size, vkrt_error *err)
@@ -19,9 +21,20 @@ bool vkrt_text_read_file(const char *path, size_t max_bytes, const char *kind, c
     FILE *f = fopen(path, "rb");
     if (!f)
         return vkrt_error_set(err, "%s: cannot open: %s", path, strerror(errno));
-    /* Read in chunks rather than trusting a size from fstat: it may be a pipe. */
+    /* Read in chunks rather than trusting a size from fstat: it may be a pipe, or change while
+     * read. A regular file's size only sizes the first chunk, so a large OBJ is read in one. */
     size_t used = 0, cap = 0;
     char *buf = NULL;
+    struct stat st;
+    if (fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0 &&
+        (uintmax_t)st.st_size < max_bytes) {
+        /* One byte more than the file, so that reading to its end needs no growth. */
+        cap = (size_t)st.st_size + 1;
+        if (!(buf = malloc(cap))) {
+            fclose(f);
+            return vkrt_error_set(err, "%s: out of memory", path);
+        }
+    }
     for (;;) {
         if (used == cap) {
             if (cap >= max_bytes) {

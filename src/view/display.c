@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../../glsl/shared.h"
 #include "../gpu/shader.h"
 #include "../gpu/vk_check.h"
 #include "../render/kernel_sources.h"
@@ -197,8 +198,8 @@ bool view_display_present(view_display *d, const gpu_buffer *image, uint32_t ima
         .scale = {1.0f / (float)(passes ? passes : 1), exp2f(exposure), d->swapchain.bgra ? 1 : 0,
                   0},
     };
-    gpu_storage_set_bind(d->ctx, &f->set, 0, image);
-    gpu_storage_set_bind(d->ctx, &f->set, 1, &f->pixels);
+    gpu_storage_set_bind(d->ctx, &f->set, VKRT_DISPLAY_BINDING_IMAGE, image);
+    gpu_storage_set_bind(d->ctx, &f->set, VKRT_DISPLAY_BINDING_WINDOW, &f->pixels);
     GPU_CHECK(vkResetCommandBuffer(f->cmd, 0));
     VkCommandBufferBeginInfo begin = {
         .sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,

@@ -49,13 +49,12 @@
 #define VIEW_TITLE_SECONDS 0.5
 
 typedef struct viewer {
-    const vkrt_options *opts;
+    const vkrt_view_options *opts;
     vkrt_scene scene;
     GLFWwindow *window;
     gpu_context ctx;
     vkrt_render_desc desc;
-    vkrt_renderer renderer;
-    bool have_renderer;
+    vkrt_renderer *renderer; /* NULL until created */
     view_display display;
     bool have_display;
     view_camera camera;
@@ -193,7 +192,7 @@ static void screenshot(viewer *v)
             break;
     }
     ok = ok && view_display_read(&v->display, window, &err) &&
-         vkrt_renderer_read_image(&v->renderer, v->passes, linear, &err) &&
+         vkrt_renderer_read_image(v->renderer, v->passes, linear, &err) &&
          vkrt_image_write_png8(png, e.width, e.height, window, &err) &&
          vkrt_image_write(exr, v->desc.width, v->desc.height, linear, 0, &err);
     if (ok) {
@@ -470,8 +469,8 @@ static bool create_gpu(viewer *v, vkrt_error *err)
     if (!extensions)
         return vkrt_error_set(err, "GLFW names no Vulkan instance extensions for windows");
     gpu_context_desc desc = {
-        .device_index = v->opts->device,
-        .validation = v->opts->validation,
+        .device_index = v->opts->common.device,
+        .validation = v->opts->common.validation,
         .instance_extensions = extensions,
         .instance_extension_count = count,
         .create_surface = create_surface,
@@ -482,7 +481,6 @@ static bool create_gpu(viewer *v, vkrt_error *err)
     if (!gpu_context_create(&v->ctx, &desc, err) ||
         !vkrt_renderer_create(&v->renderer, &v->ctx, &v->scene, &v->desc, err))
         return false;
-    v->have_renderer = true;
     if (w <= 0 || h <= 0) {
         w = (int)v->desc.width;
         h = (int)v->desc.height;
@@ -508,13 +506,12 @@ static bool follow_window_size(viewer *v, double now, vkrt_error *err)
     /* The display's frames in flight read the old image. */
     if (vkQueueWaitIdle(v->ctx.queue) != VK_SUCCESS)
         return vkrt_error_set(err, "waiting for the GPU before a resize failed");
-    vkrt_renderer_destroy(&v->renderer);
-    v->have_renderer = false;
+    vkrt_renderer_destroy(v->renderer);
+    v->renderer = NULL;
     v->desc.width = e.width;
     v->desc.height = e.height;
     if (!vkrt_renderer_create(&v->renderer, &v->ctx, &v->scene, &v->desc, err))
         return vkrt_error_prefix(err, "resizing the image to %ux%u", e.width, e.height);
-    v->have_renderer = true;
     v->passes = 0;
     memset(&v->traced, 0, sizeof v->traced); /* forces a new image */
     return true;
@@ -585,7 +582,7 @@ static bool frame(viewer *v, double dt, bool log, vkrt_error *err)
     if (!converged(v)) {
         traced = passes_this_frame(v);
         vkrt_frame_stats stats;
-        if (!vkrt_renderer_add_samples(&v->renderer, &v->traced, 0, v->passes, traced, &stats, err))
+        if (!vkrt_renderer_add_samples(v->renderer, &v->traced, 0, v->passes, traced, &stats, err))
             return false;
         v->passes += traced;
         v->seconds_per_pass = stats.seconds / traced;
@@ -597,7 +594,7 @@ static bool frame(viewer *v, double dt, bool log, vkrt_error *err)
                 (unsigned long long)v->frame, v->version, v->passes, v->desc.samples, traced);
     if (traced || v->redraw) {
         bool out_of_date;
-        if (!view_display_present(&v->display, &v->renderer.image, v->desc.width, v->desc.height,
+        if (!view_display_present(&v->display, vkrt_renderer_image(v->renderer), v->desc.width, v->desc.height,
                                   v->passes, v->opts->exposure, &out_of_date, err))
             return false;
         v->redraw = out_of_date;
@@ -647,7 +644,7 @@ static bool run(viewer *v, vkrt_error *err)
                                : fmin(now - last, VIEW_MAX_STEP_SECONDS);
         last = now;
         was_idle = false;
-        if (!frame(v, dt, scripted || v->opts->verbose, err))
+        if (!frame(v, dt, scripted || v->opts->common.verbose, err))
             return false;
     }
     return true;
@@ -661,11 +658,10 @@ static void close_viewer(viewer *v)
 {
     if (v->have_display)
         view_display_destroy(&v->display);
-    if (v->have_renderer)
-        vkrt_renderer_destroy(&v->renderer);
+    vkrt_renderer_destroy(v->renderer);
 }
 
-int vkrt_view_run(const vkrt_options *opts)
+int vkrt_view_run(const vkrt_view_options *opts)
 {
     viewer *v = calloc(1, sizeof *v);
     if (!v) {
@@ -675,7 +671,7 @@ int vkrt_view_run(const vkrt_options *opts)
     v->opts = opts;
     vkrt_error err = {{0}};
     bool ok = vkrt_scene_load(opts->scene_path, &v->scene, &err);
-    if (ok && v->scene.mesh.warnings[0] && !opts->quiet)
+    if (ok && v->scene.mesh.warnings[0] && !opts->common.quiet)
         fprintf(stderr, "vkrt: warning: %s: %s\n", v->scene.config.geometry,
                 v->scene.mesh.warnings);
     if (ok && opts->script)
@@ -688,21 +684,16 @@ int vkrt_view_run(const vkrt_options *opts)
     if (ok) {
         const vkrt_config *cfg = &v->scene.config;
         uint32_t spp = cfg->samples > VIEW_DEFAULT_SPP ? cfg->samples : VIEW_DEFAULT_SPP;
-        v->desc = (vkrt_render_desc){
-            .width = opts->width ? opts->width : cfg->width,
-            .height = opts->height ? opts->height : cfg->height,
-            .samples = opts->samples ? opts->samples : spp,
-            .accel = opts->accel_given ? opts->accel : cfg->accel,
-        };
+        v->desc = vkrt_render_desc_for(cfg, &opts->common, opts->samples ? opts->samples : spp);
         view_camera_init(
             &v->camera, &cfg->cameras[0],
             view_camera_default_speed(v->scene.mesh.bounds_min, v->scene.mesh.bounds_max));
         ok = open_window(v, &err) && create_gpu(v, &err);
     }
-    if (ok && !opts->quiet)
+    if (ok && !opts->common.quiet)
         fprintf(stderr, "vkrt: view: %s | %u triangles | accel %s | %ux%u | %u spp\n",
                 v->ctx.properties.deviceName, v->scene.mesh.triangle_count,
-                vkrt_accel_name(v->renderer.accel.stats.kind), v->desc.width, v->desc.height,
+                vkrt_accel_name(vkrt_renderer_accel_stats(v->renderer)->kind), v->desc.width, v->desc.height,
                 v->desc.samples);
     ok = ok && run(v, &err);
     close_viewer(v);
@@ -718,7 +709,7 @@ int vkrt_view_run(const vkrt_options *opts)
     glfwTerminate();
     if (!ok)
         fprintf(stderr, "vkrt: %s\n", err.msg);
-    else if (!opts->quiet)
+    else if (!opts->common.quiet)
         fprintf(stderr, "vkrt: view: %llu frames\n", (unsigned long long)v->frame);
     int status = ok && !v->failed ? 0 : 1;
     if (v->record && fclose(v->record) != 0) {

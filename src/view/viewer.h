@@ -12,6 +12,6 @@
 /* Runs the viewer the options describe until the window closes (or the script presses Escape);
  * returns the process exit code: 0, or 1 after printing what failed (a validation message
  * included). */
-int vkrt_view_run(const vkrt_options *opts);
+int vkrt_view_run(const vkrt_view_options *opts);
 
 #endif

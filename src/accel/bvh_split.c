@@ -1,0 +1,244 @@
+/*
+ * bvh_split.c: one node's split by the binned SAH (bvh_split.h), after Wald 2007.
+ *
+ * The node's centroids go into K bins per axis over its centroid bounds; one sweep per axis
+ * gives the cost of the K - 1 planes between bins (A_left N_left + A_right N_right, one triangle
+ * test costs 1), and the cheapest plane wins if it beats a leaf. The records themselves are then
+ * partitioned in place (Hoare's scheme: only misplaced pairs move), not indices into them, so
+ * binning reads memory sequentially. Boxes and centroids are 4-lane vectors (bvh_lanes.h).
+ */
+#include "bvh_split.h"
+
+#include <math.h>
+#include <string.h>
+
+/* A node this small is a leaf without looking at the SAH. */
+enum { ALWAYS_LEAF_PRIMS = 1 };
+
+/* A small node gets at most max(count, SMALL_NODE_MIN_BINS) bins (a departure from Wald's fixed
+ * count): with a few triangles most of 16 bins would be empty, yet clearing and sweeping them is
+ * a fixed cost per node, and the bottom levels hold most nodes. count bins still separate the two
+ * extreme centroids and give count - 1 candidate planes, as many as an exact sweep has. */
+enum { SMALL_NODE_MIN_BINS = 4 };
+
+/* Half the surface area; the SAH only uses ratios, so the factor 2 does not matter. */
+static inline float half_area(const aabb *b)
+{
+    float d[4];
+    v4_store(d, v4_sub(b->hi, b->lo));
+    return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
+}
+
+/* How a node maps centroids to bins: bin = clamp((c - lo) * scale, 0, last), truncated, on all
+ * three axes at once. Binning and partitioning both go through bins_of, so they agree on every
+ * triangle's bin. The clamps keep the conversion defined even if rounding strays outside
+ * [0, last] (a NaN lands in bin 0). */
+typedef struct bin_map {
+    vec4 lo, scale, last;
+} bin_map;
+
+static inline void bins_of(const bin_map *m, vec4 c, uint32_t k[4])
+{
+    vec4 f = v4_mul(v4_sub(c, m->lo), m->scale);
+    f = v4_min(v4_max(f, v4_set1(0.0f)), m->last);
+    v4_to_u32(f, k);
+}
+
+typedef struct bin_split {
+    int axis;              /* -1: no split with both sides non-empty */
+    uint32_t bin;          /* left side: bins [0, bin) */
+    bin_map map;           /* the node's bins */
+    float cost;            /* A_left N_left + A_right N_right */
+} bin_split;
+
+/* The bins of a node with centroid bounds cb: nb per axis where the extent is usable (positive
+ * and finite). Other axes get scale 0 and lo 0, so their refs all fall into bin 0 without a
+ * branch (finite centroid times 0), and are not swept. */
+static bin_map make_bin_map(const aabb *cb, uint32_t nb, bool active[3])
+{
+    float lo[4], hi[4], mlo[3], scale[3];
+    v4_store(lo, cb->lo);
+    v4_store(hi, cb->hi);
+    for (int a = 0; a < 3; a++) {
+        float extent = hi[a] - lo[a];
+        scale[a] = (float)nb / extent;
+        active[a] = extent > 0.0f && isfinite(extent) && isfinite(scale[a]);
+        mlo[a] = active[a] ? lo[a] : 0.0f;
+        scale[a] = active[a] ? scale[a] : 0.0f;
+    }
+    return (bin_map){ .lo = v4_set3(mlo[0], mlo[1], mlo[2]),
+                      .scale = v4_set3(scale[0], scale[1], scale[2]),
+                      .last = v4_set1((float)(nb - 1)) };
+}
+
+/* Bins the centroids of refs[begin, end) on all three axes. */
+static void fill_bins(bvh_split_scratch *s, const prim_ref *refs, uint32_t begin, uint32_t end,
+                      const bin_map *map, uint32_t nb)
+{
+    for (int a = 0; a < 3; a++) {
+        for (uint32_t k = 0; k < nb; k++)
+            aabb_empty(&s->bins[a][k]);
+        memset(s->counts[a], 0, nb * sizeof s->counts[a][0]);
+    }
+    for (uint32_t i = begin; i < end; i++) {
+        ref_lanes l = ref_load(&refs[i]);
+        uint32_t k[4];
+        bins_of(map, l.c, k);
+        aabb_grow_box(&s->bins[0][k[0]], l.lo, l.hi);
+        aabb_grow_box(&s->bins[1][k[1]], l.lo, l.hi);
+        aabb_grow_box(&s->bins[2][k[2]], l.lo, l.hi);
+        s->counts[0][k[0]]++;
+        s->counts[1][k[1]]++;
+        s->counts[2][k[2]]++;
+    }
+}
+
+/* Sweeps one axis's bins: right-to-left areas first, then left to right for the costs.
+ * Strict < keeps the first of equal costs, so the choice is reproducible. */
+static void sweep_axis(bvh_split_scratch *s, int a, uint32_t nb, bin_split *best)
+{
+    const aabb *bins = s->bins[a];
+    const uint32_t *counts = s->counts[a];
+    aabb acc;
+    aabb_empty(&acc);
+    uint32_t cnt = 0;
+    for (uint32_t k = nb - 1; k > 0; k--) {
+        aabb_grow(&acc, &bins[k]);
+        cnt += counts[k];
+        s->right_count[k] = cnt;
+        s->right_area[k] = cnt ? half_area(&acc) : 0.0f;
+    }
+    aabb_empty(&acc);
+    cnt = 0;
+    for (uint32_t k = 1; k < nb; k++) {
+        aabb_grow(&acc, &bins[k - 1]);
+        cnt += counts[k - 1];
+        if (cnt == 0 || s->right_count[k] == 0)
+            continue;
+        float cost = half_area(&acc) * (float)cnt + s->right_area[k] * (float)s->right_count[k];
+        if (cost < best->cost) {
+            best->cost = cost;
+            best->axis = a;
+            best->bin = k;
+        }
+    }
+}
+
+static uint32_t bin_count(const bvh_split_params *p, uint32_t count)
+{
+    return MINF(p->bins, MAXF(count, (uint32_t)SMALL_NODE_MIN_BINS));
+}
+
+static bin_split find_bin_split(const bvh_split_params *p, bvh_split_scratch *s,
+                                const prim_ref *refs, uint32_t begin, uint32_t end, const aabb *cb)
+{
+    uint32_t nb = bin_count(p, end - begin);
+    bool active[3];
+    bin_split best = { .axis = -1, .cost = INFINITY, .map = make_bin_map(cb, nb, active) };
+    fill_bins(s, refs, begin, end, &best.map, nb);
+    for (int a = 0; a < 3; a++) {
+        if (active[a])
+            sweep_axis(s, a, nb, &best);
+    }
+    return best;
+}
+
+/* Partitions refs[begin, end) in place, Hoare's way (each ref is looked at once, and only pairs
+ * on the wrong sides move): bins below split->bin go left. Collects the children's bounds on the
+ * way, so they are exact. Returns the first index of the right side. */
+static uint32_t partition_refs(prim_ref *refs, uint32_t begin, uint32_t end,
+                               const bin_split *split, bvh_split_result *out)
+{
+    const int a = split->axis;
+    const uint32_t left_bins = split->bin;
+    aabb lb, lcb, rb, rcb; /* locals, not out->..[side]: they stay in registers */
+    aabb_empty(&lb);
+    aabb_empty(&lcb);
+    aabb_empty(&rb);
+    aabb_empty(&rcb);
+    uint32_t i = begin, j = end; /* [begin, i) left, [j, end) right */
+    for (;;) {
+        ref_lanes li, lj;
+        uint32_t k[4];
+        for (; i < j; i++) { /* the first ref from the left that belongs right */
+            li = ref_load(&refs[i]);
+            bins_of(&split->map, li.c, k);
+            if (k[a] >= left_bins)
+                break;
+            aabb_grow_box(&lb, li.lo, li.hi);
+            aabb_grow_point(&lcb, li.c);
+        }
+        if (i == j)
+            break;
+        aabb_grow_box(&rb, li.lo, li.hi);
+        aabb_grow_point(&rcb, li.c);
+        for (j--; j > i; j--) { /* the first ref from the right that belongs left */
+            lj = ref_load(&refs[j]);
+            bins_of(&split->map, lj.c, k);
+            if (k[a] < left_bins)
+                break;
+            aabb_grow_box(&rb, lj.lo, lj.hi);
+            aabb_grow_point(&rcb, lj.c);
+        }
+        if (j == i)
+            break; /* refs[i] belongs right and is the right side's first */
+        aabb_grow_box(&lb, lj.lo, lj.hi);
+        aabb_grow_point(&lcb, lj.c);
+        prim_ref tmp = refs[i];
+        refs[i] = refs[j];
+        refs[j] = tmp;
+        i++;
+    }
+    out->bounds[0] = lb;
+    out->cbounds[0] = lcb;
+    out->bounds[1] = rb;
+    out->cbounds[1] = rcb;
+    return i;
+}
+
+/* The bounds of a range, for the median split. */
+static void range_bounds(const prim_ref *refs, uint32_t begin, uint32_t end, aabb *b, aabb *cb)
+{
+    aabb_empty(b);
+    aabb_empty(cb);
+    for (uint32_t i = begin; i < end; i++) {
+        ref_lanes l = ref_load(&refs[i]);
+        aabb_grow_box(b, l.lo, l.hi);
+        aabb_grow_point(cb, l.c);
+    }
+}
+
+/* Splits the range in the middle of its order: the fallback when binning finds no split with
+ * both sides non-empty (all centroids equal, or extents that overflow) and the node is too big
+ * for a leaf. Halving the count makes the recursion terminate. */
+static void median_split(const prim_ref *refs, uint32_t begin, uint32_t end, bvh_split_result *out)
+{
+    out->split = true;
+    out->mid = begin + (end - begin) / 2;
+    range_bounds(refs, begin, out->mid, &out->bounds[0], &out->cbounds[0]);
+    range_bounds(refs, out->mid, end, &out->bounds[1], &out->cbounds[1]);
+}
+
+/* Costs are compared unnormalised, times A_parent: split when
+ * traversal_cost * A + A_l N_l + A_r N_r < N * A, which also behaves for a flat (A = 0) node. */
+void bvh_split_node(const bvh_split_params *p, bvh_split_scratch *s, prim_ref *refs,
+                    uint32_t begin, uint32_t end, const aabb *bounds, const aabb *cbounds,
+                    bvh_split_result *out)
+{
+    uint32_t count = end - begin;
+    out->split = false;
+    if (count <= ALWAYS_LEAF_PRIMS)
+        return;
+    bool must_split = count > p->max_leaf;
+    bin_split b = find_bin_split(p, s, refs, begin, end, cbounds);
+    float area = half_area(bounds);
+    bool worth = b.axis >= 0 && p->traversal_cost * area + b.cost < (float)count * area;
+    if (b.axis >= 0 && (must_split || worth)) {
+        out->mid = partition_refs(refs, begin, end, &b, out);
+        out->split = out->mid > begin && out->mid < end;
+        if (out->split)
+            return;
+    }
+    if (must_split)
+        median_split(refs, begin, end, out);
+}

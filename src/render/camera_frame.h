@@ -1,0 +1,21 @@
+/*
+ * camera_frame.h: a scene.cfg camera as the frame raygen.comp reads. Pure CPU, so that `vkrt
+ * bench` (bench_rays.c) makes the very rays raygen does.
+ */
+#ifndef VKRT_CAMERA_FRAME_H
+#define VKRT_CAMERA_FRAME_H
+
+#include <stdint.h>
+
+#include "../scene/config.h"
+
+/* The struct of glsl/shared.h. */
+typedef struct FrameParams FrameParams;
+
+/* Fills params->eye, forward, right and up for camera and an image of width x height: the
+ * camera frame raygen.comp reads (right and up scaled by tan(fov/2), right also by the aspect).
+ * The other fields are left as they are. */
+void vkrt_camera_params(const vkrt_config_camera *camera, uint32_t width, uint32_t height,
+                        FrameParams *params);
+
+#endif

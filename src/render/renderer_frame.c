@@ -1,0 +1,281 @@
+/*
+ * renderer_frame.c: one frame, recorded and run: per sample pass raygen, then per depth trace,
+ * light, count, prepare and shade (renderer.h), all in one command buffer; the host waits once,
+ * reads the counters, and renders again with larger ray buffers when a depth outgrew them.
+ */
+#include <stdlib.h>
+#include <string.h>
+
+#include "../clock.h"
+#include "camera_frame.h"
+#include "renderer_private.h"
+
+/* A device's loop budget (llvmpipe's 65535 iterations per invocation, tuning.c) also bounds the
+ * light kernel, whose brute-force shadow rays each loop over every triangle: refuse rather than
+ * render shadows that silently miss triangles. */
+static bool check_loop_budget(const vkrt_renderer *r, vkrt_error *err)
+{
+    const uint32_t budget = r->tuning.loop_budget;
+    if (r->accel.stats.kind != VKRT_ACCEL_BRUTE || budget == 0)
+        return true;
+    uint64_t shadow_lights = 0;
+    for (uint32_t i = 0; i < r->light_count; ++i)
+        shadow_lights += r->light_kinds[i] != VKRT_LIGHT_KIND_AMBIENT;
+    uint64_t iterations = (uint64_t)r->triangle_count * shadow_lights;
+    if (iterations > budget - r->light_count)
+        return vkrt_error_set(err,
+                              "brute force with %u triangles and %u shadowing lights needs %llu "
+                              "loop iterations per pixel; lavapipe (llvmpipe) stops shaders after "
+                              "%u: use accel grid or bvh",
+                              r->triangle_count, (unsigned)shadow_lights,
+                              (unsigned long long)iterations, budget);
+    return true;
+}
+
+void renderer_record_trace(vkrt_renderer *r, VkCommandBuffer cmd, FrameParams *params,
+                           bool any_hit, uint32_t count, bool indirect)
+{
+    const gpu_pipeline *pipe = any_hit ? &r->occlusion : &r->trace;
+    VkDeviceSize wave_offset = (VkDeviceSize)params->wave.y * sizeof(WaveState);
+    uint32_t n = r->triangle_count;
+    const uint32_t block = r->tuning.brute_force_block;
+    for (uint32_t first = 0;; first += block) {
+        bool brute = r->accel.stats.kind == VKRT_ACCEL_BRUTE;
+        uint32_t end = !brute || n - first < block ? n : first + block;
+        params->range.x = brute ? first : 0;
+        params->range.y = end;
+        params->range.z = first > 0;
+        if (indirect)
+            gpu_dispatch_indirect(cmd, pipe, &r->set, params, &r->waves, wave_offset);
+        else
+            gpu_dispatch(cmd, pipe, &r->set, params, count);
+        if (end >= n)
+            break;
+    }
+    params->range.x = 0;
+    params->range.y = n;
+    params->range.z = 0;
+}
+
+/* Zeroes size bytes of buf from the start, between the compute work before (which may have read
+ * or written them) and after it. */
+static void record_zero(VkCommandBuffer cmd, const gpu_buffer *buf, VkDeviceSize size)
+{
+    VkMemoryBarrier before = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+        .srcAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+        .dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+    };
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         0, 1, &before, 0, NULL, 0, NULL);
+    vkCmdFillBuffer(cmd, buf->buffer, 0, size, 0);
+    VkMemoryBarrier after = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+        .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
+        .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+    };
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                         0, 1, &after, 0, NULL, 0, NULL);
+}
+
+/* Records sample passes [first, end) of one frame. There are no transfer commands: raygen clears
+ * the image (pass 0) and resets the wave table, so the passes are dispatches and
+ * compute-to-compute barriers only. */
+static void record_passes(vkrt_renderer *r, VkCommandBuffer cmd, FrameParams params,
+                          uint32_t first, uint32_t end, profile_recorder *p)
+{
+    uint32_t pixels = r->width * r->height;
+    for (uint32_t s = first; s < end; ++s) {
+        params.image.z = s;
+        params.counts.z = pixels;
+        params.wave = (uvec4){0, 0, r->max_depth, r->capacity};
+        gpu_dispatch(cmd, &r->raygen, &r->set, &params, pixels);
+        profile_recorder_mark(cmd, p, 0, VKRT_KERNEL_RAYGEN);
+        params.counts.z = VKRT_RAYS_OF_WAVE;
+        for (uint32_t depth = 0; depth <= r->max_depth; ++depth) {
+            params.wave.x = depth & 1;
+            params.wave.y = depth;
+            VkDeviceSize wave = (VkDeviceSize)depth * sizeof(WaveState);
+            renderer_record_trace(r, cmd, &params, false, 0, true);
+            profile_recorder_mark(cmd, p, depth, VKRT_KERNEL_TRACE);
+            gpu_dispatch_indirect(cmd, &r->light, &r->set, &params, &r->waves, wave);
+            profile_recorder_mark(cmd, p, depth, VKRT_KERNEL_LIGHT);
+            if (depth < r->max_depth) {
+                gpu_dispatch_indirect(cmd, &r->count, &r->set, &params, &r->waves, wave);
+                profile_recorder_mark(cmd, p, depth, VKRT_KERNEL_COUNT);
+                gpu_dispatch(cmd, &r->prepare, &r->set, &params, 1);
+                profile_recorder_mark(cmd, p, depth, VKRT_KERNEL_PREPARE);
+            }
+            gpu_dispatch_indirect(cmd, &r->shade, &r->set, &params, &r->waves, wave);
+            profile_recorder_mark(cmd, p, depth, VKRT_KERNEL_SHADE);
+        }
+    }
+}
+
+/* Records and runs sample passes [first, end) into the image (cleared first when first is 0);
+ * counters hold their statistics afterwards. With a profile (r->profile and stats), the frame is
+ * recorded warmups + timed times back to back in one submission (only when first is 0: each
+ * repetition then starts from a cleared image, so the picture is the same), with timestamps
+ * around every dispatch of the timed ones; stats gets the medians. */
+static bool run_passes(vkrt_renderer *r, FrameParams params, uint32_t first, uint32_t end,
+                       uint32_t warmups, uint32_t timed, double *seconds, vkrt_frame_stats *stats,
+                       vkrt_error *err)
+{
+    if (!r->profile || !stats || first != 0 || timed == 0) {
+        warmups = 0;
+        timed = 1;
+    }
+    profile_recorder profile, *p = NULL;
+    if (r->profile && stats) {
+        uint32_t marks = timed * (end - first) * (1 + 5 * (r->max_depth + 1));
+        if (!profile_recorder_create(r->ctx, &profile, marks, timed, err))
+            return false;
+        p = &profile;
+    }
+    VkCommandBuffer cmd;
+    bool ok = gpu_commands_begin(r->ctx, &cmd, err);
+    if (ok) {
+        /* Once per submission, before any timestamp: repetitions add to the counters, but the
+         * host reads them only after a single frame. */
+        record_zero(cmd, &r->counters, VK_WHOLE_SIZE);
+        for (uint32_t i = 0; i < warmups; ++i)
+            record_passes(r, cmd, params, first, end, NULL);
+        if (p)
+            profile_recorder_begin(cmd, p);
+        for (uint32_t i = 0; i < timed; ++i) {
+            record_passes(r, cmd, params, first, end, p);
+            if (p)
+                profile_recorder_end_frame(p);
+        }
+        double start = vkrt_clock_ms();
+        ok = gpu_commands_submit(r->ctx, err);
+        *seconds = (vkrt_clock_ms() - start) * 1e-3;
+    }
+    if (ok && p) {
+        ok = profile_recorder_read(r->ctx, p, &stats->profile, err);
+        stats->profile.warmups = warmups;
+    }
+    if (p)
+        profile_recorder_destroy(r->ctx, p);
+    return ok;
+}
+
+/* After a timeout or a lost device, the likeliest culprit is a material shader that never ends:
+ * the message lists the scene's materials (the GPU cannot say which invocation hung). */
+static void name_suspects(const vkrt_renderer *r, vkrt_error *err)
+{
+    char list[600] = "";
+    size_t used = 0;
+    for (uint32_t i = 0; i < r->material_count && used + 2 < sizeof list; ++i) {
+        int n = snprintf(list + used, sizeof list - used, "%s%s", i ? ", " : "",
+                         r->material_names[i]);
+        if (n < 0 || (size_t)n >= sizeof list - used)
+            break;
+        used += (size_t)n;
+    }
+    size_t len = strlen(err->msg);
+    snprintf(err->msg + len, sizeof err->msg - len, "; the scene's materials: %s", list);
+}
+
+bool vkrt_renderer_add_samples(vkrt_renderer *r, const vkrt_config_camera *camera,
+                               uint32_t frame_index, uint32_t first, uint32_t count,
+                               vkrt_frame_stats *stats, vkrt_error *err)
+{
+    uint32_t pixels = r->width * r->height;
+    if (first >= r->samples || count > r->samples - first)
+        return vkrt_error_set(err, "sample passes %u..%u are outside the %u of the renderer", first,
+                              first + count, r->samples);
+    if (!check_loop_budget(r, err))
+        return false;
+    FrameParams params = {0};
+    vkrt_camera_params(camera, r->width, r->height, &params);
+    params.eye.w = r->min_importance;
+    params.image = (uvec4){r->width, r->height, 0, r->samples};
+    params.counts = (uvec4){r->triangle_count, r->light_count, pixels, frame_index};
+    params.range = (uvec4){0, r->triangle_count, 0, r->light_words};
+
+    Counters counters;
+    double seconds = 0;
+    uint32_t attempts = 0, start = first;
+    for (;;) {
+        ++attempts;
+        if (!run_passes(r, params, start, first + count, 0, 1, &seconds, stats, err) ||
+            !gpu_buffer_download(r->ctx, &r->counters, &counters, sizeof counters, err)) {
+            if (r->ctx->lost)
+                name_suspects(r, err);
+            return vkrt_error_prefix(err, "rendering frame %u", frame_index);
+        }
+        uint32_t m = counters.overcast_material - 1;
+        const char *culprit = m < r->material_count ? r->material_names[m] : "?";
+        if (counters.overcount)
+            return vkrt_error_set(err,
+                                  "material %s: count_rays asked for more than %u rays at %u hits; "
+                                  "one hit may cast at most %u",
+                                  culprit, VKRT_MAX_CAST, counters.overcount, VKRT_MAX_CAST);
+        if (counters.overcast)
+            return vkrt_error_set(err,
+                                  "material %s cast more rays than its count_rays returned (%u "
+                                  "rays not traced): shade may cast at most as many rays as "
+                                  "count_rays returned for the same hit",
+                                  culprit, counters.overcast);
+        /* A wave asked for more rays than the buffers hold: those passes are incomplete. Grow
+         * and render every pass of the image again from the first (earlier calls' passes are in
+         * the image too, and cannot be taken out); the random streams make the new picture the
+         * one large buffers would have given. */
+        if (counters.max_wave <= r->capacity || r->capacity >= r->max_capacity)
+            break;
+        if (!renderer_grow_ray_buffers(r, counters.max_wave, err))
+            return false;
+        start = 0;
+    }
+    /* The profile of a cold GPU measures its clocks' climb: render the frame again, after
+     * VKRT_WARMUP_MS of GPU work back to back with it (tuning.h), and take the median of several.
+     * The first render sizes the warm-up. */
+    if (r->profile && stats && first == 0) {
+        uint32_t warmups = vkrt_warmup_runs(stats->profile.frame_ms, 1);
+        double ignored;
+        if (!run_passes(r, params, 0, count, warmups, r->profile_repeat, &ignored, stats, err)) {
+            if (r->ctx->lost)
+                name_suspects(r, err);
+            return vkrt_error_prefix(err, "profiling frame %u", frame_index);
+        }
+    }
+    if (stats) {
+        stats->seconds = seconds;
+        stats->primary_rays = (uint64_t)pixels * (first + count - start);
+        stats->shadow_rays = counters.shadow_rays;
+        stats->secondary_rays = counters.secondary_rays;
+        stats->attempts = attempts;
+        stats->ray_capacity = r->capacity;
+        stats->dropped_rays = counters.max_wave > r->capacity ? counters.max_wave - r->capacity : 0;
+        stats->nonfinite = counters.nonfinite;
+        stats->profile.profiled = r->profile;
+    }
+    return true;
+}
+
+bool vkrt_renderer_read_image(vkrt_renderer *r, uint32_t passes, float *rgb, vkrt_error *err)
+{
+    uint32_t pixels = r->width * r->height;
+    vec4 *image = malloc((size_t)pixels * sizeof *image);
+    if (!image)
+        return vkrt_error_set(err, "out of memory reading back %u pixels", pixels);
+    bool ok = gpu_buffer_download(r->ctx, &r->image, image, (size_t)pixels * sizeof *image, err);
+    if (ok) {
+        float scale = 1.0f / (float)(passes ? passes : 1);
+        for (uint32_t i = 0; i < pixels; ++i) {
+            rgb[3 * (size_t)i + 0] = image[i].x * scale;
+            rgb[3 * (size_t)i + 1] = image[i].y * scale;
+            rgb[3 * (size_t)i + 2] = image[i].z * scale;
+        }
+    }
+    free(image);
+    return ok;
+}
+
+bool vkrt_renderer_render(vkrt_renderer *r, const vkrt_config_camera *camera, uint32_t frame_index,
+                          float *rgb, vkrt_frame_stats *stats, vkrt_error *err)
+{
+    return vkrt_renderer_add_samples(r, camera, frame_index, 0, r->samples, stats, err) &&
+           vkrt_renderer_read_image(r, r->samples, rgb, err);
+}

@@ -1,0 +1,101 @@
+/*
+ * renderer_kernels.c: the wave kernels compiled for one scene and device. Every kernel gets the
+ * same specialization constants (glsl/shared.h's VKRT_SPEC_*): what the scene has (normals,
+ * texture coordinates), which structure traversal walks and how (the tuning's choices), so each
+ * choice is dead code elimination in the driver rather than a branch at run time. count.comp and
+ * shade.comp include the material module generated from the materials the scene uses.
+ */
+#include <stdlib.h>
+
+#include "../gpu/shader.h"
+#include "kernel_sources.h"
+#include "renderer_private.h"
+
+/* What every wave kernel may use beyond core GLSL on this device: subgroup operations (count.comp
+ * reserves ray slots with one atomic per subgroup with them, one per ray without; the trace
+ * kernels' statistics need them, and are not built without). */
+static const char *kernel_preamble(const gpu_context *ctx)
+{
+    return ctx->subgroup_arithmetic ? "#extension GL_KHR_shader_subgroup_arithmetic : require\n"
+                                      "#extension GL_KHR_shader_subgroup_ballot : require\n"
+                                      "#extension GL_KHR_shader_subgroup_vote : require\n"
+                                      "#define VKRT_SUBGROUPS 1\n"
+                                    : "";
+}
+
+typedef struct kernel_spec {
+    uint32_t workgroup_size;
+    const gpu_spec_constant *constants;
+    uint32_t count;
+} kernel_spec;
+
+/* Compiles an embedded kernel (glsl/path) and makes its pipeline. */
+static bool create_kernel(vkrt_renderer *r, gpu_pipeline *pipe, const char *path,
+                          const kernel_spec *spec, vkrt_error *err)
+{
+    gpu_shader_sources sources = {
+        .lookup = vkrt_kernel_source_lookup,
+        .display_prefix = "glsl/",
+        .preamble = kernel_preamble(r->ctx),
+    };
+    uint32_t *spirv;
+    size_t words;
+    if (!gpu_shader_compile(&sources, path, &spirv, &words, err))
+        return false;
+    bool ok = gpu_pipeline_create(r->ctx, pipe, &r->set, spirv, words, spec->workgroup_size,
+                                  spec->constants, spec->count, path, err);
+    free(spirv);
+    return ok;
+}
+
+/* Compiles a kernel that includes the generated material module, and makes its pipeline. */
+static bool create_material_kernel(vkrt_renderer *r, gpu_pipeline *pipe, const char *path,
+                                   const vkrt_material_kernel *kernel,
+                                   const vkrt_scene_materials *mats, const kernel_spec *spec,
+                                   vkrt_error *err)
+{
+    uint32_t *spirv;
+    size_t words;
+    if (!vkrt_material_kernel_compile(kernel, mats, path, kernel_preamble(r->ctx), &spirv, &words,
+                                      err))
+        return false;
+    bool ok = gpu_pipeline_create(r->ctx, pipe, &r->set, spirv, words, spec->workgroup_size,
+                                  spec->constants, spec->count, path, err);
+    free(spirv);
+    return ok;
+}
+
+static uint32_t traverse_kind(vkrt_accel_kind kind)
+{
+    return kind == VKRT_ACCEL_BVH    ? VKRT_TRAVERSE_BVH
+           : kind == VKRT_ACCEL_GRID ? VKRT_TRAVERSE_GRID
+                                     : VKRT_TRAVERSE_BRUTE;
+}
+
+bool renderer_create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoords,
+                             bool traversal_stats, const vkrt_material_kernel *kernel,
+                             const vkrt_scene_materials *mats, vkrt_error *err)
+{
+    uint32_t workgroup_size = r->tuning.workgroup_size;
+    const gpu_spec_constant constants[] = {
+        {VKRT_SPEC_HAS_NORMALS, has_normals},
+        {VKRT_SPEC_ACCEL_KIND, traverse_kind(r->accel.stats.kind)},
+        {VKRT_SPEC_HAS_TEXCOORDS, has_texcoords},
+        {VKRT_SPEC_WAVE_WORKGROUP, workgroup_size},
+        {VKRT_SPEC_TRAVERSAL_STATS, traversal_stats},
+        {VKRT_SPEC_BVH_WIDTH, r->accel.stats.bvh_width},
+        {VKRT_SPEC_TEXEL_LOADS, r->texel_loads},
+        {VKRT_SPEC_NESTED_WALK, r->tuning.nested_walk},
+    };
+    const uint32_t count = sizeof constants / sizeof *constants;
+    const kernel_spec wave = {workgroup_size, constants, count};
+    /* prepare.comp writes the next depth's indirect dispatch: one invocation. */
+    const kernel_spec single = {1, constants, count};
+    return create_kernel(r, &r->raygen, "raygen.comp", &wave, err) &&
+           create_kernel(r, &r->trace, "trace.comp", &wave, err) &&
+           create_kernel(r, &r->light, "light.comp", &wave, err) &&
+           create_kernel(r, &r->occlusion, "occlusion.comp", &wave, err) &&
+           create_kernel(r, &r->prepare, "prepare.comp", &single, err) &&
+           create_material_kernel(r, &r->count, "count.comp", kernel, mats, &wave, err) &&
+           create_material_kernel(r, &r->shade, "shade.comp", kernel, mats, &wave, err);
+}

@@ -1,0 +1,63 @@
+/*
+ * renderer_private.h: the renderer's state, shared by the files of src/render that make it up
+ * (renderer.h lists them) and by nothing else: its users hold an opaque handle.
+ */
+#ifndef VKRT_RENDERER_PRIVATE_H
+#define VKRT_RENDERER_PRIVATE_H
+
+#include "../../glsl/shared.h"
+#include "../gpu/pipeline.h"
+#include "material_kernel.h"
+#include "renderer.h"
+
+struct vkrt_renderer {
+    gpu_context *ctx;
+    vkrt_tuning tuning;       /* the device's settings, with the desc's overrides */
+    gpu_storage_set set;
+    vkrt_accel_gpu accel;     /* the structure, its statistics and the triangle order */
+    gpu_pipeline raygen, trace, light, occlusion, count, prepare, shade;
+    gpu_buffer rays, rays_b, hits, triangles, normals, texcoords, triangle_material, materials,
+        lights, image, counters, waves, visibility, slots, texture_infos, texels;
+    uint32_t width, height, samples, max_depth;
+    uint32_t triangle_count, light_count, light_words;
+    uint32_t capacity, max_capacity; /* rays per ray buffer: now, and the most the device allows */
+    float min_importance;
+    bool profile;
+    uint32_t profile_repeat;  /* timed frames of a profile */
+    bool texel_loads;         /* traversal reads triangles and nodes through the views below */
+    VkBufferView triangle_view, node_view; /* texel views of triangles and accel.nodes */
+    uint32_t *light_kinds;    /* VKRT_LIGHT_KIND_* per light, kept for the loop budget check */
+    char **material_names;    /* per uploaded material, "name (file:line)", for messages */
+    uint32_t material_count;
+};
+
+/* renderer_upload.c: the scene's data in GPU buffers, in the structure's triangle order. */
+bool renderer_upload_geometry(vkrt_renderer *r, const vkrt_mesh *mesh,
+                              const vkrt_scene_materials *mats, vkrt_error *err);
+bool renderer_upload_materials(vkrt_renderer *r, const vkrt_scene_materials *mats,
+                               const vkrt_material_kernel *kernel, vkrt_error *err);
+bool renderer_upload_lights(vkrt_renderer *r, const vkrt_config *cfg, vkrt_error *err);
+/* The texel views of the triangles and the nodes, always made (every trace kernel declares
+ * them), and r->texel_loads: the tuning's choice where the views hold the whole buffers. */
+bool renderer_create_texel_views(vkrt_renderer *r, vkrt_error *err);
+
+/* renderer_buffers.c: the buffers sized by the image and by the rays of a depth. */
+uint32_t renderer_max_ray_capacity(const vkrt_renderer *r);
+bool renderer_create_frame_buffers(vkrt_renderer *r, vkrt_error *err);
+void renderer_destroy_ray_buffers(vkrt_renderer *r);
+/* Grows the ray buffers to hold `needed` rays: at least double, never past the device's limit. */
+bool renderer_grow_ray_buffers(vkrt_renderer *r, uint64_t needed, vkrt_error *err);
+/* Points every binding of the set at its buffer (after creation, and after growth). */
+void renderer_bind_all(vkrt_renderer *r);
+
+/* renderer_kernels.c: compiles the wave kernels, the material ones from the scene's materials. */
+bool renderer_create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoords,
+                             bool traversal_stats, const vkrt_material_kernel *kernel,
+                             const vkrt_scene_materials *mats, vkrt_error *err);
+
+/* renderer_frame.c: records the closest-hit or any-hit trace of the rays params covers: `count`
+ * of them, or with indirect set, the wave of params->wave.y; brute force in triangle blocks. */
+void renderer_record_trace(vkrt_renderer *r, VkCommandBuffer cmd, FrameParams *params,
+                           bool any_hit, uint32_t count, bool indirect);
+
+#endif

@@ -1,0 +1,84 @@
+/*
+ * tuning.c: the device-dependent defaults (see tuning.h), each with the measurement behind it.
+ */
+#include "tuning.h"
+
+#include <math.h>
+#include <string.h>
+
+/* 64 invocations fill two NVIDIA warps or one AMD wave64 and suit lavapipe's 8-wide SIMD. */
+enum { default_workgroup_size = 64 };
+
+/* Children per node of the BVH's GPU layout. On GPUs the pairs of two float boxes outran the
+ * quantized 4-wide nodes on every scene measured; on CPU devices (lavapipe, whose texel fetches
+ * cost more than the nodes' decoding) the 4-wide nodes were the faster with the nested walk on
+ * every scene's primary rays. */
+enum { gpu_bvh_width = 2, cpu_bvh_width = 4 };
+
+/* On a GPU a triangle test (the watertight one) costs more against a node step than the SAH's
+ * usual ratio says: smaller leaves (at most 2 triangles, a node costing half a triangle test)
+ * traced Sponza's diffuse rays 1.13x as fast on an H200 and no scene's rays more than about 3%
+ * slower. CPU devices keep bvh.h's defaults: one run on lavapipe showed no difference beyond
+ * noise, and that tree is the smaller. */
+enum { gpu_bvh_max_leaf = 2 };
+static const float gpu_bvh_traversal_cost = 0.5f;
+
+/* Mesa's llvmpipe ends an invocation's loops after 65535 iterations in all: brute force goes in
+ * blocks of triangles below that, and a brute-force light kernel that would need more is refused
+ * (renderer_frame.c). Other devices have no such limit; the block only splits dispatches. */
+enum { llvmpipe_loop_budget = 65535, brute_force_block = 32768 };
+
+/* A cast ray whose importance (largest channel) falls under this is not traced: it could change
+ * its pixel by less than a thousandth of the light that reaches it. */
+static const float default_min_importance = 1e-3f;
+
+bool vkrt_device_is_cpu(const gpu_context *ctx)
+{
+    return ctx->properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+}
+
+vkrt_tuning vkrt_tuning_choose(bool cpu_device, bool llvmpipe, const vkrt_tuning_overrides *o)
+{
+    static const vkrt_tuning_overrides none = {0};
+    if (!o)
+        o = &none;
+    vkrt_tuning t = {
+        .cpu_device = cpu_device,
+        .workgroup_size = o->workgroup_size ? o->workgroup_size : default_workgroup_size,
+        .grid_density = o->grid_density,
+        .bvh_width = o->bvh_width ? o->bvh_width : cpu_device ? cpu_bvh_width : gpu_bvh_width,
+        .bvh_max_leaf = o->bvh_max_leaf ? o->bvh_max_leaf : cpu_device ? 0 : gpu_bvh_max_leaf,
+        .bvh_traversal_cost = o->bvh_traversal_cost > 0 ? o->bvh_traversal_cost
+                              : cpu_device              ? 0
+                                                        : gpu_bvh_traversal_cost,
+        /* Mesa's llvmpipe loads a storage buffer one lane and one word at a time, each behind a
+         * bounds check and a branch, and a texel buffer with vector gathers: texel loads made
+         * lavapipe's traversal 3.4-6x faster. On GPUs storage loads were as fast or faster. */
+        .texel_loads = o->loads == VKRT_LOADS_TEXEL || (o->loads == VKRT_LOADS_DEFAULT && cpu_device),
+        .texel_loads_required = o->loads == VKRT_LOADS_TEXEL,
+        /* llvmpipe runs both sides of every branch any lane takes, so the walk with inner nodes
+         * and leaves in loops of their own was faster there; one loop was faster on GPUs. */
+        .nested_walk = o->walk == VKRT_WALK_NESTED || (o->walk == VKRT_WALK_DEFAULT && cpu_device),
+        .loop_budget = llvmpipe ? llvmpipe_loop_budget : 0,
+        .brute_force_block = brute_force_block,
+        .min_importance = default_min_importance,
+    };
+    /* The grid traced about as fast as the BVH only on a CPU device reading storage buffers; with
+     * texel loads, as on GPUs, the BVH was 1.5 to 3.9 times faster on every scene measured. */
+    t.grid_competes = cpu_device && !t.texel_loads;
+    return t;
+}
+
+vkrt_tuning vkrt_tuning_for(const gpu_context *ctx, const vkrt_tuning_overrides *o)
+{
+    return vkrt_tuning_choose(vkrt_device_is_cpu(ctx),
+                              strncmp(ctx->properties.deviceName, "llvmpipe", 8) == 0, o);
+}
+
+uint32_t vkrt_warmup_runs(double probe_ms, uint32_t min_runs)
+{
+    double runs = probe_ms > 0 ? ceil(VKRT_WARMUP_MS / probe_ms) : min_runs;
+    if (runs < min_runs)
+        runs = min_runs;
+    return runs > VKRT_WARMUP_MAX_RUNS ? VKRT_WARMUP_MAX_RUNS : (uint32_t)runs;
+}

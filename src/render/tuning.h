@@ -1,0 +1,79 @@
+/*
+ * tuning.h: every device-dependent default of the renderer, in one place. The renderer, the
+ * acceleration structure's upload and `vkrt bench` ask this module, never the device type
+ * themselves. Each default is written once, in tuning.c, beside the measurement that chose it;
+ * the measurements are in research/journal.md.
+ */
+#ifndef VKRT_TUNING_H
+#define VKRT_TUNING_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "../gpu/context.h"
+
+/* How traversal reads triangles and BVH nodes: storage buffers, or uniform texel buffer views of
+ * the same buffers (texelFetch). */
+typedef enum vkrt_loads {
+    VKRT_LOADS_DEFAULT,
+    VKRT_LOADS_STORAGE,
+    VKRT_LOADS_TEXEL,
+} vkrt_loads;
+
+/* How the BVH's walk loops: one loop that visits a node or a leaf per iteration, or inner nodes
+ * and leaves in two loops of their own inside a third (glsl/lib/traverse_bvh.glsl). */
+typedef enum vkrt_walk {
+    VKRT_WALK_DEFAULT,
+    VKRT_WALK_ONE_LOOP,
+    VKRT_WALK_NESTED,
+} vkrt_walk;
+
+/* What a user (`vkrt bench`, tests) may set against the defaults; zero everywhere means "the
+ * device's default" (sokol's convention). */
+typedef struct vkrt_tuning_overrides {
+    uint32_t workgroup_size;  /* invocations per workgroup of the wave kernels */
+    float grid_density;       /* cells per triangle of a grid */
+    uint32_t bvh_width;       /* children per node of the BVH's GPU layout, 2 or 4 */
+    uint32_t bvh_max_leaf;    /* the BVH build's largest leaf (1..16) */
+    float bvh_traversal_cost; /* the BVH build's SAH cost of a node against a triangle */
+    vkrt_loads loads;
+    vkrt_walk walk;
+} vkrt_tuning_overrides;
+
+/* The settings every kernel and structure reads, resolved for one device. */
+typedef struct vkrt_tuning {
+    bool cpu_device;          /* a CPU implementation (lavapipe): the choices below follow it */
+    uint32_t workgroup_size;
+    float grid_density;       /* 0: the grid's own default (grid.h) */
+    uint32_t bvh_width;       /* 2 or 4 */
+    uint32_t bvh_max_leaf;    /* 0: bvh.h's default */
+    float bvh_traversal_cost; /* 0: bvh.h's default */
+    bool texel_loads;         /* read through texel views where they hold the whole buffers */
+    bool texel_loads_required;/* asked for: an error where they cannot hold them */
+    bool nested_walk;
+    bool grid_competes;       /* accel auto weighs the grid against the BVH */
+    uint32_t loop_budget;     /* loop iterations an invocation may run in all (0: no limit) */
+    uint32_t brute_force_block; /* triangles per brute-force dispatch */
+    float min_importance;     /* a cast ray weaker than this (largest channel) is dropped */
+} vkrt_tuning;
+
+/* Whether ctx's device is a CPU implementation. */
+bool vkrt_device_is_cpu(const gpu_context *ctx);
+
+/* The settings for a device (cpu_device; llvmpipe: Mesa's CPU device, whose loop budget applies)
+ * with the overrides o (NULL: none) applied. Checks nothing: values out of range are refused
+ * where they are used (the BVH's layout, the pipeline's limits). */
+vkrt_tuning vkrt_tuning_choose(bool cpu_device, bool llvmpipe, const vkrt_tuning_overrides *o);
+
+/* vkrt_tuning_choose for ctx's device. */
+vkrt_tuning vkrt_tuning_for(const gpu_context *ctx, const vkrt_tuning_overrides *o);
+
+/* GPU warm-up before anything is timed: runs of a probe_ms-long piece of work that make up
+ * VKRT_WARMUP_MS of GPU time, at least min_runs and at most VKRT_WARMUP_MAX_RUNS. A GPU idle
+ * before a timing runs at low clocks: on the H100 the same frame took 7 ms right after another
+ * and 30 ms after the host wrote a PNG; 300 ms at full load brought it to its clocks. */
+#define VKRT_WARMUP_MS 300.0
+#define VKRT_WARMUP_MAX_RUNS 4000u
+uint32_t vkrt_warmup_runs(double probe_ms, uint32_t min_runs);
+
+#endif

@@ -1,0 +1,324 @@
+/*
+ * obj_scan.cpp: the pre-scan of obj_scan.h, which checks an OBJ's text before tinyobjloader reads it.
+ *
+ * rc10's parser turns anything it cannot parse ("nan", "inf", "1.#IND", "abc") into 0 without a
+ * word, and stops at the first bad character ("3.1+e2" becomes 3.1). The lines are walked exactly
+ * as tinyobjloader walks them (LF, CRLF and lone CR all end a line; leading blanks skipped), and
+ * the numbers of v/vt/vn records are checked with a strict grammar. Decisions:
+ *   - v: all three coordinates must be plain decimal numbers that fit a float; otherwise
+ *     "path:LINE: vertex coordinate is not finite (...)" or "... is not a number" is an error.
+ *   - vt: the coordinates present (up to two) get the same check; a missing v defaults to 0.
+ *   - vn: a normal that is not three finite numbers is marked unusable, not refused: the loader
+ *     gives the triangles using it their geometric normal and records a warning.
+ *   - any number of a v, vt or vn record whose exponent has more than 9 significant digits is
+ *     an error: rc10 would overflow an int reading it (undefined behaviour, found by fuzzing).
+ * Before all that, UTF-16 and NUL bytes are refused (a NUL would cut a line short), and after it,
+ * "vw" and "t" records are blanked in place so tinyobjloader never reads them.
+ */
+#include "obj_scan.h"
+
+#include <cctype>
+#include <cfloat>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+
+namespace obj_scan {
+
+/* ------------------------------------------------------------------------------ encoding */
+
+namespace {
+
+/* UTF-16 text without a BOM shows as NUL bytes on every other position. */
+bool looks_like_bomless_utf16(const std::string &text)
+{
+    size_t n = text.size() < 4096 ? text.size() : 4096;
+    size_t nul_even = 0, nul_odd = 0;
+    for (size_t i = 0; i < n; i++)
+        if (text[i] == '\0')
+            (i % 2 ? nul_odd : nul_even)++;
+    size_t half = n / 2;
+    return half > 0 && ((nul_even * 10 >= half * 8 && nul_odd * 10 < half) ||
+                        (nul_odd * 10 >= half * 8 && nul_even * 10 < half));
+}
+
+} // namespace
+
+/* Refuses what is not 8-bit text; returns in *start how many leading bytes to skip (a BOM). */
+bool check_encoding(const char *path, const std::string &text, size_t *start, vkrt_error *err)
+{
+    *start = 0;
+    const unsigned char *u = reinterpret_cast<const unsigned char *>(text.data());
+    bool bom16 = text.size() >= 2 && ((u[0] == 0xFE && u[1] == 0xFF) || (u[0] == 0xFF && u[1] == 0xFE));
+    if (bom16 || looks_like_bomless_utf16(text))
+        return vkrt_error_set(err, "%s: looks like UTF-16 text; save it as UTF-8", path);
+    /* A NUL would silently cut a line short in tinyobjloader (it parses C strings). */
+    if (memchr(text.data(), '\0', text.size()))
+        return vkrt_error_set(err, "%s: not a text file (contains NUL bytes)", path);
+    if (text.size() >= 3 && u[0] == 0xEF && u[1] == 0xBB && u[2] == 0xBF)
+        *start = 3;
+    return true;
+}
+
+/* -------------------------------------------------------------------------- line walking */
+
+bool LineWalker::next(Span *line)
+{
+    if (p >= end)
+        return false;
+    line->b = p;
+    while (p < end && *p != '\n' && *p != '\r')
+        p++;
+    line->e = p;
+    if (p < end) {
+        char ending = *p++;
+        if (ending == '\r' && p < end && *p == '\n')
+            p++;
+    }
+    number++;
+    return true;
+}
+
+bool is_blank(char c) { return c == ' ' || c == '\t'; }
+
+/* Next blank-separated token of *rest, or false at the end of the line. */
+bool next_token(Span *rest, Span *token)
+{
+    while (rest->b < rest->e && is_blank(*rest->b))
+        rest->b++;
+    if (rest->b >= rest->e)
+        return false;
+    token->b = rest->b;
+    while (rest->b < rest->e && !is_blank(*rest->b))
+        rest->b++;
+    token->e = rest->b;
+    return true;
+}
+
+/* The record keyword, as tinyobjloader matches it: the word followed by a blank. */
+bool has_keyword(const Span &line, const char *word)
+{
+    size_t n = strlen(word);
+    return line.len() > n && memcmp(line.b, word, n) == 0 && is_blank(line.b[n]);
+}
+
+/* --------------------------------------------------------------------------------- numbers */
+
+namespace {
+
+enum class Number { ok, not_finite, invalid };
+
+/* Plain decimal as tinyobjloader understands it: [sign] (digits[.digits*] | .digits) [e[sign]digits].
+ * strtod alone would also take hex, "nan" and "inf", which tinyobjloader reads as 0. */
+bool is_plain_decimal(const Span &t)
+{
+    const char *p = t.b, *e = t.e;
+    if (p < e && (*p == '+' || *p == '-'))
+        p++;
+    size_t int_digits = 0, frac_digits = 0;
+    while (p < e && *p >= '0' && *p <= '9')
+        p++, int_digits++;
+    if (p < e && *p == '.') {
+        p++;
+        while (p < e && *p >= '0' && *p <= '9')
+            p++, frac_digits++;
+    }
+    if (int_digits + frac_digits == 0)
+        return false;
+    if (p < e && (*p == 'e' || *p == 'E')) {
+        p++;
+        if (p < e && (*p == '+' || *p == '-'))
+            p++;
+        size_t exp_digits = 0;
+        while (p < e && *p >= '0' && *p <= '9')
+            p++, exp_digits++;
+        if (exp_digits == 0)
+            return false;
+    }
+    return p == e;
+}
+
+bool names_non_finite(const Span &t)
+{
+    std::string s(t.b, t.e);
+    char *end = nullptr;
+    double v = strtod(s.c_str(), &end);
+    if (end && *end == '\0' && !std::isfinite(v))
+        return true; /* nan, -nan, inf, infinity */
+    for (char &c : s)
+        c = static_cast<char>(toupper(static_cast<unsigned char>(c)));
+    return s.find("#IND") != std::string::npos || s.find("#INF") != std::string::npos ||
+           s.find("#QNAN") != std::string::npos; /* MSVC's printf of nan/inf */
+}
+
+/* rc10's tryParseDouble accumulates the exponent in an int, checking for overflow one digit too
+ * late, so an exponent of ten or more significant digits ("1e-2147483649") is undefined behaviour
+ * there. Such a number is no coordinate anyone writes; it is refused before tinyobjloader runs. */
+bool exponent_too_long(const Span &t)
+{
+    const char *p = t.b;
+    while (p < t.e && *p != 'e' && *p != 'E')
+        p++;
+    if (p < t.e)
+        p++;
+    if (p < t.e && (*p == '+' || *p == '-'))
+        p++;
+    while (p < t.e && *p == '0') /* leading zeros add nothing to the value */
+        p++;
+    size_t digits = 0;
+    while (p < t.e && *p >= '0' && *p <= '9')
+        p++, digits++;
+    return digits > 9;
+}
+
+Number classify_number(const Span &t)
+{
+    if (!is_plain_decimal(t))
+        return names_non_finite(t) ? Number::not_finite : Number::invalid;
+    std::string s(t.b, t.e);
+    double v = strtod(s.c_str(), nullptr); /* overflow (1e999) gives HUGE_VAL */
+    if (!std::isfinite(v) || std::fabs(v) > FLT_MAX)
+        return Number::not_finite; /* a float is what reaches the GPU */
+    return Number::ok;
+}
+
+/* ------------------------------------------------------------------------------- pre-scan */
+
+bool fail_number(const char *path, uint32_t line, const char *what, Number kind, const Span &t,
+                 vkrt_error *err)
+{
+    int n = static_cast<int>(t.len() < QUOTE_MAX ? t.len() : QUOTE_MAX);
+    if (kind == Number::not_finite)
+        return vkrt_error_set(err, "%s:%u: %s is not finite (%.*s)", path, line, what, n, t.b);
+    return vkrt_error_set(err, "%s:%u: %s '%.*s' is not a number", path, line, what, n, t.b);
+}
+
+bool scan_vertex(const char *path, uint32_t line, Span rest, vkrt_error *err)
+{
+    Span t;
+    for (int i = 0; i < 3; i++) {
+        if (!next_token(&rest, &t))
+            return vkrt_error_set(err, "%s:%u: vertex has %d coordinates, needs 3", path, line, i);
+        Number kind = classify_number(t);
+        if (kind != Number::ok)
+            return fail_number(path, line, "vertex coordinate", kind, t, err);
+    }
+    return true;
+}
+
+bool scan_texcoord(const char *path, uint32_t line, Span rest, vkrt_error *err)
+{
+    Span t;
+    for (int i = 0; i < 2 && next_token(&rest, &t); i++) {
+        Number kind = classify_number(t);
+        if (kind != Number::ok)
+            return fail_number(path, line, "texture coordinate", kind, t, err);
+    }
+    return true;
+}
+
+bool normal_is_usable(Span rest)
+{
+    Span t;
+    for (int i = 0; i < 3; i++)
+        if (!next_token(&rest, &t) || classify_number(t) != Number::ok)
+            return false;
+    return true;
+}
+
+uint32_t count_tokens(Span rest)
+{
+    uint32_t n = 0;
+    Span t;
+    while (next_token(&rest, &t))
+        n++;
+    return n;
+}
+
+/* Every token of a v, vt or vn record goes through tinyobjloader's number parser (v also reads
+ * up to three colour values), so none may carry an exponent it cannot hold; see exponent_too_long. */
+bool scan_exponents(const char *path, uint32_t line, Span rest, vkrt_error *err)
+{
+    Span t;
+    while (next_token(&rest, &t))
+        if (exponent_too_long(t)) {
+            int n = static_cast<int>(t.len() < QUOTE_MAX ? t.len() : QUOTE_MAX);
+            return vkrt_error_set(err, "%s:%u: number '%.*s' has an exponent of more than 9 digits",
+                                  path, line, n, t.b);
+        }
+    return true;
+}
+
+/* Classifies one line (leading blanks already skipped) and records what it is. */
+bool scan_line(const char *path, const std::string &text, uint32_t number, Span line, ObjScan *scan,
+               vkrt_error *err)
+{
+    if (has_keyword(line, "v")) {
+        scan->v_line.push_back(number);
+        return scan_vertex(path, number, Span{line.b + 2, line.e}, err) &&
+               scan_exponents(path, number, Span{line.b + 2, line.e}, err);
+    }
+    if (has_keyword(line, "vt")) {
+        scan->vt_line.push_back(number);
+        return scan_texcoord(path, number, Span{line.b + 3, line.e}, err) &&
+               scan_exponents(path, number, Span{line.b + 3, line.e}, err);
+    }
+    if (has_keyword(line, "vn")) {
+        if (!scan_exponents(path, number, Span{line.b + 3, line.e}, err))
+            return false;
+        scan->vn_line.push_back(number);
+        bool usable = normal_is_usable(Span{line.b + 3, line.e});
+        scan->vn_usable.push_back(usable);
+        scan->unusable_normals += !usable;
+        return true;
+    }
+    if (has_keyword(line, "f")) {
+        uint32_t corners = count_tokens(Span{line.b + 2, line.e});
+        if (corners >= 3) /* tinyobjloader drops shorter faces with a warning */
+            scan->faces.push_back(FaceLine{static_cast<size_t>(line.b - text.data()), number, corners,
+                                           static_cast<uint32_t>(scan->v_line.size()),
+                                           static_cast<uint32_t>(scan->vt_line.size()),
+                                           static_cast<uint32_t>(scan->vn_line.size())});
+    }
+    return true;
+}
+
+} // namespace
+
+bool prescan(const char *path, const std::string &text, size_t start, ObjScan *scan, vkrt_error *err)
+{
+    LineWalker walker(text.data() + start, text.data() + text.size());
+    Span line;
+    while (walker.next(&line)) {
+        while (line.b < line.e && is_blank(*line.b))
+            line.b++;
+        if (!scan_line(path, text, walker.number, line, scan, err))
+            return false;
+    }
+    return true;
+}
+
+namespace {
+
+/* Records vkrt has no use for, which rc10 parses unsafely: "vw" skin weights (a joint id such as
+ * 8.9e9 is cast from float to int, undefined behaviour) and "t" tags (their numbers go through
+ * the same exponent parser as above, unchecked). Blanking them in place keeps every offset and line
+ * number while tinyobjloader sees only empty lines. */
+bool is_ignored_record(const Span &line) { return has_keyword(line, "vw") || has_keyword(line, "t"); }
+
+} // namespace
+
+void blank_ignored_records(std::string *text, size_t start)
+{
+    char *base = &(*text)[0];
+    LineWalker walker(base + start, base + text->size());
+    Span line;
+    while (walker.next(&line)) {
+        while (line.b < line.e && is_blank(*line.b))
+            line.b++;
+        if (is_ignored_record(line))
+            memset(base + (line.b - base), ' ', line.len());
+    }
+}
+
+} // namespace obj_scan

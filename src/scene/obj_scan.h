@@ -1,0 +1,92 @@
+/*
+ * obj_scan.h: the pre-scan of an OBJ file, run before tinyobjloader (internal to obj_load.cpp).
+ *
+ * tinyobjloader (2.0.0rc10) accepts silently what a renderer cannot afford: "nan", "inf" or "abc"
+ * as a coordinate becomes 0, "3.1+e2" becomes 3.1, a NUL byte cuts a line short. It parses some
+ * input unsafely (an exponent of ten digits, "vw" and "t" records: undefined behaviour, found by
+ * fuzzing), and it keeps no line numbers. The pre-scan walks the lines exactly as tinyobjloader
+ * does, refuses those cases with "path:LINE: ..." messages, blanks the records it would misread,
+ * and records the line of every v, vt, vn and f record, so the loader can name the line when it
+ * validates what tinyobjloader returns. C++ only; nothing here needs tinyobjloader.
+ */
+#ifndef VKRT_OBJ_SCAN_H
+#define VKRT_OBJ_SCAN_H
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+extern "C" {
+#include "../error.h"
+}
+
+namespace obj_scan {
+
+/* Longest piece of user text quoted in a message, so a garbage line cannot flood it. */
+constexpr int QUOTE_MAX = 40;
+
+/* The bytes [b, e) of the text: a line or a token, never NUL-terminated. */
+struct Span {
+    const char *b = nullptr, *e = nullptr;
+    size_t len() const { return static_cast<size_t>(e - b); }
+};
+
+/* Splits text into lines the way tinyobjloader's safeGetline does: "\n", "\r\n" and "\r" all end
+ * a line, so our line numbers are the ones its own messages use. */
+struct LineWalker {
+    const char *p, *end;
+    uint32_t number = 0; /* of the line next() returned last, counted from 1 */
+
+    LineWalker(const char *b, const char *e) : p(b), end(e) {}
+
+    /* The next line, without its ending, in *line; false once the text is used up. */
+    bool next(Span *line);
+};
+
+/* Space or tab: the only separators tinyobjloader knows. */
+bool is_blank(char c);
+
+/* The next blank-separated token of *rest in *token, and *rest moved past it; false at the end
+ * of the line. */
+bool next_token(Span *rest, Span *token);
+
+/* Whether line (leading blanks already skipped) is a `word` record as tinyobjloader matches it:
+ * the word followed by a blank. */
+bool has_keyword(const Span &line, const char *word);
+
+/* One f record that tinyobjloader keeps (3 or more corners). */
+struct FaceLine {
+    size_t offset;      /* of the line in the text, to quote an index in a message */
+    uint32_t line;
+    uint32_t corners;
+    uint32_t v_before, vt_before, vn_before; /* records seen before it: relative indices count back */
+};
+
+/* What prescan records, in file order. */
+struct ObjScan {
+    std::vector<uint32_t> v_line, vt_line, vn_line; /* line of each record, by index */
+    std::vector<char> vn_usable;                    /* the vn record holds three finite numbers */
+    std::vector<FaceLine> faces;
+    size_t unusable_normals = 0;
+};
+
+/* Refuses text that is not 8-bit: UTF-16 (with a BOM, or without one, seen as interleaved NULs)
+ * and any NUL byte, with a "path: ..." message in err. On success *start is how many leading bytes
+ * to skip: 3 for a UTF-8 BOM, else 0. */
+bool check_encoding(const char *path, const std::string &text, size_t *start, vkrt_error *err);
+
+/* Walks text from byte start and fills *scan (empty on entry). Fails with "path:LINE: ..." in err
+ * at the first v or vt record with a coordinate that is missing, not a plain decimal or not a
+ * finite float, or a v/vt/vn number with an exponent of more than 9 digits. A vn that is not three
+ * finite numbers is only marked unusable. */
+bool prescan(const char *path, const std::string &text, size_t start, ObjScan *scan,
+             vkrt_error *err);
+
+/* Overwrites with spaces, in place from byte start, the records vkrt ignores and rc10 parses
+ * unsafely ("vw" skin weights, "t" tags); every offset and line number stays as it was. */
+void blank_ignored_records(std::string *text, size_t start);
+
+} // namespace obj_scan
+
+#endif
