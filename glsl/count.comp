@@ -12,6 +12,9 @@
  * subgroup's children land next to each other, in the order of their parents.
  */
 #include "generated/materials.glsl"
+#ifdef VKRT_PATH
+#include "lib/path.glsl"
+#endif
 
 /* The count_rays answer of ray index's hit; 0 for dead rays, misses and at the last depth. */
 uint hit_count(uint index)
@@ -21,6 +24,10 @@ uint hit_count(uint index)
     if ((ray.info.w & VKRT_RAY_DEAD) != 0u || hit.triangle == VKRT_NO_HIT ||
         frame.wave.y >= frame.wave.z)
         return 0u;
+#ifdef VKRT_PATH
+    /* The path tracer casts one continuation per hit, unless Russian roulette ends the path. */
+    return path_continues(ray) ? 1u : 0u;
+#else
     Surface s = surface_at(ray, hit);
     vkrt_material = s.material;
     vkrt_ray_index = index;
@@ -36,6 +43,7 @@ uint hit_count(uint index)
         count = 0u;
     }
     return count;
+#endif
 }
 
 void main()

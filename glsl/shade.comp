@@ -2,32 +2,77 @@
  * shade.comp: runs every hit's material shader (and the environment shader for rays that missed):
  * the radiance it adds goes to the ray's pixel with a float atomic add, the rays it casts go into
  * the slots count.comp reserved. Slots a shader leaves unused are filled with dead rays, so the
- * next trace needs no compaction to stay correct.
+ * next trace needs no compaction to stay correct. The path integrator's version of a hit is
+ * shade_path below (lib/path.glsl): the emitted light the ray finds, weighted against light
+ * sampling, and one continuation drawn from the BSDF.
  */
 #include "generated/materials.glsl"
+#include "lib/environment.glsl"
+#include "lib/pixel.glsl"
+#ifdef VKRT_PATH
+#include "lib/path.glsl"
 
-/* Adds c to pixel p. Float atomics where the device has them (VK_EXT_shader_atomic_float), else a
- * compare-and-swap loop on the float's bits. */
-void add_to_pixel(uint p, vec3 c)
+/* A ray slot the shader left unused: traced and shaded by nobody. */
+Ray dead_ray(Ray parent)
 {
-#ifdef VKRT_FLOAT_ATOMICS
-    atomicAdd(image[p].x, c.x);
-    atomicAdd(image[p].y, c.y);
-    atomicAdd(image[p].z, c.z);
-#else
-    for (uint k = 0u; k < 3u; ++k) {
-        uint word = 4u * p + k;
-        uint seen = image_words[word];
-        for (;;) {
-            uint wanted = floatBitsToUint(uintBitsToFloat(seen) + c[k]);
-            uint before = atomicCompSwap(image_words[word], seen, wanted);
-            if (before == seen)
-                break;
-            seen = before;
-        }
-    }
-#endif
+    Ray dead;
+    dead.origin = vec4(0.0);
+    dead.direction = vec4(0.0, 0.0, 1.0, -1.0);
+    dead.importance = vec4(0.0);
+    dead.info = uvec4(parent.info.x, 0u, parent.info.z + 1u, VKRT_RAY_DEAD);
+    dead.payload = vec4(0.0);
+    return dead;
 }
+
+/* The light ray finds where it ends (an emitter it hits, or the environment it escapes to),
+ * weighted against the light sample of the vertex it came from. */
+vec3 found_light(Ray ray, Hit hit, Surface s)
+{
+    /* Camera rays and delta lobes carry pdf 0: no light sample could have found this. */
+    float pdf_bsdf = ray.importance.w;
+    if (hit.triangle == VKRT_NO_HIT) {
+        vec3 le = environment_radiance(ray.direction.xyz, ray.payload);
+        return pdf_bsdf > 0.0 ? le * bsdf_sample_weight(pdf_bsdf, environment_pdf(ray.direction.xyz))
+                              : le;
+    }
+    vec3 le = material_emitted(materials[s.material].info.x, s);
+    if (pdf_bsdf <= 0.0 || all(equal(le, vec3(0.0))))
+        return le;
+    float cos_light = abs(dot(ray.direction.xyz, s.geometric_normal));
+    return le * bsdf_sample_weight(pdf_bsdf, emitter_pdf(s.material, hit.t, cos_light));
+}
+
+void shade_path(uint index, Ray ray, Hit hit)
+{
+    vkrt_radiance = vec3(0.0);
+    Surface s;
+    if (hit.triangle == VKRT_NO_HIT) {
+        vkrt_material = VKRT_ENVIRONMENT_MATERIAL;
+    } else {
+        s = surface_at(ray, hit);
+        vkrt_material = s.material;
+    }
+    add_finite_to_pixel(ray.info.x, ray.importance.rgb * found_light(ray, hit, s));
+    uvec2 slots = ray_slots[index];
+    /* count.comp reserved one slot when the path carries on (never at the last depth). */
+    if (hit.triangle == VKRT_NO_HIT || frame.wave.y >= frame.wave.z || slots.y == 0u ||
+        slots.x >= frame.wave.w)
+        return;
+    Ray child = dead_ray(ray);
+    BsdfSample b;
+    vkrt_child_payload = ray.payload;
+    if (material_bsdf_sample(materials[s.material].info.x, s, b) &&
+        any(greaterThan(b.weight, vec3(0.0)))) {
+        child.origin = vec4(surface_origin(s, b.direction), 0.0);
+        child.direction = vec4(b.direction, FAR);
+        child.importance = vec4(ray.importance.rgb * b.weight / path_survival(ray),
+                                b.delta ? 0.0 : b.pdf);
+        child.info = uvec4(ray.info.x, rng_child_seed(ray.info.y, 0u), ray.info.z + 1u, 0u);
+        child.payload = vkrt_child_payload;
+    }
+    store_child_ray(slots.x, child);
+}
+#endif
 
 void main()
 {
@@ -42,9 +87,13 @@ void main()
     vkrt_ray = ray;
     vkrt_rng = ray.info.y;
     vkrt_radiance = vec3(0.0);
+#ifdef VKRT_PATH
+    shade_path(index, ray, hit);
+    return;
+#endif
     if (hit.triangle == VKRT_NO_HIT) {
         vkrt_material = VKRT_ENVIRONMENT_MATERIAL;
-        vkrt_radiance = material_environment(ray.direction.xyz, ray.payload);
+        vkrt_radiance = environment_radiance(ray.direction.xyz, ray.payload);
     } else {
         Surface s = surface_at(ray, hit);
         uvec2 slots = ray_slots[index];
@@ -65,12 +114,5 @@ void main()
             if (vkrt_cast_first + k < frame.wave.w)
                 store_child_ray(vkrt_cast_first + k, dead);
     }
-    vec3 c = ray.importance.rgb * vkrt_radiance;
-    /* One NaN would spread through every sample of its pixel: drop it, count it. */
-    if (any(isnan(c)) || any(isinf(c))) {
-        atomicAdd(counters.nonfinite, 1u);
-        return;
-    }
-    if (any(notEqual(c, vec3(0.0))))
-        add_to_pixel(ray.info.x, c);
+    add_finite_to_pixel(ray.info.x, ray.importance.rgb * vkrt_radiance);
 }

@@ -43,9 +43,11 @@ typedef uint32_t uint;
 #define VKRT_BINDING_TEXCOORDS 16
 #define VKRT_BINDING_TEXTURE_INFOS 17
 #define VKRT_BINDING_TEXELS 18
-#define VKRT_STORAGE_BINDINGS 19
-#define VKRT_BINDING_TRIANGLE_TEXELS 19
-#define VKRT_BINDING_NODE_TEXELS 20
+#define VKRT_BINDING_EMITTERS 19
+#define VKRT_BINDING_ENVIRONMENT 20
+#define VKRT_STORAGE_BINDINGS 21
+#define VKRT_BINDING_TRIANGLE_TEXELS 21
+#define VKRT_BINDING_NODE_TEXELS 22
 #define VKRT_TEXEL_BINDINGS 2
 
 /* The viewer's display pass (glsl/display.comp, src/view/display.c): a set of its own. */
@@ -62,6 +64,19 @@ typedef uint32_t uint;
 #define VKRT_SPEC_BVH_WIDTH 6
 #define VKRT_SPEC_TEXEL_LOADS 7
 #define VKRT_SPEC_NESTED_WALK 8
+#define VKRT_SPEC_INTEGRATOR 9
+#define VKRT_SPEC_LIGHT_SAMPLING 10
+#define VKRT_SPEC_HAS_CUTOUTS 11
+
+/* Integrators (VKRT_SPEC_INTEGRATOR): Whitted's (delta lights, ambient, the materials' own rays)
+ * or the path tracer (next-event estimation with multiple importance sampling). */
+#define VKRT_INTEGRATE_WHITTED 0u
+#define VKRT_INTEGRATE_PATH 1u
+/* How the path tracer samples direct light (VKRT_SPEC_LIGHT_SAMPLING): both strategies weighted by
+ * the power heuristic (the default), or one alone (for tests: all three must agree). */
+#define VKRT_SAMPLING_MIS 0u
+#define VKRT_SAMPLING_LIGHTS 1u
+#define VKRT_SAMPLING_BSDF 2u
 
 /* Sizes both sides must agree on. The BVH's traversal stack: src/render/accel_gpu.c refuses a
  * tree whose paths could need more (one entry per level of pairs, up to 3 per level of quads).
@@ -126,13 +141,18 @@ VKRT_STRUCT(TriangleTexcoords) {
 #define VKRT_MATERIAL_PARAMS 16u
 #define VKRT_MATERIAL_TEXTURES 8u
 #define VKRT_NO_TEXTURE 0xFFFFFFFFu
+/* Material.info.w: where traversal reads the coverage of a cut-out (lib/cutout.glsl): none, the
+ * red of texture slot 1 (map_d), or the alpha of slot 0 (an RGBA map_Kd without map_d). */
+#define VKRT_CUTOUT_NONE 0u
+#define VKRT_CUTOUT_MAP_D 1u
+#define VKRT_CUTOUT_ALPHA 2u
 #define VKRT_MATERIAL_USES_LIGHTS 1u   /* its shader reads light samples: the light kernel traces
                                           shadow rays for its hits (and for no others) */
 VKRT_STRUCT(Material) {
     vec4 params[4];   /* parameter i is params[i / 4][i % 4] */
     uvec4 textures[2];/* texture of slot k is textures[k / 4][k % 4], or VKRT_NO_TEXTURE */
     uvec4 info;       /* x: shader index in the generated kernel, y: VKRT_MATERIAL_* flags,
-                         z: texture count, w unused */
+                         z: texture count, w: VKRT_CUTOUT_* */
 };
 
 /* A light in GPU form. Spot lights fall off linearly in angle from beam_angle (full intensity)
@@ -220,6 +240,37 @@ VKRT_STRUCT(GridInfo) {
     vec4 hi;          /* xyz: grid bounds max */
     vec4 cell_size;   /* xyz: (hi - lo) / dims */
     uvec4 dims;       /* xyz: cells per axis, w: cell count */
+};
+
+/* What the path tracer's light sampling needs to know of the scene's area lights and sky, one
+ * record at the start of the emitter buffer (binding VKRT_BINDING_EMITTERS), the alias table after
+ * it. An emissive triangle is chosen with probability power / total_power, power = luminance(Ke)
+ * * area (src/scene/emitters.h), and a point on it uniformly: the density per unit area of a point
+ * of triangle t is then luminance(Ke of t's material) / total_power, which a BSDF ray that hits
+ * t needs for its MIS weight, with no table lookup. */
+VKRT_STRUCT(LightInfo) {
+    uint emitter_count;      /* entries of the alias table */
+    float emitter_power;     /* sum of luminance(Ke) * area over them */
+    uint environment_width;  /* environment map texels (0: none; the constant environment) */
+    uint environment_height;
+    float environment_scale; /* radiance multiplier of the map */
+    float environment_rotate;/* rotation about +y, radians */
+    uint environment_pixels; /* where the map's pixels (RGB floats) start in the environment
+                                buffer, after its distribution (lib/environment.glsl) */
+    float environment_integral; /* sum of the distribution's weights (src/scene/envmap.h) */
+    uint environment_sampled;   /* 1: next-event estimation samples the environment (a map, a
+                                   constant above zero or a user's environment shader) */
+    uint pad0, pad1, pad2;
+};
+
+/* An entry of the alias table over the emissive triangles (Vose's method): entry i taken
+ * uniformly, kept with probability `keep`, else entry `alias` is taken: each triangle comes out
+ * with probability power / total power. */
+VKRT_STRUCT(Emitter) {
+    uint triangle;           /* index in the uploaded (acceleration structure's) order */
+    float keep;
+    uint alias;
+    float power;             /* luminance(Ke) * area */
 };
 
 /* Counters the kernels update with atomics; the host reads them after a frame. */

@@ -23,6 +23,8 @@ const char *vkrt_usage(void)
            "  --height H        image height in pixels\n"
            "  --spp N           samples per pixel (overrides `samples`)\n"
            "  --accel A         auto | brute | grid | bvh (overrides `accel`)\n"
+           "  --integrator I    auto | whitted | path (overrides `integrator`): Whitted's\n"
+           "                    delta lights and perfect mirrors, or the path tracer\n"
            "  --verbose         say which acceleration structure was chosen and why, and its\n"
            "                    build statistics\n"
            "  --profile         time every dispatch of each frame (GPU timestamps) and print a\n"
@@ -130,7 +132,7 @@ static const struct known_option {
     {"--stats", BENCH},      {"--kernel-stats", BENCH}, {"--whole-scene", BENCH},
     {"--workgroup", BENCH},  {"--grid-density", BENCH}, {"--bvh-width", BENCH},
     {"--bvh-leaf", BENCH},   {"--bvh-cost", BENCH},     {"--loads", BENCH},
-    {"--walk", BENCH},
+    {"--walk", BENCH},       {"--integrator", RENDER | VIEW},
 };
 
 static const char *command_name(vkrt_command command)
@@ -181,6 +183,11 @@ static bool parse_common(const char *arg, const char *value, vkrt_common_options
             return vkrt_error_set(err, "--accel: '%s' is not one of auto, brute, grid, bvh",
                                   value ? value : "");
         c->accel_given = true;
+    } else if (strcmp(arg, "--integrator") == 0) {
+        *consumed = 1;
+        if (!value || !vkrt_integrator_parse(value, &c->integrator))
+            return vkrt_error_set(err, "--integrator: '%s' is not one of auto, whitted, path",
+                                  value ? value : "");
     } else if (strcmp(arg, "--validation") == 0) {
         c->validation = true;
     } else if (strcmp(arg, "--quiet") == 0) {
@@ -374,5 +381,6 @@ vkrt_render_desc vkrt_render_desc_for(const vkrt_config *cfg, const vkrt_common_
         .height = common->height ? common->height : cfg->height,
         .samples = samples ? samples : cfg->samples,
         .accel = common->accel_given ? common->accel : cfg->accel,
+        .integrator = common->integrator,
     };
 }

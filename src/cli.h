@@ -28,6 +28,7 @@ typedef struct vkrt_common_options {
     uint32_t width, height;   /* --width, --height; 0 when not given (the scene's resolution) */
     vkrt_accel_kind accel;    /* --accel, when accel_given (else the scene's choice holds) */
     bool accel_given;
+    vkrt_integrator integrator; /* --integrator (render, view); auto (0) when not given */
     int device;               /* --device; -1 picks the default */
     bool validation;          /* --validation, or VKRT_VALIDATION=1 in the environment */
     bool quiet;

@@ -32,3 +32,16 @@ bool vkrt_error_prefix(vkrt_error *err, const char *fmt, ...)
         err->msg[sizeof err->msg - 1] = '\0';
     return false;
 }
+
+bool vkrt_error_set_file(vkrt_error *err, const char *referrer, const char *kind, const char *path,
+                         const char *fmt, ...)
+{
+    char reason[700];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(reason, sizeof reason, fmt, ap);
+    va_end(ap);
+    if (referrer && *referrer)
+        return vkrt_error_set(err, "%s: %s '%s': %s", referrer, kind, path, reason);
+    return vkrt_error_set(err, "%s '%s': %s", kind, path, reason);
+}

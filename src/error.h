@@ -19,6 +19,11 @@ typedef struct vkrt_error {
  * `return vkrt_error_set(err, "...")`. err may be NULL, then the message is dropped. */
 bool vkrt_error_set(vkrt_error *err, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
+/* A message about a file a scene names: "<referrer>: <kind> '<path>': <reason>", the referrer
+ * (where the file was named, e.g. "scene.cfg:4") left out when NULL or empty. Returns false. */
+bool vkrt_error_set_file(vkrt_error *err, const char *referrer, const char *kind, const char *path,
+                         const char *fmt, ...) __attribute__((format(printf, 5, 6)));
+
 /* Prefixes an existing message with context: "ctx: old message". Returns false. */
 bool vkrt_error_prefix(vkrt_error *err, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 

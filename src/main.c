@@ -65,6 +65,8 @@ typedef struct render_totals {
     uint64_t rays;
     uint32_t rendered, skipped;
     bool interrupted;
+    vkrt_integrator integrator;   /* what the renderer computed, and why */
+    char integrator_reason[256];
 } render_totals;
 
 /* Set by SIGINT or SIGTERM; frames are checked between, so the frame being written finishes (or
@@ -108,8 +110,21 @@ static bool render_frames(const vkrt_render_options *opts, const vkrt_scene *sce
     if (!vkrt_renderer_create(&renderer, ctx, scene, &desc, err))
         return false;
     *accel = *vkrt_renderer_accel_stats(renderer);
-    if (opts->common.verbose)
+    const char *why;
+    vkrt_integrator integrator = vkrt_renderer_integrator(renderer, &why);
+    totals->integrator = integrator;
+    snprintf(totals->integrator_reason, sizeof totals->integrator_reason, "%s", why);
+    if (opts->common.verbose) {
         print_accel_stats(stderr, accel);
+        fprintf(stderr, "vkrt: integrator %s: %s\n", vkrt_integrator_name(integrator), why);
+    }
+    if (integrator == VKRT_INTEGRATOR_PATH && !opts->common.quiet)
+        for (uint32_t i = 0; i < cfg->light_count; ++i)
+            if (cfg->lights[i].kind == VKRT_LIGHT_AMBIENT) {
+                fprintf(stderr, "vkrt: note: the path integrator computes indirect light and "
+                                "ignores `light ambient`, Whitted's stand-in for it\n");
+                break;
+            }
     float *rgb = malloc((size_t)desc.width * desc.height * 3 * sizeof *rgb);
     bool ok = rgb != NULL;
     if (!ok)
@@ -162,8 +177,8 @@ static int run_render(const vkrt_render_options *opts)
         fprintf(stderr, "vkrt: %s\n", err.msg);
         return 1;
     }
-    if (scene.mesh.warnings[0] && !opts->common.quiet)
-        fprintf(stderr, "vkrt: warning: %s: %s\n", scene.config.geometry, scene.mesh.warnings);
+    if (!opts->common.quiet)
+        vkrt_mesh_print_warnings(&scene.mesh, "vkrt: ", opts->common.verbose, stderr);
     const char *output = opts->output ? opts->output : scene.config.output;
     if (!check_output(output, scene.config.camera_count, &err)) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
@@ -204,8 +219,11 @@ static int run_render(const vkrt_render_options *opts)
                 device, scene.mesh.triangle_count, vkrt_accel_name(accel.kind), frames,
                 frames == 1 ? "" : "s", frames ? 1e3 * totals.seconds / frames : 0.0,
                 totals.seconds > 0 ? totals.rays / totals.seconds * 1e-6 : 0.0);
-        if (!opts->common.verbose)
+        if (!opts->common.verbose) {
             fprintf(stderr, "vkrt: accel %s: %s\n", vkrt_accel_name(accel.kind), accel.reason);
+            fprintf(stderr, "vkrt: integrator %s: %s\n", vkrt_integrator_name(totals.integrator),
+                    totals.integrator_reason);
+        }
     }
     vkrt_scene_free(&scene);
     return 0;

@@ -58,7 +58,7 @@ bool scene_dir_render(uint32_t w, uint32_t h, const vkrt_render_desc *desc, floa
     vkrt_render_desc d = desc ? *desc : (vkrt_render_desc){0};
     d.width = w;
     d.height = h;
-    d.samples = 1;
+    d.samples = d.samples ? d.samples : 1;
     vkrt_renderer *r = NULL;
     bool ok = vkrt_renderer_create(&r, &ctx, &scene, &d, err) &&
               vkrt_renderer_render(r, &scene.config.cameras[0], 0, rgb, stats, err);

@@ -26,8 +26,8 @@ FILE *scene_dir_open(const char *name);
 /* Writes text into name in the folder. */
 void scene_dir_write(const char *name, const char *text);
 
-/* Renders the folder's scene.cfg at w x h, one sample per pixel, with the rest of the settings
- * from desc (may be NULL). False with err on failure. */
+/* Renders the folder's scene.cfg at w x h, desc's samples per pixel (0: one), with the rest of
+ * the settings from desc (may be NULL). False with err on failure. */
 bool scene_dir_render(uint32_t w, uint32_t h, const vkrt_render_desc *desc, float *rgb,
                       vkrt_frame_stats *stats, vkrt_error *err);
 

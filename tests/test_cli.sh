@@ -124,6 +124,11 @@ printf 'v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n' >"$tmp/broken.obj"
 printf 'geometry broken.obj\ncamera eye 0 0 1 look 0 0 0 up 0 1 0 fov 40\n' >"$tmp/brokenobj.cfg"
 expect_error "broken OBJ" "$tmp/brokenobj.cfg" "broken.obj:3:"
 expect_error "missing scene.cfg" "$tmp/nonexistent.cfg" "nonexistent.cfg"
+printf '\211PNG\r\n\032\n\0\0\0\rIHDR\0\0\0\1\0\0\0\1\10\6\0\0\0' >"$tmp/picture.png"
+printf 'geometry picture.png\ncamera eye 0 0 1 look 0 0 0 up 0 1 0 fov 40\n' >"$tmp/picture.cfg"
+expect_error "an image named as geometry" "$tmp/picture.cfg" "picture.png: not an OBJ text file: it starts like a PNG image"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 0 2\n' >"$tmp/broken.obj"
+expect_error "a zero face index in our words" "$tmp/brokenobj.cfg" "broken.obj:4: face index 0 is not valid (OBJ indices start at 1)"
 
 # Materials and textures: a quad whose material comes from a material file or its .mtl.
 printf 'mtllib q.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl m\nf 1/1 2/2 3/3 4/4\n' >"$tmp/q.obj"
@@ -137,6 +142,17 @@ expect_error "missing texture names the .mtl line" "$tmp/tex.cfg" "q.mtl:4: text
 printf 'not an image' >"$tmp/garbage.png"
 printf 'newmtl m\nmap_Kd garbage.png\n' >"$tmp/q.mtl"
 expect_error "a texture that is no image" "$tmp/tex.cfg" "garbage.png.*not an image"
+head -c 2000 "$src/docs/images/materials-demo.png" >"$tmp/cut.png"
+printf 'newmtl m\nmap_Kd cut.png\n' >"$tmp/q.mtl"
+expect_error "a PNG cut short says so" "$tmp/tex.cfg" "cut.png': cannot decode the image: the PNG file is cut short: it has 2000 bytes"
+# Loader warnings in our words, folded; --verbose lists each; "newmtl  m" (two blanks) is usemtl m.
+{ printf 'newmtl  m\nKd 1 1 1\nd 1\nTr 0\n'; for n in a b c d; do printf 'newmtl %s\nd 1\nTr 0\n' $n; done; } >"$tmp/q.mtl"
+"$vkrt" render "$tmp/tex.cfg" -o "$tmp/w.png" 2>"$tmp/err"
+check "warnings: render exits 0" test $? -eq 0
+check "warnings: repeated ones fold into one line" grep -q "^vkrt: .*q.mtl: warning: 5 materials define both d and Tr; d is used (m, a, b, ...)$" "$tmp/err"
+check "warnings: a name written after two blanks is found" sh -c "! grep -q usemtl '$tmp/err'"
+"$vkrt" render "$tmp/tex.cfg" --verbose -o "$tmp/w.png" 2>"$tmp/err"
+check "warnings: --verbose lists each" test "$(grep -c "q.mtl:[0-9]*: warning: material '.*' defines both d and Tr" "$tmp/err")" -eq 5
 printf 'newmtl m\nKd 1 1 1\n' >"$tmp/q.mtl"
 printf 'm 0 bad.glsl\n' >"$tmp/bad.mat"
 printf 'uint count_rays(Surface s) { return 0u; }\nvoid shade(Surface s)\n{\n    add_radiance(s.colour);\n}\n' >"$tmp/bad.glsl"

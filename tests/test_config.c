@@ -93,7 +93,9 @@ static void test_every_keyword(void **state)
                        "light directional  0 -2 0  1 2 3\n"
                        "light point        1 2 3   10 20 30\n"
                        "light spot         4 5 6  0 0 -3  30  7 8 9\n"
-                       "camera eye 1 2 3 look 4 5 6 up 0 1 0 fov 60\n";
+                       "camera eye 1 2 3 look 4 5 6 up 0 1 0 fov 60\n"
+                       "integrator  path\n"
+                       "environment-map sky/noon.exr scale 2.5 rotate -90\n";
     vkrt_config cfg;
     parse_ok(text, "scenes/demo", &cfg);
 
@@ -106,7 +108,12 @@ static void test_every_keyword(void **state)
     assert_int_equal(cfg.samples, 16);
     assert_int_equal(cfg.max_depth, 3);
     assert_int_equal(cfg.accel, VKRT_ACCEL_BVH);
+    assert_int_equal(cfg.integrator, VKRT_INTEGRATOR_PATH);
     assert_vec3(cfg.environment, 0.05f, 0.25f, 0.5f);
+    assert_string_equal(cfg.environment_map, "scenes/demo/sky/noon.exr");
+    assert_float_equal(cfg.environment_scale, 2.5f, 0);
+    assert_float_equal(cfg.environment_rotate, -90.0f, 0);
+    assert_int_equal(cfg.environment_map_line, 16);
 
     assert_int_equal(cfg.light_count, 4);
     const vkrt_config_light *l = cfg.lights;
@@ -154,7 +161,12 @@ static void test_defaults(void **state)
     assert_int_equal(cfg.samples, 1);
     assert_int_equal(cfg.max_depth, 6);
     assert_int_equal(cfg.accel, VKRT_ACCEL_AUTO);
+    assert_int_equal(cfg.integrator, VKRT_INTEGRATOR_AUTO);
     assert_vec3(cfg.environment, 0, 0, 0);
+    assert_null(cfg.environment_map);
+    assert_float_equal(cfg.environment_scale, 1.0f, 0);
+    assert_float_equal(cfg.environment_rotate, 0.0f, 0);
+    assert_int_equal(cfg.environment_map_line, 0);
     assert_int_equal(cfg.light_count, 0);
     assert_null(cfg.lights);
     assert_int_equal(cfg.camera_count, 1);
@@ -316,6 +328,59 @@ static void test_accel_names(void **state)
     assert_string_equal(vkrt_accel_name((vkrt_accel_kind)42), "unknown");
 }
 
+#define G "geometry m.obj\n"
+
+static void test_integrator_names(void **state)
+{
+    (void)state;
+    const vkrt_integrator all[] = {VKRT_INTEGRATOR_AUTO, VKRT_INTEGRATOR_WHITTED,
+                                   VKRT_INTEGRATOR_PATH};
+    const char *names[] = {"auto", "whitted", "path"};
+    for (int i = 0; i < 3; i++) {
+        assert_string_equal(vkrt_integrator_name(all[i]), names[i]);
+        vkrt_integrator k = VKRT_INTEGRATOR_AUTO;
+        assert_true(vkrt_integrator_parse(names[i], &k));
+        assert_int_equal(k, all[i]);
+        assert_true(vkrt_integrator_parse(names[i], NULL));
+    }
+    vkrt_integrator k = VKRT_INTEGRATOR_WHITTED;
+    assert_false(vkrt_integrator_parse("Path", &k));
+    assert_false(vkrt_integrator_parse("", &k));
+    assert_false(vkrt_integrator_parse(NULL, &k));
+    assert_int_equal(k, VKRT_INTEGRATOR_WHITTED);
+    assert_string_equal(vkrt_integrator_name((vkrt_integrator)42), "unknown");
+}
+
+/* environment-map: its options in either order, alone, and beside a constant environment,
+ * which it replaces (both are kept in the config; the renderer uses the map). */
+static void test_environment_map(void **state)
+{
+    (void)state;
+    vkrt_config cfg;
+    parse_ok(G "environment-map /abs/sky.hdr\n" CAMERA, "scenes/a", &cfg);
+    assert_string_equal(cfg.environment_map, "/abs/sky.hdr");
+    assert_float_equal(cfg.environment_scale, 1.0f, 0);
+    assert_float_equal(cfg.environment_rotate, 0.0f, 0);
+    assert_int_equal(cfg.environment_map_line, 2);
+    vkrt_config_free(&cfg);
+
+    parse_ok(G "environment 0.1 0.2 0.3\n"
+               "environment-map ../sky.exr rotate 45.5 scale 0\n" CAMERA,
+             "scenes/a/", &cfg);
+    assert_string_equal(cfg.environment_map, "scenes/a/../sky.exr");
+    assert_float_equal(cfg.environment_scale, 0.0f, 0);
+    assert_float_equal(cfg.environment_rotate, 45.5f, 0);
+    assert_vec3(cfg.environment, 0.1f, 0.2f, 0.3f);
+    assert_int_equal(cfg.environment_map_line, 3);
+    vkrt_config_free(&cfg);
+
+    /* The path is a plain path, never a frame pattern: '%' stays as written. */
+    parse_ok(G "environment-map 100%.hdr scale 1e3\n" CAMERA, NULL, &cfg);
+    assert_string_equal(cfg.environment_map, "100%.hdr");
+    assert_float_equal(cfg.environment_scale, 1000.0f, 0);
+    vkrt_config_free(&cfg);
+}
+
 static void test_free_zeroed_struct(void **state)
 {
     (void)state;
@@ -329,6 +394,8 @@ static void test_free_zeroed_struct(void **state)
 /* ---------------------------------------------------------------------------------------------
  * Malformed files
  * ------------------------------------------------------------------------------------------- */
+
+#undef G
 
 typedef struct bad_case {
     const char *text;
@@ -346,6 +413,25 @@ static const bad_case bad_cases[] = {
     {G "# x\n" G, "t.cfg:3: ", "geometry given twice (first on line 1)"},
     {G "output a.png\noutput b.png\n", "t.cfg:3: ", "output given twice (first on line 2)"},
     {G "accel bvh\naccel grid\n", "t.cfg:3: ", "accel given twice (first on line 2)"},
+    {G "integrator path\nintegrator path\n", "t.cfg:3: ", "integrator given twice (first on line 2)"},
+    {G "environment-map a.hdr\nenvironment-map b.hdr\n", "t.cfg:3: ", "environment-map given twice (first on line 2)"},
+    /* integrator */
+    {G "integrator bidir\n", "t.cfg:2: ", "unknown integrator 'bidir' (expected auto, whitted or path)"},
+    {G "integrator\n", "t.cfg:2: ", "integrator needs one name (auto, whitted or path), got 0"},
+    {G "integrator path whitted\n", "t.cfg:2: ", "integrator needs one name (auto, whitted or path), got 2"},
+    /* environment-map */
+    {G "environment-map\n", "t.cfg:2: ", "environment-map needs a path (write: environment-map FILE [scale S] [rotate DEGREES])"},
+    {G "environment-map \"my sky.hdr\"\n", "t.cfg:2: ", "environment-map: quotes are not supported"},
+    {G "environment-map my sky.hdr\n", "t.cfg:2: ", "environment-map: unexpected 'sky.hdr' (write: environment-map FILE"},
+    {G "environment-map sky.hdr scale\n", "t.cfg:2: ", "environment-map scale needs a number"},
+    {G "environment-map sky.hdr rotate\n", "t.cfg:2: ", "environment-map rotate needs a number"},
+    {G "environment-map sky.hdr scale 2 scale 3\n", "t.cfg:2: ", "environment-map scale given twice"},
+    {G "environment-map sky.hdr rotate 2 scale 1 rotate 3\n", "t.cfg:2: ", "environment-map rotate given twice"},
+    {G "environment-map sky.hdr scale -1\n", "t.cfg:2: ", "environment-map scale must not be negative, got -1"},
+    {G "environment-map sky.hdr scale bright\n", "t.cfg:2: ", "environment-map scale 'bright' is not a number"},
+    {G "environment-map sky.hdr scale inf\n", "t.cfg:2: ", "environment-map scale 'inf' is not a finite number"},
+    {G "environment-map sky.hdr rotate nan\n", "t.cfg:2: ", "environment-map rotate 'nan' is not a finite number"},
+    {G "environment-map sky.hdr rotate 90 spin 2\n", "t.cfg:2: ", "environment-map: unexpected 'spin'"},
     /* resolution, samples, max-depth */
     {G "resolution 640 abc\n", "t.cfg:2: ", "resolution height 'abc' is not a number"},
     {G "resolution 640\n", "t.cfg:2: ", "resolution needs 2 numbers, got 1"},
@@ -585,6 +671,8 @@ int main(void)
         cmocka_unit_test(test_flythrough),
         cmocka_unit_test(test_many_lights_and_cameras),
         cmocka_unit_test(test_accel_names),
+        cmocka_unit_test(test_integrator_names),
+        cmocka_unit_test(test_environment_map),
         cmocka_unit_test(test_free_zeroed_struct),
         cmocka_unit_test(test_malformed),
         cmocka_unit_test(test_nul_and_binary),

@@ -37,6 +37,8 @@ typedef struct Probe {
     Hit hit_pair[2];
     Ray ray_pair[2];
     Material material_pair[2];
+    LightInfo light_info;
+    Emitter emitter_pair[2];
 } Probe;
 
 typedef enum { F32, U32, VEC4, UVEC4 } field_type;
@@ -78,6 +80,13 @@ static const field fields[] = {
     FIELD(node, origin, VEC4), FIELD(node, planes, UVEC4), FIELD(node, planes_z, UVEC4),
     FIELD(node, refs, UVEC4),
     FIELD(pair, x, VEC4), FIELD(pair, y, VEC4), FIELD(pair, z, VEC4), FIELD(pair, refs, UVEC4),
+    FIELD(light_info, emitter_count, U32), FIELD(light_info, emitter_power, F32),
+    FIELD(light_info, environment_width, U32), FIELD(light_info, environment_height, U32),
+    FIELD(light_info, environment_scale, F32), FIELD(light_info, environment_rotate, F32),
+    FIELD(light_info, environment_pixels, U32), FIELD(light_info, environment_integral, F32),
+    FIELD(light_info, environment_sampled, U32), FIELD(light_info, pad2, U32),
+    FIELD(emitter_pair[0], triangle, U32), FIELD(emitter_pair[0], keep, F32),
+    FIELD(emitter_pair[1], alias, U32), FIELD(emitter_pair[1], power, F32),
     FIELD(grid, lo, VEC4), FIELD(grid, hi, VEC4), FIELD(grid, cell_size, VEC4), FIELD(grid, dims, UVEC4),
     {"hit_pair[1].triangle", offsetof(Probe, hit_pair) + sizeof(Hit) + offsetof(Hit, triangle), U32},
     {"hit_pair[1].t", offsetof(Probe, hit_pair) + sizeof(Hit) + offsetof(Hit, t), F32},
@@ -103,6 +112,7 @@ static char *probe_kernel(void)
                              "  Counters counters; BvhQuad node; BvhPair pair; GridInfo grid;\n"
                              "  TriangleTexcoords texcoords; WaveState wave; TextureInfo texture;\n"
                              "  Hit hit_pair[2]; Ray ray_pair[2]; Material material_pair[2];\n"
+                             "  LightInfo light_info; Emitter emitter_pair[2];\n"
                              "};\n"
                              "void main() {\n"
                              "  if (gl_GlobalInvocationID.x != 0u) return;\n");
@@ -217,6 +227,8 @@ static void test_sizes(void **state)
     assert_int_equal(sizeof(BvhQuad), 64);
     assert_int_equal(sizeof(BvhPair), 64);
     assert_int_equal(sizeof(GridInfo), 64);
+    assert_int_equal(sizeof(LightInfo), 48);
+    assert_int_equal(sizeof(Emitter), 16);
 }
 
 /* A buffer past one storage buffer's range (a scene too big for it) is refused with a message

@@ -236,9 +236,59 @@ static void empty_and_triangle_free_files_fail(void **state)
     char missing[600];
     snprintf(missing, sizeof missing, "%s/does_not_exist.obj", fx->dir);
     assert_load_fails(missing, ": cannot open");
-    /* a zero index is tinyobjloader's error, passed on with the path */
-    assert_text_fails(fx, "zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n",
-                      ": Failed parse `f' line");
+    /* why there are none, from what the file holds */
+    assert_text_fails(fx, "empty.obj", "", ": no triangles (no v or f records)");
+    assert_text_fails(fx, "lines.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\np 3\nf 1 2\n",
+                      ": no triangles (every f record has fewer than 3 corners)");
+    assert_text_fails(fx, "points.obj", "v 0 0 0\nv 1 0 0\np 1 2\n", ": no triangles (no f records)");
+}
+
+/* tinyobjloader refuses an f line with an index it reads as 0; the message says which index and
+ * why, in our words (its own was "Failed parse `f' line(e.g. zero value for face index. line 4.)"). */
+static void refused_face_index_names_line_and_index(void **state)
+{
+    temp_dir *fx = *state;
+    const char *v = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n";
+    static const struct {
+        const char *face, *after;
+    } cases[] = {
+        {"f 0 1 2", ":6: face index 0 is not valid (OBJ indices start at 1)"},
+        {"f 1/1/1 2/0/1 3/1/1", ":6: face texture coordinate index 0 is not valid (OBJ indices start at 1)"},
+        {"f 1//1 2//1 3//-0", ":6: face normal index 0 is not valid (OBJ indices start at 1)"},
+        {"f 1/1/1 2/1/0 3/1/1", ":6: face normal index 0 is not valid"},
+        {"f 1 2 3/", ":6: face texture coordinate index missing in corner '3/'"},
+        {"f 1 x 3", ":6: face index 'x' is not a number"},
+        {"f 1 2 4294967296", ":6: face index 4294967296 is too large"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char text[300];
+        snprintf(text, sizeof text, "%s%s\n", v, cases[i].face);
+        assert_text_fails(fx, "zero.obj", text, cases[i].after);
+    }
+    /* line and point records: vkrt draws neither, but tinyobjloader refuses them the same way */
+    char text[300];
+    snprintf(text, sizeof text, "%sl 0 1\nf 1 2 3\n", v);
+    assert_text_fails(fx, "line0.obj", text,
+                      ":6: line (l) record has an index of 0 or one that is not a number");
+}
+
+/* An image, or another binary format, named as the OBJ: the message says what the file is. */
+static void binary_formats_are_named(void **state)
+{
+    temp_dir *fx = *state;
+    /* the start of a real PNG: signature, IHDR of a 1x1 RGBA image */
+    const unsigned char png[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n', 0, 0, 0, 13, 'I', 'H', 'D',
+                                 'R',  0,   0,   0,   1,    0,    0,    0,    1, 8, 6, 0,  0,   0};
+    temp_dir_write(fx, "texture.png", png, sizeof png);
+    assert_load_fails(fx->path, ": not an OBJ text file: it starts like a PNG image");
+    const unsigned char jpeg[] = {0xFF, 0xD8, 0xFF, 0xE0, 0, 16, 'J', 'F', 'I', 'F', 0};
+    temp_dir_write(fx, "photo.obj", jpeg, sizeof jpeg);
+    assert_load_fails(fx->path, ": not an OBJ text file: it starts like a JPEG image");
+    /* text formats have no NUL byte to give them away */
+    temp_dir_write_text(fx, "sky.obj", "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 1\nabcd");
+    assert_load_fails(fx->path, ": not an OBJ text file: it starts like a Radiance HDR image");
+    temp_dir_write_text(fx, "mesh.obj", "ply\nformat ascii 1.0\nelement vertex 3\n");
+    assert_load_fails(fx->path, ": not an OBJ text file: it starts like a PLY file");
 }
 
 /* Deterministic bytes so a failure can be reproduced. */
@@ -258,7 +308,7 @@ static void binary_garbage_fails_cleanly(void **state)
     static unsigned char buf[8192];
     fill_garbage(buf, sizeof buf, 12345u, 1);
     temp_dir_write(fx, "garbage.obj", buf, sizeof buf);
-    assert_load_fails(fx->path, ": not a text file");
+    assert_load_fails(fx->path, ": not an OBJ text file: byte 117 is a NUL, so it holds binary data");
     /* without NUL bytes the text goes through both parsers; any clean outcome will do */
     for (uint32_t seed = 1; seed <= 20; seed++) {
         fill_garbage(buf, sizeof buf, seed, 0);
@@ -287,14 +337,134 @@ static void utf8_bom_is_skipped(void **state)
     vkrt_mesh_free(&m);
 }
 
+/* Every line of warnings reads "<a file under dir>[:LINE]: warning: ...", in vkrt's words: none of
+ * tinyobjloader's phrases ("Failed to load", "[ '", "Use default") gets through. */
+static void assert_warning_lines(const char *warnings, const char *dir)
+{
+    const char *line = warnings;
+    while (line && *line) {
+        size_t n = strcspn(line, "\n");
+        char text[1100];
+        snprintf(text, sizeof text, "%.*s", (int)n, line);
+        if (strncmp(text, dir, strlen(dir)) != 0 || !strstr(text, ": warning: ") ||
+            strstr(text, "Failed") || strstr(text, "[ '") || strstr(text, "Use default"))
+            fail_msg("warning \"%s\" does not read \"%s...: warning: ...\" in vkrt's words", text, dir);
+        line += n + (line[n] == '\n');
+    }
+}
+
+/* What vkrt_mesh_print_warnings writes, in a malloc'd string. */
+static char *printed_warnings(const vkrt_mesh *m, bool verbose)
+{
+    char *out = NULL;
+    size_t size = 0;
+    FILE *f = open_memstream(&out, &size);
+    assert_non_null(f);
+    vkrt_mesh_print_warnings(m, "vkrt: ", verbose, f);
+    fclose(f);
+    return out;
+}
+
 static void missing_mtl_is_a_warning(void **state)
 {
+    temp_dir *fx = *state;
     const char *text = "mtllib nothere.mtl\nusemtl red\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
-    vkrt_mesh m = load_ok(temp_dir_write_text(*state, "nomtl.obj", text));
+    vkrt_mesh m = load_ok(temp_dir_write_text(fx, "nomtl.obj", text));
     assert_int_equal(m.triangle_count, 1);
     assert_int_equal(m.material[0], -1);
     assert_int_equal(m.material_count, 0);
-    assert_non_null(strstr(m.warnings, "nothere.mtl"));
+    /* one line, at the mtllib line: not also tinyobjloader's "Failed to load material file(s)"
+     * nor a warning for the usemtl the missing file explains */
+    char want[1200];
+    snprintf(want, sizeof want,
+             "%s/nomtl.obj:1: warning: material library %s/nothere.mtl not found; faces using its "
+             "materials get the default material",
+             fx->dir, fx->dir);
+    assert_string_equal(m.warnings, want);
+    assert_string_equal(m.warnings_all, want);
+    vkrt_mesh_free(&m);
+    assert_null(m.warnings_all);
+}
+
+/* tinyobjloader's warnings in vkrt's words, repeated ones folded into one line with a count and
+ * the first names, and all of them, one a line, in warnings_all (what --verbose prints). */
+static void warnings_are_ours_and_folded(void **state)
+{
+    temp_dir *fx = *state;
+    char mtl[600] = "";
+    for (int i = 0; i < 5; i++) /* Tr after d: lines 3, 6, 9, 12, 15 */
+        snprintf(mtl + strlen(mtl), sizeof mtl - strlen(mtl), "newmtl m%d\nd 0.5\nTr 0.5\n", i);
+    temp_dir_write_text(fx, "d.mtl", mtl);
+    const char *text = "mtllib d.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                       "usemtl m0\nf 1 2 3\n"      /* 5, 6 */
+                       "usemtl nosuch\nf 1 2 3\n"  /* 7, 8 */
+                       "usemtl nosuch\nf 1 3 2\n"  /* 9, 10: said once */
+                       "f 1 2\nf 1\n"              /* 11, 12: dropped */
+                       "usemtl other\nf 2 3 1\n"; /* 13, 14 */
+    vkrt_mesh m = load_ok(temp_dir_write_text(fx, "w.obj", text));
+    assert_int_equal(m.triangle_count, 4);
+    char want[2000];
+    snprintf(want, sizeof want,
+             "%s/d.mtl: warning: 5 materials define both d and Tr; d is used (m0, m1, m2, ...)\n"
+             "%s/w.obj: warning: 2 usemtl names have no material in %s/d.mtl; the default "
+             "material is used (nosuch, other)\n"
+             "%s/w.obj: warning: 2 faces of fewer than 3 corners ignored (lines 11, 12)",
+             fx->dir, fx->dir, fx->dir, fx->dir);
+    assert_string_equal(m.warnings, want);
+    assert_warning_lines(m.warnings, fx->dir);
+    assert_warning_lines(m.warnings_all, fx->dir);
+    snprintf(want, sizeof want,
+             "%s/d.mtl:3: warning: material 'm0' defines both d and Tr; d is used\n", fx->dir);
+    assert_non_null(strstr(m.warnings_all, want));
+    snprintf(want, sizeof want,
+             "%s/d.mtl:15: warning: material 'm4' defines both d and Tr; d is used\n", fx->dir);
+    assert_non_null(strstr(m.warnings_all, want));
+    snprintf(want, sizeof want,
+             "%s/w.obj:7: warning: usemtl nosuch: no material of that name in %s/d.mtl; the "
+             "default material is used\n",
+             fx->dir, fx->dir);
+    assert_non_null(strstr(m.warnings_all, want));
+    snprintf(want, sizeof want, "%s/w.obj:12: warning: face of fewer than 3 corners ignored", fx->dir);
+    assert_non_null(strstr(m.warnings_all, want));
+
+    /* printed: every line after the prefix; verbose prints all nine */
+    char *folded = printed_warnings(&m, false), *all = printed_warnings(&m, true);
+    snprintf(want, sizeof want, "vkrt: %s/d.mtl: warning: 5 materials", fx->dir);
+    assert_int_equal(strncmp(folded, want, strlen(want)), 0);
+    int lines = 0;
+    for (const char *c = all; *c; c++)
+        lines += *c == '\n';
+    assert_int_equal(lines, 9);
+    snprintf(want, sizeof want, "\nvkrt: %s/w.obj:13: warning: usemtl other", fx->dir);
+    assert_non_null(strstr(all, want));
+    free(folded);
+    free(all);
+    vkrt_mesh_free(&m);
+
+    /* a file without warnings prints nothing */
+    m = load_ok(temp_dir_write_text(fx, "quad.obj", QUAD));
+    assert_null(m.warnings_all);
+    char *none = printed_warnings(&m, true);
+    assert_string_equal(none, "");
+    free(none);
+    vkrt_mesh_free(&m);
+}
+
+/* "newmtl  RearLights" (two blanks, as a real exporter wrote it) is the material `usemtl
+ * RearLights` names: material names are matched trimmed, as other OBJ readers do. */
+static void material_names_are_trimmed(void **state)
+{
+    temp_dir *fx = *state;
+    temp_dir_write_text(fx, "car.mtl", "newmtl  RearLights\nKd 1 0 0\nnewmtl \t Body\t \nKd 0 0 1\n");
+    const char *text = "mtllib car.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                       "usemtl RearLights\nf 1 2 3\nusemtl Body\nf 1 3 2\n";
+    vkrt_mesh m = load_ok(temp_dir_write_text(fx, "car.obj", text));
+    assert_string_equal(m.warnings, "");
+    assert_true(m.material[0] >= 0 && m.material[1] >= 0);
+    assert_string_equal(m.materials[m.material[0]].name, "RearLights");
+    assert_vec3(m.materials[m.material[0]].kd, 1, 0, 0);
+    assert_string_equal(m.materials[m.material[1]].name, "Body");
+    assert_vec3(m.materials[m.material[1]].kd, 0, 0, 1);
     vkrt_mesh_free(&m);
 }
 
@@ -501,7 +671,7 @@ static const expected_failure EXPECTED_FAILURES[] = {
     {"models/invalid-face-definition.obj", "no triangles"},                /* faces of 1 and 2 corners */
     {"models/invalid-relative-texture-index.obj", "out of range"},         /* no v records at all */
     {"models/invalid-relative-vertex-index.obj", "out of range"},          /* f -4 -3 -2 without v */
-    {"models/issue-140-zero-face-idx.obj", "zero value for face index"},   /* index 0 is invalid OBJ */
+    {"models/issue-140-zero-face-idx.obj", "face index 0 is not valid"},   /* index 0 is invalid OBJ */
     {"models/issue-356-leading-spaces-newmtl.obj", "no triangles"},        /* only a usemtl */
     {"models/line-prim.obj", "no triangles"},                              /* lines only */
     {"models/points-prim.obj", "no triangles"},                            /* points only */
@@ -537,6 +707,8 @@ static int check_suite_file(const char *suite, const char *path)
     }
     if (xf)
         fail_msg("%s loaded but should fail with \"%s\"", path, xf->message);
+    assert_warning_lines(m.warnings, suite);
+    assert_warning_lines(m.warnings_all, suite);
     long want = expected_triangles(suite, relative);
     if (want < 0)
         fail_msg("%s is not listed in %s/SOURCE.txt", relative, suite);
@@ -638,9 +810,13 @@ int main(void)
         temp_dir_test(non_finite_vertex_names_line),
         temp_dir_test(out_of_range_index_names_line),
         temp_dir_test(empty_and_triangle_free_files_fail),
+        temp_dir_test(refused_face_index_names_line_and_index),
+        temp_dir_test(binary_formats_are_named),
         temp_dir_test(binary_garbage_fails_cleanly),
         temp_dir_test(utf8_bom_is_skipped),
         temp_dir_test(missing_mtl_is_a_warning),
+        temp_dir_test(warnings_are_ours_and_folded),
+        temp_dir_test(material_names_are_trimmed),
         temp_dir_test(mtl_fields_are_parsed),
         temp_dir_test(mtl_texture_lines_and_tf),
         cmocka_unit_test(tinyobjloader_suite),

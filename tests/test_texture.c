@@ -504,12 +504,26 @@ static void errors_name_referrer_and_path(void **state)
     size_t n = fread(bytes, 1, sizeof bytes, f);
     fclose(f);
     assert_true(n > 200);
-    add_fails(&set, temp_dir_write(fx, "cut.png", bytes, n / 2), VKRT_TEXTURE_COLOUR,
-              "cannot decode the image (stb_image: ");
+    /* stb_image's own reason is empty here (it reads zeros past the end): the message says where
+     * the file ends and which chunk it cuts */
+    char cut_reason[200];
+    snprintf(cut_reason, sizeof cut_reason,
+             "cannot decode the image: the PNG file is cut short: it has %zu bytes, but its IDAT "
+             "chunk at byte 33 runs to byte %zu",
+             n / 2, n - 12);
+    add_fails(&set, temp_dir_write(fx, "cut.png", bytes, n / 2), VKRT_TEXTURE_COLOUR, cut_reason);
     vkrt_texture_set fresh = {0}; /* the room reserved for the texels is given back */
-    add_fails(&fresh, fx->path, VKRT_TEXTURE_COLOUR, "cannot decode the image (stb_image: ");
+    add_fails(&fresh, fx->path, VKRT_TEXTURE_COLOUR, cut_reason);
     assert_null(fresh.texels);
     vkrt_texture_set_free(&fresh);
+    /* cut at the end of a chunk, where the next chunk header should start */
+    char ends_reason[200];
+    snprintf(ends_reason, sizeof ends_reason,
+             "cannot decode the image: the PNG file is cut short: it ends at byte %zu, before its "
+             "IEND chunk",
+             n - 12);
+    add_fails(&set, temp_dir_write(fx, "no_iend.png", bytes, n - 12), VKRT_TEXTURE_COLOUR,
+              ends_reason);
     /* one texel wider than allowed */
     static unsigned char row[VKRT_TEXTURE_MAX_SIZE + 1];
     add_fails(&set, write_png(fx, "wide.png", VKRT_TEXTURE_MAX_SIZE + 1, 1, 1, row),

@@ -1,13 +1,15 @@
-"""mitsuba_scene: a vkrt scene (scene.cfg, its OBJ and .mtl) as a Mitsuba 3 scene, and the
-integrator that renders it with the light transport vkrt models. Used by tools/reference.
+"""mitsuba_scene: a vkrt scene (scene.cfg, its OBJ and .mtl) as a Mitsuba 3 scene, rendered with
+the light transport vkrt models: Whitted's (an integrator written here) or the path tracer's
+(Mitsuba's own `path`). Used by tools/reference.
 
 Nothing here comes from vkrt's code: scene.cfg, OBJ and .mtl are read again, in Python, from
 their documentation (docs/scene-format.md, docs/materials.md). Mitsuba traces the rays,
 evaluates and samples the BSDFs (its diffuse, conductor and dielectric), the lights (its point,
-spot and directional emitters), the textures (its bitmap) and the camera (its perspective sensor
-and box filter). What Mitsuba lacks is written here, small: the Blinn-Phong BRDF, the unshadowed
-ambient light, and an integrator that stops at the first diffuse surface (vkrt has no indirect
-diffuse light). docs/speed-vs-accuracy.md lists what matches exactly and what cannot."""
+spot, directional, area, constant and envmap emitters), the textures (its bitmap) and the
+camera (its perspective sensor and box filter). What Mitsuba lacks is written here, small: the
+Blinn-Phong BRDF, vkrt's two-sided convention (the side is the triangle's, not the interpolated
+normal's), the unshadowed ambient light, and the Whitted integrator that stops at the first
+diffuse surface. docs/speed-vs-accuracy.md lists what matches exactly and what cannot."""
 import os
 
 import numpy as np
@@ -18,6 +20,18 @@ import drjit as dr
 
 class SceneError(Exception):
     """A scene this tool cannot read, or cannot express in Mitsuba."""
+
+
+# vkrt's path tracer plays Russian roulette at the hits of rays of this depth and deeper (the
+# camera ray is depth 0): glsl/lib/path.glsl's ROULETTE_DEPTH. Change both together.
+VKRT_ROULETTE_DEPTH = 3
+# Mitsuba's `path` counts path segments: max_depth M renders paths of at most M segments (1: only
+# emitters seen directly, 2: direct light), and its next-event estimation stops one short so that
+# both strategies cover the same paths. vkrt's `max-depth D` traces rays of depth 0 to D and takes
+# direct light (a light sample) at the hit of every one, the last included: paths of up to D + 2
+# segments (camera ray, D bounce rays, the light's segment), as in Whitted mode. Were vkrt to stop
+# its next-event estimation at depth D - 1 instead, this would be 1.
+PATH_SEGMENTS_PAST_MAX_DEPTH = 2
 
 
 # ---- scene.cfg ---------------------------------------------------------------------------------
@@ -32,6 +46,8 @@ class Config:
         self.samples = 1
         self.max_depth = 6
         self.environment = (0.0, 0.0, 0.0)
+        self.environment_map = None  # (path, scale, rotate degrees)
+        self.integrator = "auto"
         self.lights = []   # (kind, dict of numbers)
         self.cameras = []  # dict eye, look, up, fov
 
@@ -60,6 +76,17 @@ def read_config(path):
                 cfg.max_depth = int(args[0])
             elif key == "environment":
                 cfg.environment = tuple(nums())
+            elif key == "environment-map":
+                options = dict(zip(args[1::2], args[2::2]))
+                if not args or set(options) - {"scale", "rotate"} or len(args) % 2 != 1:
+                    raise SceneError(f"{where}: write environment-map FILE [scale S] [rotate DEG]")
+                cfg.environment_map = (os.path.join(folder, args[0]),
+                                       float(options.get("scale", 1.0)),
+                                       float(options.get("rotate", 0.0)))
+            elif key == "integrator":
+                if args not in (["auto"], ["whitted"], ["path"]):
+                    raise SceneError(f"{where}: integrator is auto, whitted or path")
+                cfg.integrator = args[0]
             elif key == "light":
                 v = [float(a) for a in args[1:]]
                 kind = args[0]
@@ -196,8 +223,11 @@ def read_material_file(path):
 
 def read_obj(path):
     """The triangles of an OBJ, grouped by material: {material name: {"p": [n, 3, 3] positions,
-    "n": normals or None per triangle, "uv": [n, 3, 2] or None}}, and the .mtl materials.
-    Polygons become triangle fans, as in vkrt."""
+    "n": [n, 3, 3] normals or None, "has_n": per triangle, whether all its corners have one,
+    "uv": [n, 3, 2]}}, and the .mtl materials. Polygons become triangle fans, as in vkrt.
+    Corners without `vt` get uv (0, 0), vkrt's convention (docs/scene-format.md): Mitsuba would
+    otherwise use the hit's barycentric coordinates as uv. Vertex normals are turned to the side
+    of their triangle's own (counter-clockwise) normal, as vkrt turns the interpolated one."""
     folder = os.path.dirname(path)
     v, vt, vn = [], [], []
     materials, groups = {}, {}
@@ -233,17 +263,20 @@ def read_obj(path):
                 mtl = os.path.join(folder, " ".join(w[1:]))
                 if os.path.exists(mtl):
                     read_mtl(mtl, materials)
-    v, vt, vn = np.array(v, np.float64), np.array(vt, np.float64), np.array(vn, np.float64)
+    v, vn = np.array(v, np.float64), np.array(vn, np.float64)
+    vt = np.array(vt + [[0.0, 0.0]], np.float64)  # the last row: uv (0, 0) for corners without
 
     out = {}
     for name, tris in groups.items():
         idx = np.array(tris, np.int64)  # [n, 3 corners, (v, vt, vn)], -1: absent
-        with_uv = bool(len(vt)) and bool((idx[:, :, 1] >= 0).all())
+        p = v[idx[:, :, 0]]
         with_n = (idx[:, :, 2] >= 0).all(axis=1) if len(vn) else np.zeros(len(idx), bool)
-        out[name] = {"p": v[idx[:, :, 0]],
-                     "uv": vt[idx[:, :, 1]] if with_uv else None,
-                     "n": vn[np.where(idx[:, :, 2] >= 0, idx[:, :, 2], 0)] if len(vn) else None,
-                     "has_n": with_n}
+        n = None
+        if len(vn):
+            n = vn[np.where(idx[:, :, 2] >= 0, idx[:, :, 2], 0)]
+            face = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+            n = np.where((n * face[:, None, :]).sum(axis=-1, keepdims=True) < 0, -n, n)
+        out[name] = {"p": p, "uv": vt[idx[:, :, 1]], "n": n, "has_n": with_n}
     return out, materials
 
 
@@ -251,6 +284,22 @@ def read_obj(path):
 
 def rgb(value):
     return {"type": "rgb", "value": [float(x) for x in value]}
+
+
+def luminance(c):
+    """Relative luminance of linear Rec. 709 RGB (the weights vkrt gives lobes and lights)."""
+    return float(np.dot(np.asarray(c, np.float64), [0.2126, 0.7152, 0.0722]))
+
+
+def reflectance(value):
+    """A constant colour as a Mitsuba texture. Mitsuba's `rgb` refuses reflectances outside
+    [0, 1] ("Invalid RGB reflectance value"); vkrt accepts any Kd, Ks or Tf that is not negative,
+    so a colour above 1 becomes a 1x1 raw bitmap, which Mitsuba takes as it is."""
+    value = np.asarray(value, np.float64)
+    if (value <= 1.0).all():
+        return rgb(value)
+    return {"type": "bitmap", "bitmap": mi.Bitmap(value.reshape(1, 1, 3).astype(np.float32)),
+            "raw": True, "filter_type": "nearest"}
 
 
 def texture_times(path, factor):
@@ -270,40 +319,56 @@ def coverage_texture(path):
             "wrap_mode": "repeat"}
 
 
-def bsdf_for(m):
-    """The Mitsuba BSDF of a material, mapped as vkrt maps it; vkrt's surfaces are two-sided,
-    so the one-sided Mitsuba BSDFs are wrapped in `twosided`."""
+def two_sided(bsdf, reads_wi=False):
+    """vkrt's two-sided surface around a one-sided BSDF (VkrtTwoSided, below)."""
+    return {"type": "vkrt_twosided", "bsdf": bsdf, "reads_wi": reads_wi}
+
+
+def bsdf_for(m, notes):
+    """The Mitsuba BSDF of a material, mapped as vkrt maps it. vkrt's surfaces are two-sided, so
+    the one-sided Mitsuba BSDFs are wrapped in vkrt_twosided (glass is two-sided already).
+    What is worth a warning (a material that reflects more than it receives) goes to notes."""
     kind = m.builtin()
     if kind not in BUILTINS:
         raise SceneError(f"{getattr(m, 'where', m.name)}: material '{m.name}' uses shader "
                          f"{kind}, which has no Mitsuba counterpart")
     # @diffuse reads no texture; the others multiply Kd by map_Kd (mtl_diffuse).
     textured = m.map_kd and kind != "diffuse"
-    albedo = texture_times(m.map_kd, m.kd) if textured else rgb(m.kd)
+    albedo = texture_times(m.map_kd, m.kd) if textured else reflectance(m.kd)
     if kind in ("diffuse", "textured", "emissive"):
-        bsdf = {"type": "twosided", "bsdf": {"type": "diffuse",
-                                              "reflectance": rgb([0, 0, 0]) if kind == "emissive"
-                                              else albedo}}
+        bsdf = two_sided({"type": "diffuse", "reflectance": rgb([0, 0, 0]) if kind == "emissive"
+                          else albedo})
     elif kind == "phong":
-        bsdf = {"type": "vkrt_blinn_phong", "kd": albedo, "ks": rgb(m.ks), "ns": m.ns}
+        bsdf = two_sided({"type": "vkrt_blinn_phong", "kd": albedo, "ks": reflectance(m.ks),
+                          "ns": m.ns}, reads_wi=True)
     elif kind == "mirror":
-        mirror = {"type": "conductor", "material": "none", "specular_reflectance": rgb(m.ks)}
-        if not any(m.kd):
-            bsdf = {"type": "twosided", "bsdf": mirror}
+        mirror = {"type": "conductor", "material": "none", "specular_reflectance":
+                  reflectance(m.ks)}
+        w = luminance(m.ks) / (luminance(m.kd) + luminance(m.ks)) if any(m.ks) else 0.0
+        if not any(m.kd) and not m.map_kd:
+            bsdf = two_sided(mirror)
+        elif w == 0.0:
+            bsdf = two_sided({"type": "diffuse", "reflectance": albedo})
         else:
-            # Kd/pi plus a mirror of Ks: an even blend of twice each (blendbsdf averages; it
-            # picks one of the two at random when sampled, so the mirror's weight is 2 Ks
-            # half of the time).
-            double = 2.0 * np.array(m.kd)
-            diffuse = {"type": "diffuse", "reflectance": texture_times(m.map_kd, double)
-                       if m.map_kd else rgb(double)}
-            mirror["specular_reflectance"] = rgb(2.0 * np.array(m.ks))
-            bsdf = {"type": "twosided", "bsdf": {"type": "blendbsdf", "weight": 0.5,
-                                                  "bsdf_0": diffuse, "bsdf_1": mirror}}
+            # vkrt's mirror is Kd/pi plus a perfect mirror of Ks: their sum. blendbsdf gives
+            # (1 - w) bsdf_0 + w bsdf_1 and samples bsdf_1 with probability w, so each lobe is
+            # scaled by the inverse of its weight; w = Ks's share of the luminance, the
+            # probability with which vkrt's path tracer picks the mirror.
+            base = np.asarray(m.kd) / (1.0 - w)
+            diffuse = {"type": "diffuse", "reflectance": texture_times(m.map_kd, base)
+                       if m.map_kd else reflectance(base)}
+            mirror["specular_reflectance"] = reflectance(np.asarray(m.ks) / w)
+            bsdf = two_sided({"type": "blendbsdf", "weight": w, "bsdf_0": diffuse,
+                              "bsdf_1": mirror})
+        if (np.asarray(m.kd) + np.asarray(m.ks)).max() > 1.0:
+            notes.append(f"material '{m.name}': Kd + Ks = "
+                         f"{np.round(np.asarray(m.kd) + np.asarray(m.ks), 3).tolist()} is more "
+                         "than 1, so it reflects more light than it receives; rendered as vkrt "
+                         "renders it (the sum of both lobes), which is not physical")
     elif kind == "glass":
         tint = m.tf if any(m.tf) else [1.0, 1.0, 1.0]
         bsdf = {"type": "dielectric", "int_ior": m.ni if m.ni > 0 else 1.5, "ext_ior": 1.0,
-                "specular_transmittance": rgb(tint)}
+                "specular_transmittance": reflectance(tint)}
     if kind in ("diffuse", "textured", "phong") and (m.d < 1.0 or m.map_d):
         opacity = coverage_texture(m.map_d) if m.map_d else m.d
         if m.map_d and m.d < 1.0:
@@ -314,25 +379,43 @@ def bsdf_for(m):
 
 def mesh_for(name, tris, with_normals, bsdf, emission):
     """A Mitsuba mesh of triangles [n, 3, 3] with per-corner normals and uvs (corners are not
-    shared: OBJ indexes positions, uvs and normals separately)."""
+    shared: OBJ indexes positions, uvs and normals separately). An emission makes it an `area`
+    emitter, which emits from its front only (Mitsuba decides by the shading normal, which
+    read_obj turned to the counter-clockwise side)."""
     count = len(tris["p"])
     props = mi.Properties()
     props["bsdf"] = mi.load_dict(bsdf)
     if emission is not None:
         props["emitter"] = mi.load_dict({"type": "area", "radiance": rgb(emission)})
     mesh = mi.Mesh(name, 3 * count, count, props=props, has_vertex_normals=with_normals,
-                   has_vertex_texcoords=tris["uv"] is not None)
+                   has_vertex_texcoords=True)
     params = mi.traverse(mesh)
     params["vertex_positions"] = mi.Float(tris["p"].astype(np.float32).ravel())
     params["faces"] = mi.UInt32(np.arange(3 * count, dtype=np.uint32))
     if with_normals:
         params["vertex_normals"] = mi.Float(tris["n"].astype(np.float32).ravel())
-    if tris["uv"] is not None:
-        uv = tris["uv"].astype(np.float32).copy()
-        uv[:, :, 1] = 1.0 - uv[:, :, 1]  # OBJ's v grows upwards, Mitsuba's bitmap rows downwards
-        params["vertex_texcoords"] = mi.Float(uv.ravel())
+    uv = tris["uv"].astype(np.float32).copy()
+    uv[:, :, 1] = 1.0 - uv[:, :, 1]  # OBJ's v grows upwards, Mitsuba's bitmap rows downwards
+    params["vertex_texcoords"] = mi.Float(uv.ravel())
     params.update()
     return mesh
+
+
+def environment_map(path, scale, rotate):
+    """Mitsuba's `envmap` of an equirectangular image, read as vkrt reads it (src/scene/envmap.h):
+    8-bit images decoded from sRGB, channels below 0 or NaN as 0, above 65504 (half float) as
+    65504. The two conventions are the same: Mitsuba sees pixel column u (0 at the left) in the
+    direction (sin phi sin theta, cos theta, -cos phi sin theta), phi = 2 pi u, theta from +y (the
+    top row); the left edge looks down -z, a quarter across down +x. vkrt's `rotate DEG` turns
+    the map about +y, Mitsuba's to_world = rotate([0, 1, 0], DEG)."""
+    if not os.path.exists(path):
+        raise SceneError(f"environment-map '{path}': no such file")
+    bitmap = mi.Bitmap(path).convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32,
+                                     srgb_gamma=False)
+    texels = np.nan_to_num(np.array(bitmap), nan=0.0, posinf=65504.0)
+    texels = np.clip(texels, 0.0, 65504.0).astype(np.float32)
+    return {"type": "envmap", "bitmap": mi.Bitmap(texels), "scale": float(scale),
+            "to_world": mi.ScalarTransform4f().rotate([0.0, 1.0, 0.0], float(rotate))}
 
 
 def look_at(origin, target, up):
@@ -347,9 +430,24 @@ def any_perpendicular(d):
     return np.cross(d, a).tolist()
 
 
-def scene_dict(cfg, frame=0, width=None, height=None, spp=64, seed=0, max_depth=None):
-    """The Mitsuba scene dict of a vkrt scene's frame, and the ambient radiance (which the
-    integrator adds itself)."""
+def choose_integrator(requested, emissive, environment_map):
+    """The integrator for `integrator auto|whitted|path` and the reason: auto takes path when the
+    scene has light that only a path tracer carries (an emissive material some triangle uses,
+    or an environment map), else whitted."""
+    if requested != "auto":
+        return requested, "asked for"
+    if emissive:
+        return "path", f"auto: emissive material '{emissive}'"
+    if environment_map:
+        return "path", "auto: an environment map"
+    return "whitted", "auto: only point, spot, directional and ambient lights"
+
+
+def scene_dict(cfg, frame=0, width=None, height=None, spp=64, seed=0, max_depth=None,
+               integrator=None, notes=None):
+    """The Mitsuba scene dict of a vkrt scene's frame, the integrator chosen ("whitted" or
+    "path", from `integrator` or else the scene.cfg's) and the reason. Warnings go to notes."""
+    notes = [] if notes is None else notes
     groups, materials = read_obj(cfg.geometry)
     environment = cfg.environment
     if cfg.materials:
@@ -361,19 +459,24 @@ def scene_dict(cfg, frame=0, width=None, height=None, spp=64, seed=0, max_depth=
                                  "counterpart")
             environment = env.kd
         materials.update(file)  # a material file entry wins over the .mtl material
+    used = {name: materials.get(name, DEFAULT_MATERIAL) if name is not None
+            else DEFAULT_MATERIAL for name in groups}
+    emissive = next((m.name for m in used.values() if any(x > 0 for x in m.ke)), None)
+    chosen, reason = choose_integrator(integrator or cfg.integrator, emissive,
+                                       cfg.environment_map)
     scene = {"type": "scene"}
     lo = np.min([g["p"].reshape(-1, 3).min(axis=0) for g in groups.values()], axis=0)
     hi = np.max([g["p"].reshape(-1, 3).max(axis=0) for g in groups.values()], axis=0)
     for i, (name, tris) in enumerate(groups.items()):
-        m = materials.get(name, DEFAULT_MATERIAL) if name is not None else DEFAULT_MATERIAL
-        bsdf = bsdf_for(m)
+        m = used[name]
+        bsdf = bsdf_for(m, notes)
         emission = m.ke if any(m.ke) else None
         has_n = tris["has_n"]
         for with_normals in (True, False):
             pick = has_n if with_normals else ~has_n
             if not pick.any():
                 continue
-            part = {"p": tris["p"][pick], "uv": None if tris["uv"] is None else tris["uv"][pick],
+            part = {"p": tris["p"][pick], "uv": tris["uv"][pick],
                     "n": None if tris["n"] is None else tris["n"][pick]}
             scene[f"mesh{i}_{int(with_normals)}"] = mesh_for(f"{name}", part, with_normals, bsdf,
                                                              emission)
@@ -393,7 +496,9 @@ def scene_dict(cfg, frame=0, width=None, height=None, spp=64, seed=0, max_depth=
                                   "cutoff_angle": light["half_angle"],
                                   "beam_width": 0.75 * light["half_angle"],
                                   "to_world": look_at(pos, pos + d, any_perpendicular(d))}
-    if any(environment):
+    if cfg.environment_map:
+        scene["environment"] = environment_map(*cfg.environment_map)
+    elif any(environment):
         scene["environment"] = {"type": "constant", "radiance": rgb(environment)}
     cam = cfg.cameras[frame]
     centre = (lo + hi) / 2
@@ -406,19 +511,103 @@ def scene_dict(cfg, frame=0, width=None, height=None, spp=64, seed=0, max_depth=
                  "rfilter": {"type": "box"}, "pixel_format": "rgb"},
         "sampler": {"type": "stratified", "sample_count": spp, "seed": seed},
     }
-    scene["integrator"] = {"type": "vkrt_whitted",
-                           "max_depth": cfg.max_depth if max_depth is None else max_depth,
-                           "ambient": ambient.tolist()}
-    return scene
+    depth = cfg.max_depth if max_depth is None else max_depth
+    if chosen == "path":
+        if ambient.any():
+            notes.append("ambient light is left out in path mode: it stands in for the indirect "
+                         "light, which the path tracer computes (as vkrt's path tracer does)")
+        scene["integrator"] = {"type": "path", "max_depth": depth + PATH_SEGMENTS_PAST_MAX_DEPTH,
+                               "rr_depth": VKRT_ROULETTE_DEPTH + 1, "hide_emitters": False}
+    else:
+        scene["integrator"] = {"type": "vkrt_whitted", "max_depth": depth,
+                               "ambient": ambient.tolist()}
+    return scene, chosen, reason
 
 
 # ---- What Mitsuba has no plugin for ------------------------------------------------------------
 
+def _flip_z(v, flip):
+    return mi.Vector3f(v.x, v.y, dr.select(flip, -v.z, v.z))
+
+
+class VkrtTwoSided(mi.BSDF):
+    """vkrt's two-sided surface (docs/materials.md, `Surface`): the geometric normal is turned to
+    the side the ray comes from, and the interpolated (shading) normal to the geometric normal's
+    side, as pbrt does; light counts only when it is in front of both. Mitsuba's `twosided`
+    instead decides the side by the shading normal alone, so where bent vertex normals tilt the
+    shading normal away from the viewer (near silhouettes of foliage and car bodies) it shows the
+    back of the surface, and it lets light through the geometric surface by way of a bent
+    normal. Here the nested one-sided BSDF sees wi and wo mirrored (z negated in the shading
+    frame) when the shading normal must be turned, as Mitsuba's twosided mirrors them. A viewer
+    that is then still below the shading normal, which vkrt's Lambertian lobe ignores, is moved
+    onto it for Mitsuba's BSDFs (which would return nothing); the Blinn-Phong BSDF (reads_wi)
+    reads the true direction, as vkrt's does."""
+
+    def __init__(self, props):
+        mi.BSDF.__init__(self, props)
+        self.nested = props["bsdf"]
+        self.reads_wi = bool(props.get("reads_wi", False))
+        sides = mi.BSDFFlags.FrontSide | mi.BSDFFlags.BackSide
+        self.m_components = [self.nested.flags(i) | sides
+                             for i in range(self.nested.component_count())]
+        self.m_flags = self.nested.flags() | sides
+
+    def _sides(self, si):
+        """(flip, viewer's side of the geometric normal, the geometric normal, the nested si)."""
+        ng = si.to_local(si.n)
+        side = dr.dot(si.wi, ng)
+        flip = side * ng.z < 0
+        inner = mi.SurfaceInteraction3f(si)
+        wi = _flip_z(si.wi, flip)
+        if not self.reads_wi:
+            wi = dr.normalize(mi.Vector3f(wi.x, wi.y, dr.maximum(wi.z, 1e-4)))
+        inner.wi = wi
+        return flip, side, ng, inner
+
+    def eval(self, ctx, si, wo, active=True):
+        flip, side, ng, inner = self._sides(si)
+        ok = active & (dr.dot(wo, ng) * side > 0)
+        return dr.select(ok, self.nested.eval(ctx, inner, _flip_z(wo, flip), ok), 0.0)
+
+    def pdf(self, ctx, si, wo, active=True):
+        flip, side, ng, inner = self._sides(si)
+        ok = active & (dr.dot(wo, ng) * side > 0)
+        return dr.select(ok, self.nested.pdf(ctx, inner, _flip_z(wo, flip), ok), 0.0)
+
+    def eval_pdf(self, ctx, si, wo, active=True):
+        flip, side, ng, inner = self._sides(si)
+        ok = active & (dr.dot(wo, ng) * side > 0)
+        f, pdf = self.nested.eval_pdf(ctx, inner, _flip_z(wo, flip), ok)
+        return dr.select(ok, f, 0.0), dr.select(ok, pdf, 0.0)
+
+    def sample(self, ctx, si, sample1, sample2, active=True):
+        flip, side, ng, inner = self._sides(si)
+        bs, weight = self.nested.sample(ctx, inner, sample1, sample2, active)
+        bs.wo = _flip_z(bs.wo, flip)
+        # vkrt ends a path whose sampled direction would go through the geometric surface.
+        ok = active & (dr.dot(bs.wo, ng) * side > 0)
+        bs.pdf = dr.select(ok, bs.pdf, 0.0)
+        return bs, dr.select(ok, weight, 0.0)
+
+    def eval_diffuse_reflectance(self, si, active=True):
+        return self.nested.eval_diffuse_reflectance(self._sides(si)[3], active)
+
+    def traverse(self, callback):
+        pass
+
+    def to_string(self):
+        return f"VkrtTwoSided[{self.nested}]"
+
+
 class BlinnPhong(mi.BSDF):
-    """vkrt's @phong: Kd/pi plus the normalised Blinn-Phong lobe Ks (Ns + 8) / (8 pi) cos^Ns of the
-    half-vector angle, two-sided. Mitsuba 3 has no Phong model (Mitsuba 0.6's `phong` was the
-    modified Phong of Lafortune and Willems, another lobe). Sampled by the cosine, which is only
-    used for the ambient term's albedo (the integrator never continues from a smooth surface)."""
+    """vkrt's @phong, one-sided (VkrtTwoSided makes it two-sided): Kd/pi plus the normalised
+    Blinn-Phong lobe Ks (Ns + 8) / (8 pi) cos^Ns of the half-vector angle. Mitsuba 3 has no Phong
+    model (Mitsuba 0.6's `phong` was the modified Phong of Lafortune and Willems, another lobe).
+    A proper BSDF for the path tracer: sampled as a mixture of the cosine lobe and the
+    half-vector lobe (density (Ns + 1) / (2 pi) cos^Ns per half-vector, / (4 wo.h) per
+    direction), chosen in proportion to the luminance of Kd and Ks, with the mixture's pdf (for
+    MIS), as vkrt's glsl/materials/phong.glsl samples it. The value does not depend on the viewer
+    being above the surface (vkrt's does not): only wo must be."""
 
     def __init__(self, props):
         mi.BSDF.__init__(self, props)
@@ -426,38 +615,50 @@ class BlinnPhong(mi.BSDF):
         self.ks = props.get_texture("ks")
         self.ns = float(props["ns"])
         flags = (mi.BSDFFlags.DiffuseReflection | mi.BSDFFlags.GlossyReflection |
-                 mi.BSDFFlags.FrontSide | mi.BSDFFlags.BackSide)
+                 mi.BSDFFlags.FrontSide)
         self.m_flags = flags
         self.m_components = [flags]
 
-    def eval(self, ctx, si, wo, active=True):
-        # Two-sided: mirror both directions to the side the viewer is on.
-        flip = mi.Frame3f.cos_theta(si.wi) < 0
-        wi = mi.Vector3f(si.wi.x, si.wi.y, dr.select(flip, -si.wi.z, si.wi.z))
-        wo = mi.Vector3f(wo.x, wo.y, dr.select(flip, -wo.z, wo.z))
-        cos_o = mi.Frame3f.cos_theta(wo)
-        h = dr.normalize(wi + wo)
-        lobe = (self.ns + 8.0) / (8.0 * dr.pi) * dr.power(dr.maximum(h.z, 0.0), self.ns)
-        f = self.kd.eval(si, active) * dr.inv_pi + self.ks.eval(si, active) * lobe
-        return dr.select(active & (cos_o > 0) & (mi.Frame3f.cos_theta(wi) > 0), f * cos_o, 0.0)
-
-    def pdf(self, ctx, si, wo, active=True):
-        return dr.select(active, mi.warp.square_to_cosine_hemisphere_pdf(
-            mi.Vector3f(wo.x, wo.y, dr.abs(wo.z))), 0.0)
+    def _specular_probability(self, si, active):
+        d = mi.luminance(self.kd.eval(si, active))
+        k = mi.luminance(self.ks.eval(si, active))
+        return dr.select(d + k > 0, k / (d + k), 0.0)
 
     def eval_pdf(self, ctx, si, wo, active=True):
-        return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
+        cos_o = mi.Frame3f.cos_theta(wo)
+        h = dr.normalize(si.wi + wo)
+        lobe = dr.power(dr.maximum(h.z, 0.0), self.ns)
+        f = (self.kd.eval(si, active) * dr.inv_pi +
+             self.ks.eval(si, active) * ((self.ns + 8.0) / (8.0 * dr.pi) * lobe))
+        ps = self._specular_probability(si, active)
+        pdf = ((1.0 - ps) * cos_o * dr.inv_pi +
+               ps * (self.ns + 1.0) / (2.0 * dr.pi) * lobe / (4.0 * dr.maximum(dr.dot(wo, h),
+                                                                              1e-8)))
+        ok = active & (cos_o > 0)
+        return dr.select(ok, f * cos_o, 0.0), dr.select(ok, pdf, 0.0)
+
+    def eval(self, ctx, si, wo, active=True):
+        return self.eval_pdf(ctx, si, wo, active)[0]
+
+    def pdf(self, ctx, si, wo, active=True):
+        return self.eval_pdf(ctx, si, wo, active)[1]
 
     def sample(self, ctx, si, sample1, sample2, active=True):
+        specular = sample1 < self._specular_probability(si, active)
+        cos_h = dr.power(sample2.x, 1.0 / (self.ns + 1.0))
+        sin_h = dr.safe_sqrt(1.0 - cos_h * cos_h)
+        phi = 2.0 * dr.pi * sample2.y
+        h = mi.Vector3f(sin_h * dr.cos(phi), sin_h * dr.sin(phi), cos_h)
+        reflected = 2.0 * dr.dot(si.wi, h) * h - si.wi
         bs = mi.BSDFSample3f()
-        wo = mi.warp.square_to_cosine_hemisphere(sample2)
-        bs.wo = dr.select(mi.Frame3f.cos_theta(si.wi) < 0, mi.Vector3f(wo.x, wo.y, -wo.z), wo)
-        bs.pdf = mi.warp.square_to_cosine_hemisphere_pdf(wo)
+        bs.wo = dr.select(specular, reflected, mi.warp.square_to_cosine_hemisphere(sample2))
+        f, bs.pdf = self.eval_pdf(ctx, si, bs.wo, active)
         bs.eta = 1.0
-        bs.sampled_type = mi.UInt32(+mi.BSDFFlags.DiffuseReflection)
+        bs.sampled_type = dr.select(specular, mi.UInt32(+mi.BSDFFlags.GlossyReflection),
+                                    mi.UInt32(+mi.BSDFFlags.DiffuseReflection))
         bs.sampled_component = mi.UInt32(0)
-        value = self.eval(ctx, si, bs.wo, active) / dr.maximum(bs.pdf, 1e-12)
-        return bs, dr.select(active & (bs.pdf > 0), value, 0.0)
+        ok = active & (bs.pdf > 0)
+        return bs, dr.select(ok, f / dr.maximum(bs.pdf, 1e-20), 0.0)
 
     def eval_diffuse_reflectance(self, si, active=True):
         return self.kd.eval(si, active)
@@ -528,4 +729,5 @@ class Whitted(mi.SamplingIntegrator):
 
 
 mi.register_bsdf("vkrt_blinn_phong", lambda props: BlinnPhong(props))
+mi.register_bsdf("vkrt_twosided", lambda props: VkrtTwoSided(props))
 mi.register_integrator("vkrt_whitted", lambda props: Whitted(props))

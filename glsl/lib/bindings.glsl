@@ -64,6 +64,12 @@ layout(std430, set = 0, binding = VKRT_BINDING_SLOTS) buffer SlotBuffer { uvec2 
 layout(std430, set = 0, binding = VKRT_BINDING_TEXCOORDS) readonly buffer TexcoordBuffer { TriangleTexcoords triangle_texcoords[]; };
 layout(std430, set = 0, binding = VKRT_BINDING_TEXTURE_INFOS) readonly buffer TextureInfoBuffer { TextureInfo texture_infos[]; };
 layout(std430, set = 0, binding = VKRT_BINDING_TEXELS) readonly buffer TexelBuffer { uint texels[]; };
+/* The path tracer's area lights: what it needs to know of them, then the alias table over the
+ * emissive triangles (glsl/shared.h LightInfo, Emitter; lib/path_lights.glsl samples them). */
+layout(std430, set = 0, binding = VKRT_BINDING_EMITTERS) readonly buffer EmitterBuffer {
+    LightInfo light_info;
+    Emitter emitters[];
+};
 
 /* Set for `vkrt bench --stats`: the traversal counts its work into counters.trace_* (slower;
  * never set for timed runs or renders). */
@@ -71,6 +77,14 @@ layout(constant_id = VKRT_SPEC_TRAVERSAL_STATS) const bool TRAVERSAL_STATS = fal
 
 /* Children per node of the BVH's GPU layout: 2 (BvhPair) or 4 (BvhQuad). */
 layout(constant_id = VKRT_SPEC_BVH_WIDTH) const uint BVH_WIDTH = 2u;
+
+/* The integrator the kernels were built for (VKRT_INTEGRATE_*), and how the path tracer samples
+ * direct light (VKRT_SAMPLING_*). */
+layout(constant_id = VKRT_SPEC_INTEGRATOR) const uint INTEGRATOR = VKRT_INTEGRATE_WHITTED;
+layout(constant_id = VKRT_SPEC_LIGHT_SAMPLING) const uint LIGHT_SAMPLING = VKRT_SAMPLING_MIS;
+
+/* Set when a material of the scene is cut out by a texture (lib/cutout.glsl). */
+layout(constant_id = VKRT_SPEC_HAS_CUTOUTS) const bool HAS_CUTOUTS = false;
 
 /* Which structure trace_closest and trace_any walk (VKRT_TRAVERSE_*). */
 layout(constant_id = VKRT_SPEC_ACCEL_KIND) const uint ACCEL_KIND = VKRT_TRAVERSE_BRUTE;

@@ -169,6 +169,40 @@ float fresnel_dielectric(float cos_i, float eta)
     return 0.5 * (rs * rs + rp * rp);
 }
 
+/* ---- The path tracer's side of a material (docs/materials.md, "Materials for path") -------- */
+
+/* What bsdf_sample returns: the direction it chose, the weight f * |cos| / pdf a path carries on
+ * with, the pdf of the direction (solid angle; for MIS against light sampling), and whether it
+ * came from a delta lobe (a perfect mirror or glass: no light sample can find it, pdf unused). */
+struct BsdfSample {
+    vec3 direction;
+    vec3 weight;
+    float pdf;
+    bool delta;
+};
+
+/* The payload of the ray bsdf_sample casts: the arriving ray's unless the material sets another
+ * (the path tracer's cast_ray_payload). */
+vec4 vkrt_child_payload;
+
+void set_payload(vec4 payload)
+{
+    vkrt_child_payload = payload;
+}
+
+/* The relative luminance of linear Rec. 709 RGB (the weights of lights and lobes). */
+float luminance(vec3 c)
+{
+    return dot(c, vec3(0.2126, 0.7152, 0.0722));
+}
+
+/* Emitted radiance of the built-in materials: Ke (parameters 8-10) from the front face only (the
+ * side the triangle's counter-clockwise winding faces), as Mitsuba's and pbrt's area lights. */
+vec3 mtl_emitted(Surface s)
+{
+    return s.front_face ? param3(8u) : vec3(0.0);
+}
+
 /* A unit vector with cosine-weighted density about n (for diffuse bounces). */
 vec3 cosine_direction(vec3 n, float u1, float u2)
 {
@@ -176,6 +210,57 @@ vec3 cosine_direction(vec3 n, float u1, float u2)
     vec3 t = normalize(abs(n.x) > 0.5 ? cross(n, vec3(0.0, 1.0, 0.0)) : cross(n, vec3(1.0, 0.0, 0.0)));
     vec3 b = cross(n, t);
     return normalize(r * cos(phi) * t + r * sin(phi) * b + sqrt(max(0.0, 1.0 - u1)) * n);
+}
+
+/* The Lambertian lobe of albedo: f * cos for wi (0 below the surface), and its cosine pdf. */
+vec3 lambert_eval(Surface s, vec3 albedo, vec3 wi, out float pdf)
+{
+    float c = dot(wi, s.normal);
+    /* Light may not come through the surface by way of a bent shading normal either. */
+    if (c <= 0.0 || dot(wi, s.geometric_normal) <= 0.0) {
+        pdf = 0.0;
+        return vec3(0.0);
+    }
+    pdf = c / PI;
+    return albedo * (c / PI);
+}
+
+/* A cosine-distributed direction about the shading normal; weight albedo (f cos / pdf). False
+ * (nothing to continue with) where the direction would go below the geometric surface. */
+bool lambert_sample(Surface s, vec3 albedo, out BsdfSample b)
+{
+    b.direction = cosine_direction(s.normal, random(), random());
+    float c = dot(b.direction, s.normal);
+    b.pdf = c / PI;
+    b.weight = albedo;
+    b.delta = false;
+    return c > 0.0 && dot(b.direction, s.geometric_normal) > 0.0;
+}
+
+/* A smooth dielectric boundary of eta = n_transmitted / n_incident: reflection or refraction,
+ * one chosen with the Fresnel reflectance as its probability (both delta lobes), the refracted
+ * radiance scaled by 1 / eta^2 (radiance, not importance, is carried: pbrt's Radiance mode,
+ * Mitsuba's dielectric). True when it reflected. */
+bool dielectric_sample(Surface s, float eta, out BsdfSample b)
+{
+    float cos_i = max(-dot(s.incoming, s.normal), 0.0);
+    b.pdf = 0.0;
+    b.delta = true;
+    if (random() < fresnel_dielectric(cos_i, eta)) {
+        b.direction = reflect(s.incoming, s.normal);
+        b.weight = vec3(1.0);
+        return true;
+    }
+    b.direction = normalize(refract(s.incoming, s.normal, 1.0 / eta));
+    b.weight = vec3(1.0 / (eta * eta));
+    return false;
+}
+
+/* A black surface: nothing reflected. */
+vec3 black_eval(out float pdf)
+{
+    pdf = 0.0;
+    return vec3(0.0);
 }
 
 #endif

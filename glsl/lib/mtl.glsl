@@ -13,14 +13,12 @@ vec3 mtl_diffuse(Surface s)
     return param3(0u) * material_texture(0u, s.uv).rgb;
 }
 
-/* Coverage of the surface in [0, 1]: d times map_d. Below 1 the rest of the light goes through,
- * as for leaves cut out of a quad by an alpha map. */
+/* Coverage of the surface in [0, 1]: d, the uniform part. Below 1 the rest of the light goes
+ * through. A map_d (or an RGBA map_Kd's alpha) cuts the surface out in traversal instead
+ * (lib/cutout.glsl): a hit that reaches the material is one the cut-out kept. */
 float mtl_coverage(Surface s)
 {
-    float coverage = 1.0 - param(3u);
-    if (has_texture(1u))
-        coverage *= material_texture(1u, s.uv).r;
-    return clamp(coverage, 0.0, 1.0);
+    return clamp(1.0 - param(3u), 0.0, 1.0);
 }
 
 /* The ray that carries on through an uncovered part of the surface: 1 ray where coverage < 1. */
@@ -37,6 +35,18 @@ float mtl_see_through(Surface s)
     if (coverage < 1.0)
         cast_ray(s, s.incoming, vec3(1.0 - coverage));
     return coverage;
+}
+
+/* For path: with probability 1 - coverage the path goes on through the surface unchanged (a delta
+ * lobe of weight 1); false, drawing nothing, where the surface is covered. */
+bool mtl_pass_through(Surface s, out BsdfSample b)
+{
+    float coverage = mtl_coverage(s);
+    b.direction = s.incoming;
+    b.weight = vec3(1.0);
+    b.pdf = 0.0;
+    b.delta = true;
+    return coverage < 1.0 && random() >= coverage;
 }
 
 #endif

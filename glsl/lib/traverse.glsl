@@ -7,6 +7,7 @@
 #ifndef VKRT_TRAVERSE_GLSL
 #define VKRT_TRAVERSE_GLSL
 
+#include "cutout.glsl"
 #include "intersect.glsl"
 #include "traverse_brute.glsl"
 #include "traverse_bvh.glsl"
@@ -16,6 +17,7 @@
 Hit trace_closest(vec3 origin, vec3 dir, float tmin, float tmax)
 {
     RayShear s = ray_shear_make(origin, dir);
+    cutout_begin_ray(origin, dir);
     if (ACCEL_KIND == VKRT_TRAVERSE_BVH)
         return bvh_traverse(s, dir, tmin, tmax, false);
     if (ACCEL_KIND == VKRT_TRAVERSE_GRID)
@@ -27,6 +29,7 @@ Hit trace_closest(vec3 origin, vec3 dir, float tmin, float tmax)
 bool trace_any(vec3 origin, vec3 dir, float tmin, float tmax)
 {
     RayShear s = ray_shear_make(origin, dir);
+    cutout_begin_ray(origin, dir);
     if (ACCEL_KIND == VKRT_TRAVERSE_BVH)
         return bvh_traverse(s, dir, tmin, tmax, true).triangle != VKRT_NO_HIT;
     if (ACCEL_KIND == VKRT_TRAVERSE_GRID)

@@ -20,7 +20,8 @@ Hit brute_closest(RayShear s, float tmin, float tmax)
     for (uint i = frame.range.x; i < frame.range.y; ++i) {
         Triangle tri = load_triangle(i);
         float t, u, v;
-        if (intersect_triangle(s, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tmin, hit.t, t, u, v))
+        if (intersect_triangle(s, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tmin, hit.t, t, u, v) &&
+            cutout_keeps(i, u, v))
             hit = Hit(t, u, v, i);
     }
     return hit;
@@ -32,7 +33,8 @@ bool brute_any(RayShear s, float tmin, float tmax)
     for (uint i = frame.range.x; i < frame.range.y; ++i) {
         Triangle tri = load_triangle(i);
         float t, u, v;
-        if (intersect_triangle(s, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tmin, tmax, t, u, v))
+        if (intersect_triangle(s, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tmin, tmax, t, u, v) &&
+            cutout_keeps(i, u, v))
             return true;
     }
     return false;

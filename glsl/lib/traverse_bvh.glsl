@@ -102,7 +102,8 @@ bool bvh_leaf(RayShear s, uint first, uint count, float tmin, inout Hit hit)
     for (uint i = first; i < first + count; ++i) {
         Triangle tri = load_triangle(i);
         float t, u, v;
-        if (intersect_triangle(s, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tmin, hit.t, t, u, v)) {
+        if (intersect_triangle(s, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tmin, hit.t, t, u, v) &&
+            cutout_keeps(i, u, v)) {
             hit = Hit(t, u, v, i);
             found = true;
         }

@@ -44,7 +44,8 @@ Hit grid_traverse(RayShear s, vec3 dir, float tmin, float tmax, bool any_hit)
             uint i = grid_refs[r];
             Triangle tri = load_triangle(i);
             float t, u, v;
-            if (intersect_triangle(s, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tmin, hit.t, t, u, v)) {
+            if (intersect_triangle(s, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tmin, hit.t, t, u, v) &&
+                cutout_keeps(i, u, v)) {
                 hit = Hit(t, u, v, i);
                 if (any_hit)
                     return hit;

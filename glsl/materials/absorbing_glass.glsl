@@ -36,3 +36,28 @@ void shade(Surface s)
         cast_ray_payload(s, refracted, (1.0 - reflectance) * absorbed, refracted_payload);
     }
 }
+
+/* Path: as glass, one of reflection and refraction chosen by Fresnel (dielectric_sample), with
+ * the absorption of the way inside and the payload as above; no emission. */
+vec3 emitted(Surface s)
+{
+    return vec3(0.0);
+}
+
+vec3 bsdf_eval(Surface s, vec3 wi, out float pdf)
+{
+    return black_eval(pdf);
+}
+
+bool bsdf_sample(Surface s, out BsdfSample b)
+{
+    vec3 absorbed = vec3(1.0);
+    if (!s.front_face && s.payload.w == 1.0)
+        absorbed = exp(-param3(0u) * distance(s.position, s.payload.xyz));
+    bool reflected = dielectric_sample(s, absorbing_eta(s), b);
+    b.weight *= absorbed;
+    /* Inside the solid, the ray carries the point it measures absorption from. */
+    bool inside_after = reflected ? !s.front_face : s.front_face;
+    set_payload(inside_after ? vec4(s.position, 1.0) : vec4(0.0));
+    return true;
+}

@@ -16,3 +16,26 @@ void shade(Surface s)
     bool odd = ((cell.x + cell.y + cell.z) & 1) != 0;
     add_radiance(diffuse_light(s, odd ? param3(4u) : param3(0u)));
 }
+
+/* Path: a Lambertian lobe of the square's albedo; no emission. */
+vec3 checker_albedo(Surface s)
+{
+    float size = param(8u) > 0.0 ? param(8u) : 1.0;
+    ivec3 cell = ivec3(floor((s.position - 1e-4 * s.geometric_normal) / size));
+    return ((cell.x + cell.y + cell.z) & 1) != 0 ? param3(4u) : param3(0u);
+}
+
+vec3 emitted(Surface s)
+{
+    return vec3(0.0);
+}
+
+vec3 bsdf_eval(Surface s, vec3 wi, out float pdf)
+{
+    return lambert_eval(s, checker_albedo(s), wi, pdf);
+}
+
+bool bsdf_sample(Surface s, out BsdfSample b)
+{
+    return lambert_sample(s, checker_albedo(s), b);
+}

@@ -12,3 +12,20 @@ void shade(Surface s)
 {
     add_radiance(param3(8u));
 }
+
+/* Path: Ke from the front face, and it does light other surfaces (the path tracer samples it as
+ * an area light); a black BSDF. */
+vec3 emitted(Surface s)
+{
+    return mtl_emitted(s);
+}
+
+vec3 bsdf_eval(Surface s, vec3 wi, out float pdf)
+{
+    return black_eval(pdf);
+}
+
+bool bsdf_sample(Surface s, out BsdfSample b)
+{
+    return false;
+}

@@ -37,3 +37,22 @@ void shade(Surface s)
     }
     add_radiance(param3(8u));
 }
+
+/* Path: reflection or refraction, one chosen by the Fresnel reflectance (dielectric_sample), the
+ * refracted light tinted. */
+vec3 emitted(Surface s)
+{
+    return mtl_emitted(s);
+}
+
+vec3 bsdf_eval(Surface s, vec3 wi, out float pdf)
+{
+    return black_eval(pdf);
+}
+
+bool bsdf_sample(Surface s, out BsdfSample b)
+{
+    if (!dielectric_sample(s, glass_eta(s), b))
+        b.weight *= glass_tint();
+    return true;
+}

@@ -13,3 +13,26 @@ void shade(Surface s)
     float coverage = mtl_see_through(s);
     add_radiance(coverage * (diffuse_light(s, mtl_diffuse(s)) + param3(8u)));
 }
+
+/* Path: as diffuse, the albedo Kd times map_Kd. */
+vec3 emitted(Surface s)
+{
+    return mtl_coverage(s) * mtl_emitted(s);
+}
+
+vec3 bsdf_eval(Surface s, vec3 wi, out float pdf)
+{
+    float coverage = mtl_coverage(s);
+    vec3 f = lambert_eval(s, mtl_diffuse(s), wi, pdf);
+    pdf *= coverage;
+    return coverage * f;
+}
+
+bool bsdf_sample(Surface s, out BsdfSample b)
+{
+    if (mtl_pass_through(s, b))
+        return true;
+    bool ok = lambert_sample(s, mtl_diffuse(s), b);
+    b.pdf *= mtl_coverage(s);
+    return ok;
+}

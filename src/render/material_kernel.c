@@ -84,8 +84,31 @@ static char *shader_text(const vkrt_shader_source *s, char *display, size_t size
     return strdup(s->text);
 }
 
+/* The path integrator's switches over the shaders: emitted light, BSDF value and sample. Each
+ * calls the shader's renamed function (vkrt_NAME_<shader>) with the same arguments. */
+static void add_path_dispatch(text *t, uint32_t shader_count, uint32_t environment_shader)
+{
+    static const struct {
+        const char *signature, *prologue, *name, *arguments, *otherwise;
+    } switches[] = {
+        {"vec3 material_emitted(uint shader, Surface s)", "", "emitted", "s", "vec3(0.0)"},
+        {"vec3 material_bsdf_eval(uint shader, Surface s, vec3 wi, out float pdf)",
+         "    pdf = 0.0;\n", "bsdf_eval", "s, wi, pdf", "vec3(0.0)"},
+        {"bool material_bsdf_sample(uint shader, Surface s, out BsdfSample b)",
+         "    b.pdf = 0.0;\n", "bsdf_sample", "s, b", "false"},
+    };
+    for (size_t k = 0; k < sizeof switches / sizeof *switches; ++k) {
+        add(t, "%s\n{\n%s    switch (shader) {\n", switches[k].signature, switches[k].prologue);
+        for (uint32_t i = 0; i < shader_count; ++i)
+            if (i != environment_shader)
+                add(t, "    case %uu: return vkrt_%s_%u(%s);\n", i, switches[k].name, i,
+                    switches[k].arguments);
+        add(t, "    }\n    return %s;\n}\n", switches[k].otherwise);
+    }
+}
+
 bool vkrt_material_kernel_create(vkrt_material_kernel *k, const vkrt_scene_materials *materials,
-                                 bool float_atomics, vkrt_error *err)
+                                 bool float_atomics, bool path, vkrt_error *err)
 {
     memset(k, 0, sizeof *k);
     k->shader_count = materials->shader_count;
@@ -97,10 +120,12 @@ bool vkrt_material_kernel_create(vkrt_material_kernel *k, const vkrt_scene_mater
         materials->shader_count);
     if (float_atomics)
         add(&t, "#extension GL_EXT_shader_atomic_float : require\n#define VKRT_FLOAT_ATOMICS 1\n");
+    if (path)
+        add(&t, "#define VKRT_PATH 1\n");
     add(&t, "#include \"../lib/material_api.glsl\"\n#include \"../lib/mtl.glsl\"\n");
     add(&t, "#define VKRT_ENVIRONMENT_MATERIAL %uu\n", materials->environment);
     uint32_t environment_shader = materials->list[materials->environment].shader;
-    int line = 5;
+    int line = path ? 6 : 5;
     for (uint32_t i = 0; i < materials->shader_count; ++i) {
         char display[1200];
         char *source = shader_text(&materials->shaders[i], display, sizeof display);
@@ -122,14 +147,18 @@ bool vkrt_material_kernel_create(vkrt_material_kernel *k, const vkrt_scene_mater
         if (kind)
             add(&t, "#define environment vkrt_environment_%u\n", i);
         else
-            add(&t, "#define count_rays vkrt_count_rays_%u\n#define shade vkrt_shade_%u\n", i, i);
+            add(&t, "#define count_rays vkrt_count_rays_%u\n#define shade vkrt_shade_%u\n"
+                    "#define emitted vkrt_emitted_%u\n#define bsdf_eval vkrt_bsdf_eval_%u\n"
+                    "#define bsdf_sample vkrt_bsdf_sample_%u\n",
+                i, i, i, i, i);
         add(&t, "#line 1 \"%s\"\n%s\n", display, source);
         free(source);
         add(&t, "#line %d \"glsl/%s\"\n", line, generated_path);
         if (kind)
             add(&t, "#undef environment\n");
         else
-            add(&t, "#undef count_rays\n#undef shade\n");
+            add(&t, "#undef count_rays\n#undef shade\n#undef emitted\n#undef bsdf_eval\n"
+                    "#undef bsdf_sample\n");
     }
     add(&t, "uint material_count_rays(uint shader, Surface s)\n{\n    switch (shader) {\n");
     for (uint32_t i = 0; i < materials->shader_count; ++i)
@@ -141,6 +170,8 @@ bool vkrt_material_kernel_create(vkrt_material_kernel *k, const vkrt_scene_mater
         if (i != environment_shader)
             add(&t, "    case %uu: vkrt_shade_%u(s); break;\n", i, i);
     add(&t, "    }\n}\n");
+    if (path)
+        add_path_dispatch(&t, materials->shader_count, environment_shader);
     add(&t, "vec3 material_environment(vec3 direction, vec4 payload)\n{\n"
             "    return vkrt_environment_%u(direction, payload);\n}\n",
         environment_shader);
@@ -178,6 +209,11 @@ bool vkrt_material_kernel_compile(const vkrt_material_kernel *k,
         {"vkrt_count_rays_", "uint count_rays(Surface s)"},
         {"vkrt_shade_", "void shade(Surface s)"},
         {"vkrt_environment_", "vec3 environment(vec3 direction, vec4 payload)"},
+        {"vkrt_emitted_", "vec3 emitted(Surface s), which the path integrator needs"},
+        {"vkrt_bsdf_eval_",
+         "vec3 bsdf_eval(Surface s, vec3 wi, out float pdf), which the path integrator needs"},
+        {"vkrt_bsdf_sample_",
+         "bool bsdf_sample(Surface s, out BsdfSample b), which the path integrator needs"},
     };
     for (size_t e = 0; e < sizeof entries / sizeof *entries; ++e) {
         const char *at = strstr(err->msg, entries[e].renamed);

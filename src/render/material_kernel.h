@@ -24,9 +24,11 @@ typedef struct vkrt_material_kernel {
 } vkrt_material_kernel;
 
 /* Writes the module for materials. float_atomics: the device adds floats atomically
- * (VK_EXT_shader_atomic_float), else shade.comp falls back to compare-and-swap. */
+ * (VK_EXT_shader_atomic_float), else shade.comp falls back to compare-and-swap. path: for the
+ * path integrator (VKRT_PATH defined, and the switches over each shader's emitted, bsdf_eval and
+ * bsdf_sample, which a shader then must define). */
 bool vkrt_material_kernel_create(vkrt_material_kernel *k, const vkrt_scene_materials *materials,
-                                 bool float_atomics, vkrt_error *err);
+                                 bool float_atomics, bool path, vkrt_error *err);
 
 /* Compiles kernel (e.g. "shade.comp") against the module, with preamble (NULL or the device's
  * #extension and #define lines, gpu_shader_sources.preamble); on a compile error in a user's

@@ -3,6 +3,7 @@
  * of it. Creation runs in the order data flows: the structure (its triangle order decides every
  * upload's order), the material kernel's plan, the uploads, the frame's buffers, the kernels.
  */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -29,6 +30,45 @@ static bool default_materials(const vkrt_scene *scene, vkrt_scene_materials *own
     if (!ok && err && !err->msg[0])
         vkrt_error_set(err, "out of memory");
     return ok;
+}
+
+static float luminance(const float *rgb)
+{
+    return 0.2126f * rgb[0] + 0.7152f * rgb[1] + 0.0722f * rgb[2];
+}
+
+/* The integrator: asked for (desc, else the scene's `integrator`), or chosen from the scene's
+ * lights. Light from geometry or from an environment map needs the path tracer; a scene lit by
+ * point, spot and directional lights alone keeps Whitted's picture (and its speed). */
+static void choose_integrator(vkrt_renderer *r, const vkrt_render_desc *desc,
+                              const vkrt_scene *scene, const vkrt_scene_materials *mats)
+{
+    vkrt_integrator asked = desc->integrator ? desc->integrator : scene->config.integrator;
+    if (asked != VKRT_INTEGRATOR_AUTO) {
+        r->integrator = asked;
+        snprintf(r->integrator_reason, sizeof r->integrator_reason, "asked for");
+        return;
+    }
+    const char *emitter = NULL;
+    for (uint32_t i = 0; i < mats->count && !emitter; ++i) {
+        float ke[3];
+        renderer_material_ke(mats, i, ke);
+        if (luminance(ke) > 0)
+            emitter = mats->list[i].name;
+    }
+    if (emitter) {
+        r->integrator = VKRT_INTEGRATOR_PATH;
+        snprintf(r->integrator_reason, sizeof r->integrator_reason,
+                 "material '%s' emits light (Ke): path", emitter);
+    } else if (scene->config.environment_map) {
+        r->integrator = VKRT_INTEGRATOR_PATH;
+        snprintf(r->integrator_reason, sizeof r->integrator_reason,
+                 "an environment map lights the scene: path");
+    } else {
+        r->integrator = VKRT_INTEGRATOR_WHITTED;
+        snprintf(r->integrator_reason, sizeof r->integrator_reason,
+                 "no emissive material and no environment map: whitted");
+    }
 }
 
 /* The image's rays must fit one ray buffer the device allows. */
@@ -77,6 +117,15 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
         ok = default_materials(scene, &own, err);
         mats = &own;
     }
+    if (ok)
+        choose_integrator(r, desc, scene, mats);
+    /* The path tracer's last wave only looks for the light its BSDF samples find (nee.comp skips
+     * it): so light sampling and BSDF sampling both reach paths of max-depth + 2 segments, the
+     * same paths, and max-depth 0 is direct light, as in Whitted (Mitsuba's max_depth is ours
+     * + 2). */
+    if (r->integrator == VKRT_INTEGRATOR_PATH)
+        r->max_depth += 1;
+    r->light_sampling = desc->light_sampling;
     const vkrt_tuning *t = &r->tuning;
     const vkrt_accel_desc accel = {
         .kind = desc->accel,
@@ -92,10 +141,12 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
                                        sizeof(FrameParams), err) &&
          vkrt_accel_gpu_create(&r->accel, ctx, &accel, scene->mesh.positions,
                                scene->mesh.triangle_count, err) &&
-         vkrt_material_kernel_create(&kernel, mats, ctx->float_atomics, err) &&
+         vkrt_material_kernel_create(&kernel, mats, ctx->float_atomics,
+                                     r->integrator == VKRT_INTEGRATOR_PATH, err) &&
          renderer_upload_geometry(r, &scene->mesh, mats, err) &&
          renderer_create_texel_views(r, err) && renderer_upload_materials(r, mats, &kernel, err) &&
          renderer_upload_lights(r, &scene->config, err) &&
+         renderer_upload_light_sampling(r, scene, mats, err) &&
          renderer_create_frame_buffers(r, err) &&
          renderer_create_kernels(r, scene->mesh.normals != NULL, has_texcoords,
                                  desc->traversal_stats, &kernel, mats, err);
@@ -108,6 +159,13 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
     renderer_bind_all(r);
     *out = r;
     return true;
+}
+
+vkrt_integrator vkrt_renderer_integrator(const vkrt_renderer *r, const char **reason)
+{
+    if (reason)
+        *reason = r->integrator_reason;
+    return r->integrator;
 }
 
 const gpu_buffer *vkrt_renderer_image(const vkrt_renderer *r)
@@ -145,7 +203,8 @@ void vkrt_renderer_destroy(vkrt_renderer *r)
     gpu_buffer *buffers[] = {&r->counters,      &r->image,    &r->waves,
                              &r->lights,        &r->materials, &r->triangle_material,
                              &r->normals,       &r->texcoords, &r->triangles,
-                             &r->texture_infos, &r->texels};
+                             &r->texture_infos, &r->texels,  &r->emitters,
+                             &r->environment};
     for (size_t i = 0; i < sizeof buffers / sizeof *buffers; ++i)
         gpu_buffer_destroy(r->ctx, buffers[i]);
     vkrt_accel_gpu_destroy(&r->accel, r->ctx);

@@ -49,6 +49,8 @@ typedef struct vkrt_render_desc {
     uint32_t profile_repeat;  /* timed frames of a profile; 0: 11 */
     bool traversal_stats;     /* the trace kernels count their work (vkrt_renderer_trace_stats);
                                  slower: never for timings */
+    vkrt_integrator integrator; /* auto (0): the scene's, chosen from its lights if that is auto */
+    uint32_t light_sampling;  /* path: VKRT_SAMPLING_* of glsl/shared.h, 0 (MIS) but in tests */
     vkrt_tuning_overrides tuning; /* zero: the device's defaults (tuning.h) */
 } vkrt_render_desc;
 
@@ -90,6 +92,10 @@ bool vkrt_renderer_read_image(vkrt_renderer *r, uint32_t passes, float *rgb, vkr
 
 /* The GPU buffer of the image add_samples accumulates into (the viewer's display pass reads it). */
 const gpu_buffer *vkrt_renderer_image(const vkrt_renderer *r);
+
+/* The integrator the renderer computes (never auto), and why: the auto rule's sentence or
+ * "asked for". */
+vkrt_integrator vkrt_renderer_integrator(const vkrt_renderer *r, const char **reason);
 
 /* The acceleration structure the renderer built, why, and its statistics. */
 const vkrt_accel_stats *vkrt_renderer_accel_stats(const vkrt_renderer *r);

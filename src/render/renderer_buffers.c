@@ -87,6 +87,8 @@ void renderer_bind_all(vkrt_renderer *r)
         [VKRT_BINDING_TEXCOORDS] = &r->texcoords,
         [VKRT_BINDING_TEXTURE_INFOS] = &r->texture_infos,
         [VKRT_BINDING_TEXELS] = &r->texels,
+        [VKRT_BINDING_EMITTERS] = &r->emitters,
+        [VKRT_BINDING_ENVIRONMENT] = &r->environment,
     };
     for (uint32_t i = 0; i < VKRT_STORAGE_BINDINGS; ++i)
         gpu_storage_set_bind(r->ctx, &r->set, i, bound[i]);

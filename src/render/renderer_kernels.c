@@ -86,14 +86,22 @@ bool renderer_create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoo
         {VKRT_SPEC_BVH_WIDTH, r->accel.stats.bvh_width},
         {VKRT_SPEC_TEXEL_LOADS, r->texel_loads},
         {VKRT_SPEC_NESTED_WALK, r->tuning.nested_walk},
+        {VKRT_SPEC_INTEGRATOR, r->integrator == VKRT_INTEGRATOR_PATH ? VKRT_INTEGRATE_PATH
+                                                                     : VKRT_INTEGRATE_WHITTED},
+        {VKRT_SPEC_LIGHT_SAMPLING, r->light_sampling},
+        {VKRT_SPEC_HAS_CUTOUTS, r->has_cutouts},
     };
     const uint32_t count = sizeof constants / sizeof *constants;
     const kernel_spec wave = {workgroup_size, constants, count};
     /* prepare.comp writes the next depth's indirect dispatch: one invocation. */
     const kernel_spec single = {1, constants, count};
+    /* The light kernel: Whitted's shadow rays for the materials to read, or the path tracer's
+     * next-event estimation, which evaluates the materials' BSDFs itself. */
+    bool path = r->integrator == VKRT_INTEGRATOR_PATH;
     return create_kernel(r, &r->raygen, "raygen.comp", &wave, err) &&
            create_kernel(r, &r->trace, "trace.comp", &wave, err) &&
-           create_kernel(r, &r->light, "light.comp", &wave, err) &&
+           (path ? create_material_kernel(r, &r->light, "nee.comp", kernel, mats, &wave, err)
+                 : create_kernel(r, &r->light, "light.comp", &wave, err)) &&
            create_kernel(r, &r->occlusion, "occlusion.comp", &wave, err) &&
            create_kernel(r, &r->prepare, "prepare.comp", &single, err) &&
            create_material_kernel(r, &r->count, "count.comp", kernel, mats, &wave, err) &&

@@ -18,6 +18,12 @@ struct vkrt_renderer {
     gpu_pipeline raygen, trace, light, occlusion, count, prepare, shade;
     gpu_buffer rays, rays_b, hits, triangles, normals, texcoords, triangle_material, materials,
         lights, image, counters, waves, visibility, slots, texture_infos, texels;
+    gpu_buffer emitters;      /* LightInfo, then the alias table over emissive triangles */
+    gpu_buffer environment;   /* the environment map's sampling distribution */
+    vkrt_integrator integrator; /* never auto */
+    char integrator_reason[256];
+    uint32_t light_sampling;  /* VKRT_SAMPLING_* */
+    bool has_cutouts;         /* a material is cut out by a texture (lib/cutout.glsl) */
     uint32_t width, height, samples, max_depth;
     uint32_t triangle_count, light_count, light_words;
     uint32_t capacity, max_capacity; /* rays per ray buffer: now, and the most the device allows */
@@ -37,6 +43,13 @@ bool renderer_upload_geometry(vkrt_renderer *r, const vkrt_mesh *mesh,
 bool renderer_upload_materials(vkrt_renderer *r, const vkrt_scene_materials *mats,
                                const vkrt_material_kernel *kernel, vkrt_error *err);
 bool renderer_upload_lights(vkrt_renderer *r, const vkrt_config *cfg, vkrt_error *err);
+/* The radiance material m emits as an area light (the .mtl's Ke for the built-ins that emit it,
+ * else 0): what the integrator's choice and the path tracer's light sampling go by. */
+void renderer_material_ke(const vkrt_scene_materials *mats, uint32_t m, float ke[3]);
+/* The path tracer's area lights and sky (binding VKRT_BINDING_EMITTERS and _ENVIRONMENT); for
+ * Whitted, minimal buffers that keep the bindings valid. */
+bool renderer_upload_light_sampling(vkrt_renderer *r, const vkrt_scene *scene,
+                                    const vkrt_scene_materials *mats, vkrt_error *err);
 /* The texel views of the triangles and the nodes, always made (every trace kernel declares
  * them), and r->texel_loads: the tuning's choice where the views hold the whole buffers. */
 bool renderer_create_texel_views(vkrt_renderer *r, vkrt_error *err);

@@ -7,6 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../scene/emitters.h"
+#include "../scene/envmap.h"
 #include "renderer_private.h"
 
 bool renderer_upload_geometry(vkrt_renderer *r, const vkrt_mesh *mesh,
@@ -62,6 +64,48 @@ done:
     return ok;
 }
 
+/* Whether texture tex of the set has a texel whose alpha is below 1: a colour map whose alpha
+ * carries coverage. */
+static bool texture_has_alpha(const vkrt_texture_set *set, uint32_t tex)
+{
+    const vkrt_texture_info *info = &set->info[tex];
+    size_t texels = (size_t)info->width * info->height;
+    bool half = (info->flags & VKRT_TEXTURE_HALF) != 0;
+    for (size_t i = 0; i < texels; ++i) {
+        if (half) {
+            /* The second word holds b and a as half floats, a in the high half: below 1.0
+             * (0x3C00) for any non-negative alpha under one. */
+            uint32_t a = set->texels[info->offset + 2 * i + 1] >> 16;
+            if (a < 0x3C00u)
+                return true;
+        } else if ((set->texels[info->offset + i] >> 24) < 255u) {
+            return true;
+        }
+    }
+    return false;
+}
+
+/* Where traversal reads material m's cut-out (lib/cutout.glsl): the built-ins that read the
+ * .mtl's map_Kd (slot 0) and map_d (slot 1) are cut out by map_d, or without one by an alpha
+ * channel of map_Kd. */
+static uint32_t material_cutout(const vkrt_scene_materials *mats, uint32_t m)
+{
+    static const char *const cut[] = {"diffuse", "textured", "phong", "mirror"};
+    const vkrt_scene_material *mat = &mats->list[m];
+    const char *builtin = mats->shaders[mat->shader].builtin;
+    bool reads_mtl_maps = false;
+    for (size_t i = 0; builtin && i < sizeof cut / sizeof *cut; ++i)
+        reads_mtl_maps |= strcmp(builtin, cut[i]) == 0;
+    if (!reads_mtl_maps)
+        return VKRT_CUTOUT_NONE;
+    if (mat->textures[1] != VKRT_SCENE_NO_TEXTURE)
+        return VKRT_CUTOUT_MAP_D;
+    if (mat->textures[0] != VKRT_SCENE_NO_TEXTURE &&
+        texture_has_alpha(&mats->textures, mat->textures[0]))
+        return VKRT_CUTOUT_ALPHA;
+    return VKRT_CUTOUT_NONE;
+}
+
 bool renderer_upload_materials(vkrt_renderer *r, const vkrt_scene_materials *mats,
                                const vkrt_material_kernel *kernel, vkrt_error *err)
 {
@@ -81,7 +125,8 @@ bool renderer_upload_materials(vkrt_renderer *r, const vkrt_scene_materials *mat
             (&g->textures[k / 4].x)[k % 4] = m->textures[k];
         g->info = (uvec4){m->shader,
                           kernel->shader_uses_lights[m->shader] ? VKRT_MATERIAL_USES_LIGHTS : 0,
-                          m->texture_count, 0};
+                          m->texture_count, material_cutout(mats, i)};
+        r->has_cutouts |= g->info.w != VKRT_CUTOUT_NONE;
         size_t len = strlen(m->name) + strlen(m->referrer) + 8;
         r->material_names[i] = malloc(len);
         if (!r->material_names[i]) {
@@ -165,4 +210,140 @@ bool renderer_create_texel_views(vkrt_renderer *r, vkrt_error *err)
                               r->ctx->properties.limits.maxTexelBufferElements);
     r->texel_loads = r->tuning.texel_loads && whole_triangles && whole_nodes;
     return true;
+}
+
+/* The environment is sampled for light when it can give any: a user's environment shader, or the
+ * built-in constant above zero. */
+static bool environment_gives_light(const vkrt_scene_materials *mats)
+{
+    const vkrt_scene_material *env = &mats->list[mats->environment];
+    const vkrt_shader_source *shader = &mats->shaders[env->shader];
+    if (!shader->builtin || strcmp(shader->builtin, "environment") != 0)
+        return true;
+    return env->params[0] > 0 || env->params[1] > 0 || env->params[2] > 0;
+}
+
+void renderer_material_ke(const vkrt_scene_materials *mats, uint32_t m, float ke[3])
+{
+    /* The built-ins whose emitted() is Ke (glsl/materials/): the others, and users' shaders,
+     * give their parameters 8-10 other meanings. */
+    static const char *const emitting[] = {"diffuse", "textured", "phong", "mirror", "glass",
+                                           "emissive"};
+    const char *builtin = mats->shaders[mats->list[m].shader].builtin;
+    ke[0] = ke[1] = ke[2] = 0;
+    if (m == mats->environment || !builtin)
+        return;
+    for (size_t i = 0; i < sizeof emitting / sizeof *emitting; ++i)
+        if (strcmp(builtin, emitting[i]) == 0)
+            memcpy(ke, &mats->list[m].params[8], 3 * sizeof *ke);
+}
+
+/* The alias table over the emissive triangles (src/scene/emitters.h) into info and *table,
+ * the triangles renumbered to the structure's order the kernels see. */
+static bool build_emitter_table(vkrt_renderer *r, const vkrt_scene *scene,
+                                const vkrt_scene_materials *mats, LightInfo *info,
+                                Emitter **table, vkrt_error *err)
+{
+    uint32_t n = scene->mesh.triangle_count;
+    float *ke = malloc((mats->count ? mats->count : 1) * 3 * sizeof *ke);
+    uint32_t *uploaded = malloc((n ? n : 1) * sizeof *uploaded);
+    if (!ke || !uploaded) {
+        free(ke);
+        free(uploaded);
+        return vkrt_error_set(err, "out of memory");
+    }
+    for (uint32_t m = 0; m < mats->count; ++m)
+        renderer_material_ke(mats, m, &ke[3 * m]);
+    for (uint32_t i = 0; i < n; ++i)
+        uploaded[vkrt_accel_original_triangle(&r->accel, i)] = i;
+    vkrt_emitters e;
+    bool ok = vkrt_emitters_build(scene->mesh.positions, n, mats->triangle_material, ke,
+                                  mats->count, &e, err);
+    free(ke);
+    *table = NULL;
+    if (ok && e.count) {
+        *table = calloc(e.count, sizeof **table);
+        if (!*table)
+            ok = vkrt_error_set(err, "out of memory for %u emitters", e.count);
+        for (uint32_t i = 0; ok && i < e.count; ++i)
+            (*table)[i] = (Emitter){uploaded[e.triangle[i]], e.keep[i], e.alias[i], e.power[i]};
+        info->emitter_count = e.count;
+        info->emitter_power = (float)e.total_power;
+    }
+    free(uploaded);
+    vkrt_emitters_free(&e);
+    return ok;
+}
+
+/* The environment map (scene.cfg `environment-map`), when there is one: its sampling
+ * distribution and then its pixels, as lib/environment.glsl reads them, into *bytes (malloc'd),
+ * and its fields of info. */
+static bool build_environment(const vkrt_config *cfg, LightInfo *info, float **floats,
+                              size_t *count, vkrt_error *err)
+{
+    *floats = NULL;
+    *count = 0;
+    if (!cfg->environment_map)
+        return true;
+    char referrer[64];
+    snprintf(referrer, sizeof referrer, "%s:%d", cfg->path ? cfg->path : "scene.cfg",
+             cfg->environment_map_line);
+    vkrt_envmap_image image;
+    vkrt_envmap_distribution dist;
+    if (!vkrt_envmap_load(cfg->environment_map, referrer, &image, err))
+        return false;
+    bool ok = vkrt_envmap_distribution_build(image.rgb, image.width, image.height, &dist, err);
+    size_t pixels = (size_t)image.width * image.height * 3;
+    if (ok) {
+        *count = dist.float_count + pixels;
+        *floats = malloc(*count * sizeof **floats);
+        if (!*floats)
+            ok = vkrt_error_set(err, "out of memory for the environment map");
+    }
+    if (ok) {
+        memcpy(*floats, dist.data, dist.float_count * sizeof **floats);
+        memcpy(*floats + dist.float_count, image.rgb, pixels * sizeof **floats);
+        vkrt_envmap_light_info(&dist, cfg->environment_scale, cfg->environment_rotate, info);
+        /* Where the pixels start (lib/environment.glsl). */
+        info->environment_pixels = (uint32_t)dist.float_count;
+    }
+    vkrt_envmap_distribution_free(&dist);
+    vkrt_envmap_image_free(&image);
+    return ok;
+}
+
+bool renderer_upload_light_sampling(vkrt_renderer *r, const vkrt_scene *scene,
+                                    const vkrt_scene_materials *mats, vkrt_error *err)
+{
+    LightInfo info = {0};
+    Emitter *table = NULL;
+    float *environment = NULL;
+    size_t environment_floats = 0;
+    bool path = r->integrator == VKRT_INTEGRATOR_PATH;
+    bool ok = (!path || build_emitter_table(r, scene, mats, &info, &table, err)) &&
+              build_environment(&scene->config, &info, &environment, &environment_floats, err);
+    if (!path)
+        info.environment_sampled = 0;
+    else if (!scene->config.environment_map)
+        info.environment_sampled = environment_gives_light(mats);
+    size_t table_bytes = (size_t)info.emitter_count * sizeof *table;
+    uint8_t *bytes = ok ? malloc(sizeof info + table_bytes) : NULL;
+    if (ok && !bytes)
+        ok = vkrt_error_set(err, "out of memory");
+    if (ok) {
+        memcpy(bytes, &info, sizeof info);
+        if (table_bytes)
+            memcpy(bytes + sizeof info, table, table_bytes);
+        ok = gpu_buffer_create_from(r->ctx, &r->emitters, bytes, sizeof info + table_bytes,
+                                    "emissive triangles", err) &&
+             (environment_floats
+                  ? gpu_buffer_create_from(r->ctx, &r->environment, environment,
+                                           environment_floats * sizeof *environment,
+                                           "environment map", err)
+                  : gpu_buffer_create(r->ctx, &r->environment, 0, "environment map", err));
+    }
+    free(bytes);
+    free(table);
+    free(environment);
+    return ok;
 }

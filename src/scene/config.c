@@ -305,10 +305,69 @@ static bool kw_accel(parser *p, const tokens *t)
     return true;
 }
 
+static bool kw_integrator(parser *p, const tokens *t)
+{
+    char buf[SHOWN_TOKEN_BYTES + 4];
+    if (t->count != 2)
+        return fail(p, "integrator needs one name (auto, whitted or path), got %d", t->count - 1);
+    if (!vkrt_integrator_parse(t->tok[1], &p->cfg->integrator))
+        return fail(p, "unknown integrator '%s' (expected auto, whitted or path)",
+                    shown(t->tok[1], buf));
+    return true;
+}
+
 static bool kw_environment(parser *p, const tokens *t)
 {
     return want_numbers(p, t, 1, 3, "environment") &&
            parse_colour(p, t, 1, "environment", p->cfg->environment);
+}
+
+/* environment-map FILE [scale S] [rotate DEG], the options in any order, each at most once. The
+ * file itself is read later (src/scene/envmap.h), like the OBJ, and its errors name this line. */
+static bool kw_environment_map(parser *p, const tokens *t)
+{
+    static const char *const usage = "environment-map FILE [scale S] [rotate DEGREES]";
+    char buf[SHOWN_TOKEN_BYTES + 4];
+    if (t->count < 2)
+        return fail(p, "environment-map needs a path (write: %s)", usage);
+    if (strchr(t->tok[1], '"') || t->tok[1][0] == '\'')
+        return fail(p, "environment-map: quotes are not supported; paths may not contain spaces");
+
+    vkrt_config *cfg = p->cfg;
+    bool have_scale = false, have_rotate = false;
+    for (int at = 2; at < t->count; at += 2) {
+        if (at >= MAX_TOKENS)
+            return fail(p, "environment-map: too many parts (write: %s)", usage);
+        const char *name = t->tok[at];
+        bool is_scale = strcmp(name, "scale") == 0;
+        if (!is_scale && strcmp(name, "rotate") != 0)
+            return fail(p, "environment-map: unexpected '%s' (write: %s; paths may not contain "
+                           "spaces)",
+                        shown(name, buf), usage);
+        if (is_scale ? have_scale : have_rotate)
+            return fail(p, "environment-map %s given twice", name);
+        if (at + 1 >= t->count)
+            return fail(p, "environment-map %s needs a number", name);
+        if (is_scale) {
+            have_scale = true;
+            if (!parse_float(p, t->tok[at + 1], "environment-map scale", &cfg->environment_scale))
+                return false;
+            /* A negative scale would make the sky subtract light. */
+            if (cfg->environment_scale < 0.0f)
+                return fail(p, "environment-map scale must not be negative, got %s",
+                            shown(t->tok[at + 1], buf));
+        } else {
+            have_rotate = true;
+            if (!parse_float(p, t->tok[at + 1], "environment-map rotate",
+                             &cfg->environment_rotate))
+                return false;
+        }
+    }
+    cfg->environment_map_line = p->at.line;
+    cfg->environment_map = vkrt_text_join_path(p->base_dir, t->tok[1], false);
+    if (!cfg->environment_map)
+        return fail(p, "out of memory");
+    return true;
 }
 
 static bool kw_light(parser *p, const tokens *t)
@@ -488,8 +547,10 @@ static const keyword keywords[] = {
     {"samples", true, kw_samples},
     {"max-depth", true, kw_max_depth},
     {"accel", true, kw_accel},
+    {"integrator", true, kw_integrator},
     {"output", true, kw_output},
     {"environment", true, kw_environment},
+    {"environment-map", true, kw_environment_map},
     {"light", false, kw_light},
     {"camera", false, kw_camera},
 };
@@ -520,7 +581,8 @@ static bool parse_line(void *ctx, const tokens *t)
         return keywords[i].parse(p, t);
     }
     return fail(p, "unknown keyword '%s' (expected geometry, materials, resolution, samples, "
-                   "max-depth, accel, output, environment, light or camera)",
+                   "max-depth, accel, integrator, output, environment, environment-map, light or "
+                   "camera)",
                 shown(t->tok[0], buf));
 }
 
@@ -556,6 +618,8 @@ bool vkrt_config_parse(const char *text, size_t size, const char *name, const ch
     c.samples = 1;
     c.max_depth = 6;
     c.accel = VKRT_ACCEL_AUTO;
+    c.integrator = VKRT_INTEGRATOR_AUTO;
+    c.environment_scale = 1.0f;
 
     parser p;
     memset(&p, 0, sizeof p);
@@ -603,6 +667,7 @@ void vkrt_config_free(vkrt_config *cfg)
     free(cfg->geometry);
     free(cfg->materials);
     free(cfg->output);
+    free(cfg->environment_map);
     free(cfg->lights);
     free(cfg->cameras);
     memset(cfg, 0, sizeof *cfg);
@@ -633,6 +698,35 @@ bool vkrt_accel_parse(const char *name, vkrt_accel_kind *kind)
         if (strcmp(name, vkrt_accel_name(all[i])) == 0) {
             if (kind)
                 *kind = all[i];
+            return true;
+        }
+    }
+    return false;
+}
+
+const char *vkrt_integrator_name(vkrt_integrator integrator)
+{
+    switch (integrator) {
+    case VKRT_INTEGRATOR_AUTO:
+        return "auto";
+    case VKRT_INTEGRATOR_WHITTED:
+        return "whitted";
+    case VKRT_INTEGRATOR_PATH:
+        return "path";
+    }
+    return "unknown";
+}
+
+bool vkrt_integrator_parse(const char *name, vkrt_integrator *integrator)
+{
+    static const vkrt_integrator all[] = {VKRT_INTEGRATOR_AUTO, VKRT_INTEGRATOR_WHITTED,
+                                          VKRT_INTEGRATOR_PATH};
+    if (!name)
+        return false;
+    for (size_t i = 0; i < sizeof all / sizeof all[0]; i++) {
+        if (strcmp(name, vkrt_integrator_name(all[i])) == 0) {
+            if (integrator)
+                *integrator = all[i];
             return true;
         }
     }

@@ -21,6 +21,13 @@ typedef enum vkrt_accel_kind {
     VKRT_ACCEL_BVH,
 } vkrt_accel_kind;
 
+/* Which light transport the renderer computes (docs/scene-format.md, `integrator`). */
+typedef enum vkrt_integrator {
+    VKRT_INTEGRATOR_AUTO = 0, /* the renderer chooses from the scene's lights and says why */
+    VKRT_INTEGRATOR_WHITTED,  /* delta lights, ambient, perfect mirrors and glass */
+    VKRT_INTEGRATOR_PATH,     /* unidirectional path tracing with next-event estimation and MIS */
+} vkrt_integrator;
+
 typedef enum vkrt_light_kind {
     VKRT_LIGHT_AMBIENT = 0, /* uniform, unoccluded radiance from every direction: adds Kd * colour */
     VKRT_LIGHT_DIRECTIONAL, /* colour is irradiance (W/m^2) on a surface facing the light */
@@ -53,7 +60,13 @@ typedef struct vkrt_config {
     uint32_t samples;         /* primary samples per pixel, default 1 */
     uint32_t max_depth;       /* secondary ray generations, default 6 */
     vkrt_accel_kind accel;    /* default auto */
-    float environment[3];     /* radiance of rays that miss, default 0 */
+    vkrt_integrator integrator; /* default auto */
+    float environment[3];     /* radiance of rays that miss, default 0; unused with a map */
+    char *environment_map;    /* equirectangular image (src/scene/envmap.h), resolved against the
+                                 scene.cfg's folder; NULL when absent. It replaces environment[]. */
+    float environment_scale;  /* radiance multiplier of the map, default 1, finite and >= 0 */
+    float environment_rotate; /* rotation of the map about +y in degrees, default 0, finite */
+    int environment_map_line; /* the line that named the map, for messages about the file */
     vkrt_config_light *lights;
     uint32_t light_count;
     vkrt_config_camera *cameras; /* one per frame, in file order; at least one */
@@ -80,5 +93,13 @@ const char *vkrt_accel_name(vkrt_accel_kind kind);
 
 /* Parses an accel name; returns false for an unknown one. */
 bool vkrt_accel_parse(const char *name, vkrt_accel_kind *kind);
+
+/* Name of an integrator as written in scene.cfg ("auto", "whitted", "path"); "unknown" for a
+ * value outside the enum. */
+const char *vkrt_integrator_name(vkrt_integrator integrator);
+
+/* Parses an integrator name (exact, lower case); returns false for an unknown one and then leaves
+ * *integrator unchanged. integrator may be NULL to test a name. */
+bool vkrt_integrator_parse(const char *name, vkrt_integrator *integrator);
 
 #endif

@@ -25,6 +25,12 @@
  * from the ones obj_load.h documents, e.g. Kd 0 vs 0.8, illum 0 vs 2, Tf 0 vs 1), and on which line
  * of the .mtl each texture was named, so that a missing texture's error can point there.
  *
+ * tinyobjloader's own messages are never passed on as it words them: its errors (an index of 0)
+ * become "path:LINE: ..." errors naming the index, and its warnings are translated into vkrt's
+ * (Warnings below: "file:LINE: warning: ...", lines taken from the scan, repeats folded), with
+ * only an unrecognised one passed on after "file: warning:". Material names are trimmed, so
+ * "newmtl  Name" is the material "usemtl Name" asks for.
+ *
  * vkrt_obj_parse takes the same path from text in memory (vkrt_obj_load reads the file and hands
  * its bytes over). All C++ exceptions stop at those two entry points; all output arrays are malloc'ed for the C side.
  */
@@ -42,6 +48,7 @@
 #include <map>
 #include <memory>
 #include <new>
+#include <set>
 #include <streambuf>
 #include <string>
 #include <vector>
@@ -96,6 +103,146 @@ public:
         setg(p, p, p + size);
     }
 };
+
+/* ------------------------------------------------------------------------------ warnings */
+
+/* One warning as the user reads it: "file:LINE: warning: text" (no LINE when it is 0). Warnings of
+ * one kind about one file fold into one line when there are several of them: "file: warning: "
+ * then fold with "{n}" replaced by their count, then the first FOLD_NAMES names in brackets. */
+struct Warning {
+    std::string file;
+    uint32_t line = 0;
+    std::string text;
+    std::string kind;        /* warnings of one kind fold together; "" never folds */
+    std::string name;        /* what a folded line lists for this one */
+    std::string fold;        /* the folded line's text, "{n}" standing for the count */
+    std::string names_label; /* before the list of names: "lines " */
+};
+
+/* Enough names to recognise the problem; --verbose lists them all. */
+constexpr size_t FOLD_NAMES = 3;
+
+/* User text in a message, cut short so a garbage line cannot flood it. */
+std::string quoted(const std::string &s)
+{
+    return s.size() > QUOTE_MAX ? s.substr(0, QUOTE_MAX) + "..." : s;
+}
+
+Warning plain_warning(const std::string &file, uint32_t line, const std::string &text)
+{
+    Warning w;
+    w.file = file;
+    w.line = line;
+    w.text = text;
+    return w;
+}
+
+Warning folding_warning(const std::string &file, uint32_t line, const std::string &text,
+                        const std::string &kind, const std::string &name, const std::string &fold)
+{
+    Warning w = plain_warning(file, line, text);
+    w.kind = kind;
+    w.name = quoted(name);
+    w.fold = fold;
+    return w;
+}
+
+/* The warnings of one load, in the order they arose, each said once (tinyobjloader repeats a
+ * warning for every face or statement it concerns). */
+class Warnings {
+public:
+    void add(const Warning &w)
+    {
+        std::string key = w.file + '\n' + w.kind + '\n' +
+                          (w.kind.empty() ? std::to_string(w.line) + '\n' + w.text : w.name);
+        if (seen_.insert(key).second)
+            list_.push_back(w);
+    }
+
+    bool empty() const { return list_.empty(); }
+
+    /* Every warning on its own line. */
+    std::string all() const
+    {
+        std::string out;
+        for (const Warning &w : list_)
+            out += line_of(w) + "\n";
+        return out;
+    }
+
+    /* One line per warning that stands alone, one per kind and file for those that fold. */
+    std::string folded() const
+    {
+        std::vector<std::vector<const Warning *>> groups;
+        std::map<std::string, size_t> group_of;
+        for (const Warning &w : list_) {
+            if (w.kind.empty()) {
+                groups.push_back({&w});
+                continue;
+            }
+            auto found = group_of.emplace(w.file + '\n' + w.kind, groups.size());
+            if (found.second)
+                groups.emplace_back();
+            groups[found.first->second].push_back(&w);
+        }
+        std::string out;
+        for (const std::vector<const Warning *> &g : groups)
+            out += (g.size() == 1 ? line_of(*g[0]) : folded_line(g)) + "\n";
+        return out;
+    }
+
+private:
+    static std::string line_of(const Warning &w)
+    {
+        std::string where = w.line ? w.file + ":" + std::to_string(w.line) : w.file;
+        return where + ": warning: " + w.text;
+    }
+
+    static std::string folded_line(const std::vector<const Warning *> &g)
+    {
+        const Warning &first = *g[0];
+        std::string text = first.fold, count = std::to_string(g.size());
+        size_t at = text.find("{n}");
+        if (at != std::string::npos)
+            text.replace(at, 3, count);
+        text += " (" + first.names_label;
+        for (size_t i = 0; i < g.size() && i < FOLD_NAMES; i++)
+            text += (i ? ", " : "") + g[i]->name;
+        text += g.size() > FOLD_NAMES ? ", ...)" : ")";
+        return first.file + ": warning: " + text;
+    }
+
+    std::vector<Warning> list_;
+    std::set<std::string> seen_;
+};
+
+/* The text's lines, without their "\n". */
+std::vector<std::string> lines_of(const std::string &text)
+{
+    std::vector<std::string> out;
+    size_t pos = 0;
+    while (pos < text.size()) {
+        size_t nl = text.find('\n', pos);
+        out.push_back(text.substr(pos, nl == std::string::npos ? std::string::npos : nl - pos));
+        pos = nl == std::string::npos ? text.size() : nl + 1;
+    }
+    return out;
+}
+
+bool starts_with(const std::string &s, const char *prefix)
+{
+    return s.compare(0, strlen(prefix), prefix) == 0;
+}
+
+/* The number after the last `marker` in a tinyobjloader message ("... line 15.)"), or 0. */
+uint32_t number_after(const std::string &message, const char *marker)
+{
+    size_t at = message.rfind(marker);
+    if (at == std::string::npos)
+        return 0;
+    unsigned long n = strtoul(message.c_str() + at + strlen(marker), nullptr, 10);
+    return n <= UINT32_MAX ? static_cast<uint32_t>(n) : 0;
+}
 
 /* ------------------------------------------------------------------------------ materials */
 
@@ -184,22 +331,67 @@ std::vector<MtlOrigin> scan_mtl_fields(const std::string &text, const std::strin
     return out;
 }
 
+/* "newmtl  RearLights" (two blanks, as a real exporter wrote it) names "RearLights" for other OBJ
+ * readers; rc10 keeps the leading blank, so `usemtl RearLights` would miss it. The names LoadMtl
+ * just added (from index `from` on) are trimmed, and the name map follows them. (LoadMtl trims
+ * the ends of lines already, so trailing blanks never reach a name.) */
+void trim_material_names(std::vector<tinyobj::material_t> *materials, size_t from,
+                         std::map<std::string, int> *material_map)
+{
+    for (size_t i = from; i < materials->size(); i++) {
+        std::string &name = (*materials)[i].name;
+        size_t b = name.find_first_not_of(" \t");
+        if (b == 0 || b == std::string::npos)
+            continue;
+        auto it = material_map->find(name);
+        if (it != material_map->end() && it->second == static_cast<int>(i))
+            material_map->erase(it);
+        name.erase(0, b);
+        material_map->insert({name, static_cast<int>(i)}); /* as LoadMtl does: the first one wins */
+    }
+}
+
+/* LoadMtl's warnings in our words: its only kind is "Both `d` and `Tr` parameters defined for
+ * \"NAME\". Use the value of `d` for dissolve (line N in .mtl.)", once per statement; anything else
+ * is passed on as it stands. */
+void translate_mtl_warnings(const std::string &path, const std::string &tiny, Warnings *out)
+{
+    const char *both = "Both `d` and `Tr` parameters defined for \"";
+    for (const std::string &line : lines_of(tiny)) {
+        size_t end = line.rfind("\". Use the value of `d`");
+        if (starts_with(line, both) && end != std::string::npos && end >= strlen(both)) {
+            std::string name = line.substr(strlen(both), end - strlen(both));
+            name.erase(0, std::min(name.size(), name.find_first_not_of(" \t")));
+            out->add(folding_warning(path, number_after(line, "(line "),
+                                     "material '" + quoted(name) + "' defines both d and Tr; d is used",
+                                     "d and Tr", name, "{n} materials define both d and Tr; d is used"));
+        } else if (!line.empty()) {
+            out->add(plain_warning(path, 0, line));
+        }
+    }
+}
+
 /* Loads each mtllib file relative to the OBJ's folder (not tinyobjloader's MaterialFileReader, which
  * splits its base folder at ':' and does not say which file a material came from). */
 class MtlReader : public tinyobj::MaterialReader {
 public:
-    explicit MtlReader(std::string obj_folder) : obj_folder_(std::move(obj_folder)) {}
+    MtlReader(std::string obj_folder, Warnings *warnings)
+        : obj_folder_(std::move(obj_folder)), warnings_(warnings)
+    {
+    }
 
     std::vector<MtlOrigin> origins; /* parallel to the materials vector */
+    std::vector<std::string> loaded; /* the .mtl files read */
+    std::vector<std::pair<std::string, std::string>> missing; /* mtllib name, path looked for */
 
     bool operator()(const std::string &name, std::vector<tinyobj::material_t> *materials,
                     std::map<std::string, int> *material_map, std::string *warn, std::string *err) override
     {
+        (void)warn; /* ours go to warnings_, in our words */
         std::string path = join_path(obj_folder_, name);
         std::string text;
         if (!file_exists(path) || !read_whole_file(path.c_str(), "material library", &text, nullptr)) {
-            if (warn)
-                *warn += "material file " + path + " not found\n";
+            missing.emplace_back(name, path);
             return false;
         }
         std::vector<MtlOrigin> fields = scan_mtl_fields(text, path);
@@ -208,8 +400,9 @@ public:
         std::istream stream(&buffer);
         std::string mtl_warn; /* LoadMtl assigns, not appends, to its warning string */
         tinyobj::LoadMtl(material_map, materials, &stream, &mtl_warn, err);
-        if (warn)
-            *warn += mtl_warn;
+        trim_material_names(materials, before, material_map);
+        translate_mtl_warnings(path, mtl_warn, warnings_);
+        loaded.push_back(path);
         size_t added = materials->size() - before;
         if (fields.size() != added) /* our mirror disagreed: trust all of tinyobjloader's values */
             fields.assign(added, MtlOrigin{folder_of(path), path});
@@ -219,6 +412,7 @@ public:
 
 private:
     std::string obj_folder_;
+    Warnings *warnings_;
 };
 
 char *copy_string(const std::string &s)
@@ -370,6 +564,85 @@ bool validate_face(const char *path, const std::string &text, const Parsed &p, c
     return true;
 }
 
+/* rc10's parseTriple refuses an f line at the first index that atoi reads as 0: a 0, an empty
+ * field ("1/"), or no number at all. Walks the rest of the line (after "f ") exactly as it does and
+ * returns that field, the corner it is in, and which index it is; false if none is refused. */
+bool refused_face_index(const std::string &rest, std::string *corner, std::string *field,
+                        const IndexKind **kind)
+{
+    const char *t = rest.c_str();
+    const char *c = t;
+    auto refuses = [&](const IndexKind &k) {
+        if (atoi(t) != 0)
+            return false;
+        *corner = std::string(c, strcspn(c, " \t"));
+        *field = std::string(t, strcspn(t, "/ \t\r"));
+        *kind = &k;
+        return true;
+    };
+    t += strspn(t, " \t");
+    while (*t && *t != '\r' && *t != '\n') {
+        c = t;
+        if (refuses(VERTEX_INDEX))
+            return true;
+        t += strcspn(t, "/ \t\r");
+        if (*t == '/') {
+            t++;
+            bool normal_only = *t == '/'; /* i//k */
+            t += normal_only;
+            if (refuses(normal_only ? NORMAL_INDEX : TEXCOORD_INDEX))
+                return true;
+            t += strcspn(t, "/ \t\r");
+            if (!normal_only && *t == '/') { /* i/j/k */
+                t++;
+                if (refuses(NORMAL_INDEX))
+                    return true;
+                t += strcspn(t, "/ \t\r");
+            }
+        }
+        t += strspn(t, " \t\r");
+    }
+    return false;
+}
+
+/* "0", "-0", "+000": a zero as written. */
+bool is_zero(const std::string &s)
+{
+    size_t digits = !s.empty() && (s[0] == '+' || s[0] == '-') ? 1 : 0;
+    return digits < s.size() && s.find_first_not_of('0', digits) == std::string::npos;
+}
+
+/* tinyobjloader's "Failed parse `f' line(e.g. zero value for face index. line N.)" in our words:
+ * which index of line N it refused, and why. */
+bool fail_face_line(const char *path, const std::string &text, size_t start, uint32_t number,
+                    vkrt_error *err)
+{
+    LineWalker walker(text.data() + start, text.data() + text.size());
+    Span line;
+    while (walker.next(&line) && walker.number < number) {
+    }
+    while (line.b < line.e && is_blank(*line.b))
+        line.b++;
+    std::string corner, field;
+    const IndexKind *kind = nullptr;
+    if (walker.number == number && has_keyword(line, "f") &&
+        refused_face_index(std::string(line.b + 2, line.e), &corner, &field, &kind)) {
+        if (field.empty())
+            return vkrt_error_set(err, "%s:%u: %s missing in corner '%s'", path, number, kind->what,
+                                  quoted(corner).c_str());
+        if (is_zero(field))
+            return vkrt_error_set(err, "%s:%u: %s 0 is not valid (OBJ indices start at 1)", path, number,
+                                  kind->what);
+        if (field.find_first_not_of("+-0123456789") == std::string::npos)
+            return vkrt_error_set(err, "%s:%u: %s %s is too large", path, number, kind->what,
+                                  quoted(field).c_str());
+        return vkrt_error_set(err, "%s:%u: %s '%s' is not a number", path, number, kind->what,
+                              quoted(field).c_str());
+    }
+    return vkrt_error_set(err, "%s:%u: face has an index of 0 or one that is not a number (OBJ indices start at 1)",
+                          path, number);
+}
+
 bool mismatch(const char *path, const char *what, vkrt_error *err)
 {
     return vkrt_error_set(err, "%s: cannot load: tinyobjloader and the line scan disagree on %s", path, what);
@@ -409,7 +682,7 @@ bool collect_faces(const char *path, const std::string &text, const Parsed &p, c
 /* A file with no vn (or no vt) records at all whose faces still name some has evidently had them
  * stripped (tinyobjloader's own catmark_torus_creases0.obj does this): those references are dropped
  * with a warning rather than refusing the file. Where records exist, a bad index stays an error. */
-void drop_references_to_absent_attributes(Parsed *p, std::string *warnings)
+void drop_references_to_absent_attributes(const char *path, Parsed *p, Warnings *warnings)
 {
     bool no_normals = p->attrib.normals.empty(), no_texcoords = p->attrib.texcoords.empty();
     size_t dropped_normals = 0, dropped_texcoords = 0;
@@ -421,9 +694,10 @@ void drop_references_to_absent_attributes(Parsed *p, std::string *warnings)
                 corner.texcoord_index = -1, dropped_texcoords++;
         }
     if (dropped_normals)
-        *warnings += "faces name normals but the file has no vn records; normals ignored\n";
+        warnings->add(plain_warning(path, 0, "faces name normals but the file has no vn records; normals ignored"));
     if (dropped_texcoords)
-        *warnings += "faces name texture coordinates but the file has no vt records; ignored\n";
+        warnings->add(plain_warning(
+            path, 0, "faces name texture coordinates but the file has no vt records; ignored"));
 }
 
 /* tinyobjloader's own number parser may overflow a float even where ours did not (it is not
@@ -588,20 +862,14 @@ size_t write_triangles(const Parsed &p, const ObjScan &scan, const std::vector<F
 
 /* ------------------------------------------------------------------------------ warnings */
 
-/* Keeps whole distinct lines while they fit (tinyobjloader repeats one warning per face, and
- * writes "Degenerated face found\n." so a lone "." line is dropped). */
-void set_warnings(const std::string &all, vkrt_mesh *mesh)
+/* Copies the folded warnings into mesh->warnings, whole lines while they fit, and all of them into
+ * mesh->warnings_all. */
+void set_warnings(const Warnings &warnings, vkrt_mesh *mesh)
 {
+    if (warnings.empty())
+        return;
     std::string out;
-    std::vector<std::string> seen;
-    size_t pos = 0;
-    while (pos < all.size()) {
-        size_t nl = all.find('\n', pos);
-        std::string line = all.substr(pos, nl == std::string::npos ? std::string::npos : nl - pos);
-        pos = nl == std::string::npos ? all.size() : nl + 1;
-        if (line.empty() || line == "." || std::find(seen.begin(), seen.end(), line) != seen.end())
-            continue;
-        seen.push_back(line);
+    for (const std::string &line : lines_of(warnings.folded())) {
         std::string next = out.empty() ? line : out + "\n" + line;
         if (next.size() >= sizeof mesh->warnings) {
             if (out.empty())
@@ -611,14 +879,105 @@ void set_warnings(const std::string &all, vkrt_mesh *mesh)
         out = next;
     }
     memcpy(mesh->warnings, out.c_str(), out.size() + 1);
+    std::string all = warnings.all();
+    all.pop_back(); /* the last "\n" */
+    mesh->warnings_all = copy_string(all);
+}
+
+/* tinyobjloader's warnings about the OBJ in our words, with the lines its messages lack taken from
+ * the scan. Those that a check of ours words better, or that change nothing vkrt draws, are left
+ * out: short faces (the scan has their lines), indices out of bounds (validated later, an error
+ * or our own warning), "Failed to load material file(s)" (the reader names the files), empty
+ * group names (vkrt has no use for groups), usemtl names after a .mtl was not found (that
+ * warning says it) or when .mtl files are not read at all (vkrt_obj_parse without a folder). */
+void translate_obj_warnings(const char *path, const std::string &tiny, const ObjScan &scan,
+                            const MtlReader *reader, Warnings *out)
+{
+    const char *usemtl_head = "material [ '", *usemtl_tail = "' ] not found in .mtl";
+    for (std::string line : lines_of(tiny)) {
+        if (!line.empty() && line[0] == '.') /* rc10 writes "Degenerated face found\n.", so the
+                                                next message starts with that "." */
+            line.erase(0, 1);
+        if (line.empty() || starts_with(line, "Degenerated face found") ||
+            starts_with(line, "Failed to load material file(s)") ||
+            line.find("indices out of bounds") != std::string::npos || starts_with(line, "Empty group name"))
+            continue;
+        size_t tail = line.rfind(usemtl_tail);
+        if (starts_with(line, usemtl_head) && tail != std::string::npos && tail >= strlen(usemtl_head)) {
+            if (!reader || !reader->missing.empty())
+                continue;
+            std::string name = line.substr(strlen(usemtl_head), tail - strlen(usemtl_head));
+            uint32_t number = 0;
+            for (const obj_scan::NameLine &u : scan.usemtl)
+                if (u.name == name) {
+                    number = u.line;
+                    break;
+                }
+            std::string libraries;
+            for (const std::string &l : reader->loaded)
+                libraries += (libraries.empty() ? "" : ", ") + l;
+            std::string where = libraries.empty() ? "the file names no material library (mtllib)"
+                                                  : "no material of that name in " + libraries;
+            std::string fold = libraries.empty()
+                                   ? "{n} usemtl names, but the file names no material library (mtllib)"
+                                   : "{n} usemtl names have no material in " + libraries;
+            out->add(folding_warning(path, number,
+                                     "usemtl " + quoted(name) + ": " + where + "; the default material is used",
+                                     "usemtl", name, fold + "; the default material is used"));
+        } else if (starts_with(line, "Looks like empty filename for mtllib")) {
+            out->add(plain_warning(path, number_after(line, "(line "),
+                                   "mtllib names no file; the default material is used"));
+        } else {
+            out->add(plain_warning(path, 0, line));
+        }
+    }
+}
+
+/* The mtllib files that were not found, each at the first mtllib line naming it. */
+void warn_missing_libraries(const char *path, const ObjScan &scan, const MtlReader &reader, Warnings *out)
+{
+    for (const auto &m : reader.missing) {
+        uint32_t number = 0;
+        for (const obj_scan::NameLine &l : scan.mtllib)
+            if (l.name.find(m.first) != std::string::npos) {
+                number = l.line;
+                break;
+            }
+        out->add(folding_warning(path, number,
+                                 "material library " + m.second +
+                                     " not found; faces using its materials get the default material",
+                                 "mtllib", m.first,
+                                 "{n} material libraries not found; faces using their materials get "
+                                 "the default material"));
+    }
+}
+
+/* f records of fewer than three corners, which tinyobjloader drops ("Degenerated face found"). */
+void warn_short_faces(const char *path, const ObjScan &scan, Warnings *out)
+{
+    for (uint32_t line : scan.short_faces) {
+        Warning w = folding_warning(path, line, "face of fewer than 3 corners ignored", "short face",
+                                    std::to_string(line), "{n} faces of fewer than 3 corners ignored");
+        w.names_label = "lines ";
+        out->add(w);
+    }
 }
 
 /* ---------------------------------------------------------------------------- the load */
 
-/* tinyobjloader's message is one or more "...\n" lines; the first one is the cause. */
-bool fail_tinyobj(const char *path, const std::string &message, vkrt_error *err)
+/* tinyobjloader's error is one or more "...\n" lines; the first one is the cause. The failures it
+ * knows (an f, l or p record with an index of 0 or not a number) are put in our words. */
+bool fail_tinyobj(const char *path, const std::string &text, size_t start, const std::string &message,
+                  vkrt_error *err)
 {
     std::string first = message.substr(0, message.find('\n'));
+    uint32_t number = number_after(first, "line ");
+    if (starts_with(first, "Failed parse `f' line") && number)
+        return fail_face_line(path, text, start, number, err);
+    if ((starts_with(first, "Failed parse `l' line") || starts_with(first, "Failed parse `p' line")) && number)
+        return vkrt_error_set(err, "%s:%u: %s record has an index of 0 or one that is not a number "
+                                   "(OBJ indices start at 1)",
+                              path, number, first[14] == 'l' ? "line (l)" : "point (p)");
     if (first.empty())
         first = "tinyobjloader could not parse the file";
     return vkrt_error_set(err, "%s: %s", path, first.c_str());
@@ -633,8 +992,18 @@ bool parse_with_tinyobj(const char *path, const std::string &text, size_t start,
     bool ok = tinyobj::LoadObj(&p->attrib, &p->shapes, &p->materials, warnings, &tiny_err, &stream, reader,
                                /*triangulate=*/false, /*default_vcols_fallback=*/false);
     if (!ok || !tiny_err.empty())
-        return fail_tinyobj(path, tiny_err, err);
+        return fail_tinyobj(path, text, start, tiny_err, err);
     return true;
+}
+
+/* Why a file has no triangles, from what the scan saw. */
+const char *why_no_triangles(const ObjScan &scan)
+{
+    if (!scan.short_faces.empty())
+        return " (every f record has fewer than 3 corners)";
+    if (scan.v_line.empty())
+        return " (no v or f records)";
+    return " (no f records)";
 }
 
 /* The common path of vkrt_obj_load and vkrt_obj_parse: *text_in is the whole OBJ (the caller's own
@@ -650,21 +1019,25 @@ bool parse(const char *path, std::string *text_in, const std::string *mtl_folder
         return false;
     blank_ignored_records(text_in, start);
 
-    std::string obj_folder = mtl_folder ? *mtl_folder : std::string(), warnings;
-    MtlReader reader(obj_folder);
+    std::string obj_folder = mtl_folder ? *mtl_folder : std::string(), tiny_warnings;
+    Warnings warnings;
+    MtlReader reader(obj_folder, &warnings);
     Parsed p;
     std::vector<Face> faces;
     /* Without a reader tinyobjloader skips mtllib lines, so no material (and no file) is touched. */
-    if (!parse_with_tinyobj(path, text, start, &p, mtl_folder ? &reader : nullptr, &warnings, err) ||
+    if (!parse_with_tinyobj(path, text, start, &p, mtl_folder ? &reader : nullptr, &tiny_warnings, err) ||
         !check_parsed_values(path, p, scan, err))
         return false;
-    drop_references_to_absent_attributes(&p, &warnings);
+    warn_missing_libraries(path, scan, reader, &warnings);
+    translate_obj_warnings(path, tiny_warnings, scan, mtl_folder ? &reader : nullptr, &warnings);
+    warn_short_faces(path, scan, &warnings);
+    drop_references_to_absent_attributes(path, &p, &warnings);
     if (!collect_faces(path, text, p, scan, &faces, err))
         return false;
 
     OutputPlan plan = plan_output(faces);
     if (plan.triangles == 0)
-        return vkrt_error_set(err, "%s: no triangles", path);
+        return vkrt_error_set(err, "%s: no triangles%s", path, why_no_triangles(scan));
     if (plan.triangles > UINT32_MAX / 9) /* 9 floats per triangle must stay addressable by uint32 */
         return vkrt_error_set(err, "%s: too many triangles (%zu)", path, plan.triangles);
 
@@ -674,8 +1047,10 @@ bool parse(const char *path, std::string *text_in, const std::string *mtl_folder
     compute_bounds(mesh);
     convert_materials(p.materials, reader, obj_folder, mesh);
     if (replaced)
-        warnings += std::to_string(replaced) +
-                    " triangles had an unusable normal (not finite or zero); used the geometric normal\n";
+        warnings.add(plain_warning(path, 0,
+                                   std::to_string(replaced) +
+                                       " triangles have an unusable normal (not finite or zero); "
+                                       "the geometric normal is used"));
     set_warnings(warnings, mesh);
     return true;
 }
@@ -754,5 +1129,16 @@ extern "C" void vkrt_mesh_free(vkrt_mesh *mesh)
         free(mesh->materials[i].mtl_path);
     }
     free(mesh->materials);
+    free(mesh->warnings_all);
     memset(mesh, 0, sizeof *mesh);
+}
+
+extern "C" void vkrt_mesh_print_warnings(const vkrt_mesh *mesh, const char *prefix, bool verbose, FILE *out)
+{
+    const char *text = verbose && mesh->warnings_all ? mesh->warnings_all : mesh->warnings;
+    while (*text) {
+        size_t n = strcspn(text, "\n");
+        fprintf(out, "%s%.*s\n", prefix ? prefix : "", static_cast<int>(n), text);
+        text += n + (text[n] == '\n');
+    }
 }

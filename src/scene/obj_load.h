@@ -6,7 +6,8 @@
  * The result is de-indexed, one record per triangle corner, which is what the kernels read:
  * polygons become triangle fans, negative indices are resolved, faces without normals get their
  * geometric normal, and non-finite coordinates or out-of-range indices are errors naming the
- * file and line.
+ * file and line. tinyobjloader's own messages never reach the user as it words them: they are
+ * translated into vkrt's ("file:LINE: what is wrong", warnings with "warning:").
  */
 #ifndef VKRT_OBJ_LOAD_H
 #define VKRT_OBJ_LOAD_H
@@ -14,6 +15,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "../error.h"
 
@@ -45,7 +47,13 @@ typedef struct vkrt_mesh {
     vkrt_mtl *materials;
     uint32_t material_count;
     float bounds_min[3], bounds_max[3]; /* of all positions; zero when there are no triangles */
-    char warnings[1024];    /* tinyobjloader's warnings (missing .mtl, ...), first lines, or "" */
+    /* Warnings, one a line, each "file:LINE: warning: what" (file the OBJ or a .mtl; ":LINE" left
+     * out where no line applies), tinyobjloader's translated. Warnings of one kind about one
+     * file fold into one line with their count and the first few names: "x.mtl: warning: 35
+     * materials define both d and Tr; d is used (a, b, c, ...)". Whole lines while they fit, or "". */
+    char warnings[1024];
+    char *warnings_all;     /* the same unfolded: every warning on its own line (malloc'd), or NULL
+                               when there are none */
 } vkrt_mesh;
 
 /* Loads the OBJ at path with the .mtl files it names. On failure returns false with err set to
@@ -60,6 +68,10 @@ bool vkrt_obj_load(const char *path, vkrt_mesh *mesh, vkrt_error *err);
  * gets the default material, so the parse touches no file (what a fuzzer wants). */
 bool vkrt_obj_parse(const char *text, size_t size, const char *name, const char *base_dir,
                     vkrt_mesh *mesh, vkrt_error *err);
+
+/* Writes the mesh's warnings to out, each line after prefix (e.g. "vkrt: "): the folded lines of
+ * warnings, or with verbose every one (warnings_all). Writes nothing when there are none. */
+void vkrt_mesh_print_warnings(const vkrt_mesh *mesh, const char *prefix, bool verbose, FILE *out);
 
 /* Frees what vkrt_obj_load or vkrt_obj_parse allocated and zeroes *mesh. Safe on a zeroed struct. */
 void vkrt_mesh_free(vkrt_mesh *mesh);

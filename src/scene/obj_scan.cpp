@@ -12,8 +12,10 @@
  *     gives the triangles using it their geometric normal and records a warning.
  *   - any number of a v, vt or vn record whose exponent has more than 9 significant digits is
  *     an error: rc10 would overflow an int reading it (undefined behaviour, found by fuzzing).
- * Before all that, UTF-16 and NUL bytes are refused (a NUL would cut a line short), and after it,
- * "vw" and "t" records are blanked in place so tinyobjloader never reads them.
+ * Before all that, files that start like an image or another binary format, UTF-16 and NUL bytes
+ * are refused (a NUL would cut a line short), and after it, "vw" and "t" records are blanked in
+ * place so tinyobjloader never reads them. The lines of usemtl, mtllib and too-short f records are
+ * kept only so the loader's warnings can name them.
  */
 #include "obj_scan.h"
 
@@ -42,6 +44,43 @@ bool looks_like_bomless_utf16(const std::string &text)
                         (nul_odd * 10 >= half * 8 && nul_even * 10 < half));
 }
 
+/* The first bytes of formats a user may name as geometry by mistake (a texture, a scene in
+ * another format, a download still packed). tinyobjloader reads any of them as an OBJ without a
+ * single v or f record, so the user would only hear "no triangles". */
+struct Signature {
+    const char *bytes;
+    size_t size;
+    const char *what;
+};
+
+const Signature SIGNATURES[] = {
+    {"\x89PNG\r\n\x1a\n", 8, "a PNG image"},
+    {"\xff\xd8\xff", 3, "a JPEG image"},
+    {"GIF87a", 6, "a GIF image"},
+    {"GIF89a", 6, "a GIF image"},
+    {"#?RADIANCE", 10, "a Radiance HDR image"},
+    {"#?RGBE", 6, "a Radiance HDR image"},
+    {"\x76\x2f\x31\x01", 4, "an OpenEXR image"},
+    {"II*\0", 4, "a TIFF image"},
+    {"MM\0*", 4, "a TIFF image"},
+    {"8BPS", 4, "a Photoshop image"},
+    {"DDS ", 4, "a DDS texture"},
+    {"glTF", 4, "a binary glTF (.glb) file"},
+    {"Kaydara FBX Binary", 18, "a binary FBX file"},
+    {"ply\n", 4, "a PLY file"},
+    {"ply\r\n", 5, "a PLY file"},
+    {"\x1f\x8b", 2, "gzip-compressed data; decompress it first"},
+    {"PK\x03\x04", 4, "a ZIP archive; unpack it first"},
+};
+
+const Signature *known_signature(const std::string &text, size_t start)
+{
+    for (const Signature &s : SIGNATURES)
+        if (text.size() - start >= s.size && memcmp(text.data() + start, s.bytes, s.size) == 0)
+            return &s;
+    return nullptr;
+}
+
 } // namespace
 
 /* Refuses what is not 8-bit text; returns in *start how many leading bytes to skip (a BOM). */
@@ -49,12 +88,15 @@ bool check_encoding(const char *path, const std::string &text, size_t *start, vk
 {
     *start = 0;
     const unsigned char *u = reinterpret_cast<const unsigned char *>(text.data());
+    if (const Signature *s = known_signature(text, 0))
+        return vkrt_error_set(err, "%s: not an OBJ text file: it starts like %s", path, s->what);
     bool bom16 = text.size() >= 2 && ((u[0] == 0xFE && u[1] == 0xFF) || (u[0] == 0xFF && u[1] == 0xFE));
     if (bom16 || looks_like_bomless_utf16(text))
         return vkrt_error_set(err, "%s: looks like UTF-16 text; save it as UTF-8", path);
     /* A NUL would silently cut a line short in tinyobjloader (it parses C strings). */
-    if (memchr(text.data(), '\0', text.size()))
-        return vkrt_error_set(err, "%s: not a text file (contains NUL bytes)", path);
+    if (const void *nul = memchr(text.data(), '\0', text.size()))
+        return vkrt_error_set(err, "%s: not an OBJ text file: byte %zu is a NUL, so it holds binary data",
+                              path, static_cast<size_t>(static_cast<const char *>(nul) - text.data()));
     if (text.size() >= 3 && u[0] == 0xEF && u[1] == 0xBB && u[2] == 0xBF)
         *start = 3;
     return true;
@@ -274,12 +316,24 @@ bool scan_line(const char *path, const std::string &text, uint32_t number, Span 
     }
     if (has_keyword(line, "f")) {
         uint32_t corners = count_tokens(Span{line.b + 2, line.e});
-        if (corners >= 3) /* tinyobjloader drops shorter faces with a warning */
+        if (corners >= 3)
             scan->faces.push_back(FaceLine{static_cast<size_t>(line.b - text.data()), number, corners,
                                            static_cast<uint32_t>(scan->v_line.size()),
                                            static_cast<uint32_t>(scan->vt_line.size()),
                                            static_cast<uint32_t>(scan->vn_line.size())});
+        else /* tinyobjloader drops shorter faces; the loader warns with these lines */
+            scan->short_faces.push_back(number);
+        return true;
     }
+    /* rc10 matches "usemtl" without a blank after it, and reads the first word that follows. */
+    if (line.len() >= 6 && memcmp(line.b, "usemtl", 6) == 0) {
+        Span rest{line.b + 6, line.e}, name{rest.e, rest.e};
+        next_token(&rest, &name);
+        scan->usemtl.push_back(NameLine{number, std::string(name.b, name.e)});
+        return true;
+    }
+    if (has_keyword(line, "mtllib"))
+        scan->mtllib.push_back(NameLine{number, std::string(line.b + 7, line.e)});
     return true;
 }
 

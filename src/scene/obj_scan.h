@@ -63,17 +63,28 @@ struct FaceLine {
     uint32_t v_before, vt_before, vn_before; /* records seen before it: relative indices count back */
 };
 
+/* A usemtl or mtllib record: its line and what it names (usemtl: the first word after it, as
+ * tinyobjloader reads it; mtllib: the rest of the line). Only for messages. */
+struct NameLine {
+    uint32_t line;
+    std::string name;
+};
+
 /* What prescan records, in file order. */
 struct ObjScan {
     std::vector<uint32_t> v_line, vt_line, vn_line; /* line of each record, by index */
     std::vector<char> vn_usable;                    /* the vn record holds three finite numbers */
     std::vector<FaceLine> faces;
+    std::vector<uint32_t> short_faces; /* lines of f records of 0 to 2 corners, which rc10 drops */
+    std::vector<NameLine> usemtl, mtllib;
     size_t unusable_normals = 0;
 };
 
-/* Refuses text that is not 8-bit: UTF-16 (with a BOM, or without one, seen as interleaved NULs)
- * and any NUL byte, with a "path: ..." message in err. On success *start is how many leading bytes
- * to skip: 3 for a UTF-8 BOM, else 0. */
+/* Refuses what is not OBJ text, with a "path: not an OBJ text file: ..." message in err: a file
+ * that starts like an image or another binary format (PNG, JPEG, EXR, glTF, ZIP, ...), and any
+ * NUL byte; and UTF-16 text (with a BOM, or without one, seen as interleaved NULs) with a
+ * "save it as UTF-8" message. On success *start is how many leading bytes to skip: 3 for a UTF-8
+ * BOM, else 0. */
 bool check_encoding(const char *path, const std::string &text, size_t *start, vkrt_error *err);
 
 /* Walks text from byte start and fills *scan (empty on entry). Fails with "path:LINE: ..." in err

@@ -51,21 +51,9 @@ static_assert(offsetof(vkrt_texture_info, flags) == offsetof(TextureInfo, flags)
  * Messages
  * ------------------------------------------------------------------------------------------- */
 
-static bool fail(vkrt_error *err, const char *referrer, const char *path, const char *fmt, ...)
-    __attribute__((format(printf, 4, 5)));
-
 /* "<referrer>: texture '<path>': <reason>", the referrer left out when there is none. */
-static bool fail(vkrt_error *err, const char *referrer, const char *path, const char *fmt, ...)
-{
-    char reason[700];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(reason, sizeof reason, fmt, ap);
-    va_end(ap);
-    if (referrer && *referrer)
-        return vkrt_error_set(err, "%s: texture '%s': %s", referrer, path, reason);
-    return vkrt_error_set(err, "texture '%s': %s", path, reason);
-}
+#define fail(err, referrer, path, ...) \
+    vkrt_error_set_file(err, referrer, "texture", path, __VA_ARGS__)
 
 /* ---------------------------------------------------------------------------------------------
  * Finding the file
@@ -284,6 +272,96 @@ static void give_back_room(vkrt_texture_set *set)
         set->texels = p;
 }
 
+/* ---------------------------------------------------------------------------------------------
+ * Why a decode failed
+ * ------------------------------------------------------------------------------------------- */
+
+static uint32_t big_endian32(const unsigned char *b)
+{
+    return (uint32_t)b[0] << 24 | (uint32_t)b[1] << 16 | (uint32_t)b[2] << 8 | (uint32_t)b[3];
+}
+
+/* Whether f is a PNG that ends before its IEND chunk, said in why. stb_image reads past the end
+ * of a file as zeros, so for a PNG cut short it reports a chunk of type "\0\0\0\0" as unknown:
+ * an empty reason. Walking the chunk headers (length, type, data, CRC) finds where it ends. */
+static bool png_cut_short(FILE *f, char *why, size_t size)
+{
+    static const unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+    struct stat st;
+    unsigned char head[8];
+    if (fstat(fileno(f), &st) != 0 || fseek(f, 0, SEEK_SET) != 0 || fread(head, 1, 8, f) != 8 ||
+        memcmp(head, signature, 8) != 0)
+        return false;
+    unsigned long long file_size = (unsigned long long)st.st_size, at = 8;
+    for (;;) { /* every chunk takes 12 bytes or more, so this ends */
+        unsigned char chunk[8];
+        if (at + 8 > file_size || fseek(f, (long)at, SEEK_SET) != 0 || fread(chunk, 1, 8, f) != 8) {
+            snprintf(why, size,
+                     "the PNG file is cut short: it ends at byte %llu, before its IEND chunk",
+                     file_size);
+            return true;
+        }
+        for (int i = 4; i < 8; i++)
+            if (!((chunk[i] >= 'A' && chunk[i] <= 'Z') || (chunk[i] >= 'a' && chunk[i] <= 'z')))
+                return false; /* not a chunk type: damaged rather than short */
+        unsigned long long end = at + 12 + big_endian32(chunk);
+        if (end > file_size) {
+            snprintf(why, size,
+                     "the PNG file is cut short: it has %llu bytes, but its %.4s chunk at byte "
+                     "%llu runs to byte %llu",
+                     file_size, (const char *)chunk + 4, at, end);
+            return true;
+        }
+        if (memcmp(chunk + 4, "IEND", 4) == 0)
+            return false;
+        at = end;
+    }
+}
+
+/* stb_image's reasons are short codes ("outofdata", "bad huffman code"); this says what they mean
+ * for the user. NULL for a reason that is empty or not printable. */
+static const char *meaning_of(const char *reason)
+{
+    if (!reason || !*reason)
+        return NULL;
+    for (const char *c = reason; *c; c++)
+        if (*c < 0x20 || *c > 0x7E)
+            return NULL;
+    static const struct {
+        const char *code, *meaning;
+    } known[] = {
+        {"outofdata", "the file ends early (cut short?)"},
+        {"read past buffer", "the file ends early (cut short?)"},
+        {"not enough pixels", "the file ends early (cut short?)"},
+        {"too large", "the image is too large for stb_image"},
+        {"output buffer limit", "the image is too large for stb_image"},
+        {"outofmem", "out of memory"},
+        {"only 8-bit", "a format variant stb_image does not support"},
+        {"1/2/4/8/16-bit only", "a format variant stb_image does not support"},
+        {"unknown image type", "a format stb_image does not support"},
+    };
+    for (size_t i = 0; i < sizeof known / sizeof known[0]; i++)
+        if (strcmp(reason, known[i].code) == 0)
+            return known[i].meaning;
+    if (strstr(reason, "not known"))
+        return "a format variant stb_image does not support";
+    return "the image data is damaged";
+}
+
+/* Why stb_image failed to decode f, in why: a PNG cut short, else stb_image's reason with its
+ * meaning, else that it gave none. */
+static void decode_failure(FILE *f, char *why, size_t size)
+{
+    const char *reason = stbi_failure_reason(); /* before png_cut_short reads anything */
+    const char *meaning = meaning_of(reason);
+    if (png_cut_short(f, why, size))
+        return;
+    if (meaning)
+        snprintf(why, size, "%s (stb_image: %s)", meaning, reason);
+    else
+        snprintf(why, size, "the file is damaged or cut short (stb_image gives no reason)");
+}
+
 /* Reads the header of the open image f and checks its size against the limits and the set, then
  * decodes it into the texels past set->texel_words, filling *info and *word_count. The set's count
  * and texel_words are left for the caller to advance. */
@@ -318,9 +396,11 @@ static bool decode(vkrt_texture_set *set, FILE *f, vkrt_texture_usage usage, con
     int dw = 0, dh = 0, dc = 0;
     void *pixels = hdr ? (void *)stbi_loadf_from_file(f, &dw, &dh, &dc, 4)
                        : (void *)stbi_load_from_file(f, &dw, &dh, &dc, 4);
-    if (!pixels)
-        return fail(err, referrer, path, "cannot decode the image (stb_image: %s)",
-                    stbi_failure_reason());
+    if (!pixels) {
+        char why[300];
+        decode_failure(f, why, sizeof why);
+        return fail(err, referrer, path, "cannot decode the image: %s", why);
+    }
     if (dw != w || dh != h) {
         stbi_image_free(pixels);
         return fail(err, referrer, path, "decoded %dx%d, but its header says %dx%d", dw, dh, w, h);

@@ -58,7 +58,8 @@ typedef struct vkrt_texture_set {
  * is returned. referrer names where the texture was asked for ("scenes/x/x.mtl:12", "mats.txt:3";
  * NULL leaves it out). On failure returns false, leaves the set's contents as they were, and sets
  * err to "<referrer>: texture '<path>': <reason>": the file is missing, not an image stb_image
- * can decode (its reason is quoted), empty, 0 or more than VKRT_TEXTURE_MAX_SIZE wide or tall, or
+ * can decode (its reason is quoted and said in words; a PNG cut short says where it ends), empty,
+ * 0 or more than VKRT_TEXTURE_MAX_SIZE wide or tall, or
  * the set would grow past max_texel_bytes (the message gives the sizes in MiB).
  *
  * Finding the file: when path does not exist as written, backslashes are read as '/' (Windows

@@ -671,9 +671,8 @@ int vkrt_view_run(const vkrt_view_options *opts)
     v->opts = opts;
     vkrt_error err = {{0}};
     bool ok = vkrt_scene_load(opts->scene_path, &v->scene, &err);
-    if (ok && v->scene.mesh.warnings[0] && !opts->common.quiet)
-        fprintf(stderr, "vkrt: warning: %s: %s\n", v->scene.config.geometry,
-                v->scene.mesh.warnings);
+    if (ok && !opts->common.quiet)
+        vkrt_mesh_print_warnings(&v->scene.mesh, "vkrt: ", opts->common.verbose, stderr);
     if (ok && opts->script)
         ok = view_script_load(opts->script, key_code, &v->script, &err);
     if (ok && opts->record) {

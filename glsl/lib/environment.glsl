@@ -1,0 +1,45 @@
+/*
+ * environment.glsl: the light of rays that leave the scene: the environment map's radiance
+ * (scene.cfg `environment-map`, bilinear over its float pixels, which follow its sampling
+ * distribution in the environment buffer: lib/envmap.glsl) or, without a map, the environment
+ * shader's (the built-in constant of `environment R G B`, or a user's sky). Both integrators.
+ * Included after the generated material module.
+ */
+#ifndef VKRT_ENVIRONMENT_GLSL
+#define VKRT_ENVIRONMENT_GLSL
+
+#include "envmap.glsl"
+
+/* Pixel (x, y) of the map, both wrapped, as lib/texture.glsl's texels are; x from the left, y
+ * from the top row. */
+vec3 envmap_pixel(int x, int y)
+{
+    uint w = light_info.environment_width, h = light_info.environment_height;
+    uint at = light_info.environment_pixels + 3u * (texture_wrap(y, h) * w + texture_wrap(x, w));
+    return vec3(environment_distribution[at], environment_distribution[at + 1u],
+                environment_distribution[at + 2u]);
+}
+
+/* The map's radiance along unit direction d: bilinear at its uv, as texture_sample filters. */
+vec3 envmap_radiance(vec3 d)
+{
+    vec2 uv = envmap_uv(d, light_info.environment_rotate);
+    vec2 p = fract(vec2(uv.x, 1.0 - uv.y)) *
+                 vec2(light_info.environment_width, light_info.environment_height) - 0.5;
+    vec2 p0 = floor(p);
+    vec2 f = p - p0;
+    int x = int(p0.x), y = int(p0.y);
+    vec3 top = mix(envmap_pixel(x, y), envmap_pixel(x + 1, y), f.x);
+    vec3 bottom = mix(envmap_pixel(x, y + 1), envmap_pixel(x + 1, y + 1), f.x);
+    return light_info.environment_scale * mix(top, bottom, f.y);
+}
+
+/* The radiance arriving along a ray of direction d (unit) and payload that left the scene. */
+vec3 environment_radiance(vec3 d, vec4 payload)
+{
+    if (light_info.environment_width > 0u)
+        return envmap_radiance(d);
+    return material_environment(d, payload);
+}
+
+#endif

@@ -1,0 +1,46 @@
+/*
+ * pixel.glsl: adding radiance to the image. Several rays of one pass may add to one pixel at once
+ * (a material's several rays, the path tracer's light samples and its hits), so additions are
+ * atomic. Needs the generated material module's VKRT_FLOAT_ATOMICS (from the device).
+ */
+#ifndef VKRT_PIXEL_GLSL
+#define VKRT_PIXEL_GLSL
+
+#include "bindings.glsl"
+
+/* Adds c to pixel p. Float atomics where the device has them (VK_EXT_shader_atomic_float), else a
+ * compare-and-swap loop on the float's bits. */
+void add_to_pixel(uint p, vec3 c)
+{
+#ifdef VKRT_FLOAT_ATOMICS
+    atomicAdd(image[p].x, c.x);
+    atomicAdd(image[p].y, c.y);
+    atomicAdd(image[p].z, c.z);
+#else
+    for (uint k = 0u; k < 3u; ++k) {
+        uint word = 4u * p + k;
+        uint seen = image_words[word];
+        for (;;) {
+            uint wanted = floatBitsToUint(uintBitsToFloat(seen) + c[k]);
+            uint before = atomicCompSwap(image_words[word], seen, wanted);
+            if (before == seen)
+                break;
+            seen = before;
+        }
+    }
+#endif
+}
+
+/* Adds c to pixel p unless it is zero, or NaN or infinite: one of those would spread through
+ * every sample of its pixel, so it is dropped and counted (the host warns). */
+void add_finite_to_pixel(uint p, vec3 c)
+{
+    if (any(isnan(c)) || any(isinf(c))) {
+        atomicAdd(counters.nonfinite, 1u);
+        return;
+    }
+    if (any(notEqual(c, vec3(0.0))))
+        add_to_pixel(p, c);
+}
+
+#endif

@@ -1,0 +1,103 @@
+/*
+ * nee.comp: the path tracer's direct light at every hit of this depth (next-event estimation;
+ * lib/path.glsl says which lights and how they are weighted). Each light sample whose BSDF value
+ * is not zero casts a shadow ray here, and what gets through is added to the pixel at once,
+ * weighted by the path's throughput: the path carries on in shade.comp with its own BSDF sample.
+ * The light kernel's place in the wavefront, for the path integrator. The last depth has none:
+ * its rays only find the light their BSDF samples hit (src/render/renderer.c says why).
+ */
+#include "generated/materials.glsl"
+#include "lib/path.glsl"
+#include "lib/traverse.glsl"
+
+shared uint workgroup_shadow_rays;
+
+/* Whether nothing blocks the way from s along wi for tmax. */
+bool unoccluded(Surface s, vec3 wi, float tmax)
+{
+    return !trace_any(surface_origin(s, wi), wi, 0.0, tmax);
+}
+
+/* The direct light reaching the eye through the vertex at s, per unit throughput. */
+vec3 direct_light(Surface s, uint shader, inout uint shadow_rays)
+{
+    vec3 sum = vec3(0.0);
+    /* Delta lights: no other way to find them, so every one is sampled. Ambient light is
+     * Whitted's stand-in for indirect light, which the path tracer computes: not sampled. */
+    for (uint i = 0u; i < frame.counts.y; ++i) {
+        vec3 to_light, irradiance, origin, direction;
+        float distance_to_light, tmax, pdf;
+        if (!light_geometry(s, i, to_light, distance_to_light, irradiance))
+            continue;
+        vec3 f = material_bsdf_eval(shader, s, to_light, pdf);
+        if (all(equal(f, vec3(0.0))))
+            continue;
+        shadow_ray(s, i, to_light, origin, direction, tmax);
+        ++shadow_rays;
+        if (!trace_any(origin, direction, 0.0, tmax))
+            sum += f * irradiance;
+    }
+    if (LIGHT_SAMPLING == VKRT_SAMPLING_BSDF)
+        return sum;
+    if (light_info.emitter_count > 0u) {
+        Surface light;
+        vec3 wi;
+        float dist, pdf_light, pdf_bsdf;
+        vec3 u = vec3(rng_next(vkrt_rng), rng_next(vkrt_rng), rng_next(vkrt_rng));
+        if (sample_emitter(s, u, light, wi, dist, pdf_light)) {
+            vkrt_material = light.material;
+            vec3 le = material_emitted(materials[light.material].info.x, light);
+            vkrt_material = s.material;
+            vec3 f = material_bsdf_eval(shader, s, wi, pdf_bsdf);
+            if (any(greaterThan(f * le, vec3(0.0)))) {
+                ++shadow_rays;
+                /* Short of the light's own triangle by a relative margin far above the rounding
+                 * of the distance, so the shadow ray does not find the light itself. */
+                if (unoccluded(s, wi, dist * (1.0 - 1e-4)))
+                    sum += f * le * (light_sample_weight(pdf_light, pdf_bsdf) / pdf_light);
+            }
+        }
+    }
+    if (light_info.environment_sampled != 0u) {
+        float pdf_env, pdf_bsdf;
+        vec3 wi = sample_environment(vec2(rng_next(vkrt_rng), rng_next(vkrt_rng)), pdf_env);
+        vec3 f = material_bsdf_eval(shader, s, wi, pdf_bsdf);
+        if (any(greaterThan(f, vec3(0.0)))) {
+            vec3 le = environment_radiance(wi, vkrt_ray.payload);
+            if (any(greaterThan(le, vec3(0.0)))) {
+                ++shadow_rays;
+                if (unoccluded(s, wi, FAR))
+                    sum += f * le * (light_sample_weight(pdf_env, pdf_bsdf) / pdf_env);
+            }
+        }
+    }
+    return sum;
+}
+
+void main()
+{
+    if (gl_LocalInvocationIndex == 0u)
+        workgroup_shadow_rays = 0u;
+    barrier();
+
+    uint index = invocation_index();
+    uint shadow_rays = 0u;
+    if (index < dispatch_ray_count()) {
+        Ray ray = load_ray(index);
+        Hit hit = hits[index];
+        if ((ray.info.w & VKRT_RAY_DEAD) == 0u && hit.triangle != VKRT_NO_HIT &&
+            frame.wave.y < frame.wave.z) {
+            Surface s = surface_at(ray, hit);
+            vkrt_material = s.material;
+            vkrt_ray_index = index;
+            vkrt_ray = ray;
+            vkrt_rng = light_stream(ray);
+            vec3 direct = direct_light(s, materials[s.material].info.x, shadow_rays);
+            add_finite_to_pixel(ray.info.x, ray.importance.rgb * direct);
+        }
+    }
+    atomicAdd(workgroup_shadow_rays, shadow_rays);
+    barrier();
+    if (gl_LocalInvocationIndex == 0u)
+        atomicAdd(counters.shadow_rays, workgroup_shadow_rays);
+}

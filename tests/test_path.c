@@ -1,0 +1,450 @@
+/*
+ * test_path.c: the path integrator against what physics fixes exactly, each on a scene where an
+ * error shows: energy (a white furnace), containment (a closed box lit from inside), robustness
+ * (a tiny, very bright emitter) and consistency (three estimators of one image).
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "../glsl/shared.h"
+#include "render/renderer.h"
+#include "scene_dir.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+/* A closed sphere of radius 1 about the origin, faces wound counter-clockwise seen from outside,
+ * without vertex normals (flat facets: a convex polyhedron, so no path meets it twice). */
+static void write_sphere(const char *name, const char *material, int rings, int segments)
+{
+    FILE *f = scene_dir_open(name);
+    fprintf(f, "mtllib scene.mtl\nusemtl %s\n", material);
+    fprintf(f, "v 0 1 0\nv 0 -1 0\n");
+    for (int r = 1; r < rings; ++r)
+        for (int s = 0; s < segments; ++s) {
+            double theta = M_PI * r / rings, phi = 2 * M_PI * s / segments;
+            fprintf(f, "v %.9f %.9f %.9f\n", sin(theta) * cos(phi), cos(theta),
+                    sin(theta) * sin(phi));
+        }
+    /* Vertex of ring r (1..rings-1), segment s: 3 + (r - 1) * segments + s (1-based). */
+#define RING(r, s) (3 + ((r) - 1) * segments + ((s) % segments))
+    for (int s = 0; s < segments; ++s) {
+        fprintf(f, "f 1 %d %d\n", RING(1, s + 1), RING(1, s));
+        fprintf(f, "f 2 %d %d\n", RING(rings - 1, s), RING(rings - 1, s + 1));
+        for (int r = 1; r + 1 < rings; ++r)
+            fprintf(f, "f %d %d %d %d\n", RING(r, s), RING(r, s + 1), RING(r + 1, s + 1),
+                    RING(r + 1, s));
+    }
+#undef RING
+    fclose(f);
+}
+
+static void render_ok(uint32_t w, uint32_t h, const vkrt_render_desc *desc, float *rgb,
+                      vkrt_frame_stats *stats)
+{
+    vkrt_error err = {{0}};
+    if (!scene_dir_render(w, h, desc, rgb, stats, &err))
+        fail_msg("render: %s", err.msg);
+}
+
+static double mean_of(const float *rgb, size_t pixels)
+{
+    double sum = 0;
+    for (size_t i = 0; i < 3 * pixels; ++i)
+        sum += rgb[i];
+    return sum / (3.0 * pixels);
+}
+
+/* White furnace: a diffuse sphere of albedo 1 under a uniform environment of radiance 1 reflects
+ * all it receives, so every pixel, sphere or sky, is 1 in expectation, at any depth cap large
+ * enough for the light to come out (the sphere is convex: one bounce suffices, the rest is what
+ * Russian roulette and MIS must not bias). Each pixel is held within its noise; the image mean,
+ * which averages 4096 pixels' noise away, within 0.5%. */
+static void white_furnace(void **state)
+{
+    (void)state;
+    write_sphere("sphere.obj", "white", 12, 24);
+    scene_dir_write("scene.mtl", "newmtl white\nKd 1 1 1\n");
+    scene_dir_write("scene.cfg", "geometry sphere.obj\nresolution 64 64\nmax-depth 64\n"
+                                 "integrator path\nenvironment 1 1 1\n"
+                                 "camera eye 0 0 3 look 0 0 0 up 0 1 0 fov 50\n");
+    enum { N = 64, SPP = 64 };
+    float *rgb = malloc(N * N * 3 * sizeof *rgb);
+    vkrt_frame_stats stats;
+    render_ok(N, N, &(vkrt_render_desc){.samples = SPP}, rgb, &stats);
+    double mean = mean_of(rgb, N * N);
+    print_message("white furnace: image mean %.5f (expected 1), %llu shadow rays\n", mean,
+                  (unsigned long long)stats.shadow_rays);
+    assert_true(fabs(mean - 1.0) < 0.005);
+    int sphere_pixels = 0;
+    for (int i = 0; i < N * N; ++i) {
+        for (int k = 0; k < 3; ++k)
+            if (!(fabsf(rgb[3 * i + k] - 1.0f) < 0.25f))
+                fail_msg("pixel %d channel %d is %g, not 1", i, k, rgb[3 * i + k]);
+        sphere_pixels += rgb[3 * i] != 1.0f; /* the sky is exactly 1 */
+    }
+    /* A picture of the sky alone would pass the checks above: the sphere must be in it. */
+    assert_true(sphere_pixels > N * N / 4);
+    assert_int_equal(stats.nonfinite, 0);
+    free(rgb);
+}
+
+/* An axis-aligned box [lo, hi] as 12 triangles wound counter-clockwise seen from outside
+ * (inward: seen from inside), under material. */
+static void write_box(FILE *f, const char *material, const double lo[3], const double hi[3],
+                      bool inward, int *next_vertex)
+{
+    int v = *next_vertex;
+    fprintf(f, "usemtl %s\n", material);
+    for (int i = 0; i < 8; ++i)
+        fprintf(f, "v %g %g %g\n", i & 1 ? hi[0] : lo[0], i & 2 ? hi[1] : lo[1],
+                i & 4 ? hi[2] : lo[2]);
+    /* Each face's corners counter-clockwise seen from outside. */
+    static const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                    {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    for (int q = 0; q < 6; ++q) {
+        const int *c = faces[q];
+        if (inward)
+            fprintf(f, "f %d %d %d %d\n", v + c[3], v + c[2], v + c[1], v + c[0]);
+        else
+            fprintf(f, "f %d %d %d %d\n", v + c[0], v + c[1], v + c[2], v + c[3]);
+    }
+    *next_vertex = v + 8;
+}
+
+/* A closed box lit from inside leaks nothing: seen from outside under a black sky, every pixel is
+ * exactly 0 (a shadow ray or a bounce that slipped through an edge or a face would light the
+ * outside). The lamp inside is a small emissive box facing out, the room's walls white. */
+static void closed_box_leaks_nothing(void **state)
+{
+    (void)state;
+    FILE *f = scene_dir_open("box.obj");
+    fprintf(f, "mtllib scene.mtl\n");
+    int v = 1;
+    write_box(f, "wall", (double[]){-1, -1, -1}, (double[]){1, 1, 1}, true, &v);
+    write_box(f, "wall", (double[]){-1.01, -1.01, -1.01}, (double[]){1.01, 1.01, 1.01}, false,
+              &v);
+    write_box(f, "lamp", (double[]){-0.1, 0.8, -0.1}, (double[]){0.1, 0.9, 0.1}, false, &v);
+    fclose(f);
+    scene_dir_write("scene.mtl", "newmtl wall\nKd 0.8 0.8 0.8\nnewmtl lamp\nKd 0 0 0\n"
+                                 "Ke 50 50 50\n");
+    scene_dir_write("scene.cfg", "geometry box.obj\nresolution 48 48\nmax-depth 8\n"
+                                 "integrator path\n"
+                                 "camera eye 2.5 1.5 3 look 0 0 0 up 0 1 0 fov 60\n");
+    enum { N = 48 };
+    float rgb[N * N * 3];
+    vkrt_frame_stats stats;
+    render_ok(N, N, &(vkrt_render_desc){.samples = 16}, rgb, &stats);
+    for (int i = 0; i < N * N * 3; ++i)
+        if (rgb[i] != 0.0f)
+            fail_msg("value %d is %g: light leaked out of the box", i, rgb[i]);
+    /* Not black because nothing was lit: the same box seen from inside is bright. */
+    scene_dir_write("scene.cfg", "geometry box.obj\nresolution 48 48\nmax-depth 8\n"
+                                 "integrator path\n"
+                                 "camera eye 0.5 -0.5 0.9 look 0 0 0 up 0 1 0 fov 80\n");
+    render_ok(N, N, &(vkrt_render_desc){.samples = 4}, rgb, &stats);
+    double inside = mean_of(rgb, N * N);
+    print_message("closed box: outside all 0, inside mean %.4f, %llu shadow rays\n", inside,
+                  (unsigned long long)stats.shadow_rays);
+    assert_true(inside > 0.05);
+}
+
+/* A tiny, very bright emitter (area 1e-8, Ke 1e7) over a floor: next-event estimation divides by
+ * its area's pdf and by squared distances that may be tiny; no pixel may become NaN or infinite,
+ * and none may be dropped as such. */
+static void tiny_bright_emitter_stays_finite(void **state)
+{
+    (void)state;
+    scene_dir_write("scene.obj", "mtllib scene.mtl\nusemtl floor\nv -1 0 -1\nv 1 0 -1\n"
+                                 "v 1 0 1\nv -1 0 1\nf 1 4 3 2\nusemtl lamp\n"
+                                 "v 0 0.5 0\nv 0.0001 0.5 0\nv 0 0.5 0.0002\nf 5 6 7\n");
+    scene_dir_write("scene.mtl", "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl lamp\nKd 0 0 0\n"
+                                 "Ke 1e7 1e7 1e7\n");
+    scene_dir_write("scene.cfg", "geometry scene.obj\nresolution 32 32\nmax-depth 4\n"
+                                 "integrator path\n"
+                                 "camera eye 0 2 2 look 0 0 0 up 0 1 0 fov 60\n");
+    enum { N = 32 };
+    float rgb[N * N * 3];
+    vkrt_frame_stats stats;
+    render_ok(N, N, &(vkrt_render_desc){.samples = 4}, rgb, &stats);
+    for (int i = 0; i < N * N * 3; ++i)
+        if (!isfinite(rgb[i]))
+            fail_msg("value %d is %g", i, rgb[i]);
+    assert_int_equal(stats.nonfinite, 0);
+    /* The lamp's light reached the floor: E = I cos / d^2 with I = Ke * area (one-sided, facing
+     * down: the winding 5 6 7 faces -y), so under it the floor shows about 0.5 / pi * 1e7 * 1e-8
+     * / 0.25 = 0.064; held within a factor of two of that (the pixel is not quite under it). */
+    double under = rgb[3 * (N / 2 * N + N / 2)];
+    print_message("tiny emitter: floor under it %.4g\n", under);
+    assert_true(under > 0.032 && under < 0.128);
+}
+
+/* Luminance of pixel i of an image. */
+static double pixel_luminance(const float *rgb, int i)
+{
+    return 0.2126 * rgb[3 * i] + 0.7152 * rgb[3 * i + 1] + 0.0722 * rgb[3 * i + 2];
+}
+
+/* Whether images a and b of n pixels agree within 5 standard errors over pixels [first, end)
+ * (row-major, width w, a square block of side `side` at (x0, y0)): the test is on the pixels'
+ * paired differences, whose spread estimates the noise of their mean (the image's own content
+ * cancels in the difference). Prints and returns false when they do not. */
+static bool block_agrees(const float *a, const float *b, int w, int x0, int y0, int side,
+                         const char *what)
+{
+    double sum = 0, sum2 = 0;
+    int n = side * side;
+    for (int y = y0; y < y0 + side; ++y)
+        for (int x = x0; x < x0 + side; ++x) {
+            double d = pixel_luminance(a, y * w + x) - pixel_luminance(b, y * w + x);
+            sum += d;
+            sum2 += d * d;
+        }
+    double mean = sum / n, se = sqrt(fmax(sum2 / n - mean * mean, 0) / (n - 1));
+    if (fabs(mean) <= 5 * se + 1e-6)
+        return true;
+    print_message("%s, block (%d, %d) of side %d: mean difference %.5f, 5 se %.5f\n", what, x0, y0,
+                  side, mean, 5 * se);
+    return false;
+}
+
+/* Renders the folder's scene with MIS, light sampling alone and BSDF sampling alone at n x n
+ * and spp, and asserts that the three agree on the whole image and on every 8x8 block. */
+static void estimators_agree(int n, uint32_t spp)
+{
+    enum { B = 8 };
+    static const uint32_t modes[] = {VKRT_SAMPLING_MIS, VKRT_SAMPLING_LIGHTS, VKRT_SAMPLING_BSDF};
+    static const char *const names[] = {"MIS", "lights alone", "BSDF alone"};
+    float *rgb[3];
+    for (int m = 0; m < 3; ++m) {
+        rgb[m] = malloc((size_t)n * n * 3 * sizeof *rgb[m]);
+        render_ok(n, n, &(vkrt_render_desc){.samples = spp, .light_sampling = modes[m]}, rgb[m],
+                  NULL);
+        print_message("%s: image mean %.5f\n", names[m], mean_of(rgb[m], (size_t)n * n));
+    }
+    assert_true(mean_of(rgb[0], (size_t)n * n) > 0.05);
+    bool all = true;
+    for (int m = 1; m < 3; ++m) {
+        all &= block_agrees(rgb[m], rgb[0], n, 0, 0, n, names[m]);
+        for (int by = 0; by + B <= n; by += B)
+            for (int bx = 0; bx + B <= n; bx += B)
+                all &= block_agrees(rgb[m], rgb[0], n, bx, by, B, names[m]);
+    }
+    for (int m = 0; m < 3; ++m)
+        free(rgb[m]);
+    assert_true(all);
+}
+
+/* Three estimators, one answer: MIS, light sampling alone and BSDF sampling alone converge to the
+ * same image of a lit room (an emissive ceiling panel, a glossy box, diffuse walls): the whole
+ * image and each 8x8 block agree within 5 standard errors of their paired difference. A wrong
+ * weight (double counting, or a strategy left out) moves the means by tens of percent. */
+static void three_estimators_agree(void **state)
+{
+    (void)state;
+    FILE *f = scene_dir_open("room.obj");
+    fprintf(f, "mtllib scene.mtl\n");
+    int v = 1;
+    write_box(f, "wall", (double[]){-1, 0, -1}, (double[]){1, 2, 1}, true, &v);
+    fprintf(f, "usemtl lamp\nv -0.5 1.99 -0.5\nv 0.5 1.99 -0.5\nv 0.5 1.99 0.5\n"
+               "v -0.5 1.99 0.5\nf %d %d %d %d\n", v, v + 1, v + 2, v + 3);
+    v += 4;
+    write_box(f, "shiny", (double[]){-0.5, 0, -0.3}, (double[]){0, 0.8, 0.2}, false, &v);
+    fclose(f);
+    scene_dir_write("scene.mtl", "newmtl wall\nKd 0.6 0.5 0.4\nnewmtl lamp\nKd 0 0 0\n"
+                                 "Ke 4 4 4\nnewmtl shiny\nillum 2\nKd 0.3 0.3 0.3\n"
+                                 "Ks 0.5 0.5 0.5\nNs 20\n");
+    scene_dir_write("scene.cfg", "geometry room.obj\nresolution 32 32\nmax-depth 5\n"
+                                 "integrator path\n"
+                                 "camera eye 0 1 0.95 look 0 0.7 0 up 0 1 0 fov 90\n");
+    estimators_agree(32, 64);
+}
+
+/* Writes a w x h Radiance HDR (flat RGBE scanlines, the top row first) whose pixel (x, y) has
+ * the radiance pixel(x, y, rgb) gives. */
+static void write_hdr(const char *name, int w, int h, void (*pixel)(int, int, float *))
+{
+    FILE *f = scene_dir_open(name);
+    fprintf(f, "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n", h, w);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            float c[3];
+            pixel(x, y, c);
+            float m = fmaxf(c[0], fmaxf(c[1], c[2]));
+            unsigned char rgbe[4] = {0, 0, 0, 0};
+            if (m > 1e-32f) {
+                int e;
+                float scale = frexpf(m, &e) * 256.0f / m;
+                for (int k = 0; k < 3; ++k)
+                    rgbe[k] = (unsigned char)(c[k] * scale);
+                rgbe[3] = (unsigned char)(e + 128);
+            }
+            fwrite(rgbe, 1, 4, f);
+        }
+    fclose(f);
+}
+
+static void constant_sky(int x, int y, float *c)
+{
+    (void)x, (void)y;
+    c[0] = c[1] = c[2] = 1.0f;
+}
+
+/* A sky that varies: dim blue, brighter to the horizon, and a small sun 64 times brighter. */
+static void sunny_sky(int x, int y, float *c)
+{
+    bool sun = x >= 10 && x < 12 && y >= 4 && y < 6;
+    c[0] = sun ? 64.0f : 0.2f + 0.05f * y;
+    c[1] = sun ? 60.0f : 0.3f + 0.05f * y;
+    c[2] = sun ? 50.0f : 0.6f;
+}
+
+/* The white furnace again, lit by an environment map of radiance 1 everywhere: the map's
+ * importance sampling and its radiance lookup must agree for every pixel to come out 1. */
+static void environment_map_furnace(void **state)
+{
+    (void)state;
+    write_sphere("sphere.obj", "white", 12, 24);
+    scene_dir_write("scene.mtl", "newmtl white\nKd 1 1 1\n");
+    write_hdr("sky.hdr", 32, 16, constant_sky);
+    scene_dir_write("scene.cfg", "geometry sphere.obj\nresolution 32 32\nmax-depth 64\n"
+                                 "environment-map sky.hdr\n"
+                                 "camera eye 0 0 3 look 0 0 0 up 0 1 0 fov 50\n");
+    enum { N = 32 };
+    float rgb[N * N * 3];
+    vkrt_frame_stats stats;
+    render_ok(N, N, &(vkrt_render_desc){.samples = 64}, rgb, &stats);
+    double mean = mean_of(rgb, N * N);
+    print_message("environment-map furnace: image mean %.5f (expected 1)\n", mean);
+    assert_true(fabs(mean - 1.0) < 0.01);
+    for (int i = 0; i < N * N * 3; ++i)
+        if (!(fabsf(rgb[i] - 1.0f) < 0.25f))
+            fail_msg("value %d is %g, not 1", i, rgb[i]);
+}
+
+/* A diffuse sphere on a floor under a sky with a sun: the three estimators agree, so the map's
+ * pdf is the density its sampler draws from, and MIS weighs the map against the BSDF right. */
+static void environment_map_estimators_agree(void **state)
+{
+    (void)state;
+    FILE *f = scene_dir_open("scene.obj");
+    fprintf(f, "mtllib scene.mtl\nusemtl floor\nv -3 -1 -3\nv 3 -1 -3\nv 3 -1 3\nv -3 -1 3\n"
+               "f 1 4 3 2\n");
+    fclose(f);
+    write_sphere("sphere.obj", "white", 8, 16);
+    scene_dir_write("scene.mtl", "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl white\nKd 0.8 0.7 0.6\n");
+    write_hdr("sky.hdr", 32, 16, sunny_sky);
+    scene_dir_write("scene.cfg", "geometry scene.obj\nresolution 32 32\nmax-depth 3\n"
+                                 "environment-map sky.hdr scale 0.5 rotate 30\n"
+                                 "camera eye 0 2 4 look 0 -0.5 0 up 0 1 0 fov 60\n");
+    estimators_agree(32, 64);
+}
+
+/* A w x h 32-bit TGA (uncompressed, the top row first) whose left half has alpha 0 and right half
+ * alpha 255, colour white: foliage's kind of texture, alpha carrying coverage. */
+static void write_half_cut_tga(const char *name, int w, int h)
+{
+    FILE *f = scene_dir_open(name);
+    unsigned char header[18] = {0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, (unsigned char)w,
+                                (unsigned char)(w >> 8), (unsigned char)h,
+                                (unsigned char)(h >> 8), 32, 8 | 0x20};
+    fwrite(header, 1, sizeof header, f);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            unsigned char bgra[4] = {255, 255, 255, x < w / 2 ? 0 : 255};
+            fwrite(bgra, 1, 4, f);
+        }
+    fclose(f);
+}
+
+/* A card with an RGBA map_Kd (no map_d) whose left half is transparent, above a floor, under a
+ * directional light from straight above, seen from above at a slant: through the left half the
+ * camera sees the floor, and the floor under the left half is lit while under the right half it
+ * lies in the card's shadow. In both integrators, with each structure. */
+static void cutouts_cut_every_ray(void **state)
+{
+    (void)state;
+    write_half_cut_tga("leaf.tga", 16, 16);
+    /* The card: x in [-1, 1] at height 1, uv u = (x + 1) / 2; the floor: a large quad at 0. */
+    scene_dir_write("scene.obj", "mtllib scene.mtl\nusemtl floor\nv -4 0 -4\nv 4 0 -4\nv 4 0 4\n"
+                                 "v -4 0 4\nf 1 4 3 2\nusemtl leaf\nv -1 1 -1\nv 1 1 -1\n"
+                                 "v 1 1 1\nv -1 1 1\nvt 0 1\nvt 1 1\nvt 1 0\nvt 0 0\n"
+                                 "f 5/1 8/4 7/3 6/2\n");
+    scene_dir_write("scene.mtl", "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl leaf\nKd 0.2 0.8 0.2\n"
+                                 "map_Kd leaf.tga\n");
+    enum { N = 32 };
+    static const char *const integrators[] = {"whitted", "path"};
+    for (int k = 0; k < 2; ++k) {
+        char cfg[512];
+        snprintf(cfg, sizeof cfg,
+                 "geometry scene.obj\nresolution 32 32\nmax-depth 2\nintegrator %s\n"
+                 "light directional 0 -1 0  1 1 1\n"
+                 "camera eye 0 3 0.01 look 0 0 0 up 0 0 -1 fov 90\n",
+                 integrators[k]);
+        scene_dir_write("scene.cfg", cfg);
+        for (int a = 0; a < 3; ++a) {
+            static const vkrt_accel_kind kinds[] = {VKRT_ACCEL_BRUTE, VKRT_ACCEL_GRID,
+                                                    VKRT_ACCEL_BVH};
+            float rgb[N * N * 3];
+            render_ok(N, N, &(vkrt_render_desc){.samples = 4, .accel = kinds[a]}, rgb, NULL);
+            /* Straight down: x in [-3, 3] across the picture; the card spans the middle third.
+             * Row 16 (z near 0): pixel 12 looks at x = -0.56 (through the cut half, onto lit
+             * floor), pixel 20 at x = +0.56 (the card itself, green), pixel 4 at x = -2.2
+             * (open floor, lit), and pixel 28 at x = +2.2 (open floor, lit). The floor seen
+             * through the hole is lit: the light passed the same hole. */
+            const float *hole = &rgb[3 * (16 * N + 12)], *card = &rgb[3 * (16 * N + 20)];
+            const float *open = &rgb[3 * (16 * N + 4)];
+            print_message("%s, %s: open floor %.3f, through the hole %.3f, card %.3f %.3f\n",
+                          integrators[k], vkrt_accel_name(kinds[a]), open[1], hole[1], card[0],
+                          card[1]);
+            double lit = 0.5 / M_PI; /* Kd / pi times the irradiance 1 */
+            assert_true(fabs(open[1] - lit) < 0.2 * lit);
+            assert_true(fabs(hole[1] - open[1]) < 0.2 * lit); /* seen, and lit, through it */
+            assert_true(card[1] > 2 * card[0]);              /* the card is green */
+        }
+    }
+    /* The floor under the card, seen from the side below it: lit under the cut half (x < 0),
+     * in shadow under the opaque half (x > 0). Pixel 11 of the middle row looks at x = -0.5,
+     * pixel 21 at x = +0.5 (the half-width there is tan(20 deg) * 4.03 = 1.47). */
+    for (int k = 0; k < 2; ++k) {
+        char cfg[512];
+        snprintf(cfg, sizeof cfg,
+                 "geometry scene.obj\nresolution 32 32\nmax-depth 2\nintegrator %s\n"
+                 "light directional 0 -1 0  1 1 1\n"
+                 "camera eye 0 0.5 4 look 0 0 0 up 0 1 0 fov 40\n",
+                 integrators[k]);
+        scene_dir_write("scene.cfg", cfg);
+        float rgb[N * N * 3];
+        render_ok(N, N, &(vkrt_render_desc){.samples = 4}, rgb, NULL);
+        double lit = 0.5 / M_PI, under_hole = rgb[3 * (16 * N + 11) + 1],
+               under_card = rgb[3 * (16 * N + 21) + 1];
+        print_message("%s: floor under the hole %.3f, under the card %.3f\n", integrators[k],
+                      under_hole, under_card);
+        assert_true(fabs(under_hole - lit) < 0.3 * lit);
+        assert_true(under_card < 0.5 * under_hole);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(white_furnace),
+        cmocka_unit_test(closed_box_leaks_nothing),
+        cmocka_unit_test(tiny_bright_emitter_stays_finite),
+        cmocka_unit_test(three_estimators_agree),
+        cmocka_unit_test(environment_map_furnace),
+        cmocka_unit_test(environment_map_estimators_agree),
+        cmocka_unit_test(cutouts_cut_every_ray),
+    };
+    return cmocka_run_group_tests(tests, scene_dir_make, scene_dir_remove);
+}
