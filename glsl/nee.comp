@@ -18,6 +18,17 @@ bool unoccluded(Surface s, vec3 wi, float tmax)
     return !trace_any(surface_origin(s, wi), wi, 0.0, tmax);
 }
 
+/* Whether nothing blocks the way from s (leaving towards wi) to the point `to` on a light: the
+ * shadow ray starts at s's offset origin and ends short of `to` by a relative margin far above
+ * the rounding of its length, so it does not find the light's own triangle. */
+bool unoccluded_to(Surface s, vec3 wi, vec3 to)
+{
+    vec3 origin = surface_origin(s, wi);
+    vec3 d = to - origin;
+    float len = length(d);
+    return len > 0.0 && !trace_any(origin, d / len, 0.0, len * (1.0 - 1e-4));
+}
+
 /* The direct light reaching the eye through the vertex at s, per unit throughput. */
 vec3 direct_light(Surface s, uint shader, inout uint shadow_rays)
 {
@@ -51,9 +62,7 @@ vec3 direct_light(Surface s, uint shader, inout uint shadow_rays)
             vec3 f = material_bsdf_eval(shader, s, wi, pdf_bsdf);
             if (any(greaterThan(f * le, vec3(0.0)))) {
                 ++shadow_rays;
-                /* Short of the light's own triangle by a relative margin far above the rounding
-                 * of the distance, so the shadow ray does not find the light itself. */
-                if (unoccluded(s, wi, dist * (1.0 - 1e-4)))
+                if (unoccluded_to(s, wi, light.position))
                     sum += f * le * (light_sample_weight(pdf_light, pdf_bsdf) / pdf_light);
             }
         }

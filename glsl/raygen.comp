@@ -1,5 +1,7 @@
 /*
- * raygen.comp: one primary ray per pixel for one sample pass, and the pass's resets.
+ * raygen.comp: the primary rays of one sample pass, and the pass's resets. A pass holds samples
+ * image.z .. image.z + K - 1 of every pixel, K = counts.z / pixels (one, or several where the
+ * image is small: src/render/tuning.c), ray index = sample offset * pixels + pixel order.
  *
  * Sample s of N in a pixel lands in its own stratum: the pixel's square is cut into rows x cols
  * cells with rows the largest divisor of N not above sqrt(N) (so the cells tile the square
@@ -36,11 +38,11 @@ uvec2 tile_pixel(uint index, uint width, uint height)
     return uvec2(tile * TILE + in_tile % cols, band * TILE + in_tile / cols);
 }
 
-void reset_waves(uint pixels)
+void reset_waves(uint rays)
 {
-    uint groups = (pixels + WAVE_WORKGROUP_SIZE - 1u) / WAVE_WORKGROUP_SIZE;
+    uint groups = (rays + WAVE_WORKGROUP_SIZE - 1u) / WAVE_WORKGROUP_SIZE;
     uint groups_x = min(groups, 65535u);
-    waves[0] = WaveState(groups_x, (groups + groups_x - 1u) / groups_x, 1u, pixels);
+    waves[0] = WaveState(groups_x, (groups + groups_x - 1u) / groups_x, 1u, rays);
     for (uint depth = 1u; depth <= frame.wave.z + 1u; ++depth)
         waves[depth] = WaveState(0u, 0u, 0u, 0u);
 }
@@ -48,13 +50,14 @@ void reset_waves(uint pixels)
 void main()
 {
     uint index = invocation_index();
-    uint width = frame.image.x, height = frame.image.y;
-    if (index >= width * height)
+    uint width = frame.image.x, height = frame.image.y, pass_rays = frame.counts.z;
+    if (index >= pass_rays)
         return;
     if (index == 0u)
-        reset_waves(width * height);
-    uint sample_index = frame.image.z, samples = frame.image.w;
-    uvec2 p = tile_pixel(index, width, height);
+        reset_waves(pass_rays);
+    uint pixels = width * height;
+    uint sample_index = frame.image.z + index / pixels, samples = frame.image.w;
+    uvec2 p = tile_pixel(index % pixels, width, height);
     uint pixel = p.y * width + p.x;
     if (sample_index == 0u)
         image[pixel] = vec4(0.0);

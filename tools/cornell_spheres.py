@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Writes the Cornell box with a mirror sphere and a glass sphere (scenes/cornell-spheres/):
 the box of scenes/cornell without its blocks, and two smooth UV spheres whose triangles wind
-counter-clockwise seen from outside (glass needs to know inside from outside). Usage:
+counter-clockwise seen from outside (glass needs to know inside from outside), and the lamp: a
+130 x 105 quad just under the ceiling, facing down, white like the ceiling in scene.cfg (lit by a
+point light, Whitted) and an emitter (Ke 17 12 4, the classic box's) in lamp.cfg. Usage:
     cornell_spheres.py OUTPUT_DIR"""
 import math
 import os
@@ -60,6 +62,36 @@ Kd 0 0 0
 Ks 1 1 1
 Ni 1.5
 illum 7
+# The lamp: the ceiling's white here; lamp.cfg's lamp.mat makes it emit.
+newmtl lamp
+Kd 0.73 0.73 0.73
+"""
+
+LAMP_CFG = """\
+# The Cornell box with a glass and a mirror sphere, lit by its lamp alone: the quad under the
+# ceiling emits Ke 17 12 4 downwards (lamp.mat), so `integrator auto` chooses the path tracer.
+geometry    cornell-spheres.obj
+materials   lamp.mat
+resolution  512 512
+samples     64
+max-depth   8
+output      cornell-spheres-lamp.png
+camera eye 278 273 -800  look 278 273 0  up 0 1 0  fov 39.3077
+"""
+
+LAMP_MAT = """\
+# The lamp of cornell-spheres.obj as an emitter: Ke (numbers 8-10) 17 12 4, no reflection.
+lamp 0 @emissive 0 0 0 0  0 0 0 0  17 12 4
+"""
+
+# Just under the ceiling (y = 555), counter-clockwise seen from below: it faces down.
+LAMP = """\
+v 213 554.9 227
+v 343 554.9 227
+v 343 554.9 332
+v 213 554.9 332
+usemtl lamp
+f -4 -3 -2 -1
 """
 
 CFG = """\
@@ -117,12 +149,12 @@ def main():
     obj += [l for l in mirror if l.startswith("v")] + [l for l in glass if l.startswith("v")]
     obj.append(BOX_FACES.rstrip("\n"))
     obj += [l for l in mirror if not l.startswith("v")] + [l for l in glass if not l.startswith("v")]
-    with open(os.path.join(out, "cornell-spheres.obj"), "w") as f:
-        f.write("\n".join(obj) + "\n")
-    with open(os.path.join(out, "cornell-spheres.mtl"), "w") as f:
-        f.write(MTL)
-    with open(os.path.join(out, "scene.cfg"), "w") as f:
-        f.write(CFG)
+    obj.append(LAMP.rstrip("\n"))
+    for name, text in (("cornell-spheres.obj", "\n".join(obj) + "\n"),
+                       ("cornell-spheres.mtl", MTL), ("scene.cfg", CFG), ("lamp.cfg", LAMP_CFG),
+                       ("lamp.mat", LAMP_MAT)):
+        with open(os.path.join(out, name), "w") as f:
+            f.write(text)
 
 
 if __name__ == "__main__":

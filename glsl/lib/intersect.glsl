@@ -106,29 +106,55 @@ bool intersect_triangle(RayShear s, vec3 p0, vec3 p1, vec3 p2, float tmin, float
     return true;
 }
 
+/* A hit point is off its triangle's plane by rounding of two kinds, and the origin of a ray that
+ * leaves it is moved off the plane by more than both (after Wächter and Binder, "A Fast and
+ * Robust Method for Avoiding Self-Intersection", Ray Tracing Gems, ch. 6, and the error bounds of
+ * pbrt-v4: Pharr, Jakob and Humphreys, "Physically Based Rendering", 4th ed., 6.8):
+ * - Absolute: the point interpolated from the vertices (surface_at: w v0 + u v1 + v v2, with
+ *   w = 1 - u - v rounded) errs by up to about 2.5 ULPs of the largest coordinate per component,
+ *   4.3 along the normal, and rounding the moved origin adds 0.9: about 5 ULPs in all (pbrt's
+ *   gamma(7) bound, counted per operation). Nothing cancels this far from the origin, so the
+ *   offset has OFFSET_ULPS_OF_POSITION = 8 ULPs of the largest coordinate. On the bumpy sphere of
+ *   tests/stability, 1e5 units away, 0 ULPs leave half the lit points in their own shadow and 2
+ *   are enough.
+ * - Relative: the intersection test works on the vertices less the ray's origin, differences
+ *   of nearby floats, exact (Sterbenz) or off by an ULP of the difference, so its own error,
+ *   wherever the triangle is, is ULPs of the triangle's size: of a whole wall (the 555-unit
+ *   Cornell box) for a point near its corner. OFFSET_ULPS_OF_SIZE = 256 ULPs of the size, which
+ *   clears the Cornell box's walls; Wächter and Binder's per-coordinate offset left a point on
+ *   its plane x = 0 almost unmoved and the wall showed self-shadowing noise.
+ * An offset that is all absolute (256 ULPs of the largest coordinate) would be 0.01 units 350
+ * units from the origin and 3 units at 1e5: past the neighbouring facets that shadow a grazing
+ * point, so the shadows' edges would brighten as a scene moves away from the origin. */
+const float OFFSET_ULPS_OF_SIZE = 256.0;
+const float OFFSET_ULPS_OF_POSITION = 8.0;
+
 /* Moves a surface point p off its surface along the geometric normal n (facing the side the new
- * ray leaves towards), by an amount that scales with the magnitudes involved instead of one fixed
- * epsilon: int_scale ULPs of the largest coordinate of p or of its triangle (magnitude), or a
- * small absolute step near the origin. After Wächter and Binder, "A Fast and Robust Method for
- * Avoiding Self-Intersection", Ray Tracing Gems, ch. 6, with one change: their offset is per
- * coordinate of p, which leaves a point on the plane x = 0 of a large scene almost unmoved in x
- * while the intersection test of that plane, done relative to its far-away vertices, errs by
- * ULPs of the vertices' magnitude; the noise of self-shadowing on such walls showed it. Scaling
- * by the largest magnitude clears both the rounding of p and that of the plane test. */
+ * ray leaves towards) by OFFSET_ULPS_OF_SIZE ULPs of magnitude (triangle_magnitude), or by a
+ * small absolute step near the origin. */
 vec3 offset_ray_origin(vec3 p, vec3 n, float magnitude)
 {
     const float origin_step = 1.0 / 65536.0;
-    const float ulps = 256.0;
     const float ulp_of_one = 1.0 / 8388608.0; /* 2^-23 */
-    float largest = max(magnitude, max(abs(p.x), max(abs(p.y), abs(p.z))));
-    return p + max(origin_step, ulps * ulp_of_one * largest) * n;
+    return p + max(origin_step, OFFSET_ULPS_OF_SIZE * ulp_of_one * magnitude) * n;
 }
 
-/* The largest absolute coordinate of a triangle, for offset_ray_origin. */
+/* The scale of a triangle's rounding errors, for offset_ray_origin: its size (the largest side of
+ * its bounding box, or its largest absolute coordinate if that is less: a triangle across the
+ * origin, at least half its size), or that coordinate scaled from OFFSET_ULPS_OF_POSITION to
+ * OFFSET_ULPS_OF_SIZE ULPs if that is more. No point of the triangle is further from the origin
+ * than that coordinate, so it bounds the hit point's rounding too. The larger of the two, not
+ * their sum: each is at least 1.5 times the error it covers. Never more than the largest
+ * coordinate: a triangle across the origin is no more than twice that, a factor of 2 within
+ * OFFSET_ULPS_OF_SIZE's margin, and a longer offset only moves origins further than they need
+ * (a shadow ray to an emitter, which stops short of it by 1e-4 of its length, could overshoot). */
 float triangle_magnitude(vec3 a, vec3 b, vec3 c)
 {
-    vec3 m = max(abs(a), max(abs(b), abs(c)));
-    return max(m.x, max(m.y, m.z));
+    vec3 l = max(abs(a), max(abs(b), abs(c)));
+    vec3 s = max(a, max(b, c)) - min(a, min(b, c));
+    float largest = max(l.x, max(l.y, l.z));
+    float size = min(max(s.x, max(s.y, s.z)), largest);
+    return max(size, (OFFSET_ULPS_OF_POSITION / OFFSET_ULPS_OF_SIZE) * largest);
 }
 
 #endif

@@ -24,7 +24,7 @@ struct Surface {
     vec3 importance;        /* the arriving ray's throughput to the pixel, for information */
     vec4 payload;           /* the arriving ray's payload */
     uint material;          /* index of the material (internal) */
-    float magnitude;        /* largest coordinate of the triangle, for origin offsets (internal) */
+    float magnitude;        /* scale of the triangle's rounding, for origin offsets (internal) */
 };
 
 Surface surface_at(Ray ray, Hit hit)

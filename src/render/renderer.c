@@ -83,7 +83,15 @@ static bool size_ray_buffers(vkrt_renderer *r, const vkrt_render_desc *desc, vkr
                               r->width, r->height, (unsigned long long)pixels,
                               pixels * sizeof(Ray) / 1048576.0, r->ctx->properties.deviceName,
                               r->max_capacity);
-    r->capacity = desc->ray_capacity > pixels ? desc->ray_capacity : (uint32_t)pixels;
+    /* Several samples of each pixel in one pass where the image is small (tuning.c, wave_rays),
+     * as many as fit the buffers the device allows. */
+    uint64_t batch = r->tuning.wave_rays / pixels;
+    batch = batch < 1 ? 1 : batch > r->samples ? r->samples : batch;
+    while (batch > 1 && pixels * batch > r->max_capacity)
+        --batch;
+    r->batch = (uint32_t)batch;
+    uint64_t rays = pixels * batch;
+    r->capacity = desc->ray_capacity > rays ? desc->ray_capacity : (uint32_t)rays;
     if (r->capacity > r->max_capacity)
         r->capacity = r->max_capacity;
     return true;

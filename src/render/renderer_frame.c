@@ -85,11 +85,13 @@ static void record_passes(vkrt_renderer *r, VkCommandBuffer cmd, FrameParams par
                           uint32_t first, uint32_t end, profile_recorder *p)
 {
     uint32_t pixels = r->width * r->height;
-    for (uint32_t s = first; s < end; ++s) {
+    for (uint32_t s = first; s < end; s += r->batch) {
+        /* Samples [s, s + batch) of every pixel in one pass (raygen.comp). */
+        uint32_t rays = pixels * (end - s < r->batch ? end - s : r->batch);
         params.image.z = s;
-        params.counts.z = pixels;
+        params.counts.z = rays;
         params.wave = (uvec4){0, 0, r->max_depth, r->capacity};
-        gpu_dispatch(cmd, &r->raygen, &r->set, &params, pixels);
+        gpu_dispatch(cmd, &r->raygen, &r->set, &params, rays);
         profile_recorder_mark(cmd, p, 0, VKRT_KERNEL_RAYGEN);
         params.counts.z = VKRT_RAYS_OF_WAVE;
         for (uint32_t depth = 0; depth <= r->max_depth; ++depth) {

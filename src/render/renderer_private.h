@@ -25,6 +25,7 @@ struct vkrt_renderer {
     uint32_t light_sampling;  /* VKRT_SAMPLING_* */
     bool has_cutouts;         /* a material is cut out by a texture (lib/cutout.glsl) */
     uint32_t width, height, samples, max_depth;
+    uint32_t batch;           /* samples per pixel a sample pass traces (renderer.c) */
     uint32_t triangle_count, light_count, light_words;
     uint32_t capacity, max_capacity; /* rays per ray buffer: now, and the most the device allows */
     float min_importance;

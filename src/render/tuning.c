@@ -28,6 +28,14 @@ static const float gpu_bvh_traversal_cost = 0.5f;
  * (renderer_frame.c). Other devices have no such limit; the block only splits dispatches. */
 enum { llvmpipe_loop_budget = 65535, brute_force_block = 32768 };
 
+/* Camera rays per sample pass. A pass is some 5 dispatches per depth whatever its size, and a
+ * small image's passes left the H200 idle between them: a 256x256 Cornell box path-traced at 64
+ * spp, one pass per sample, took 60 ms, the same samples as one 512x512 frame 17 ms
+ * (research/results/path-h200/). 2^21 rays is a 1080p image's pass, which fills the GPU;
+ * lavapipe, whose dispatches cost little next to its tracing, takes a smaller one (its ray
+ * buffers stay within its 128 MiB storage buffers). */
+enum { gpu_wave_rays = 1 << 21, cpu_wave_rays = 1 << 16 };
+
 /* A cast ray whose importance (largest channel) falls under this is not traced: it could change
  * its pixel by less than a thousandth of the light that reaches it. */
 static const float default_min_importance = 1e-3f;
@@ -62,6 +70,7 @@ vkrt_tuning vkrt_tuning_choose(bool cpu_device, bool llvmpipe, const vkrt_tuning
         .loop_budget = llvmpipe ? llvmpipe_loop_budget : 0,
         .brute_force_block = brute_force_block,
         .min_importance = default_min_importance,
+        .wave_rays = cpu_device ? cpu_wave_rays : gpu_wave_rays,
     };
     /* The grid traced about as fast as the BVH only on a CPU device reading storage buffers; with
      * texel loads, as on GPUs, the BVH was 1.5 to 3.9 times faster on every scene measured. */

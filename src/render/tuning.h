@@ -55,6 +55,8 @@ typedef struct vkrt_tuning {
     uint32_t loop_budget;     /* loop iterations an invocation may run in all (0: no limit) */
     uint32_t brute_force_block; /* triangles per brute-force dispatch */
     float min_importance;     /* a cast ray weaker than this (largest channel) is dropped */
+    uint32_t wave_rays;       /* camera rays a sample pass aims at: several samples per pixel go
+                                 in one pass when the image has fewer pixels than this */
 } vkrt_tuning;
 
 /* Whether ctx's device is a CPU implementation. */

@@ -139,6 +139,95 @@ static void test_light_inside_a_closed_box_does_not_leak(void **state)
     assert_true(lit > 20); /* the inside walls, seen through the open top */
 }
 
+/* Writes bumpy.obj and scene.cfg: a sphere of radius 100 with bumps 6% high, of 96 x 192 quads
+ * (triangles about 3 units across), centre (o, o, o), lit by a directional light that grazes the
+ * bumps (they shadow each other over the half of the lit side nearest the terminator), seen from
+ * 300 units away. The camera moves with the sphere; the light, directional, needs no moving. */
+static void write_bumpy_sphere(double o)
+{
+    enum { LAT = 96, LON = 192 };
+    FILE *f = scene_dir_open("bumpy.obj");
+    fprintf(f, "v %.17g %.17g %.17g\n", o, o + 100, o);
+    for (int i = 1; i < LAT; ++i)
+        for (int j = 0; j < LON; ++j) {
+            double th = M_PI * i / LAT, ph = 2 * M_PI * j / LON;
+            double r = 100 * (1 + 0.06 * sin(9 * th) * sin(11 * ph));
+            fprintf(f, "v %.17g %.17g %.17g\n", o + r * sin(th) * cos(ph), o + r * cos(th),
+                    o + r * sin(th) * sin(ph));
+        }
+    fprintf(f, "v %.17g %.17g %.17g\n", o, o - 100, o);
+    int bottom = 2 + (LAT - 1) * LON;
+    for (int j = 0; j < LON; ++j) {
+        int k = (j + 1) % LON;
+        fprintf(f, "f 1 %d %d\n", 2 + k, 2 + j);
+        fprintf(f, "f %d %d %d\n", bottom, 2 + (LAT - 2) * LON + j, 2 + (LAT - 2) * LON + k);
+        for (int i = 1; i < LAT - 1; ++i) {
+            int a = 2 + (i - 1) * LON, b = a + LON;
+            fprintf(f, "f %d %d %d %d\n", a + j, a + k, b + k, b + j);
+        }
+    }
+    fclose(f);
+    char cfg[512];
+    snprintf(cfg, sizeof cfg,
+             "geometry bumpy.obj\nlight directional -1 -0.35 -0.25  3 3 3\n"
+             "camera eye %.17g %.17g %.17g look %.17g %.17g %.17g up 0 1 0 fov 45\n",
+             o + 150, o + 40, o + 250, o, o, o);
+    scene_dir_write("scene.cfg", cfg);
+}
+
+/* A self-shadowing mesh moved far from the origin. Naive: a fixed epsilon makes acne far away;
+ * an offset that grows with the distance from the origin faster than the rounding of the
+ * coordinates there (vkrt's was 256 ULPs of the largest coordinate) soon reaches past the
+ * neighbouring bumps that shadow a grazing point, and the shadows' edges brighten as the scene
+ * moves. vkrt: the bumpy sphere at offsets 1e2, 1e4 and 1e5 against the same at offset 1, with the
+ * grid and the BVH (brute force over its 37,000 triangles takes minutes on a CPU device; the
+ * three structures gave the same numbers to the last digit). Two measures: the change of the
+ * image's mean, and the share of lit pixels that change by more than 5%.
+ * What moving must change: at 1e5 the float spacing is 2^-7 = 0.008, so vertices and the camera
+ * move by up to 0.004 (4e-5 of the radius), which tilts facets and shifts shadow edges and the
+ * silhouette by a fraction of a pixel. With the smallest offset that still has no acne (2 ULPs
+ * of the coordinates, against 8 in vkrt; 0 shadows half the lit points) the sphere at 1e5 moves
+ * by +0.010% in the mean and 0.50% of its pixels by more than 5%: that is the floor. The
+ * tolerances are 10 and 2 times that floor; 256 ULPs of the coordinates gave +0.21% at 1e4 and
+ * +1.14% (3.4% of pixels) at 1e5, 16 ULPs +0.14% at 1e5, and both fail. */
+static void test_self_shadows_hold_far_from_the_origin(void **state)
+{
+    (void)state;
+    const double MEAN_TOLERANCE = 1e-3, MOVED_TOLERANCE = 1e-2;
+    enum { N = 128 };
+    static const double offsets[] = {1e2, 1e4, 1e5};
+    static const vkrt_accel_kind kinds[] = {VKRT_ACCEL_GRID, VKRT_ACCEL_BVH};
+    static float base[N * N * 3], moved[N * N * 3];
+    for (size_t k = 0; k < sizeof kinds / sizeof *kinds; ++k) {
+        write_bumpy_sphere(1);
+        render(kinds[k], N, N, base, NULL);
+        for (size_t c = 0; c < sizeof offsets / sizeof *offsets; ++c) {
+            write_bumpy_sphere(offsets[c]);
+            render(kinds[k], N, N, moved, NULL);
+            assert_all_finite(moved, N * N * 3, vkrt_accel_name(kinds[k]));
+            double sum_base = 0, sum_moved = 0;
+            int lit = 0, moved_pixels = 0;
+            for (int i = 0; i < N * N; ++i) {
+                const float *b = base + 3 * i, *m = moved + 3 * i;
+                double lb = b[0] + b[1] + b[2], lm = m[0] + m[1] + m[2];
+                sum_base += lb;
+                sum_moved += lm;
+                lit += lb > 0 || lm > 0;
+                moved_pixels += fabs(lm - lb) > 0.05 * lb;
+            }
+            double mean = sum_moved / sum_base - 1, share = (double)moved_pixels / lit;
+            print_message("%s, offset %g: mean %+.4f%%, %.2f%% of %d lit pixels moved by more "
+                          "than 5%%\n",
+                          vkrt_accel_name(kinds[k]), offsets[c], 100 * mean, 100 * share, lit);
+            if (fabs(mean) > MEAN_TOLERANCE || share > MOVED_TOLERANCE)
+                fail_msg("%s, offset %g: mean %+.4f%% (tolerance %g%%), %.2f%% of pixels moved "
+                         "(tolerance %g%%)",
+                         vkrt_accel_name(kinds[k]), offsets[c], 100 * mean, 100 * MEAN_TOLERANCE,
+                         100 * share, 100 * MOVED_TOLERANCE);
+        }
+    }
+}
+
 /* Axis-parallel rays on grid-cell and box boundaries. Naive: 1/0 in a slab test gives NaN when the
  * origin lies on a slab plane (0 * inf), and a 3D-DDA stepping on t = 0 boundaries skips cells or
  * loops. vkrt: a camera looking straight down -y on a floor at y = 0 with a cube whose faces lie
@@ -269,6 +358,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_hundred_lights_sum_in_closed_form),
         cmocka_unit_test(test_light_inside_a_closed_box_does_not_leak),
+        cmocka_unit_test(test_self_shadows_hold_far_from_the_origin),
         cmocka_unit_test(test_axis_parallel_rays_on_cell_boundaries),
         cmocka_unit_test(test_degenerate_triangles_change_nothing),
         cmocka_unit_test(test_glass_chains_stay_bounded_and_finite),
