@@ -181,12 +181,18 @@ def path_section():
                 continue
             name = member.split("/")[-1].replace("-equal-time.csv", "")
             rows = list(csv.DictReader(io.TextIOWrapper(tar.extractfile(member), "utf-8")))
+            times = [float(r["ms_per_frame"]) for r in rows if r["renderer"] == "mitsuba"]
             for r in rows:
-                if r["renderer"] == "vkrt":
-                    equal.append([name, r["spp"], f"{float(r['ms_per_frame']):.2f}",
-                                  f"{float(r['relmse']):.4g}",
-                                  f"{float(r['mitsuba_relmse_at_same_time']):.4g}",
-                                  f"{float(r['ratio']):.2f}"])
+                if r["renderer"] != "vkrt":
+                    continue
+                ms = float(r["ms_per_frame"])
+                # Outside the times Mitsuba was measured at, its error is extrapolated: shown,
+                # marked, and not what the target is judged by.
+                inside = min(times) <= ms <= max(times)
+                mark = "" if inside else " (extrapolated)"
+                equal.append([name, r["spp"], f"{ms:.2f}", f"{float(r['relmse']):.4g}",
+                              f"{float(r['mitsuba_relmse_at_same_time']):.4g}{mark}",
+                              f"{float(r['ratio']):.3f}{mark}"])
     ratios = markdown(["scene", "vkrt spp", "ms/frame", "vkrt relMSE", "Mitsuba relMSE, same time",
                        "ratio"], equal, ["---"] + ["---:"] * 5)
     return table, ratios
@@ -292,11 +298,13 @@ and the shadow rays of next-event estimation):
 
 Equal time against Mitsuba 3.9.1's `path` integrator on `cuda_ad_rgb` (OptiX, the same GPU, the
 same call): `research/equal_time.py` renders both at a ladder of samples per pixel, takes each
-image's relative MSE against a converged Mitsuba image (8281 spp for the Cornell box, 2116 for
-Sponza: Mitsuba's stratified sampler rounds to squares), and each frame's time (vkrt: the profile's
-warm GPU frame; Mitsuba: the wall time of a second mi.render of the same size), and interpolates
-Mitsuba's error at vkrt's time, log-log. Ratio = vkrt's relative MSE over Mitsuba's at the same
-time (the issue asks for at most 0.5):
+image's relative MSE against a converged Mitsuba image (4096 spp for the Cornell box at 256x256,
+1024 for Sponza at 480x270; Mitsuba's spp are squares, which its stratified sampler needs), and
+each frame's time (vkrt: the profile's warm GPU frame; Mitsuba: the wall time of a second
+mi.render of the same size), and interpolates Mitsuba's error at vkrt's time, log-log. Ratio =
+vkrt's relative MSE over Mitsuba's at the same time (the issue asks for at most 0.5); where vkrt's
+frame is faster than Mitsuba's fastest (1 spp), Mitsuba's error is extrapolated and marked so,
+since Mitsuba has no frame that short:
 
 {path_equal}
 
