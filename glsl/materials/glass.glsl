@@ -39,10 +39,12 @@ void shade(Surface s)
 }
 
 /* Path: reflection or refraction, one chosen by the Fresnel reflectance (dielectric_sample), the
- * refracted light tinted. */
-vec3 emitted(Surface s)
+ * refracted light tinted; both are delta lobes, so there is nothing to evaluate. */
+bool bsdf_sample(Surface s, out BsdfSample b)
 {
-    return mtl_emitted(s);
+    if (!dielectric_sample(s, glass_eta(s), b))
+        b.weight *= glass_tint();
+    return true;
 }
 
 vec3 bsdf_eval(Surface s, vec3 wi, out float pdf)
@@ -50,9 +52,7 @@ vec3 bsdf_eval(Surface s, vec3 wi, out float pdf)
     return black_eval(pdf);
 }
 
-bool bsdf_sample(Surface s, out BsdfSample b)
+vec3 emitted(Surface s)
 {
-    if (!dielectric_sample(s, glass_eta(s), b))
-        b.weight *= glass_tint();
-    return true;
+    return mtl_emitted(s);
 }

@@ -27,7 +27,7 @@
  *
  * tinyobjloader's own messages are never passed on as it words them: its errors (an index of 0)
  * become "path:LINE: ..." errors naming the index, and its warnings are translated into vkrt's
- * (Warnings below: "file:LINE: warning: ...", lines taken from the scan, repeats folded), with
+ * (obj_warnings.h: "file:LINE: warning: ...", lines taken from the scan, repeats folded), with
  * only an unrecognised one passed on after "file: warning:". Material names are trimmed, so
  * "newmtl  Name" is the material "usemtl Name" asks for.
  *
@@ -48,7 +48,6 @@
 #include <map>
 #include <memory>
 #include <new>
-#include <set>
 #include <streambuf>
 #include <string>
 #include <vector>
@@ -58,6 +57,7 @@ extern "C" {
 #include "text_file.h"
 }
 #include "obj_scan.h"
+#include "obj_warnings.h"
 
 namespace {
 
@@ -70,8 +70,12 @@ using obj_scan::LineWalker;
 using obj_scan::next_token;
 using obj_scan::ObjScan;
 using obj_scan::prescan;
-using obj_scan::QUOTE_MAX;
 using obj_scan::Span;
+using obj_warnings::MtlLibraries;
+using obj_warnings::number_after;
+using obj_warnings::quoted;
+using obj_warnings::starts_with;
+using obj_warnings::Warnings;
 
 /* Only a pipe that never ends reaches this: 16 GiB of OBJ text is hundreds of millions of triangles. */
 constexpr uint64_t OBJ_MAX_BYTES_64 = uint64_t(16) << 30;
@@ -103,146 +107,6 @@ public:
         setg(p, p, p + size);
     }
 };
-
-/* ------------------------------------------------------------------------------ warnings */
-
-/* One warning as the user reads it: "file:LINE: warning: text" (no LINE when it is 0). Warnings of
- * one kind about one file fold into one line when there are several of them: "file: warning: "
- * then fold with "{n}" replaced by their count, then the first FOLD_NAMES names in brackets. */
-struct Warning {
-    std::string file;
-    uint32_t line = 0;
-    std::string text;
-    std::string kind;        /* warnings of one kind fold together; "" never folds */
-    std::string name;        /* what a folded line lists for this one */
-    std::string fold;        /* the folded line's text, "{n}" standing for the count */
-    std::string names_label; /* before the list of names: "lines " */
-};
-
-/* Enough names to recognise the problem; --verbose lists them all. */
-constexpr size_t FOLD_NAMES = 3;
-
-/* User text in a message, cut short so a garbage line cannot flood it. */
-std::string quoted(const std::string &s)
-{
-    return s.size() > QUOTE_MAX ? s.substr(0, QUOTE_MAX) + "..." : s;
-}
-
-Warning plain_warning(const std::string &file, uint32_t line, const std::string &text)
-{
-    Warning w;
-    w.file = file;
-    w.line = line;
-    w.text = text;
-    return w;
-}
-
-Warning folding_warning(const std::string &file, uint32_t line, const std::string &text,
-                        const std::string &kind, const std::string &name, const std::string &fold)
-{
-    Warning w = plain_warning(file, line, text);
-    w.kind = kind;
-    w.name = quoted(name);
-    w.fold = fold;
-    return w;
-}
-
-/* The warnings of one load, in the order they arose, each said once (tinyobjloader repeats a
- * warning for every face or statement it concerns). */
-class Warnings {
-public:
-    void add(const Warning &w)
-    {
-        std::string key = w.file + '\n' + w.kind + '\n' +
-                          (w.kind.empty() ? std::to_string(w.line) + '\n' + w.text : w.name);
-        if (seen_.insert(key).second)
-            list_.push_back(w);
-    }
-
-    bool empty() const { return list_.empty(); }
-
-    /* Every warning on its own line. */
-    std::string all() const
-    {
-        std::string out;
-        for (const Warning &w : list_)
-            out += line_of(w) + "\n";
-        return out;
-    }
-
-    /* One line per warning that stands alone, one per kind and file for those that fold. */
-    std::string folded() const
-    {
-        std::vector<std::vector<const Warning *>> groups;
-        std::map<std::string, size_t> group_of;
-        for (const Warning &w : list_) {
-            if (w.kind.empty()) {
-                groups.push_back({&w});
-                continue;
-            }
-            auto found = group_of.emplace(w.file + '\n' + w.kind, groups.size());
-            if (found.second)
-                groups.emplace_back();
-            groups[found.first->second].push_back(&w);
-        }
-        std::string out;
-        for (const std::vector<const Warning *> &g : groups)
-            out += (g.size() == 1 ? line_of(*g[0]) : folded_line(g)) + "\n";
-        return out;
-    }
-
-private:
-    static std::string line_of(const Warning &w)
-    {
-        std::string where = w.line ? w.file + ":" + std::to_string(w.line) : w.file;
-        return where + ": warning: " + w.text;
-    }
-
-    static std::string folded_line(const std::vector<const Warning *> &g)
-    {
-        const Warning &first = *g[0];
-        std::string text = first.fold, count = std::to_string(g.size());
-        size_t at = text.find("{n}");
-        if (at != std::string::npos)
-            text.replace(at, 3, count);
-        text += " (" + first.names_label;
-        for (size_t i = 0; i < g.size() && i < FOLD_NAMES; i++)
-            text += (i ? ", " : "") + g[i]->name;
-        text += g.size() > FOLD_NAMES ? ", ...)" : ")";
-        return first.file + ": warning: " + text;
-    }
-
-    std::vector<Warning> list_;
-    std::set<std::string> seen_;
-};
-
-/* The text's lines, without their "\n". */
-std::vector<std::string> lines_of(const std::string &text)
-{
-    std::vector<std::string> out;
-    size_t pos = 0;
-    while (pos < text.size()) {
-        size_t nl = text.find('\n', pos);
-        out.push_back(text.substr(pos, nl == std::string::npos ? std::string::npos : nl - pos));
-        pos = nl == std::string::npos ? text.size() : nl + 1;
-    }
-    return out;
-}
-
-bool starts_with(const std::string &s, const char *prefix)
-{
-    return s.compare(0, strlen(prefix), prefix) == 0;
-}
-
-/* The number after the last `marker` in a tinyobjloader message ("... line 15.)"), or 0. */
-uint32_t number_after(const std::string &message, const char *marker)
-{
-    size_t at = message.rfind(marker);
-    if (at == std::string::npos)
-        return 0;
-    unsigned long n = strtoul(message.c_str() + at + strlen(marker), nullptr, 10);
-    return n <= UINT32_MAX ? static_cast<uint32_t>(n) : 0;
-}
 
 /* ------------------------------------------------------------------------------ materials */
 
@@ -351,26 +215,6 @@ void trim_material_names(std::vector<tinyobj::material_t> *materials, size_t fro
     }
 }
 
-/* LoadMtl's warnings in our words: its only kind is "Both `d` and `Tr` parameters defined for
- * \"NAME\". Use the value of `d` for dissolve (line N in .mtl.)", once per statement; anything else
- * is passed on as it stands. */
-void translate_mtl_warnings(const std::string &path, const std::string &tiny, Warnings *out)
-{
-    const char *both = "Both `d` and `Tr` parameters defined for \"";
-    for (const std::string &line : lines_of(tiny)) {
-        size_t end = line.rfind("\". Use the value of `d`");
-        if (starts_with(line, both) && end != std::string::npos && end >= strlen(both)) {
-            std::string name = line.substr(strlen(both), end - strlen(both));
-            name.erase(0, std::min(name.size(), name.find_first_not_of(" \t")));
-            out->add(folding_warning(path, number_after(line, "(line "),
-                                     "material '" + quoted(name) + "' defines both d and Tr; d is used",
-                                     "d and Tr", name, "{n} materials define both d and Tr; d is used"));
-        } else if (!line.empty()) {
-            out->add(plain_warning(path, 0, line));
-        }
-    }
-}
-
 /* Loads each mtllib file relative to the OBJ's folder (not tinyobjloader's MaterialFileReader, which
  * splits its base folder at ':' and does not say which file a material came from). */
 class MtlReader : public tinyobj::MaterialReader {
@@ -381,8 +225,7 @@ public:
     }
 
     std::vector<MtlOrigin> origins; /* parallel to the materials vector */
-    std::vector<std::string> loaded; /* the .mtl files read */
-    std::vector<std::pair<std::string, std::string>> missing; /* mtllib name, path looked for */
+    MtlLibraries libraries;         /* the .mtl files read, and the mtllib names not found */
 
     bool operator()(const std::string &name, std::vector<tinyobj::material_t> *materials,
                     std::map<std::string, int> *material_map, std::string *warn, std::string *err) override
@@ -391,7 +234,7 @@ public:
         std::string path = join_path(obj_folder_, name);
         std::string text;
         if (!file_exists(path) || !read_whole_file(path.c_str(), "material library", &text, nullptr)) {
-            missing.emplace_back(name, path);
+            libraries.missing.emplace_back(name, path);
             return false;
         }
         std::vector<MtlOrigin> fields = scan_mtl_fields(text, path);
@@ -401,8 +244,8 @@ public:
         std::string mtl_warn; /* LoadMtl assigns, not appends, to its warning string */
         tinyobj::LoadMtl(material_map, materials, &stream, &mtl_warn, err);
         trim_material_names(materials, before, material_map);
-        translate_mtl_warnings(path, mtl_warn, warnings_);
-        loaded.push_back(path);
+        obj_warnings::translate_mtl_warnings(path, mtl_warn, warnings_);
+        libraries.loaded.push_back(path);
         size_t added = materials->size() - before;
         if (fields.size() != added) /* our mirror disagreed: trust all of tinyobjloader's values */
             fields.assign(added, MtlOrigin{folder_of(path), path});
@@ -516,7 +359,7 @@ std::string written_index(const std::string &text, const FaceLine &face, uint32_
         s = slash == std::string::npos ? std::string() : s.substr(slash + 1);
     }
     s = s.substr(0, s.find('/'));
-    return s.size() > QUOTE_MAX ? s.substr(0, QUOTE_MAX) + "..." : s;
+    return quoted(s);
 }
 
 struct IndexKind {
@@ -693,11 +536,7 @@ void drop_references_to_absent_attributes(const char *path, Parsed *p, Warnings 
             if (no_texcoords && corner.texcoord_index != -1)
                 corner.texcoord_index = -1, dropped_texcoords++;
         }
-    if (dropped_normals)
-        warnings->add(plain_warning(path, 0, "faces name normals but the file has no vn records; normals ignored"));
-    if (dropped_texcoords)
-        warnings->add(plain_warning(
-            path, 0, "faces name texture coordinates but the file has no vt records; ignored"));
+    obj_warnings::warn_dropped_references(path, dropped_normals, dropped_texcoords, warnings);
 }
 
 /* tinyobjloader's own number parser may overflow a float even where ours did not (it is not
@@ -860,109 +699,6 @@ size_t write_triangles(const Parsed &p, const ObjScan &scan, const std::vector<F
     return replaced;
 }
 
-/* ------------------------------------------------------------------------------ warnings */
-
-/* Copies the folded warnings into mesh->warnings, whole lines while they fit, and all of them into
- * mesh->warnings_all. */
-void set_warnings(const Warnings &warnings, vkrt_mesh *mesh)
-{
-    if (warnings.empty())
-        return;
-    std::string out;
-    for (const std::string &line : lines_of(warnings.folded())) {
-        std::string next = out.empty() ? line : out + "\n" + line;
-        if (next.size() >= sizeof mesh->warnings) {
-            if (out.empty())
-                out = line.substr(0, sizeof mesh->warnings - 1);
-            break;
-        }
-        out = next;
-    }
-    memcpy(mesh->warnings, out.c_str(), out.size() + 1);
-    std::string all = warnings.all();
-    all.pop_back(); /* the last "\n" */
-    mesh->warnings_all = copy_string(all);
-}
-
-/* tinyobjloader's warnings about the OBJ in our words, with the lines its messages lack taken from
- * the scan. Those that a check of ours words better, or that change nothing vkrt draws, are left
- * out: short faces (the scan has their lines), indices out of bounds (validated later, an error
- * or our own warning), "Failed to load material file(s)" (the reader names the files), empty
- * group names (vkrt has no use for groups), usemtl names after a .mtl was not found (that
- * warning says it) or when .mtl files are not read at all (vkrt_obj_parse without a folder). */
-void translate_obj_warnings(const char *path, const std::string &tiny, const ObjScan &scan,
-                            const MtlReader *reader, Warnings *out)
-{
-    const char *usemtl_head = "material [ '", *usemtl_tail = "' ] not found in .mtl";
-    for (std::string line : lines_of(tiny)) {
-        if (!line.empty() && line[0] == '.') /* rc10 writes "Degenerated face found\n.", so the
-                                                next message starts with that "." */
-            line.erase(0, 1);
-        if (line.empty() || starts_with(line, "Degenerated face found") ||
-            starts_with(line, "Failed to load material file(s)") ||
-            line.find("indices out of bounds") != std::string::npos || starts_with(line, "Empty group name"))
-            continue;
-        size_t tail = line.rfind(usemtl_tail);
-        if (starts_with(line, usemtl_head) && tail != std::string::npos && tail >= strlen(usemtl_head)) {
-            if (!reader || !reader->missing.empty())
-                continue;
-            std::string name = line.substr(strlen(usemtl_head), tail - strlen(usemtl_head));
-            uint32_t number = 0;
-            for (const obj_scan::NameLine &u : scan.usemtl)
-                if (u.name == name) {
-                    number = u.line;
-                    break;
-                }
-            std::string libraries;
-            for (const std::string &l : reader->loaded)
-                libraries += (libraries.empty() ? "" : ", ") + l;
-            std::string where = libraries.empty() ? "the file names no material library (mtllib)"
-                                                  : "no material of that name in " + libraries;
-            std::string fold = libraries.empty()
-                                   ? "{n} usemtl names, but the file names no material library (mtllib)"
-                                   : "{n} usemtl names have no material in " + libraries;
-            out->add(folding_warning(path, number,
-                                     "usemtl " + quoted(name) + ": " + where + "; the default material is used",
-                                     "usemtl", name, fold + "; the default material is used"));
-        } else if (starts_with(line, "Looks like empty filename for mtllib")) {
-            out->add(plain_warning(path, number_after(line, "(line "),
-                                   "mtllib names no file; the default material is used"));
-        } else {
-            out->add(plain_warning(path, 0, line));
-        }
-    }
-}
-
-/* The mtllib files that were not found, each at the first mtllib line naming it. */
-void warn_missing_libraries(const char *path, const ObjScan &scan, const MtlReader &reader, Warnings *out)
-{
-    for (const auto &m : reader.missing) {
-        uint32_t number = 0;
-        for (const obj_scan::NameLine &l : scan.mtllib)
-            if (l.name.find(m.first) != std::string::npos) {
-                number = l.line;
-                break;
-            }
-        out->add(folding_warning(path, number,
-                                 "material library " + m.second +
-                                     " not found; faces using its materials get the default material",
-                                 "mtllib", m.first,
-                                 "{n} material libraries not found; faces using their materials get "
-                                 "the default material"));
-    }
-}
-
-/* f records of fewer than three corners, which tinyobjloader drops ("Degenerated face found"). */
-void warn_short_faces(const char *path, const ObjScan &scan, Warnings *out)
-{
-    for (uint32_t line : scan.short_faces) {
-        Warning w = folding_warning(path, line, "face of fewer than 3 corners ignored", "short face",
-                                    std::to_string(line), "{n} faces of fewer than 3 corners ignored");
-        w.names_label = "lines ";
-        out->add(w);
-    }
-}
-
 /* ---------------------------------------------------------------------------- the load */
 
 /* tinyobjloader's error is one or more "...\n" lines; the first one is the cause. The failures it
@@ -1028,9 +764,10 @@ bool parse(const char *path, std::string *text_in, const std::string *mtl_folder
     if (!parse_with_tinyobj(path, text, start, &p, mtl_folder ? &reader : nullptr, &tiny_warnings, err) ||
         !check_parsed_values(path, p, scan, err))
         return false;
-    warn_missing_libraries(path, scan, reader, &warnings);
-    translate_obj_warnings(path, tiny_warnings, scan, mtl_folder ? &reader : nullptr, &warnings);
-    warn_short_faces(path, scan, &warnings);
+    obj_warnings::warn_missing_libraries(path, scan, reader.libraries, &warnings);
+    obj_warnings::translate_obj_warnings(path, tiny_warnings, scan,
+                                         mtl_folder ? &reader.libraries : nullptr, &warnings);
+    obj_warnings::warn_short_faces(path, scan, &warnings);
     drop_references_to_absent_attributes(path, &p, &warnings);
     if (!collect_faces(path, text, p, scan, &faces, err))
         return false;
@@ -1046,12 +783,8 @@ bool parse(const char *path, std::string *text_in, const std::string *mtl_folder
     size_t replaced = write_triangles(p, scan, faces, mesh);
     compute_bounds(mesh);
     convert_materials(p.materials, reader, obj_folder, mesh);
-    if (replaced)
-        warnings.add(plain_warning(path, 0,
-                                   std::to_string(replaced) +
-                                       " triangles have an unusable normal (not finite or zero); "
-                                       "the geometric normal is used"));
-    set_warnings(warnings, mesh);
+    obj_warnings::warn_unusable_normals(path, replaced, &warnings);
+    obj_warnings::set_warnings(warnings, mesh);
     return true;
 }
 
