@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "../glsl/shared.h"
+#include "../glsl/lib/ray_offset.glsl"
 #include "render/camera_frame.h"
 
 /* As raygen.comp's normalize, in float. */
@@ -54,13 +55,10 @@ void bench_primary_rays(const vkrt_config_camera *camera, uint32_t width, uint32
     }
 }
 
-/* Shadow-ray origins move off the surface as light.comp moves them (lib/intersect.glsl). */
+/* Shadow and bounce rays leave the surface as the kernels' do (lib/ray_offset.glsl). */
 static void offset_origin(const float p[3], const float n[3], float magnitude, float out[3])
 {
-    float largest = magnitude;
-    for (int i = 0; i < 3; ++i)
-        largest = fmaxf(largest, fabsf(p[i]));
-    float step = fmaxf(1.0f / 65536.0f, 256.0f / 8388608.0f * largest);
+    float step = ray_offset_distance(magnitude);
     for (int i = 0; i < 3; ++i)
         out[i] = p[i] + step * n[i];
 }
@@ -93,12 +91,14 @@ static void hit_frame(const vkrt_scene *scene, const Ray *primary, const Hit *hi
                       float origin[3], float nrm[3])
 {
     const float *v = scene->mesh.positions + 9 * (size_t)hits[i].triangle;
-    float w = 1 - hits[i].u - hits[i].v, p[3], e1[3], e2[3], magnitude = 0;
+    float w = 1 - hits[i].u - hits[i].v, p[3], e1[3], e2[3], largest = 0, size = 0;
     for (int k = 0; k < 3; ++k) {
         p[k] = w * v[k] + hits[i].u * v[3 + k] + hits[i].v * v[6 + k];
         e1[k] = v[3 + k] - v[k];
         e2[k] = v[6 + k] - v[k];
-        magnitude = fmaxf(magnitude, fmaxf(fabsf(v[k]), fmaxf(fabsf(v[3 + k]), fabsf(v[6 + k]))));
+        largest = fmaxf(largest, fmaxf(fabsf(v[k]), fmaxf(fabsf(v[3 + k]), fabsf(v[6 + k]))));
+        size = fmaxf(size, fmaxf(v[k], fmaxf(v[3 + k], v[6 + k])) -
+                               fminf(v[k], fminf(v[3 + k], v[6 + k])));
     }
     nrm[0] = e1[1] * e2[2] - e1[2] * e2[1];
     nrm[1] = e1[2] * e2[0] - e1[0] * e2[2];
@@ -108,7 +108,7 @@ static void hit_frame(const vkrt_scene *scene, const Ray *primary, const Hit *hi
     float facing = nrm[0] * d[0] + nrm[1] * d[1] + nrm[2] * d[2] > 0 ? -1.0f : 1.0f;
     for (int k = 0; k < 3; ++k)
         nrm[k] *= facing / len;
-    offset_origin(p, nrm, magnitude, origin);
+    offset_origin(p, nrm, ray_offset_magnitude(largest, size), origin);
 }
 
 uint32_t bench_shadow_rays(const vkrt_scene *scene, const Ray *primary, const Hit *hits,

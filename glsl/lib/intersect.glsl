@@ -13,6 +13,8 @@
 #ifndef VKRT_INTERSECT_GLSL
 #define VKRT_INTERSECT_GLSL
 
+#include "ray_offset.glsl"
+
 /* |det| below this fraction of the largest edge-function product is rounding noise (2^-18). */
 const float RELIABLE_DET_FRACTION = 1.0 / 262144.0;
 
@@ -125,36 +127,23 @@ bool intersect_triangle(RayShear s, vec3 p0, vec3 p1, vec3 p2, float tmin, float
  *   its plane x = 0 almost unmoved and the wall showed self-shadowing noise.
  * An offset that is all absolute (256 ULPs of the largest coordinate) would be 0.01 units 350
  * units from the origin and 3 units at 1e5: past the neighbouring facets that shadow a grazing
- * point, so the shadows' edges would brighten as a scene moves away from the origin. */
-const float OFFSET_ULPS_OF_SIZE = 256.0;
-const float OFFSET_ULPS_OF_POSITION = 8.0;
+ * point, so the shadows' edges would brighten as a scene moves away from the origin.
+ * The rule itself is lib/ray_offset.glsl, which compiles as C too: src/bench_rays.c offsets its
+ * rays by it. */
 
 /* Moves a surface point p off its surface along the geometric normal n (facing the side the new
- * ray leaves towards) by OFFSET_ULPS_OF_SIZE ULPs of magnitude (triangle_magnitude), or by a
- * small absolute step near the origin. */
+ * ray leaves towards) by ray_offset_distance(magnitude). */
 vec3 offset_ray_origin(vec3 p, vec3 n, float magnitude)
 {
-    const float origin_step = 1.0 / 65536.0;
-    const float ulp_of_one = 1.0 / 8388608.0; /* 2^-23 */
-    return p + max(origin_step, OFFSET_ULPS_OF_SIZE * ulp_of_one * magnitude) * n;
+    return p + ray_offset_distance(magnitude) * n;
 }
 
-/* The scale of a triangle's rounding errors, for offset_ray_origin: its size (the largest side of
- * its bounding box, or its largest absolute coordinate if that is less: a triangle across the
- * origin, at least half its size), or that coordinate scaled from OFFSET_ULPS_OF_POSITION to
- * OFFSET_ULPS_OF_SIZE ULPs if that is more. No point of the triangle is further from the origin
- * than that coordinate, so it bounds the hit point's rounding too. The larger of the two, not
- * their sum: each is at least 1.5 times the error it covers. Never more than the largest
- * coordinate: a triangle across the origin is no more than twice that, a factor of 2 within
- * OFFSET_ULPS_OF_SIZE's margin, and a longer offset only moves origins further than they need
- * (a shadow ray to an emitter, which stops short of it by 1e-4 of its length, could overshoot). */
+/* The scale of a triangle's rounding errors, for offset_ray_origin (ray_offset_magnitude). */
 float triangle_magnitude(vec3 a, vec3 b, vec3 c)
 {
     vec3 l = max(abs(a), max(abs(b), abs(c)));
     vec3 s = max(a, max(b, c)) - min(a, min(b, c));
-    float largest = max(l.x, max(l.y, l.z));
-    float size = min(max(s.x, max(s.y, s.z)), largest);
-    return max(size, (OFFSET_ULPS_OF_POSITION / OFFSET_ULPS_OF_SIZE) * largest);
+    return ray_offset_magnitude(max(l.x, max(l.y, l.z)), max(s.x, max(s.y, s.z)));
 }
 
 #endif
