@@ -90,8 +90,8 @@ static uint32_t wrap(int i, uint32_t n)
     return (uint32_t)(r < 0 ? r + (int)n : r);
 }
 
-/* texture_sample of glsl/lib/texture.glsl on float RGB, luminance only: bilinear, repeating,
- * texel centres at half-integers, v = 0 the bottom row. */
+/* envmap_radiance of glsl/lib/environment.glsl on float RGB, luminance only: bilinear, texel
+ * centres at half-integers, v = 0 the bottom row, wrapping across and clamped down. */
 static double lookup(const float *rgb, uint32_t w, uint32_t h, double u, double v)
 {
     double px = (u - floor(u)) * w - 0.5;
@@ -102,7 +102,8 @@ static double lookup(const float *rgb, uint32_t w, uint32_t h, double u, double 
     double c[2][2];
     for (int j = 0; j < 2; j++) {
         for (int i = 0; i < 2; i++) {
-            const float *p = rgb + ((size_t)wrap((int)y0 + j, h) * w + wrap((int)x0 + i, w)) * 3;
+            int y = (int)y0 + j < 0 ? 0 : (int)y0 + j >= (int)h ? (int)h - 1 : (int)y0 + j;
+            const float *p = rgb + ((size_t)y * w + wrap((int)x0 + i, w)) * 3;
             c[j][i] = 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
         }
     }
@@ -376,7 +377,7 @@ static void test_histogram_and_sample_pdf(void **state)
 }
 
 /* Wherever the bilinear lookup is non-zero, the density is positive: around a lone texel, across
- * the left/right seam and the top/bottom wrap, and for a texel far dimmer than the sun beside
+ * the left/right seam and at the poles, and for a texel far dimmer than the sun beside
  * it, whose CDF step would round to zero in float. */
 static void test_positive_where_lit(void **state)
 {
@@ -384,7 +385,7 @@ static void test_positive_where_lit(void **state)
     uint32_t w = 16, h = 8;
     float *rgb = calloc((size_t)w * h * 3, sizeof *rgb);
     assert_non_null(rgb);
-    rgb[(0 * w + 0) * 3 + 1] = 1.0f;     /* top-left corner: wraps both ways */
+    rgb[(0 * w + 0) * 3 + 1] = 1.0f;     /* top-left corner: wraps across, clamps up */
     rgb[(5 * w + 9) * 3 + 0] = 65504.0f; /* the sun */
     rgb[(5 * w + 12) * 3 + 2] = 1e-30f;  /* a faint texel in the sun's row */
     rgb[(2 * w + 6) * 3 + 2] = 1e-35f;   /* a faint texel in a row of its own */

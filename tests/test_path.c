@@ -350,6 +350,40 @@ static void environment_map_estimators_agree(void **state)
     estimators_agree(32, 64);
 }
 
+/* A sky lit in its upper half: 1 in the top rows, 0 in the bottom ones. */
+static void upper_half_sky(int x, int y, float *c)
+{
+    (void)x;
+    c[0] = c[1] = c[2] = y < 4 ? 1.0f : 0.0f;
+}
+
+/* Looking straight up at a map whose top rows are 1 and bottom rows 0, every pixel is 1, and
+ * straight down 0: the lookup clamps at the poles instead of wrapping from one to the other (the
+ * top row's upper half used to blend with the bottom row, 0.5 at the zenith). */
+static void environment_map_poles_do_not_wrap(void **state)
+{
+    (void)state;
+    /* One small triangle behind the camera: a scene needs geometry. */
+    scene_dir_write("scene.obj", "v 0 -10 0\nv 0.1 -10 0\nv 0 -10 0.1\nf 1 2 3\n");
+    write_hdr("sky.hdr", 16, 8, upper_half_sky);
+    enum { N = 16 };
+    const char *views[2] = {"look 0 1 0", "look 0 -1 0"};
+    for (int down = 0; down < 2; ++down) {
+        char cfg[256];
+        snprintf(cfg, sizeof cfg,
+                 "geometry scene.obj\nresolution 16 16\nenvironment-map sky.hdr\n"
+                 "camera eye 0 0 0 %s up 0 0 -1 fov 20\n",
+                 views[down]);
+        scene_dir_write("scene.cfg", cfg);
+        float rgb[N * N * 3];
+        vkrt_frame_stats stats;
+        render_ok(N, N, &(vkrt_render_desc){.samples = 1}, rgb, &stats);
+        for (int i = 0; i < N * N * 3; ++i)
+            if (!(fabsf(rgb[i] - (down ? 0.0f : 1.0f)) < 1e-3f))
+                fail_msg("looking %s, value %d is %g", down ? "down" : "up", i, rgb[i]);
+    }
+}
+
 /* A w x h 32-bit TGA (uncompressed, the top row first) whose left half has alpha 0 and right half
  * alpha 255, colour white: foliage's kind of texture, alpha carrying coverage. */
 static void write_half_cut_tga(const char *name, int w, int h)
@@ -444,6 +478,7 @@ int main(void)
         cmocka_unit_test(three_estimators_agree),
         cmocka_unit_test(environment_map_furnace),
         cmocka_unit_test(environment_map_estimators_agree),
+        cmocka_unit_test(environment_map_poles_do_not_wrap),
         cmocka_unit_test(cutouts_cut_every_ray),
     };
     return cmocka_run_group_tests(tests, scene_dir_make, scene_dir_remove);

@@ -10,12 +10,13 @@
 
 #include "envmap.glsl"
 
-/* Pixel (x, y) of the map, both wrapped, as lib/texture.glsl's texels are; x from the left, y
- * from the top row. */
+/* Pixel (x, y) of the map, x from the left and wrapped (the map goes round), y from the top row
+ * and clamped: above the top row is the zenith, not the bottom row (src/scene/envmap.h). */
 vec3 envmap_pixel(int x, int y)
 {
     uint w = light_info.environment_width, h = light_info.environment_height;
-    uint at = light_info.environment_pixels + 3u * (texture_wrap(y, h) * w + texture_wrap(x, w));
+    uint row = uint(clamp(y, 0, int(h) - 1));
+    uint at = light_info.environment_pixels + 3u * (row * w + texture_wrap(x, w));
     return vec3(environment_distribution[at], environment_distribution[at + 1u],
                 environment_distribution[at + 2u]);
 }

@@ -394,7 +394,7 @@ static double luminance(const float *rgb)
     return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
 }
 
-/* The bilinear lookup (texture_sample: linear between texel centres, wrapping) integrated over
+/* The bilinear lookup (linear between texel centres, wrapping across) integrated over
  * each texel of one row, across only: over [x, x + 1] it weighs texels x - 1, x, x + 1 by 1/8,
  * 3/4, 1/8. Applied across and then down, it gives the mean luminance the lookup returns over the
  * texel, which is positive exactly where the lookup is non-zero somewhere in the texel. */
@@ -437,12 +437,12 @@ bool vkrt_envmap_distribution_build(const float *rgb, uint32_t width, uint32_t h
     }
     double *above = rows, *here = rows + width, *below = rows + 2 * (size_t)width;
     double *weight = rows + 3 * (size_t)width;
-    /* The bilinear lookup wraps vertically too (texture_sample repeats), so the top row's
-     * neighbour above is the bottom row. */
-    row_filter(rgb, width, height - 1, above);
+    /* The bilinear lookup clamps vertically (glsl/lib/environment.glsl), so the top row's
+     * neighbour above is itself, as is the bottom row's below. */
+    row_filter(rgb, width, 0, above);
     row_filter(rgb, width, 0, here);
     for (uint32_t y = 0; y < height; y++) {
-        row_filter(rgb, width, y + 1 == height ? 0 : y + 1, below);
+        row_filter(rgb, width, y + 1 == height ? y : y + 1, below);
         /* The mean of sin(theta) over the row, the solid angle per unit uv area: positive in
          * every row, the top and bottom ones too. */
         double theta0 = PI_D * y / height, theta1 = PI_D * (y + 1) / height;

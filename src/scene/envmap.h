@@ -23,7 +23,8 @@
  *     (M[y + 1] - M[y]) H (C_y[x + 1] - C_y[x]) W,
  * computed from the CDF steps themselves, so the density the sampler returns and the density of
  * a direction agree to the bit. A texel's weight is the mean over the texel of the luminance that
- * the bilinear lookup (texture_sample, wrapping across both edges) returns, times the mean of
+ * the bilinear lookup (as texture_sample filters, wrapping across the left and right edges
+ * and clamped at the top and bottom rows: the poles) returns, times the mean of
  * sin(theta) over its row: the lookup's texels x - 1, x, x + 1 weighed 1/8, 3/4, 1/8 across, and
  * likewise down. So a texel whose radiance is anywhere non-zero has a positive weight, and its CDF
  * step is kept positive even where it is too small for a float: the estimator stays unbiased.
