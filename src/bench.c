@@ -66,13 +66,14 @@ static bool run_renderer_trace(void *user, uint32_t repeats, double *ms, vkrt_er
 }
 
 /* Times the trace, or with --stats (a renderer made with traversal_stats) counts its work. */
-static bool measure(vkrt_renderer *r, bool stats, const Ray *rays, uint32_t count, bool any_hit,
-                    Hit *hits, bench_times *times, vkrt_traversal_stats *counted, vkrt_error *err)
+static bool measure(vkrt_renderer *r, bool stats, double warmup_ms, const Ray *rays,
+                    uint32_t count, bool any_hit, Hit *hits, bench_times *times,
+                    vkrt_traversal_stats *counted, vkrt_error *err)
 {
     if (stats)
         return vkrt_renderer_trace_stats(r, rays, count, any_hit, hits, counted, err);
     renderer_trace t = {r, rays, count, any_hit, hits};
-    return bench_time_trace(run_renderer_trace, &t, times, err);
+    return bench_time_trace(run_renderer_trace, &t, warmup_ms, times, err);
 }
 
 static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_render_desc *desc,
@@ -91,6 +92,7 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
     row->texel_loads = vkrt_renderer_texel_loads(r);
     row->nested_walk = vkrt_renderer_tuning(r)->nested_walk;
     row->workgroup_size = vkrt_renderer_tuning(r)->workgroup_size;
+    double warmup_ms = vkrt_renderer_tuning(r)->warmup_ms;
     row->triangles = scene->mesh.triangle_count;
     if (ok && row->kernel_stats)
         ok = vkrt_renderer_trace_kernel_statistics(r, row->trace_kernel, sizeof row->trace_kernel,
@@ -112,7 +114,7 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
         uint32_t stride = pixels / timed;
         for (uint32_t i = 0; stride > 1 && i < timed; ++i)
             primary[i] = primary[i * stride];
-        ok = measure(r, row->stats, primary, timed, false, hits, &row->primary,
+        ok = measure(r, row->stats, warmup_ms, primary, timed, false, hits, &row->primary,
                      &row->primary_stats, err);
         row->primary_ms = row->primary.median_ms;
     }
@@ -128,7 +130,7 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
         ok = primary_hits != NULL;
         if (ok)
             memcpy(primary_hits, hits, timed * sizeof *hits);
-        ok = ok && (n == 0 || measure(r, row->stats, shadow, n, true, hits, &row->shadow,
+        ok = ok && (n == 0 || measure(r, row->stats, warmup_ms, shadow, n, true, hits, &row->shadow,
                                       &row->shadow_stats, err));
         row->shadow_ms = row->shadow.median_ms;
         for (uint32_t i = 0; ok && i < n; ++i)
@@ -136,7 +138,7 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
         /* The shadow buffer is free again: it holds the diffuse rays now. */
         n = ok ? bench_diffuse_rays(scene, primary, primary_hits, timed, shadow) : 0;
         row->diffuse_timed = n;
-        ok = ok && (n == 0 || measure(r, row->stats, shadow, n, false, hits, &row->diffuse,
+        ok = ok && (n == 0 || measure(r, row->stats, warmup_ms, shadow, n, false, hits, &row->diffuse,
                                       &row->diffuse_stats, err));
         row->diffuse_ms = row->diffuse.median_ms;
         for (uint32_t i = 0; ok && i < n; ++i)
@@ -218,7 +220,7 @@ static bool write_json(const char *path, const gpu_context *ctx, const bench_row
             p->deviceName, p->driverVersion, VK_API_VERSION_MAJOR(p->apiVersion),
             VK_API_VERSION_MINOR(p->apiVersion), VK_API_VERSION_PATCH(p->apiVersion));
     fprintf(f, "  \"warmup_ms\": %.0f,\n  \"timed_runs\": %d,\n  \"statistic\": \"median\",\n"
-               "  \"results\": [\n", BENCH_WARMUP_MS, BENCH_TIMED_RUNS);
+               "  \"results\": [\n", vkrt_tuning_for(ctx, NULL).warmup_ms, BENCH_TIMED_RUNS);
     for (uint32_t i = 0; i < count; ++i) {
         const bench_row *b = &rows[i];
         fprintf(f, "    {\"workgroup_size\": %u, \"bvh_max_leaf\": %u, "

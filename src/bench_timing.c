@@ -15,13 +15,14 @@ static int compare_doubles(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-bool bench_time_trace(bench_trace_fn trace, void *user, bench_times *times, vkrt_error *err)
+bool bench_time_trace(bench_trace_fn trace, void *user, double warmup_ms, bench_times *times,
+                      vkrt_error *err)
 {
     double probe;
     if (!trace(user, 1, &probe, err))
         return false;
     for (int attempt = 0;; ++attempt) {
-        uint32_t warmup = vkrt_warmup_runs(probe, min_warmup_runs);
+        uint32_t warmup = vkrt_warmup_runs(warmup_ms, probe, min_warmup_runs);
         double *ms = malloc((warmup + BENCH_TIMED_RUNS) * sizeof *ms);
         if (!ms)
             return vkrt_error_set(err, "out of memory");
@@ -37,7 +38,7 @@ bool bench_time_trace(bench_trace_fn trace, void *user, bench_times *times, vkrt
         *times = (bench_times){timed[BENCH_TIMED_RUNS / 2], timed[0], timed[BENCH_TIMED_RUNS - 1]};
         free(ms);
         probe = times->median_ms;
-        if (warmed >= 0.9 * VKRT_WARMUP_MS || warmup == VKRT_WARMUP_MAX_RUNS ||
+        if (warmed >= 0.9 * warmup_ms || warmup == VKRT_WARMUP_MAX_RUNS ||
             attempt + 1 == max_attempts)
             return true;
     }

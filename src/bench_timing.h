@@ -1,7 +1,7 @@
 /*
  * bench_timing.h: how `vkrt bench` and research/yardsticks/rtpipe_bench time a trace on a GPU, in one place so
- * that both tracers are timed alike: a probe run sizes a warm-up worth BENCH_WARMUP_MS of GPU
- * time, then the warm-up and BENCH_TIMED_RUNS runs go back to back in one submission, with GPU
+ * that both tracers are timed alike: a probe run sizes a warm-up worth warmup_ms of device
+ * time (tuning.h: 300 ms on GPUs, none on CPU devices), then the warm-up and BENCH_TIMED_RUNS runs go back to back in one submission, with GPU
  * timestamps between them; the median of the timed runs is kept, with the fastest and slowest.
  * A probe taken while the clocks were still low (after seconds of host work, such as decoding a
  * scene's textures) undersizes the warm-up, and the timed runs then catch the clocks mid-climb
@@ -17,8 +17,6 @@
 #include "error.h"
 #include "render/tuning.h"
 
-/* The warm-up is tuning.h's, shared with the renderer's profiles. */
-#define BENCH_WARMUP_MS VKRT_WARMUP_MS
 #define BENCH_TIMED_RUNS 11
 
 /* A trace's GPU times: median, fastest and slowest of the timed runs. */
@@ -30,7 +28,9 @@ typedef struct bench_times {
  * (repeats entries) to ms. */
 typedef bool (*bench_trace_fn)(void *user, uint32_t repeats, double *ms, vkrt_error *err);
 
-/* Times trace as above. Returns false with err set when a run fails or memory runs out. */
-bool bench_time_trace(bench_trace_fn trace, void *user, bench_times *times, vkrt_error *err);
+/* Times trace as above, after warmup_ms of warm-up (vkrt_tuning.warmup_ms, shared with the
+ * renderer's profiles). Returns false with err set when a run fails or memory runs out. */
+bool bench_time_trace(bench_trace_fn trace, void *user, double warmup_ms, bench_times *times,
+                      vkrt_error *err);
 
 #endif

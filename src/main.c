@@ -14,6 +14,7 @@
 #include "cli.h"
 #include "error.h"
 #include "gpu/context.h"
+#include "gpu/spirv_cache.h"
 #include "output/image_check.h"
 #include "output/image_write.h"
 #include "render/renderer.h"
@@ -98,6 +99,20 @@ static void print_accel_stats(FILE *out, const vkrt_accel_stats *s)
         fprintf(out, "vkrt: choosing took %.1f ms\n", s->choose_ms);
 }
 
+/* Where the kernels came from: glslang, or the cache of earlier starts (gpu/spirv_cache.h). */
+static void print_kernel_cache(FILE *out)
+{
+    uint32_t loaded, compiled;
+    gpu_spirv_cache_counts(&loaded, &compiled);
+    char dir[4096];
+    if (gpu_spirv_cache_dir(dir, sizeof dir))
+        fprintf(out, "vkrt: kernels: %u compiled, %u from the cache in %s\n", compiled, loaded,
+                dir);
+    else
+        fprintf(out, "vkrt: kernels: %u compiled (no kernel cache: VKRT_CACHE_DIR is empty, or there is no HOME)\n",
+                compiled);
+}
+
 static bool render_frames(const vkrt_render_options *opts, const vkrt_scene *scene,
                           const char *output, gpu_context *ctx, render_totals *totals,
                           vkrt_accel_stats *accel, vkrt_error *err)
@@ -117,6 +132,7 @@ static bool render_frames(const vkrt_render_options *opts, const vkrt_scene *sce
     if (opts->common.verbose) {
         print_accel_stats(stderr, accel);
         fprintf(stderr, "vkrt: integrator %s: %s\n", vkrt_integrator_name(integrator), why);
+        print_kernel_cache(stderr);
     }
     if (integrator == VKRT_INTEGRATOR_PATH && !opts->common.quiet)
         for (uint32_t i = 0; i < cfg->light_count; ++i)

@@ -15,6 +15,8 @@
 #include <glslang/Include/glslang_c_interface.h>
 #include <glslang/Public/resource_limits_c.h>
 
+#include "spirv_cache.h"
+
 /* Deep enough for any real include chain; stops an include cycle without guards. */
 static const int max_include_depth = 16;
 
@@ -238,6 +240,13 @@ bool gpu_shader_compile_stage(const gpu_shader_sources *sources, const char *pat
         return vkrt_error_set(err, "out of memory compiling %s", path);
     }
 
+    /* A kernel compiled before from the same text is on disk (spirv_cache.h). */
+    gpu_spirv_key key = gpu_spirv_key_of(code.data, (uint32_t)stage << 16 | (uint32_t)spirv_version);
+    if (gpu_spirv_cache_load(&key, spirv, word_count)) {
+        free(code.data);
+        return true;
+    }
+
     glslang_input_t input = {
         .language = GLSLANG_SOURCE_GLSL,
         .stage = glslang_stage,
@@ -283,6 +292,8 @@ bool gpu_shader_compile_stage(const gpu_shader_sources *sources, const char *pat
     }
     glslang_program_SPIRV_get(program, *spirv);
     *word_count = words;
+    gpu_spirv_cache_count_compiled();
+    gpu_spirv_cache_store(&key, *spirv, words);
     ok = true;
 done:
     if (program)

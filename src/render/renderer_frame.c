@@ -231,10 +231,10 @@ bool vkrt_renderer_add_samples(vkrt_renderer *r, const vkrt_config_camera *camer
         start = 0;
     }
     /* The profile of a cold GPU measures its clocks' climb: render the frame again, after
-     * VKRT_WARMUP_MS of GPU work back to back with it (tuning.h), and take the median of several.
+     * the device's warm-up back to back with it (tuning.h), and take the median of several.
      * The first render sizes the warm-up. */
     if (r->profile && stats && first == 0) {
-        uint32_t warmups = vkrt_warmup_runs(stats->profile.frame_ms, 1);
+        uint32_t warmups = vkrt_warmup_runs(r->tuning.warmup_ms, stats->profile.frame_ms, 1);
         double ignored;
         if (!run_passes(r, params, 0, count, warmups, r->profile_repeat, &ignored, stats, err)) {
             if (r->ctx->lost)

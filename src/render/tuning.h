@@ -57,6 +57,7 @@ typedef struct vkrt_tuning {
     float min_importance;     /* a cast ray weaker than this (largest channel) is dropped */
     uint32_t wave_rays;       /* camera rays a sample pass aims at: several samples per pixel go
                                  in one pass when the image has fewer pixels than this */
+    double warmup_ms;         /* device time run before anything is timed (vkrt_warmup_runs) */
 } vkrt_tuning;
 
 /* Whether ctx's device is a CPU implementation. */
@@ -70,12 +71,13 @@ vkrt_tuning vkrt_tuning_choose(bool cpu_device, bool llvmpipe, const vkrt_tuning
 /* vkrt_tuning_choose for ctx's device. */
 vkrt_tuning vkrt_tuning_for(const gpu_context *ctx, const vkrt_tuning_overrides *o);
 
-/* GPU warm-up before anything is timed: runs of a probe_ms-long piece of work that make up
- * VKRT_WARMUP_MS of GPU time, at least min_runs and at most VKRT_WARMUP_MAX_RUNS. A GPU idle
- * before a timing runs at low clocks: on the H100 the same frame took 7 ms right after another
- * and 30 ms after the host wrote a PNG; 300 ms at full load brought it to its clocks. */
+/* Warm-up before anything is timed: runs of a probe_ms-long piece of work that make up
+ * warmup_ms of device time (vkrt_tuning.warmup_ms), at least min_runs and at most
+ * VKRT_WARMUP_MAX_RUNS. A GPU idle before a timing runs at low clocks: on the H100 the same frame
+ * took 7 ms right after another and 30 ms after the host wrote a PNG; VKRT_WARMUP_MS (300 ms) at
+ * full load brought it to its clocks. A CPU device runs at the CPU's clocks: min_runs only. */
 #define VKRT_WARMUP_MS 300.0
 #define VKRT_WARMUP_MAX_RUNS 4000u
-uint32_t vkrt_warmup_runs(double probe_ms, uint32_t min_runs);
+uint32_t vkrt_warmup_runs(double warmup_ms, double probe_ms, uint32_t min_runs);
 
 #endif

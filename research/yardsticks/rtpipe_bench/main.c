@@ -139,7 +139,7 @@ static bool timed_trace(rtpipe_device *dev, rtpipe_tracer *t, const Ray *rays, u
                         bool any_hit, Hit *hits, bench_times *times, vkrt_error *err)
 {
     pipeline_trace p = {dev, t, rays, count, any_hit, hits};
-    return bench_time_trace(run_pipeline_trace, &p, times, err);
+    return bench_time_trace(run_pipeline_trace, &p, VKRT_WARMUP_MS, times, err);
 }
 
 /* The secondary rays index the mesh with the hits' triangles: a driver's bad index must not. */
@@ -289,7 +289,7 @@ static bool write_json(const char *path, const rtpipe_device *dev, const bench_r
             dev->pipeline.shaderGroupHandleSize, dev->pipeline.maxRayDispatchInvocationCount,
             RTPIPE_BUILD_RUNS);
     fprintf(f, "  \"warmup_ms\": %.0f,\n  \"timed_runs\": %d,\n  \"statistic\": \"median\",\n"
-               "  \"results\": [\n", BENCH_WARMUP_MS, BENCH_TIMED_RUNS);
+               "  \"results\": [\n", VKRT_WARMUP_MS, BENCH_TIMED_RUNS);
     for (uint32_t i = 0; i < count; ++i) {
         const bench_row *b = &rows[i];
         fprintf(f, "    {\"scene\": ");

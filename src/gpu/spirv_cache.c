@@ -1,0 +1,195 @@
+/*
+ * spirv_cache.c: compiled kernels kept on disk (spirv_cache.h).
+ *
+ * A file is "<32 hex digits of the key>.spv": a header (the format's magic, the key again and the
+ * word count), the SPIR-V words, then a 64-bit hash of those words, so that a truncated or
+ * damaged file is a miss rather than a kernel the driver chokes on.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "spirv_cache.h"
+
+#include <errno.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <glslang/build_info.h>
+
+#ifndef VKRT_VERSION
+#define VKRT_VERSION "unknown"
+#endif
+
+/* "VKRTSPV" and the file format's version: a new layout gets a new number. */
+static const uint64_t FILE_MAGIC = 0x31565053544B5256ull; /* "VKRTSPV1", little-endian */
+static const uint32_t SPIRV_MAGIC = 0x07230203u;
+/* Larger than any kernel vkrt compiles (the biggest are about 100k words), so a corrupt count
+ * cannot ask for gigabytes. */
+static const uint64_t MAX_WORDS = 1u << 24;
+
+typedef struct file_header {
+    uint64_t magic;
+    uint64_t key[2];
+    uint64_t word_count;
+} file_header;
+
+static _Atomic uint32_t loaded_count, compiled_count;
+
+/* FNV-1a over bytes, from a given basis; 64 bits. */
+static uint64_t fnv1a(const void *data, size_t size, uint64_t h)
+{
+    const unsigned char *p = data;
+    for (size_t i = 0; i < size; ++i) {
+        h ^= p[i];
+        h *= 0x100000001B3ull;
+    }
+    return h;
+}
+
+/* A second, unrelated 64-bit hash: each 8-byte block mixed by the murmur3 finaliser and folded
+ * in with a multiply-rotate, so that the two halves of a key do not fail together. */
+static uint64_t mix64(uint64_t x)
+{
+    x ^= x >> 33;
+    x *= 0xFF51AFD7ED558CCDull;
+    x ^= x >> 33;
+    x *= 0xC4CEB9FE1A85EC53ull;
+    x ^= x >> 33;
+    return x;
+}
+
+static uint64_t block_hash(const void *data, size_t size, uint64_t h)
+{
+    const unsigned char *p = data;
+    for (size_t i = 0; i < size; i += 8) {
+        uint64_t block = 0;
+        size_t n = size - i < 8 ? size - i : 8;
+        memcpy(&block, p + i, n);
+        h = mix64(h ^ block ^ ((uint64_t)n << 56));
+        h = (h << 27 | h >> 37) * 0x9E3779B97F4A7C15ull;
+    }
+    return mix64(h ^ size);
+}
+
+gpu_spirv_key gpu_spirv_key_of(const char *text, uint32_t target)
+{
+    char versions[128];
+    int n = snprintf(versions, sizeof versions, "vkrt %s glslang %d.%d.%d%s target %u",
+                     VKRT_VERSION, GLSLANG_VERSION_MAJOR, GLSLANG_VERSION_MINOR,
+                     GLSLANG_VERSION_PATCH, GLSLANG_VERSION_FLAVOR, (unsigned)target);
+    size_t length = strlen(text);
+    gpu_spirv_key key;
+    key.h[0] = fnv1a(text, length, fnv1a(versions, (size_t)n, 0xCBF29CE484222325ull));
+    key.h[1] = block_hash(text, length, block_hash(versions, (size_t)n, 0x243F6A8885A308D3ull));
+    return key;
+}
+
+bool gpu_spirv_cache_dir(char *dir, size_t dir_size)
+{
+    const char *set = getenv("VKRT_CACHE_DIR");
+    int n;
+    if (set)
+        n = set[0] ? snprintf(dir, dir_size, "%s", set) : -1;
+    else if (getenv("XDG_CACHE_HOME") && getenv("XDG_CACHE_HOME")[0] == '/')
+        n = snprintf(dir, dir_size, "%s/vkrt", getenv("XDG_CACHE_HOME"));
+    else if (getenv("HOME") && getenv("HOME")[0])
+        n = snprintf(dir, dir_size, "%s/.cache/vkrt", getenv("HOME"));
+    else
+        n = -1;
+    return n > 0 && (size_t)n < dir_size;
+}
+
+/* The file of key in the cache directory; false when there is no directory. */
+static bool key_path(const gpu_spirv_key *key, char *path, size_t size)
+{
+    char dir[4096];
+    if (!gpu_spirv_cache_dir(dir, sizeof dir))
+        return false;
+    int n = snprintf(path, size, "%s/%016llx%016llx.spv", dir, (unsigned long long)key->h[0],
+                     (unsigned long long)key->h[1]);
+    return n > 0 && (size_t)n < size;
+}
+
+bool gpu_spirv_cache_load(const gpu_spirv_key *key, uint32_t **spirv, size_t *word_count)
+{
+    *spirv = NULL;
+    *word_count = 0;
+    char path[4200];
+    if (!key_path(key, path, sizeof path))
+        return false;
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return false;
+    file_header h;
+    uint32_t *words = NULL;
+    uint64_t stored_hash = 0;
+    bool ok = fread(&h, sizeof h, 1, f) == 1 && h.magic == FILE_MAGIC &&
+              h.key[0] == key->h[0] && h.key[1] == key->h[1] && h.word_count > 5 &&
+              h.word_count <= MAX_WORDS;
+    if (ok) {
+        words = malloc((size_t)h.word_count * sizeof *words);
+        ok = words && fread(words, sizeof *words, (size_t)h.word_count, f) == h.word_count &&
+             fread(&stored_hash, sizeof stored_hash, 1, f) == 1 && fgetc(f) == EOF &&
+             words[0] == SPIRV_MAGIC &&
+             block_hash(words, (size_t)h.word_count * sizeof *words, 0) == stored_hash;
+    }
+    fclose(f);
+    if (!ok) {
+        free(words);
+        return false;
+    }
+    *spirv = words;
+    *word_count = (size_t)h.word_count;
+    atomic_fetch_add(&loaded_count, 1u);
+    return true;
+}
+
+/* mkdir -p for the cache directory (and its parents, e.g. ~/.cache), private to the user. */
+static bool make_dirs(char *path)
+{
+    for (char *p = path + 1; *p; ++p) {
+        if (*p != '/')
+            continue;
+        *p = '\0';
+        bool made = mkdir(path, 0700) == 0 || errno == EEXIST;
+        *p = '/';
+        if (!made)
+            return false;
+    }
+    return mkdir(path, 0700) == 0 || errno == EEXIST;
+}
+
+void gpu_spirv_cache_store(const gpu_spirv_key *key, const uint32_t *spirv, size_t word_count)
+{
+    char dir[4096], path[4200], temp[4300];
+    if (!gpu_spirv_cache_dir(dir, sizeof dir) || !key_path(key, path, sizeof path) ||
+        word_count > MAX_WORDS || !make_dirs(dir))
+        return;
+    int n = snprintf(temp, sizeof temp, "%s.%ld.tmp", path, (long)getpid());
+    if (n < 0 || (size_t)n >= sizeof temp)
+        return;
+    FILE *f = fopen(temp, "wb");
+    if (!f)
+        return;
+    file_header h = {FILE_MAGIC, {key->h[0], key->h[1]}, word_count};
+    uint64_t hash = block_hash(spirv, word_count * sizeof *spirv, 0);
+    bool ok = fwrite(&h, sizeof h, 1, f) == 1 &&
+              fwrite(spirv, sizeof *spirv, word_count, f) == word_count &&
+              fwrite(&hash, sizeof hash, 1, f) == 1;
+    ok = fclose(f) == 0 && ok;
+    if (!ok || rename(temp, path) != 0)
+        remove(temp);
+}
+
+void gpu_spirv_cache_counts(uint32_t *loaded, uint32_t *compiled)
+{
+    *loaded = atomic_load(&loaded_count);
+    *compiled = atomic_load(&compiled_count);
+}
+
+void gpu_spirv_cache_count_compiled(void)
+{
+    atomic_fetch_add(&compiled_count, 1u);
+}
