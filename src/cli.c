@@ -37,6 +37,8 @@ const char *vkrt_usage(void)
            "                    GPU, else the first device\n"
            "  --validation      enable Vulkan validation layers (also VKRT_VALIDATION=1); any\n"
            "                    validation message makes the run fail\n"
+           "  --no-cache        compile every kernel, neither reading nor writing the kernel\n"
+           "                    cache (~/.cache/vkrt; VKRT_CACHE_DIR=DIR moves it)\n"
            "  --resume          skip frames whose output files are already complete (a\n"
            "                    flythrough interrupted by Ctrl-C, a crash or a lost device)\n"
            "  --quiet           no summary on stderr\n"
@@ -44,7 +46,7 @@ const char *vkrt_usage(void)
            "  --help, --version\n"
            "\n"
            "bench options: --width, --height, --accel, --device, --validation, --quiet,\n"
-           "  --verbose as for render (without --accel: brute, grid and bvh in turn)\n"
+           "  --verbose, --no-cache as for render (without --accel: brute, grid and bvh in turn)\n"
            "  --json PATH       write the results as JSON too\n"
            "  --stats           count nodes, triangles and SIMD use per ray instead of timing\n"
            "  --kernel-stats    print the driver's statistics of the trace kernels\n"
@@ -54,7 +56,7 @@ const char *vkrt_usage(void)
            "  --bvh-cost C  --loads storage|texel  --walk one-loop|nested\n"
            "\n"
            "view options: --width, --height, --spp, --accel, --exposure, --device, --validation,\n"
-           "  --quiet"
+           "  --quiet, --no-cache"
            "  as for render; the window opens at the scene's resolution, from its first camera,\n"
            "  and a still picture gathers samples until it has --spp of them (default: the\n"
            "  scene's `samples`, at least 16)\n"
@@ -126,7 +128,7 @@ static const struct known_option {
 } known_options[] = {
     {"--width", ALL},        {"--height", ALL},         {"--accel", ALL},
     {"--device", ALL},       {"--validation", ALL},     {"--quiet", ALL},
-    {"--verbose", ALL},      {"-o", RENDER},            {"--spp", RENDER | VIEW},
+    {"--verbose", ALL},      {"--no-cache", ALL},       {"-o", RENDER},            {"--spp", RENDER | VIEW},
     {"--exposure", RENDER | VIEW},                      {"--profile", RENDER},
     {"--profile-repeat", RENDER},                       {"--resume", RENDER},
     {"--script", VIEW},      {"--record", VIEW},        {"--json", BENCH},
@@ -193,6 +195,8 @@ static bool parse_common(const char *arg, const char *value, vkrt_common_options
         c->validation = true;
     } else if (strcmp(arg, "--quiet") == 0) {
         c->quiet = true;
+    } else if (strcmp(arg, "--no-cache") == 0) {
+        c->no_cache = true;
     } else if (strcmp(arg, "--verbose") == 0) {
         c->verbose = true;
     } else {

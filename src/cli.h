@@ -33,6 +33,7 @@ typedef struct vkrt_common_options {
     bool validation;          /* --validation, or VKRT_VALIDATION=1 in the environment */
     bool quiet;
     bool verbose;
+    bool no_cache;            /* --no-cache: compile every kernel (gpu/spirv_cache.h) */
 } vkrt_common_options;
 
 typedef struct vkrt_render_options {

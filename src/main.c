@@ -109,7 +109,7 @@ static void print_kernel_cache(FILE *out)
         fprintf(out, "vkrt: kernels: %u compiled, %u from the cache in %s\n", compiled, loaded,
                 dir);
     else
-        fprintf(out, "vkrt: kernels: %u compiled (no kernel cache: VKRT_CACHE_DIR is empty, or there is no HOME)\n",
+        fprintf(out, "vkrt: kernels: %u compiled (no kernel cache: --no-cache, VKRT_CACHE_DIR is empty, or there is no HOME)\n",
                 compiled);
 }
 
@@ -253,6 +253,12 @@ int main(int argc, char **argv)
         fprintf(stderr, "vkrt: %s\n", err.msg);
         return 2;
     }
+    const vkrt_common_options *common = cl.command == VKRT_COMMAND_RENDER ? &cl.render.common
+                                        : cl.command == VKRT_COMMAND_VIEW ? &cl.view.common
+                                        : cl.command == VKRT_COMMAND_BENCH ? &cl.bench.common
+                                                                           : NULL;
+    if (common && common->no_cache)
+        gpu_spirv_cache_disable();
     switch (cl.command) {
     case VKRT_COMMAND_HELP:
         fputs(vkrt_usage(), stdout);

@@ -267,5 +267,27 @@ check "view --resume is refused" grep -q "vkrt view does not take --resume" "$tm
 check "--ray-fetch (an experiment that left the product) is an unknown option" \
     grep -q "unknown option '--ray-fetch'" "$tmp/err"
 
+# The kernel cache (src/gpu/spirv_cache.h): four renders started together on an empty cache all
+# succeed with the same picture, and leave whole entries (the next render compiles nothing);
+# --no-cache neither reads nor writes it.
+cache=$tmp/kernel-cache
+for i in 1 2 3 4; do
+    VKRT_CACHE_DIR=$cache "$vkrt" render "$src/scenes/cornell/scene.cfg" --width 24 --height 16 \
+        --quiet -o "$tmp/k$i.png" 2>"$tmp/k$i.err" &
+done
+wait
+for i in 1 2 3 4; do
+    check "concurrent render $i on one cache exits 0 and writes its picture" test -s "$tmp/k$i.png"
+    check "and the same picture as the first" cmp -s "$tmp/k1.png" "$tmp/k$i.png"
+done
+VKRT_CACHE_DIR=$cache "$vkrt" render "$src/scenes/cornell/scene.cfg" --width 24 --height 16 \
+    --verbose -o "$tmp/k5.png" 2>"$tmp/err"
+check "after them, every kernel comes from the cache" grep -q "kernels: 0 compiled, [1-9][0-9]* from the cache" "$tmp/err"
+check "no temporary file is left in the cache" sh -c "! ls '$cache' | grep -q tmp"
+VKRT_CACHE_DIR=$tmp/unused "$vkrt" render "$src/scenes/cornell/scene.cfg" --width 24 --height 16 \
+    --no-cache --verbose -o "$tmp/k6.png" 2>"$tmp/err"
+check "--no-cache compiles every kernel" grep -q "kernels: [1-9][0-9]* compiled (no kernel cache" "$tmp/err"
+check "and writes no cache" test ! -e "$tmp/unused"
+
 echo "$passed passed, $failures failed"
 [ $failures -eq 0 ]

@@ -36,6 +36,7 @@ typedef struct file_header {
 } file_header;
 
 static _Atomic uint32_t loaded_count, compiled_count;
+static atomic_bool disabled;
 
 /* FNV-1a over bytes, from a given basis; 64 bits. */
 static uint64_t fnv1a(const void *data, size_t size, uint64_t h)
@@ -86,11 +87,18 @@ gpu_spirv_key gpu_spirv_key_of(const char *text, uint32_t target)
     return key;
 }
 
+void gpu_spirv_cache_disable(void)
+{
+    atomic_store(&disabled, true);
+}
+
 bool gpu_spirv_cache_dir(char *dir, size_t dir_size)
 {
     const char *set = getenv("VKRT_CACHE_DIR");
     int n;
-    if (set)
+    if (atomic_load(&disabled))
+        n = -1;
+    else if (set)
         n = set[0] ? snprintf(dir, dir_size, "%s", set) : -1;
     else if (getenv("XDG_CACHE_HOME") && getenv("XDG_CACHE_HOME")[0] == '/')
         n = snprintf(dir, dir_size, "%s/vkrt", getenv("XDG_CACHE_HOME"));

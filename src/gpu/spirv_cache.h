@@ -31,8 +31,11 @@ typedef struct gpu_spirv_key {
  * version; the glslang and vkrt versions are added here). */
 gpu_spirv_key gpu_spirv_key_of(const char *text, uint32_t target);
 
+/* Turns the cache off for the rest of the process (--no-cache). */
+void gpu_spirv_cache_disable(void);
+
 /* The cache directory as above, written into dir (dir_size bytes); false when there is none
- * (VKRT_CACHE_DIR empty, or no HOME) or it does not fit. Does not create it. */
+ * (turned off, VKRT_CACHE_DIR empty, or no HOME) or it does not fit. Does not create it. */
 bool gpu_spirv_cache_dir(char *dir, size_t dir_size);
 
 /* The kernel stored under key, if there is a whole, valid one: *spirv is then malloc'd with
