@@ -90,6 +90,7 @@ bool renderer_create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoo
                                                                      : VKRT_INTEGRATE_WHITTED},
         {VKRT_SPEC_LIGHT_SAMPLING, r->light_sampling},
         {VKRT_SPEC_HAS_CUTOUTS, r->has_cutouts},
+        {VKRT_SPEC_EMITTER_LIGHT, r->emitter_light},
     };
     const uint32_t count = sizeof constants / sizeof *constants;
     const kernel_spec wave = {workgroup_size, constants, count};
