@@ -1,6 +1,7 @@
 /*
  * test_light.c: light from emissive geometry in the Whitted integrator, held against the closed
- * form of a square lamp's irradiance and against the path tracer.
+ * form of a square lamp's irradiance and against the path tracer; and `--clamp`, the limit on
+ * what one path may add to a pixel, against the bound it promises.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -135,11 +136,91 @@ static void whitted_emitters_cast_soft_shadows(void **state)
     assert_true(penumbra >= 150);
 }
 
+/* `clamp L`: a floor that sees a small, bright lamp (Ke 1000 500 250) in a mirror, light only
+ * BSDF samples find (the mirror is a delta lobe: no light sample reaches through it), each such
+ * path a firefly. Every path adds at most 2 max-depth + 3 contributions in path (a light sample
+ * and the light found at every vertex, and the light the last ray finds), each clamped to L in
+ * its largest channel, so no pixel may exceed that many L; without the clamp the lamp and the
+ * fireflies do. The lamp seen in the mirror, one contribution per sample: exactly L in its
+ * largest channel, its hue kept. Whitted clamps the same way (there the lamp's back shows Ke too:
+ * Whitted's built-ins show it on both faces). */
+static void clamp_bounds_every_contribution(void **state)
+{
+    (void)state;
+    enum { N = 24, SPP = 4 };
+    scene_dir_write("scene.obj",
+                    "mtllib scene.mtl\nusemtl floor\nv -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\n"
+                    "f 1 4 3 2\nusemtl mirror\nv -2 0 -1\nv 2 0 -1\nv 2 2 -1\nv -2 2 -1\n"
+                    "f 5 6 7 8\nusemtl lamp\nv 0.4 0.4 0.5\nv 0.8 0.4 0.5\nv 0.8 0.8 0.5\n"
+                    "v 0.4 0.8 0.5\nf 12 11 10 9\n");
+    scene_dir_write("scene.mtl", "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl mirror\nillum 3\nKd 0 0 0\n"
+                                 "Ks 1 1 1\nnewmtl lamp\nKd 0 0 0\nKe 1000 500 250\n");
+    const uint32_t max_depth = 1;
+    const float limit = 2.0f;
+    float bound = limit * (float)(2 * max_depth + 3);
+    int lamp = -1;
+    static const char *const integrators[] = {"path", "whitted"};
+    for (int k = 0; k < 2; ++k) {
+        char cfg[512];
+        snprintf(cfg, sizeof cfg,
+                 "geometry scene.obj\nresolution 24 24\nmax-depth %u\nintegrator %s\n"
+                 "camera eye 0 0.6 2.5 look 0 0.3 0 up 0 1 0 fov 60\n",
+                 max_depth, integrators[k]);
+        scene_dir_write("scene.cfg", cfg);
+        float plain[N * N * 3], clamped[N * N * 3];
+        if (k == 0) {
+            /* Without the clamp (path): above the bound, and where the lamp is. */
+            render_ok(N, N, &(vkrt_render_desc){.samples = SPP}, plain, NULL);
+            float plain_max = 0;
+            for (int i = 0; i < N * N; ++i) {
+                for (int c = 0; c < 3; ++c)
+                    plain_max = fmaxf(plain_max, plain[3 * i + c]);
+                if (plain[3 * i] == 1000.0f)
+                    lamp = i; /* all of its samples see the lamp, and nothing else */
+            }
+            print_message("largest channel %g without the clamp\n", plain_max);
+            assert_true(plain_max > bound);
+            assert_true(lamp >= 0);
+        }
+        render_ok(N, N, &(vkrt_render_desc){.samples = SPP, .clamp = limit}, clamped, NULL);
+        float clamped_max = 0;
+        for (int i = 0; i < N * N * 3; ++i)
+            clamped_max = fmaxf(clamped_max, clamped[i]);
+        print_message("%s: largest channel %g with clamp %g (bound %g); the lamp's pixel %g %g "
+                      "%g\n",
+                      integrators[k], clamped_max, limit, bound, clamped[3 * lamp],
+                      clamped[3 * lamp + 1], clamped[3 * lamp + 2]);
+        assert_true(clamped_max <= bound);
+        assert_float_equal(clamped[3 * lamp], limit, 1e-5);
+        assert_float_equal(clamped[3 * lamp + 1], limit / 2, 1e-5);
+        assert_float_equal(clamped[3 * lamp + 2], limit / 4, 1e-5);
+    }
+}
+
+/* A clamp that is negative, infinite or not a number is refused with a message. */
+static void clamp_must_be_a_positive_number(void **state)
+{
+    (void)state;
+    scene_dir_write("scene.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    scene_dir_write("scene.cfg", "geometry scene.obj\ncamera eye 0 0 3 look 0 0 0 up 0 1 0 "
+                                 "fov 40\n");
+    const float bad[] = {-1.0f, INFINITY, NAN};
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; ++i) {
+        vkrt_error err = {{0}};
+        float rgb[4 * 4 * 3];
+        assert_false(scene_dir_render(4, 4, &(vkrt_render_desc){.clamp = bad[i]}, rgb, NULL, &err));
+        print_message("clamp %g: %s\n", bad[i], err.msg);
+        assert_non_null(strstr(err.msg, "clamp"));
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(whitted_emitters_light_the_floor),
         cmocka_unit_test(whitted_emitters_cast_soft_shadows),
+        cmocka_unit_test(clamp_bounds_every_contribution),
+        cmocka_unit_test(clamp_must_be_a_positive_number),
     };
     return cmocka_run_group_tests(tests, scene_dir_make, scene_dir_remove);
 }

@@ -90,6 +90,10 @@ layout(constant_id = VKRT_SPEC_HAS_CUTOUTS) const bool HAS_CUTOUTS = false;
  * more light (lib/emitters.glsl). */
 layout(constant_id = VKRT_SPEC_EMITTER_LIGHT) const bool EMITTER_LIGHT = false;
 
+/* `--clamp L`: no contribution added to a pixel has a channel above CLAMP (lib/pixel.glsl); 0 is
+ * off (the default). */
+layout(constant_id = VKRT_SPEC_CLAMP) const float CLAMP = 0.0;
+
 /* Which structure trace_closest and trace_any walk (VKRT_TRAVERSE_*). */
 layout(constant_id = VKRT_SPEC_ACCEL_KIND) const uint ACCEL_KIND = VKRT_TRAVERSE_BRUTE;
 

@@ -3,6 +3,7 @@
  * of it. Creation runs in the order data flows: the structure (its triangle order decides every
  * upload's order), the material kernel's plan, the uploads, the frame's buffers, the kernels.
  */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -108,6 +109,9 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
                           const vkrt_render_desc *desc, vkrt_error *err)
 {
     *out = NULL;
+    if (!(desc->clamp >= 0 && isfinite(desc->clamp)))
+        return vkrt_error_set(err, "clamp %g is not a positive number (0: no clamp)",
+                              (double)desc->clamp);
     vkrt_renderer *r = calloc(1, sizeof *r);
     if (!r)
         return vkrt_error_set(err, "out of memory");
@@ -137,6 +141,7 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
      * bit of its own (lib/emitters.glsl). */
     r->emitter_light = ok && r->integrator == VKRT_INTEGRATOR_WHITTED && first_emitter(mats);
     r->light_words = (scene->config.light_count + r->emitter_light + 31) / 32;
+    r->clamp = desc->clamp;
     /* The path tracer's last wave only looks for the light its BSDF samples find (nee.comp skips
      * it): so light sampling and BSDF sampling both reach paths of max-depth + 2 segments, the
      * same paths, and max-depth 0 is direct light, as in Whitted (Mitsuba's max_depth is ours

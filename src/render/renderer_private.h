@@ -26,6 +26,7 @@ struct vkrt_renderer {
     bool has_cutouts;         /* a material is cut out by a texture (lib/cutout.glsl) */
     bool emitter_light;       /* Whitted on a scene with emissive triangles: a point on them is
                                  one more light (lib/emitters.glsl) */
+    float clamp;              /* the largest channel of a contribution to a pixel; 0: no limit */
     uint32_t width, height, samples, max_depth;
     uint32_t batch;           /* samples per pixel a sample pass traces (renderer.c) */
     uint32_t triangle_count, light_count, light_words;
