@@ -692,8 +692,11 @@ class Whitted(mi.SamplingIntegrator):
         result = mi.Color3f(0.0)
         throughput = mi.Color3f(1.0)
         active = mi.Bool(active)
+        # Delta lights (a directional one is also Infinite, as the environment is) and area
+        # emitters (Surface); not the environment, which only rays that leave the scene see.
         lights = [e for e in scene.emitters()
-                  if not mi.has_flag(e.flags(), mi.EmitterFlags.Infinite)]
+                  if mi.has_flag(e.flags(), mi.EmitterFlags.Delta)
+                  or mi.has_flag(e.flags(), mi.EmitterFlags.Surface)]
         environment = scene.environment()
         for depth in range(self.max_depth + 1):
             si = scene.ray_intersect(ray, active)
