@@ -2,10 +2,11 @@
  * light.comp: the light samples of every hit. For each hit whose material reads lights, and each
  * light that can reach it (lib/surface.glsl, light_geometry), an early-exit shadow ray decides
  * whether the light is visible; the answer is one bit per light in light_visibility, which the
- * shading kernel reads through light_sample(). Ambient lights need no ray.
+ * shading kernel reads through light_sample(). Ambient lights need no ray. On a scene with
+ * emissive triangles the last light is a point drawn on them (lib/emitters.glsl).
  */
 #include "lib/bindings.glsl"
-#include "lib/surface.glsl"
+#include "lib/emitters.glsl"
 #include "lib/traverse.glsl"
 
 shared uint workgroup_shadow_rays;
@@ -29,13 +30,12 @@ void main()
             s = surface_at(ray, hit);
         for (uint w = 0u; w < words; ++w) {
             uint bits = 0u;
-            uint end = min(frame.counts.y, 32u * (w + 1u));
+            uint end = min(whitted_light_count(), 32u * (w + 1u));
             for (uint i = 32u * w; lit && i < end; ++i) {
                 vec3 to_light, irradiance, origin, direction;
-                float distance_to_light, tmax;
-                if (!light_geometry(s, i, to_light, distance_to_light, irradiance))
+                float tmax;
+                if (!whitted_light(s, ray.info.y, i, to_light, irradiance, origin, direction, tmax))
                     continue;
-                shadow_ray(s, i, to_light, origin, direction, tmax);
                 ++shadow_rays;
                 if (!trace_any(origin, direction, 0.0, tmax))
                     bits |= 1u << (i & 31u);

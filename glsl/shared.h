@@ -67,6 +67,8 @@ typedef uint32_t uint;
 #define VKRT_SPEC_INTEGRATOR 9
 #define VKRT_SPEC_LIGHT_SAMPLING 10
 #define VKRT_SPEC_HAS_CUTOUTS 11
+#define VKRT_SPEC_EMITTER_LIGHT 12
+#define VKRT_SPEC_CLAMP 13
 
 /* Integrators (VKRT_SPEC_INTEGRATOR): Whitted's (delta lights, ambient, the materials' own rays)
  * or the path tracer (next-event estimation with multiple importance sampling). */

@@ -25,6 +25,9 @@ const char *vkrt_usage(void)
            "  --accel A         auto | brute | grid | bvh (overrides `accel`)\n"
            "  --integrator I    auto | whitted | path (overrides `integrator`): Whitted's\n"
            "                    delta lights and perfect mirrors, or the path tracer\n"
+           "  --clamp L         scale each contribution a path adds to a pixel down so that\n"
+           "                    its largest channel is at most L: fewer fireflies, but biased\n"
+           "                    (light is lost); off by default\n"
            "  --verbose         say which acceleration structure and integrator were chosen\n"
            "                    and why, the structure's build statistics, and every loader\n"
            "                    warning (folded by kind without it)\n"
@@ -55,11 +58,10 @@ const char *vkrt_usage(void)
            "  --workgroup N  --grid-density CELLS_PER_TRIANGLE  --bvh-width 2|4  --bvh-leaf N\n"
            "  --bvh-cost C  --loads storage|texel  --walk one-loop|nested\n"
            "\n"
-           "view options: --width, --height, --spp, --accel, --exposure, --device, --validation,\n"
-           "  --quiet, --no-cache"
-           "  as for render; the window opens at the scene's resolution, from its first camera,\n"
-           "  and a still picture gathers samples until it has --spp of them (default: the\n"
-           "  scene's `samples`, at least 16)\n"
+           "view options: --width, --height, --spp, --accel, --integrator, --clamp, --exposure,\n"
+           "  --device, --validation, --quiet, --no-cache as for render; the window opens at the\n"
+           "  scene's resolution, from its first camera, and a still picture gathers samples\n"
+           "  until it has --spp of them (default: the scene's `samples`, at least 16)\n"
            "  --record FILE     K appends the camera to FILE as a scene.cfg `camera` line\n"
            "  --script FILE     play key and mouse events from FILE (a testing aid; see\n"
            "                    docs/viewer.md)\n"
@@ -135,7 +137,7 @@ static const struct known_option {
     {"--stats", BENCH},      {"--kernel-stats", BENCH}, {"--whole-scene", BENCH},
     {"--workgroup", BENCH},  {"--grid-density", BENCH}, {"--bvh-width", BENCH},
     {"--bvh-leaf", BENCH},   {"--bvh-cost", BENCH},     {"--loads", BENCH},
-    {"--walk", BENCH},       {"--integrator", RENDER | VIEW},
+    {"--walk", BENCH},       {"--integrator", RENDER | VIEW}, {"--clamp", RENDER | VIEW},
 };
 
 static const char *command_name(vkrt_command command)
@@ -191,6 +193,12 @@ static bool parse_common(const char *arg, const char *value, vkrt_common_options
         if (!value || !vkrt_integrator_parse(value, &c->integrator))
             return vkrt_error_set(err, "--integrator: '%s' is not one of auto, whitted, path",
                                   value ? value : "");
+    } else if (strcmp(arg, "--clamp") == 0) {
+        *consumed = 1;
+        if (!parse_float(arg, value, &c->clamp, err))
+            return false;
+        if (!(c->clamp > 0))
+            return vkrt_error_set(err, "--clamp: '%s' is not a positive number", value);
     } else if (strcmp(arg, "--validation") == 0) {
         c->validation = true;
     } else if (strcmp(arg, "--quiet") == 0) {
@@ -387,5 +395,6 @@ vkrt_render_desc vkrt_render_desc_for(const vkrt_config *cfg, const vkrt_common_
         .samples = samples ? samples : cfg->samples,
         .accel = common->accel_given ? common->accel : cfg->accel,
         .integrator = common->integrator,
+        .clamp = common->clamp,
     };
 }

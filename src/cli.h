@@ -29,6 +29,8 @@ typedef struct vkrt_common_options {
     vkrt_accel_kind accel;    /* --accel, when accel_given (else the scene's choice holds) */
     bool accel_given;
     vkrt_integrator integrator; /* --integrator (render, view); auto (0) when not given */
+    float clamp;              /* --clamp (render, view): the largest channel one path may add
+                                 to a pixel, > 0; 0 when not given (no clamp) */
     int device;               /* --device; -1 picks the default */
     bool validation;          /* --validation, or VKRT_VALIDATION=1 in the environment */
     bool quiet;

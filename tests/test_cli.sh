@@ -263,6 +263,19 @@ check "and nothing was written" test ! -e "$tmp/walk.png"
 check "bench --spp is refused" grep -q "vkrt bench does not take --spp (an option of vkrt render and view)" "$tmp/err"
 "$vkrt" view "$src/scenes/cornell/scene.cfg" --resume 2>"$tmp/err"
 check "view --resume is refused" grep -q "vkrt view does not take --resume" "$tmp/err"
+# --clamp takes a positive number; anything else is refused before any work, naming the flag.
+for bad in -1 x 0 inf; do
+    "$vkrt" render "$src/scenes/cornell/scene.cfg" --clamp $bad -o "$tmp/clamp.png" 2>"$tmp/err"
+    check "render --clamp $bad is refused" test $? -eq 2
+    check "and the message names --clamp" grep -q -- "--clamp: '$bad' is not a" "$tmp/err"
+done
+check "and nothing was written" test ! -e "$tmp/clamp.png"
+"$vkrt" view "$src/scenes/cornell/scene.cfg" --clamp x 2>"$tmp/err"
+check "view --clamp x is refused" grep -q -- "--clamp: 'x' is not a number" "$tmp/err"
+"$vkrt" bench "$src/scenes/cornell/scene.cfg" --clamp 1 >/dev/null 2>"$tmp/err"
+check "bench --clamp is refused" grep -q "vkrt bench does not take --clamp" "$tmp/err"
+"$vkrt" render "$src/scenes/cornell/scene.cfg" --width 8 --height 8 --clamp 0.5 -o "$tmp/clamp.exr" 2>"$tmp/err"
+check "render --clamp 0.5 exits 0" test $? -eq 0
 "$vkrt" bench "$src/scenes/cornell/scene.cfg" --ray-fetch dynamic >/dev/null 2>"$tmp/err"
 check "--ray-fetch (an experiment that left the product) is an unknown option" \
     grep -q "unknown option '--ray-fetch'" "$tmp/err"

@@ -10,6 +10,8 @@ conventions give (docs/materials.md, docs/scene-format.md, docs/speed-vs-accurac
   its triangle, as vkrt's two-sided shading has it (Mitsuba's `twosided` would show it black);
 - path mode: an emissive quad shows Ke from its front (counter-clockwise) face only, and
   `integrator auto` picks path for it;
+- whitted mode: an emissive square lights a floor under it with the closed form's irradiance
+  (vkrt's Whitted samples emissive geometry as a light);
 - the environment map's orientation and `rotate` (docs/scene-format.md, environment-map).
 
 Skipped (77) where the repository's .venv has no Mitsuba (tools/setup-python makes it).
@@ -127,6 +129,22 @@ def emitter_sides(folder):
             failures.append(f"{name}: integrator auto did not choose path:\n{log}")
 
 
+def whitted_lamp(folder):
+    """Whitted: a floor (Kd 0.5) under a square lamp of half side 0.25 at height 1 facing down
+    (Ke 4), seen at the point under it through a 2-degree view: Kd / pi x E, E = Ke x 4 X /
+    sqrt(1 + X^2) atan(X / sqrt(1 + X^2)), X = 0.25 (tests/test_light.c holds vkrt to the same)."""
+    x = 0.25
+    s = np.sqrt(1 + x * x)
+    value = 0.5 / np.pi * 4 * 4 * x / s * np.arctan(x / s)
+    obj = ("v -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\nusemtl floor\nf 1 4 3 2\n"
+           "v -0.25 1 -0.25\nv 0.25 1 -0.25\nv 0.25 1 0.25\nv -0.25 1 0.25\nusemtl lamp\n"
+           "f 5 6 7 8\n")
+    mtl = "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl lamp\nKd 0 0 0\nKe 4 4 4\n"
+    cfg = "max-depth 0\ncamera eye 0 0.9 0.6  look 0 0 0  up 0 1 0  fov 2\n"
+    image, _ = render(folder, "whitted-lamp", obj, mtl, cfg, spp=256, integrator="whitted")
+    expect("whitted-lamp", image, value, 0.01)
+
+
 def environment_map(folder):
     """A map of four columns, red, green, blue, white from the left: column 0 spans directions
     from -z (u = 0) to +x (u = 1/4), so a camera looking halfway between, (1, 0, -1), sees red
@@ -150,6 +168,7 @@ def main():
         texture_without_vt(folder)
         bent_normals(folder)
         emitter_sides(folder)
+        whitted_lamp(folder)
         environment_map(folder)
     for failure in failures:
         print(f"FAIL {failure}")

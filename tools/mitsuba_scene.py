@@ -671,10 +671,11 @@ class BlinnPhong(mi.BSDF):
 
 
 class Whitted(mi.SamplingIntegrator):
-    """vkrt's light transport with Mitsuba's parts. At every hit: the emission of the surface
-    (area emitters are only seen, never sampled: vkrt's emissive surfaces light nothing), the
-    direct light of every delta light (point, spot, directional), each one sampled, shadow-tested
-    and weighted by the BSDF (Mitsuba's), plus ambient x albedo (Mitsuba's
+    """vkrt's light transport with Mitsuba's parts. At every hit: the emission of the surface,
+    the direct light of every delta light (point, spot, directional) and of every area emitter
+    (one point on each, by area: vkrt draws one point over all its emissive triangles by power,
+    another unbiased estimate of the same light), each one sampled, shadow-tested and weighted by
+    the BSDF (Mitsuba's), plus ambient x albedo (Mitsuba's
     eval_diffuse_reflectance), unshadowed. Then the path goes on only through delta (mirror,
     glass) and null (see-through) lobes, sampled by Mitsuba's BSDF; it ends at smooth surfaces,
     after max_depth bounces, or in the environment (the constant emitter, seen only by rays that
@@ -691,8 +692,11 @@ class Whitted(mi.SamplingIntegrator):
         result = mi.Color3f(0.0)
         throughput = mi.Color3f(1.0)
         active = mi.Bool(active)
+        # Delta lights (a directional one is also Infinite, as the environment is) and area
+        # emitters (Surface); not the environment, which only rays that leave the scene see.
         lights = [e for e in scene.emitters()
-                  if mi.has_flag(e.flags(), mi.EmitterFlags.Delta)]
+                  if mi.has_flag(e.flags(), mi.EmitterFlags.Delta)
+                  or mi.has_flag(e.flags(), mi.EmitterFlags.Surface)]
         environment = scene.environment()
         for depth in range(self.max_depth + 1):
             si = scene.ray_intersect(ray, active)

@@ -64,8 +64,8 @@ layout(std430, set = 0, binding = VKRT_BINDING_SLOTS) buffer SlotBuffer { uvec2 
 layout(std430, set = 0, binding = VKRT_BINDING_TEXCOORDS) readonly buffer TexcoordBuffer { TriangleTexcoords triangle_texcoords[]; };
 layout(std430, set = 0, binding = VKRT_BINDING_TEXTURE_INFOS) readonly buffer TextureInfoBuffer { TextureInfo texture_infos[]; };
 layout(std430, set = 0, binding = VKRT_BINDING_TEXELS) readonly buffer TexelBuffer { uint texels[]; };
-/* The path tracer's area lights: what it needs to know of them, then the alias table over the
- * emissive triangles (glsl/shared.h LightInfo, Emitter; lib/path_lights.glsl samples them). */
+/* The area lights and the sky: what light sampling needs to know of them, then the alias table
+ * over the emissive triangles (glsl/shared.h LightInfo, Emitter; lib/emitters.glsl samples them). */
 layout(std430, set = 0, binding = VKRT_BINDING_EMITTERS) readonly buffer EmitterBuffer {
     LightInfo light_info;
     Emitter emitters[];
@@ -85,6 +85,14 @@ layout(constant_id = VKRT_SPEC_LIGHT_SAMPLING) const uint LIGHT_SAMPLING = VKRT_
 
 /* Set when a material of the scene is cut out by a texture (lib/cutout.glsl). */
 layout(constant_id = VKRT_SPEC_HAS_CUTOUTS) const bool HAS_CUTOUTS = false;
+
+/* Set for Whitted on a scene with emissive triangles: every hit sees a point drawn on them as one
+ * more light (lib/emitters.glsl). */
+layout(constant_id = VKRT_SPEC_EMITTER_LIGHT) const bool EMITTER_LIGHT = false;
+
+/* `--clamp L`: no contribution added to a pixel has a channel above CLAMP (lib/pixel.glsl); 0 is
+ * off (the default). */
+layout(constant_id = VKRT_SPEC_CLAMP) const float CLAMP = 0.0;
 
 /* Which structure trace_closest and trace_any walk (VKRT_TRAVERSE_*). */
 layout(constant_id = VKRT_SPEC_ACCEL_KIND) const uint ACCEL_KIND = VKRT_TRAVERSE_BRUTE;

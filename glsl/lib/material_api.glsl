@@ -11,6 +11,8 @@
 #define VKRT_MATERIAL_API_GLSL
 
 #include "bindings.glsl"
+#include "colour.glsl"
+#include "emitters.glsl"
 #include "rng.glsl"
 #include "surface.glsl"
 #include "texture.glsl"
@@ -68,9 +70,11 @@ float random()
 
 /* ---- Lights ---------------------------------------------------------------------------------- */
 
+/* The scene's lights and, where it has emissive triangles, one more: a point drawn on them for
+ * this hit (lib/emitters.glsl). */
 uint light_count()
 {
-    return frame.counts.y;
+    return whitted_light_count();
 }
 
 /* Light i at s: true when it reaches s (in front of the surface and not shadowed), with the unit
@@ -79,8 +83,9 @@ uint light_count()
  * ambient_light. The shadow ray was traced by the light kernel; this reads its answer. */
 bool light_sample(Surface s, uint i, out vec3 to_light, out vec3 irradiance)
 {
-    float distance_to_light;
-    if (!light_geometry(s, i, to_light, distance_to_light, irradiance))
+    vec3 origin, direction;
+    float tmax;
+    if (!whitted_light(s, vkrt_ray.info.y, i, to_light, irradiance, origin, direction, tmax))
         return false;
     uint word = light_visibility[vkrt_ray_index * frame.range.w + (i >> 5u)];
     return (word & (1u << (i & 31u))) != 0u;
@@ -101,7 +106,7 @@ vec3 ambient_light()
 vec3 diffuse_light(Surface s, vec3 albedo)
 {
     vec3 sum = albedo * ambient_light();
-    for (uint i = 0u; i < frame.counts.y; ++i) {
+    for (uint i = 0u; i < light_count(); ++i) {
         vec3 to_light, irradiance;
         if (light_sample(s, i, to_light, irradiance))
             sum += albedo * (1.0 / PI) * irradiance * dot(s.normal, to_light);
@@ -188,12 +193,6 @@ vec4 vkrt_child_payload;
 void set_payload(vec4 payload)
 {
     vkrt_child_payload = payload;
-}
-
-/* The relative luminance of linear Rec. 709 RGB (the weights of lights and lobes). */
-float luminance(vec3 c)
-{
-    return dot(c, vec3(0.2126, 0.7152, 0.0722));
 }
 
 /* Emitted radiance of the built-in materials: Ke (parameters 8-10) from the front face only (the

@@ -16,6 +16,7 @@
 #ifndef VKRT_PATH_GLSL
 #define VKRT_PATH_GLSL
 
+#include "emitters.glsl"
 #include "environment.glsl"
 #include "pixel.glsl"
 
@@ -67,54 +68,6 @@ float bsdf_sample_weight(float pb, float pl)
     if (LIGHT_SAMPLING == VKRT_SAMPLING_LIGHTS)
         return 0.0;
     return LIGHT_SAMPLING == VKRT_SAMPLING_MIS ? power_heuristic(pb, pl) : 1.0;
-}
-
-/* ---- Emissive triangles -------------------------------------------------------------------- */
-
-/* The solid-angle density with which a light sample from distance `dist` finds a point of an
- * emissive triangle of material m seen at cosine cos_light: the triangle was chosen in
- * proportion to its power and the point uniformly on it, so the density per area is
- * luminance(Ke) / total power (glsl/shared.h LightInfo). */
-float emitter_pdf(uint m, float dist, float cos_light)
-{
-    if (light_info.emitter_count == 0u || cos_light <= 0.0)
-        return 0.0;
-    vec3 ke = vec3(materials[m].params[2].x, materials[m].params[2].y, materials[m].params[2].z);
-    return luminance(ke) / light_info.emitter_power * dist * dist / cos_light;
-}
-
-/* A point on an emissive triangle for the vertex at s: the alias table picks the triangle, u.yz
- * a point on it uniformly. Fills the surface of the light there (as seen along the sample's
- * direction), the unit direction to it, the distance and the solid-angle pdf; false when the
- * triangle turns its back to s. */
-bool sample_emitter(Surface s, vec3 u, out Surface light, out vec3 wi, out float dist,
-                    out float pdf)
-{
-    uint n = light_info.emitter_count;
-    float x = u.x * float(n);
-    uint i = min(uint(x), n - 1u);
-    if (x - float(i) >= emitters[i].keep)
-        i = emitters[i].alias;
-    uint tri = emitters[i].triangle;
-    Triangle t = triangles[tri];
-    /* Uniform on the triangle (pbrt's square-root mapping): barycentrics of v1 and v2. */
-    float r = sqrt(u.y);
-    float b1 = r * (1.0 - u.z), b2 = r * u.z;
-    vec3 p = (1.0 - b1 - b2) * t.v0.xyz + b1 * t.v1.xyz + b2 * t.v2.xyz;
-    vec3 d = p - s.position;
-    dist = length(d);
-    wi = d / dist;
-    vec3 ng = normalize(cross(t.v1.xyz - t.v0.xyz, t.v2.xyz - t.v0.xyz));
-    float cos_light = -dot(wi, ng);
-    Ray towards;
-    towards.origin = vec4(s.position, 0.0);
-    towards.direction = vec4(wi, dist);
-    towards.importance = vec4(0.0);
-    towards.info = uvec4(0u);
-    towards.payload = vec4(0.0);
-    light = surface_at(towards, Hit(dist, b1, b2, tri));
-    pdf = emitter_pdf(light.material, dist, cos_light);
-    return pdf > 0.0 && dist > 0.0;
 }
 
 /* ---- The environment ------------------------------------------------------------------------ */

@@ -32,12 +32,20 @@ void add_to_pixel(uint p, vec3 c)
 }
 
 /* Adds c to pixel p unless it is zero, or NaN or infinite: one of those would spread through
- * every sample of its pixel, so it is dropped and counted (the host warns). */
+ * every sample of its pixel, so it is dropped and counted (the host warns). With `--clamp L`
+ * (CLAMP > 0) c is first scaled so that its largest channel is at most L: each call adds one
+ * path's contribution (a light sample, or the light a ray found), so this is Cycles' sample
+ * clamp, hue kept. Biased: the light of rare bright paths is lost, and fireflies with it. */
 void add_finite_to_pixel(uint p, vec3 c)
 {
     if (any(isnan(c)) || any(isinf(c))) {
         atomicAdd(counters.nonfinite, 1u);
         return;
+    }
+    if (CLAMP > 0.0) {
+        float largest = max(c.r, max(c.g, c.b));
+        if (largest > CLAMP)
+            c *= CLAMP / largest;
     }
     if (any(notEqual(c, vec3(0.0))))
         add_to_pixel(p, c);

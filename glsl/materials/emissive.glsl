@@ -1,7 +1,7 @@
 /*
  * emissive: a surface that only gives light, Ke (parameters 8-10), as seen by the camera and by
- * reflections. It does not light other surfaces: vkrt lights scenes with its light sources
- * (scene.cfg), and an emissive surface shows where they are.
+ * reflections, and lighting other surfaces from its front face: both integrators sample the
+ * emissive triangles as area lights (lib/emitters.glsl).
  */
 uint count_rays(Surface s)
 {
@@ -13,8 +13,7 @@ void shade(Surface s)
     add_radiance(param3(8u));
 }
 
-/* Path: Ke from the front face, and it does light other surfaces (the path tracer samples it as
- * an area light); a black BSDF. */
+/* Path: Ke from the front face; a black BSDF. */
 vec3 emitted(Surface s)
 {
     return mtl_emitted(s);

@@ -3,6 +3,7 @@
  * of it. Creation runs in the order data flows: the structure (its triangle order decides every
  * upload's order), the material kernel's plan, the uploads, the frame's buffers, the kernels.
  */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -37,6 +38,19 @@ static float luminance(const float *rgb)
     return 0.2126f * rgb[0] + 0.7152f * rgb[1] + 0.0722f * rgb[2];
 }
 
+/* The name of the first material that emits light as an area light (renderer_material_ke), or
+ * NULL when none does. */
+static const char *first_emitter(const vkrt_scene_materials *mats)
+{
+    for (uint32_t i = 0; i < mats->count; ++i) {
+        float ke[3];
+        renderer_material_ke(mats, i, ke);
+        if (luminance(ke) > 0)
+            return mats->list[i].name;
+    }
+    return NULL;
+}
+
 /* The integrator: asked for (desc, else the scene's `integrator`), or chosen from the scene's
  * lights. Light from geometry or from an environment map needs the path tracer; a scene lit by
  * point, spot and directional lights alone keeps Whitted's picture (and its speed). */
@@ -49,13 +63,7 @@ static void choose_integrator(vkrt_renderer *r, const vkrt_render_desc *desc,
         snprintf(r->integrator_reason, sizeof r->integrator_reason, "asked for");
         return;
     }
-    const char *emitter = NULL;
-    for (uint32_t i = 0; i < mats->count && !emitter; ++i) {
-        float ke[3];
-        renderer_material_ke(mats, i, ke);
-        if (luminance(ke) > 0)
-            emitter = mats->list[i].name;
-    }
+    const char *emitter = first_emitter(mats);
     if (emitter) {
         r->integrator = VKRT_INTEGRATOR_PATH;
         snprintf(r->integrator_reason, sizeof r->integrator_reason,
@@ -101,6 +109,9 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
                           const vkrt_render_desc *desc, vkrt_error *err)
 {
     *out = NULL;
+    if (!(desc->clamp >= 0 && isfinite(desc->clamp)))
+        return vkrt_error_set(err, "clamp %g is not a positive number (0: no clamp)",
+                              (double)desc->clamp);
     vkrt_renderer *r = calloc(1, sizeof *r);
     if (!r)
         return vkrt_error_set(err, "out of memory");
@@ -115,7 +126,6 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
     r->profile = desc->profile;
     r->profile_repeat = desc->profile_repeat ? desc->profile_repeat : default_profile_repeat;
     r->triangle_count = scene->mesh.triangle_count;
-    r->light_words = (scene->config.light_count + 31) / 32;
 
     const vkrt_scene_materials *mats = &scene->materials;
     vkrt_scene_materials own = {0};
@@ -127,6 +137,11 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
     }
     if (ok)
         choose_integrator(r, desc, scene, mats);
+    /* Whitted sees the emissive triangles as one more light after the scene's, with a visibility
+     * bit of its own (lib/emitters.glsl). */
+    r->emitter_light = ok && r->integrator == VKRT_INTEGRATOR_WHITTED && first_emitter(mats);
+    r->light_words = (scene->config.light_count + r->emitter_light + 31) / 32;
+    r->clamp = desc->clamp;
     /* The path tracer's last wave only looks for the light its BSDF samples find (nee.comp skips
      * it): so light sampling and BSDF sampling both reach paths of max-depth + 2 segments, the
      * same paths, and max-depth 0 is direct light, as in Whitted (Mitsuba's max_depth is ours

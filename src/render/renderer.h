@@ -51,6 +51,9 @@ typedef struct vkrt_render_desc {
                                  slower: never for timings */
     vkrt_integrator integrator; /* auto (0): the scene's, chosen from its lights if that is auto */
     uint32_t light_sampling;  /* path: VKRT_SAMPLING_* of glsl/shared.h, 0 (MIS) but in tests */
+    float clamp;              /* > 0: every contribution added to a pixel is scaled so that its
+                                 largest channel is at most this (biased: fewer fireflies,
+                                 lib/pixel.glsl); 0: no limit */
     vkrt_tuning_overrides tuning; /* zero: the device's defaults (tuning.h) */
 } vkrt_render_desc;
 

@@ -21,6 +21,7 @@ static bool check_loop_budget(const vkrt_renderer *r, vkrt_error *err)
     uint64_t shadow_lights = 0;
     for (uint32_t i = 0; i < r->light_count; ++i)
         shadow_lights += r->light_kinds[i] != VKRT_LIGHT_KIND_AMBIENT;
+    shadow_lights += r->emitter_light;
     uint64_t iterations = (uint64_t)r->triangle_count * shadow_lights;
     if (iterations > budget - r->light_count)
         return vkrt_error_set(err,

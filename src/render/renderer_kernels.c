@@ -6,6 +6,7 @@
  * shade.comp include the material module generated from the materials the scene uses.
  */
 #include <stdlib.h>
+#include <string.h>
 
 #include "../gpu/shader.h"
 #include "kernel_sources.h"
@@ -77,6 +78,9 @@ bool renderer_create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoo
                              const vkrt_scene_materials *mats, vkrt_error *err)
 {
     uint32_t workgroup_size = r->tuning.workgroup_size;
+    /* A float specialization constant travels as its 32 bits. */
+    uint32_t clamp_bits;
+    memcpy(&clamp_bits, &r->clamp, sizeof clamp_bits);
     const gpu_spec_constant constants[] = {
         {VKRT_SPEC_HAS_NORMALS, has_normals},
         {VKRT_SPEC_ACCEL_KIND, traverse_kind(r->accel.stats.kind)},
@@ -90,6 +94,8 @@ bool renderer_create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoo
                                                                      : VKRT_INTEGRATE_WHITTED},
         {VKRT_SPEC_LIGHT_SAMPLING, r->light_sampling},
         {VKRT_SPEC_HAS_CUTOUTS, r->has_cutouts},
+        {VKRT_SPEC_EMITTER_LIGHT, r->emitter_light},
+        {VKRT_SPEC_CLAMP, clamp_bits},
     };
     const uint32_t count = sizeof constants / sizeof *constants;
     const kernel_spec wave = {workgroup_size, constants, count};

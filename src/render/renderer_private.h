@@ -24,6 +24,9 @@ struct vkrt_renderer {
     char integrator_reason[256];
     uint32_t light_sampling;  /* VKRT_SAMPLING_* */
     bool has_cutouts;         /* a material is cut out by a texture (lib/cutout.glsl) */
+    bool emitter_light;       /* Whitted on a scene with emissive triangles: a point on them is
+                                 one more light (lib/emitters.glsl) */
+    float clamp;              /* the largest channel of a contribution to a pixel; 0: no limit */
     uint32_t width, height, samples, max_depth;
     uint32_t batch;           /* samples per pixel a sample pass traces (renderer.c) */
     uint32_t triangle_count, light_count, light_words;
@@ -47,8 +50,9 @@ bool renderer_upload_lights(vkrt_renderer *r, const vkrt_config *cfg, vkrt_error
 /* The radiance material m emits as an area light (the .mtl's Ke for the built-ins that emit it,
  * else 0): what the integrator's choice and the path tracer's light sampling go by. */
 void renderer_material_ke(const vkrt_scene_materials *mats, uint32_t m, float ke[3]);
-/* The path tracer's area lights and sky (binding VKRT_BINDING_EMITTERS and _ENVIRONMENT); for
- * Whitted, minimal buffers that keep the bindings valid. */
+/* The area lights and the sky (binding VKRT_BINDING_EMITTERS and _ENVIRONMENT): the path
+ * tracer's, and Whitted's emitter light (r->emitter_light, cleared when every emissive triangle
+ * has zero area); otherwise minimal buffers that keep the bindings valid. */
 bool renderer_upload_light_sampling(vkrt_renderer *r, const vkrt_scene *scene,
                                     const vkrt_scene_materials *mats, vkrt_error *err);
 /* The texel views of the triangles and the nodes, always made (every trace kernel declares

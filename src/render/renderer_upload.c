@@ -320,8 +320,12 @@ bool renderer_upload_light_sampling(vkrt_renderer *r, const vkrt_scene *scene,
     float *environment = NULL;
     size_t environment_floats = 0;
     bool path = r->integrator == VKRT_INTEGRATOR_PATH;
-    bool ok = (!path || build_emitter_table(r, scene, mats, &info, &table, err)) &&
+    bool ok = (!(path || r->emitter_light) ||
+               build_emitter_table(r, scene, mats, &info, &table, err)) &&
               build_environment(&scene->config, &info, &environment, &environment_floats, err);
+    /* Ke on triangles of zero area only: nothing to sample, so no emitter light is compiled (its
+     * visibility word stays, unused). */
+    r->emitter_light = r->emitter_light && info.emitter_count > 0;
     if (!path)
         info.environment_sampled = 0;
     else if (!scene->config.environment_map)

@@ -689,11 +689,17 @@ int vkrt_view_run(const vkrt_view_options *opts)
             view_camera_default_speed(v->scene.mesh.bounds_min, v->scene.mesh.bounds_max));
         ok = open_window(v, &err) && create_gpu(v, &err);
     }
-    if (ok && !opts->common.quiet)
-        fprintf(stderr, "vkrt: view: %s | %u triangles | accel %s | %ux%u | %u spp\n",
+    if (ok && !opts->common.quiet) {
+        const char *why;
+        vkrt_integrator integrator = vkrt_renderer_integrator(v->renderer, &why);
+        fprintf(stderr,
+                "vkrt: view: %s | %u triangles | accel %s | integrator %s | %ux%u | %u spp\n",
                 v->ctx.properties.deviceName, v->scene.mesh.triangle_count,
-                vkrt_accel_name(vkrt_renderer_accel_stats(v->renderer)->kind), v->desc.width, v->desc.height,
-                v->desc.samples);
+                vkrt_accel_name(vkrt_renderer_accel_stats(v->renderer)->kind),
+                vkrt_integrator_name(integrator), v->desc.width, v->desc.height, v->desc.samples);
+        if (opts->common.verbose)
+            fprintf(stderr, "vkrt: integrator %s: %s\n", vkrt_integrator_name(integrator), why);
+    }
     ok = ok && run(v, &err);
     close_viewer(v);
     if (v->ctx.instance || v->ctx.validation_messages) {
