@@ -32,6 +32,8 @@ uint light_stream(Ray ray)
     return pcg_hash(ray.info.y ^ 0x6C8E9CF5u);
 }
 
+/* Dimension `dimension` (SAMPLER_DIM_*) of ray's depth block, and the stratified pair that starts
+ * at the even `dimension`: what a vertex's light samples and roulette draw. */
 float path_1d(Ray ray, uint dimension)
 {
     return sampler_1d(ray.info, frame.counts.w, dimension);
