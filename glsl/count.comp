@@ -33,6 +33,7 @@ uint hit_count(uint index)
     vkrt_ray_index = index;
     vkrt_ray = ray;
     vkrt_rng = ray.info.y;
+    vkrt_dimension = 0u;
     vkrt_radiance = vec3(0.0);
     vkrt_casting = false;
     uint count = material_count_rays(materials[s.material].info.x, s);

@@ -54,7 +54,8 @@ vec3 direct_light(Surface s, uint shader, inout uint shadow_rays)
         Surface light;
         vec3 wi;
         float dist, pdf_light, pdf_bsdf;
-        vec3 u = vec3(rng_next(vkrt_rng), rng_next(vkrt_rng), rng_next(vkrt_rng));
+        vec3 u = vec3(path_1d(vkrt_ray, SAMPLER_DIM_EMITTER_CHOICE),
+                      path_2d(vkrt_ray, SAMPLER_DIM_EMITTER_POINT));
         if (sample_emitter(s, u, light, wi, dist, pdf_light)) {
             vkrt_material = light.material;
             vec3 le = material_emitted(materials[light.material].info.x, light);
@@ -69,7 +70,7 @@ vec3 direct_light(Surface s, uint shader, inout uint shadow_rays)
     }
     if (light_info.environment_sampled != 0u) {
         float pdf_env, pdf_bsdf;
-        vec3 wi = sample_environment(vec2(rng_next(vkrt_rng), rng_next(vkrt_rng)), pdf_env);
+        vec3 wi = sample_environment(path_2d(vkrt_ray, SAMPLER_DIM_ENVIRONMENT), pdf_env);
         vec3 f = material_bsdf_eval(shader, s, wi, pdf_bsdf);
         if (any(greaterThan(f, vec3(0.0)))) {
             vec3 le = environment_radiance(wi, vkrt_ray.payload);
@@ -101,6 +102,7 @@ void main()
             vkrt_ray_index = index;
             vkrt_ray = ray;
             vkrt_rng = light_stream(ray);
+            vkrt_dimension = SAMPLER_BSDF_DIMS; /* the BSDF block is shade.comp's */
             vec3 direct = direct_light(s, materials[s.material].info.x, shadow_rays);
             add_finite_to_pixel(ray.info.x, ray.importance.rgb * direct);
         }

@@ -3,10 +3,12 @@
  * image.z .. image.z + K - 1 of every pixel, K = counts.z / pixels (one, or several where the
  * image is small: src/render/tuning.c), ray index = sample offset * pixels + pixel order.
  *
- * Sample s of N in a pixel lands in its own stratum: the pixel's square is cut into rows x cols
- * cells with rows the largest divisor of N not above sqrt(N) (so the cells tile the square
- * exactly for every N), and the ray is jittered inside its cell. With N == 1 the ray goes through
- * the pixel's centre, as the reference render expects.
+ * Sample s of N in a pixel lands in its own stratum. The path tracer takes its jitter from its
+ * sampler (lib/sampler.glsl: dimensions 0-1 of depth 0, a (0,m,2)-net over the pixel's samples
+ * that the rest of the path's dimensions are stratified along with). Whitted cuts the pixel's
+ * square into rows x cols cells with rows the largest divisor of N not above sqrt(N) (so the
+ * cells tile the square exactly for every N), and jitters the ray inside its cell. With N == 1
+ * the ray goes through the pixel's centre, as the reference render expects.
  *
  * Consecutive invocations take the pixels of TILE x TILE tiles rather than of raster rows, so a
  * subgroup's rays (32 lanes: 8 x 4 pixels) leave the camera close together and walk the same
@@ -19,6 +21,7 @@
  */
 #include "lib/bindings.glsl"
 #include "lib/rng.glsl"
+#include "lib/sampler.glsl"
 
 const uint TILE = 8u;
 
@@ -64,7 +67,10 @@ void main()
 
     uint seed = pcg_hash(pixel ^ pcg_hash(sample_index ^ pcg_hash(frame.counts.w)));
     vec2 offset = vec2(0.5);
-    if (samples > 1u) {
+    uvec4 info = uvec4(pixel, seed, 0u, sample_index << VKRT_RAY_SAMPLE_SHIFT);
+    if (samples > 1u && INTEGRATOR == VKRT_INTEGRATE_PATH) {
+        offset = sampler_2d(info, frame.counts.w, SAMPLER_DIM_PIXEL);
+    } else if (samples > 1u) {
         uint rows = uint(sqrt(float(samples)));
         while (rows > 1u && samples % rows != 0u)
             --rows;
@@ -82,7 +88,7 @@ void main()
     ray.origin = vec4(frame.eye.xyz, 0.0);
     ray.direction = vec4(dir, 3.4e38);
     ray.importance = vec4(1.0, 1.0, 1.0, 0.0);
-    ray.info = uvec4(pixel, seed, 0u, 0u);
+    ray.info = info;
     ray.payload = vec4(0.0);
     rays[index] = ray;
 }

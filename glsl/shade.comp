@@ -19,7 +19,8 @@ Ray dead_ray(Ray parent)
     dead.origin = vec4(0.0);
     dead.direction = vec4(0.0, 0.0, 1.0, -1.0);
     dead.importance = vec4(0.0);
-    dead.info = uvec4(parent.info.x, 0u, parent.info.z + 1u, VKRT_RAY_DEAD);
+    dead.info = uvec4(parent.info.x, 0u, parent.info.z + 1u,
+                      (parent.info.w & ~VKRT_RAY_FLAGS) | VKRT_RAY_DEAD);
     dead.payload = vec4(0.0);
     return dead;
 }
@@ -67,7 +68,8 @@ void shade_path(uint index, Ray ray, Hit hit)
         child.direction = vec4(b.direction, FAR);
         child.importance = vec4(ray.importance.rgb * b.weight / path_survival(ray),
                                 b.delta ? 0.0 : b.pdf);
-        child.info = uvec4(ray.info.x, rng_child_seed(ray.info.y, 0u), ray.info.z + 1u, 0u);
+        child.info = uvec4(ray.info.x, rng_child_seed(ray.info.y, 0u), ray.info.z + 1u,
+                           ray.info.w & ~VKRT_RAY_FLAGS);
         child.payload = vkrt_child_payload;
     }
     store_child_ray(slots.x, child);
@@ -86,6 +88,7 @@ void main()
     vkrt_ray_index = index;
     vkrt_ray = ray;
     vkrt_rng = ray.info.y;
+    vkrt_dimension = 0u;
     vkrt_radiance = vec3(0.0);
 #ifdef VKRT_PATH
     shade_path(index, ray, hit);

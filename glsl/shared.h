@@ -98,6 +98,10 @@ typedef uint32_t uint;
 /* Flags of Ray.info.w. */
 #define VKRT_RAY_DEAD 1u       /* a slot a shader reserved but did not fill, or whose importance fell
                                   under the threshold: traced by nobody, shaded by nobody */
+/* Ray.info.w above the flags: the ray's sample index in its pixel (0 .. samples - 1 over all the
+ * passes of a frame), which the path tracer's sampler (lib/sampler.glsl) draws its numbers by. */
+#define VKRT_RAY_SAMPLE_SHIFT 8u
+#define VKRT_RAY_FLAGS ((1u << VKRT_RAY_SAMPLE_SHIFT) - 1u)
 
 /* One ray of the wavefront with its "image reconstruction information" (the seed's term):
  * which pixel it adds to, how much (importance), its random stream, its depth, and a payload that
@@ -106,7 +110,7 @@ VKRT_STRUCT(Ray) {
     vec4 origin;      /* xyz origin, w: tmin */
     vec4 direction;   /* xyz unit direction, w: tmax */
     vec4 importance;  /* rgb throughput towards the pixel, w unused */
-    uvec4 info;       /* x: pixel index, y: random seed, z: depth, w: VKRT_RAY_* flags */
+    uvec4 info;       /* x: pixel index, y: random seed, z: depth, w: VKRT_RAY_* flags and sample */
     vec4 payload;     /* the material's own; zero for primary rays */
 };
 

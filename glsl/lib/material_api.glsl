@@ -14,6 +14,7 @@
 #include "colour.glsl"
 #include "emitters.glsl"
 #include "rng.glsl"
+#include "sampler.glsl"
 #include "surface.glsl"
 #include "texture.glsl"
 
@@ -22,6 +23,8 @@ uint vkrt_material;
 uint vkrt_ray_index;
 Ray vkrt_ray;
 uint vkrt_rng;
+/* The path tracer's next dimension of the ray's BSDF block (random() below); the kernels set it. */
+uint vkrt_dimension;
 /* Radiance the shader added, towards the arriving ray; the kernel weights it by importance. */
 vec3 vkrt_radiance;
 /* The slots reserved for this hit's rays: [vkrt_cast_first, + vkrt_cast_reserved). */
@@ -61,11 +64,30 @@ vec4 material_texture(uint slot, vec2 uv)
 /* ---- Random numbers ------------------------------------------------------------------------ */
 
 /* Uniform in [0, 1). count_rays and shade of one hit see the same sequence, so a shader may decide
- * at random how many rays to cast if it draws the same numbers in the same order in both. */
+ * at random how many rays to cast if it draws the same numbers in the same order in both. In the
+ * path tracer the calls of one hit take the consecutive dimensions of the ray's BSDF block of the
+ * sampler (lib/sampler.glsl), each stratified over the pixel's samples; past the block, and in
+ * Whitted, they walk the ray's hash stream. */
 float random()
 {
+#ifdef VKRT_PATH
+    if (vkrt_dimension < SAMPLER_BSDF_DIMS)
+        return sampler_1d(vkrt_ray.info, frame.counts.w, SAMPLER_DIM_BSDF + vkrt_dimension++);
+#endif
     vkrt_rng = pcg_hash(vkrt_rng);
     return rng_float(vkrt_rng);
+}
+
+/* Two numbers for one 2D choice (a direction, a point): in the path tracer a pair of the BSDF
+ * block that starts at an even dimension, so that the points of a pixel's samples are stratified
+ * in 2D and not only along each axis (one random() before it skips a dimension to get there). */
+vec2 random2()
+{
+#ifdef VKRT_PATH
+    vkrt_dimension += vkrt_dimension & 1u;
+#endif
+    float u = random();
+    return vec2(u, random());
 }
 
 /* ---- Lights ---------------------------------------------------------------------------------- */
@@ -146,11 +168,12 @@ void cast_ray_payload(Surface s, vec3 direction, vec3 weight, vec4 payload)
     child.origin = vec4(surface_origin(s, direction), 0.0);
     child.direction = vec4(direction, FAR);
     child.importance = vec4(vkrt_ray.importance.rgb * weight, 0.0);
-    child.info = uvec4(vkrt_ray.info.x, rng_child_seed(vkrt_ray.info.y, k), vkrt_ray.info.z + 1u, 0u);
+    child.info = uvec4(vkrt_ray.info.x, rng_child_seed(vkrt_ray.info.y, k), vkrt_ray.info.z + 1u,
+                       vkrt_ray.info.w & ~VKRT_RAY_FLAGS);
     child.payload = payload;
     float strongest = max(child.importance.r, max(child.importance.g, child.importance.b));
     if (!(strongest >= frame.eye.w))
-        child.info.w = VKRT_RAY_DEAD;
+        child.info.w |= VKRT_RAY_DEAD;
     store_child_ray(slot, child);
 }
 
@@ -228,7 +251,8 @@ vec3 lambert_eval(Surface s, vec3 albedo, vec3 wi, out float pdf)
  * (nothing to continue with) where the direction would go below the geometric surface. */
 bool lambert_sample(Surface s, vec3 albedo, out BsdfSample b)
 {
-    b.direction = cosine_direction(s.normal, random(), random());
+    vec2 u = random2();
+    b.direction = cosine_direction(s.normal, u.x, u.y);
     float c = dot(b.direction, s.normal);
     b.pdf = c / PI;
     b.weight = albedo;

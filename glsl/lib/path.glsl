@@ -24,11 +24,25 @@
  * is the camera ray: its hit is the path's first vertex). */
 const uint ROULETTE_DEPTH = 3u;
 
-/* The random streams of a vertex, apart from the material's own (random(), keyed by the ray's
- * seed): light sampling and roulette each hash the seed with a key of their own. */
+/* The numbers of a vertex come from the sampler (lib/sampler.glsl), each use at its own
+ * dimension of the ray's depth block (SAMPLER_DIM_*); the material's random() takes the BSDF
+ * block in shade.comp. A random() anywhere else (a shader's bsdf_eval, say, which should not
+ * draw) walks this hash stream instead, so it never repeats a number the sampler gave out. */
 uint light_stream(Ray ray)
 {
     return pcg_hash(ray.info.y ^ 0x6C8E9CF5u);
+}
+
+/* Dimension `dimension` (SAMPLER_DIM_*) of ray's depth block, and the stratified pair that starts
+ * at the even `dimension`: what a vertex's light samples and roulette draw. */
+float path_1d(Ray ray, uint dimension)
+{
+    return sampler_1d(ray.info, frame.counts.w, dimension);
+}
+
+vec2 path_2d(Ray ray, uint dimension)
+{
+    return sampler_2d(ray.info, frame.counts.w, dimension);
 }
 
 /* The probability that the path of ray carries on past its hit, and whether it does: the same
@@ -43,7 +57,7 @@ float path_survival(Ray ray)
 bool path_continues(Ray ray)
 {
     float q = path_survival(ray);
-    return q >= 1.0 || rng_float(pcg_hash(ray.info.y ^ 0x2F6B1A3Du)) < q;
+    return q >= 1.0 || path_1d(ray, SAMPLER_DIM_ROULETTE) < q;
 }
 
 /* Veach's power heuristic for a sample of pdf a against the other strategy's b. */

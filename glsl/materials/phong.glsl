@@ -69,14 +69,16 @@ bool bsdf_sample(Surface s, out BsdfSample b)
     float ps = phong_specular_probability(kd, ks);
     if (random() < ps) {
         /* The half-vector about the normal, cos^Ns distributed. */
-        float cos_h = pow(random(), 1.0 / (ns + 1.0));
-        float sin_h = sqrt(max(0.0, 1.0 - cos_h * cos_h)), phi = 2.0 * PI * random();
+        vec2 u = random2();
+        float cos_h = pow(u.x, 1.0 / (ns + 1.0));
+        float sin_h = sqrt(max(0.0, 1.0 - cos_h * cos_h)), phi = 2.0 * PI * u.y;
         vec3 t = normalize(abs(s.normal.x) > 0.5 ? cross(s.normal, vec3(0.0, 1.0, 0.0))
                                                  : cross(s.normal, vec3(1.0, 0.0, 0.0)));
         vec3 h = sin_h * cos(phi) * t + sin_h * sin(phi) * cross(s.normal, t) + cos_h * s.normal;
         b.direction = reflect(s.incoming, h);
     } else {
-        b.direction = cosine_direction(s.normal, random(), random());
+        vec2 u = random2();
+        b.direction = cosine_direction(s.normal, u.x, u.y);
     }
     b.delta = false;
     float pdf;
