@@ -427,6 +427,13 @@ static void warnings_are_ours_and_folded(void **state)
     snprintf(want, sizeof want, "%s/w.obj:12: warning: face of fewer than 3 corners ignored", fx->dir);
     assert_non_null(strstr(m.warnings_all, want));
 
+    /* A file cut short just after an f: the bare keyword on its last line is a face too. */
+    vkrt_mesh cut = load_ok(temp_dir_write_text(fx, "cut.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf"));
+    assert_int_equal(cut.triangle_count, 1);
+    snprintf(want, sizeof want, "%s/cut.obj:5: warning: face of fewer than 3 corners ignored", fx->dir);
+    assert_string_equal(cut.warnings, want);
+    vkrt_mesh_free(&cut);
+
     /* printed: every line after the prefix; verbose prints all nine */
     char *folded = printed_warnings(&m, false), *all = printed_warnings(&m, true);
     snprintf(want, sizeof want, "vkrt: %s/d.mtl: warning: 5 materials", fx->dir);

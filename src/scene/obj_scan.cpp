@@ -314,6 +314,12 @@ bool scan_line(const char *path, const std::string &text, uint32_t number, Span 
         scan->unusable_normals += !usable;
         return true;
     }
+    /* A bare "f", as a file cut short after the keyword ends: tinyobjloader skips it as an
+     * unknown record; it is a face of no corners. */
+    if (line.len() == 1 && line.b[0] == 'f') {
+        scan->short_faces.push_back(number);
+        return true;
+    }
     if (has_keyword(line, "f")) {
         uint32_t corners = count_tokens(Span{line.b + 2, line.e});
         if (corners >= 3)
