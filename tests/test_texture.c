@@ -369,7 +369,8 @@ static void bilinear_sample_and_wrap(void **state)
     vkrt_texture_set_free(&set);
 }
 
-/* ALPHA: the alpha channel where the image has one, else its first channel, in all four. */
+/* ALPHA: the alpha channel where the image has one that is not opaque everywhere, else its first
+ * channel, in all four (an RGBA mask with alpha 255 throughout carries coverage in its colour). */
 static void alpha_usage_picks_the_channel(void **state)
 {
     temp_dir *fx = *state;
@@ -377,6 +378,8 @@ static void alpha_usage_picks_the_channel(void **state)
     const unsigned char grey_alpha[2][2] = {{10, 77}, {200, 3}};
     const unsigned char rgb[2][3] = {{30, 40, 50}, {60, 70, 80}};
     const unsigned char rgba[2][4] = {{30, 40, 50, 99}, {60, 70, 80, 250}};
+    const unsigned char rgba_opaque[2][4] = {{0, 0, 0, 255}, {255, 255, 255, 255}};
+    const unsigned char grey_opaque[2][2] = {{20, 255}, {220, 255}};
     struct {
         const char *name;
         int comp;
@@ -387,6 +390,8 @@ static void alpha_usage_picks_the_channel(void **state)
         {"grey_alpha.png", 2, &grey_alpha[0][0], {77, 3}},
         {"rgb.png", 3, &rgb[0][0], {30, 60}},
         {"rgba.png", 4, &rgba[0][0], {99, 250}},
+        {"rgba_opaque.png", 4, &rgba_opaque[0][0], {0, 255}},
+        {"grey_opaque.png", 2, &grey_opaque[0][0], {20, 220}},
     };
     vkrt_texture_set set = {0};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {

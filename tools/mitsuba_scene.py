@@ -313,8 +313,17 @@ def texture_times(path, factor):
 
 
 def coverage_texture(path):
-    bitmap = mi.Bitmap(path).convert(mi.Bitmap.PixelFormat.Y, mi.Struct.Type.Float32,
-                                     srgb_gamma=False)
+    """A map_d as vkrt reads it (src/scene/texture.c): its alpha channel when it has one that is
+    not opaque everywhere, else its first channel, raw (no sRGB decoding)."""
+    import numpy as np
+    source = mi.Bitmap(path)
+    source.set_srgb_gamma(False)  # coverage is stored as is: no sRGB decoding
+    channels = np.array(source.convert(srgb_gamma=False, component_format=mi.Struct.Type.Float32))
+    if channels.ndim == 2:
+        channels = channels[..., None]
+    has_alpha = source.pixel_format() in (mi.Bitmap.PixelFormat.YA, mi.Bitmap.PixelFormat.RGBA)
+    use = channels[..., -1] if has_alpha and (channels[..., -1] < 1.0).any() else channels[..., 0]
+    bitmap = mi.Bitmap(np.ascontiguousarray(use[..., None], dtype=np.float32))
     return {"type": "bitmap", "bitmap": bitmap, "raw": True, "filter_type": "bilinear",
             "wrap_mode": "repeat"}
 

@@ -210,6 +210,16 @@ static float half_to_float(uint32_t h)
 
 /* 8-bit RGBA (as stbi_load returns with 4 channels) into one uint per texel, r in the low byte
  * (what unpackUnorm4x8 reads). For coverage, the chosen channel goes to all four. */
+/* Whether every texel of decoded RGBA pixels (floats when hdr, else bytes) has full alpha. */
+static bool opaque(const void *pixels, size_t texels, bool hdr)
+{
+    for (size_t i = 0; i < texels; i++)
+        if (hdr ? ((const float *)pixels)[4 * i + 3] != 1.0f
+                : ((const unsigned char *)pixels)[4 * i + 3] != 255)
+            return false;
+    return true;
+}
+
 static void pack_rgba8(const unsigned char *px, size_t texels, int alpha_channel, uint32_t *out)
 {
     for (size_t i = 0; i < texels; i++, px += 4) {
@@ -405,10 +415,13 @@ static bool decode(vkrt_texture_set *set, FILE *f, vkrt_texture_usage usage, con
         stbi_image_free(pixels);
         return fail(err, referrer, path, "decoded %dx%d, but its header says %dx%d", dw, dh, w, h);
     }
-    /* Coverage reads alpha when the image has it (grey+alpha or RGBA), else its first channel. */
+    /* Coverage reads alpha when the image has an alpha channel that says something (grey+alpha
+     * or RGBA, not opaque everywhere), else its first channel: masks are made both ways, and
+     * Lost Empire's lost_empire-Alpha.png is an RGBA image whose alpha is 255 throughout, its
+     * coverage in the grey of its colour channels (read as alpha it would cover every leaf). */
     int alpha_channel = -1;
     if (usage == VKRT_TEXTURE_ALPHA)
-        alpha_channel = channels == 2 || channels == 4 ? 3 : 0;
+        alpha_channel = (channels == 2 || channels == 4) && !opaque(pixels, texels, hdr) ? 3 : 0;
     uint32_t *out = set->texels + set->texel_words;
     if (hdr)
         pack_rgba16f(pixels, texels, alpha_channel, out);
