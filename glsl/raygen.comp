@@ -41,6 +41,25 @@ uvec2 tile_pixel(uint index, uint width, uint height)
     return uvec2(tile * TILE + in_tile % cols, band * TILE + in_tile / cols);
 }
 
+/* Shirley and Chiu's concentric map of the unit square onto the unit disc: it keeps strata
+ * (neighbouring points stay neighbours), so a stratified lens sample stays stratified. */
+vec2 concentric_disk(vec2 u)
+{
+    vec2 o = 2.0 * u - 1.0;
+    if (o.x == 0.0 && o.y == 0.0)
+        return vec2(0.0);
+    const float quarter_pi = 0.78539816339;
+    float r, theta;
+    if (abs(o.x) > abs(o.y)) {
+        r = o.x;
+        theta = quarter_pi * (o.y / o.x);
+    } else {
+        r = o.y;
+        theta = 2.0 * quarter_pi - quarter_pi * (o.x / o.y);
+    }
+    return r * vec2(cos(theta), sin(theta));
+}
+
 void reset_waves(uint rays)
 {
     uint groups = (rays + WAVE_WORKGROUP_SIZE - 1u) / WAVE_WORKGROUP_SIZE;
@@ -82,10 +101,24 @@ void main()
     /* Image row 0 is the top of the picture: y grows downwards in pixels, upwards in camera. */
     float x = 2.0 * (float(p.x) + offset.x) / float(width) - 1.0;
     float y = 1.0 - 2.0 * (float(p.y) + offset.y) / float(height);
-    vec3 dir = normalize(frame.forward.xyz + x * frame.right.xyz + y * frame.up.xyz);
+    vec3 through = frame.forward.xyz + x * frame.right.xyz + y * frame.up.xyz;
+    vec3 origin = frame.eye.xyz, dir = normalize(through);
+    if (frame.right.w > 0.0) {
+        /* A thin lens of radius right.w (Mitsuba's thinlens, pbrt's PerspectiveCamera): the ray
+         * leaves a point of the lens towards where the pinhole ray meets the plane in focus, at
+         * distance up.w along the view axis (through has 1 along it). Whitted draws the lens
+         * point from a stream of its own, not from the ray's, which its shaders use. */
+        vec2 u = INTEGRATOR == VKRT_INTEGRATE_PATH
+                     ? sampler_2d(info, frame.counts.w, SAMPLER_DIM_LENS)
+                     : vec2(rng_float(pcg_hash(info.y ^ 0x1B873593u)),
+                            rng_float(pcg_hash(info.y ^ 0x68E31DA4u)));
+        vec2 lens = frame.right.w * concentric_disk(u);
+        origin += lens.x * normalize(frame.right.xyz) + lens.y * normalize(frame.up.xyz);
+        dir = normalize(frame.eye.xyz + frame.up.w * through - origin);
+    }
 
     Ray ray;
-    ray.origin = vec4(frame.eye.xyz, 0.0);
+    ray.origin = vec4(origin, 0.0);
     ray.direction = vec4(dir, 3.4e38);
     ray.importance = vec4(1.0, 1.0, 1.0, 0.0);
     ray.info = info;

@@ -173,8 +173,8 @@ VKRT_STRUCT(Light) {
 /* Everything a frame's kernels need besides buffers; sent as push constants (<= 128 bytes). */
 VKRT_STRUCT(FrameParams) {
     vec4 eye;         /* xyz camera position, w: importance under which a cast ray is dropped */
-    vec4 right;       /* camera right axis scaled by tan(fov/2) * aspect */
-    vec4 up;          /* camera up axis scaled by tan(fov/2) */
+    vec4 right;       /* camera right axis scaled by tan(fov/2) * aspect; w: lens radius (0: pinhole) */
+    vec4 up;          /* camera up axis scaled by tan(fov/2); w: distance in focus */
     vec4 forward;     /* unit view direction */
     uvec4 image;      /* x: width, y: height, z: index of this sample pass, w: samples per pixel */
     uvec4 counts;     /* x: triangles, y: lights, z: rays in this dispatch or VKRT_RAYS_OF_WAVE,

@@ -24,7 +24,7 @@ class SceneError(Exception):
 
 # vkrt's path tracer plays Russian roulette at the hits of rays of this depth and deeper (the
 # camera ray is depth 0): glsl/lib/path.glsl's ROULETTE_DEPTH. Change both together.
-VKRT_ROULETTE_DEPTH = 3
+VKRT_ROULETTE_DEPTH = 4
 # Mitsuba's `path` counts path segments: max_depth M renders paths of at most M segments (1: only
 # emitters seen directly, 2: direct light), and its next-event estimation stops one short so that
 # both strategies cover the same paths. vkrt's `max-depth D` traces rays of depth 0 to D and takes
@@ -103,10 +103,13 @@ def read_config(path):
             elif key == "camera":
                 parts = dict(zip(args[0::4], [args[i + 1:i + 4] for i in range(0, len(args), 4)]))
                 fov_at = args.index("fov")
+                lens = dict(zip(args[fov_at + 2::2], args[fov_at + 3::2]))  # aperture, focus
                 cfg.cameras.append({"eye": [float(x) for x in parts["eye"]],
                                     "look": [float(x) for x in parts["look"]],
                                     "up": [float(x) for x in parts["up"]],
-                                    "fov": float(args[fov_at + 1])})
+                                    "fov": float(args[fov_at + 1]),
+                                    "aperture": float(lens.get("aperture", 0)),
+                                    "focus": float(lens.get("focus", 0))})
             elif key in ("accel", "output"):
                 pass  # no effect on the picture
             else:
@@ -520,6 +523,12 @@ def scene_dict(cfg, frame=0, width=None, height=None, spp=64, seed=0, max_depth=
                  "rfilter": {"type": "box"}, "pixel_format": "rgb"},
         "sampler": {"type": "stratified", "sample_count": spp, "seed": seed},
     }
+    if cam["aperture"] > 0:
+        # vkrt's thin lens (raygen.comp) is Mitsuba's thinlens: the lens radius, and the
+        # distance in focus along the view axis (|look - eye| when not given).
+        focus = cam["focus"] or float(np.linalg.norm(np.array(cam["look"]) - np.array(cam["eye"])))
+        scene["camera"].update({"type": "thinlens", "aperture_radius": cam["aperture"],
+                                "focus_distance": focus})
     depth = cfg.max_depth if max_depth is None else max_depth
     if chosen == "path":
         if ambient.any():

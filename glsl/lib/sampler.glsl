@@ -39,7 +39,8 @@
 #define SAMPLER_DIM_ENVIRONMENT 6u      /* 2D: the environment's light sample, NEE */
 #define SAMPLER_DIM_BSDF 8u             /* the material's random() calls, in order */
 #define SAMPLER_BSDF_DIMS 8u            /* past these, random() falls back to the hash stream */
-#define SAMPLER_DEPTH_DIMS 16u
+#define SAMPLER_DIM_LENS 16u            /* 2D: the point on the thin lens (depth 0) */
+#define SAMPLER_DEPTH_DIMS 18u
 
 /* x with its 32 bits in reverse order (GLSL's bitfieldReverse, written out for C). */
 uint sampler_reverse_bits(uint x)

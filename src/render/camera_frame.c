@@ -44,4 +44,12 @@ void vkrt_camera_params(const vkrt_config_camera *camera, uint32_t width, uint32
     params->right = (vec4){right[0] * tan_half * aspect, right[1] * tan_half * aspect,
                            right[2] * tan_half * aspect, 0};
     params->up = (vec4){up[0] * tan_half, up[1] * tan_half, up[2] * tan_half, 0};
+    /* The thin lens (raygen.comp): its radius in right.w, the distance in focus in up.w. */
+    if (camera->aperture > 0.0f) {
+        float d[3] = {camera->look[0] - camera->eye[0], camera->look[1] - camera->eye[1],
+                      camera->look[2] - camera->eye[2]};
+        params->right.w = camera->aperture;
+        params->up.w = camera->focus > 0.0f ? camera->focus
+                                            : sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    }
 }

@@ -13,7 +13,8 @@
 typedef struct FrameParams FrameParams;
 
 /* Fills params->eye, forward, right and up for camera and an image of width x height: the
- * camera frame raygen.comp reads (right and up scaled by tan(fov/2), right also by the aspect).
+ * camera frame raygen.comp reads (right and up scaled by tan(fov/2), right also by the aspect;
+ * a thin lens's radius in right.w and its focus distance in up.w, both 0 for a pinhole).
  * The other fields are left as they are. */
 void vkrt_camera_params(const vkrt_config_camera *camera, uint32_t width, uint32_t height,
                         FrameParams *params);

@@ -451,7 +451,8 @@ static bool kw_light(parser *p, const tokens *t)
 static bool kw_camera(parser *p, const tokens *t)
 {
     char buf[SHOWN_TOKEN_BYTES + 4];
-    static const char *const usage = "camera eye X Y Z look X Y Z up X Y Z fov F";
+    static const char *const usage =
+        "camera eye X Y Z look X Y Z up X Y Z fov F [aperture A] [focus D]";
     static const struct {
         const char *name;
         int numbers;
@@ -496,9 +497,34 @@ static bool kw_camera(parser *p, const tokens *t)
         }
         at += n;
     }
+    /* The thin lens, optional: `aperture A` (its radius) and `focus D`, in either order. */
+    bool focus_given = false;
+    while (at < t->count && at < MAX_TOKENS) {
+        const char *word = t->tok[at];
+        bool is_aperture = strcmp(word, "aperture") == 0, is_focus = strcmp(word, "focus") == 0;
+        if (!is_aperture && !is_focus)
+            return fail(p, "camera: unexpected '%s' after fov (write: %s)", shown(word, buf),
+                        usage);
+        if (at + 1 >= t->count || at + 1 >= MAX_TOKENS)
+            return fail(p, "camera %s needs a number", word);
+        float *value = is_aperture ? &c.aperture : &c.focus;
+        if (!parse_float(p, t->tok[at + 1], is_aperture ? "camera aperture" : "camera focus",
+                         value))
+            return false;
+        if (is_aperture && !(c.aperture >= 0.0f))
+            return fail(p, "camera aperture (the lens radius) must not be negative, got %s",
+                        shown(t->tok[at + 1], buf));
+        if (is_focus && !(c.focus > 0.0f))
+            return fail(p, "camera focus (the distance in focus) must be positive, got %s",
+                        shown(t->tok[at + 1], buf));
+        focus_given = focus_given || is_focus;
+        at += 2;
+    }
     if (at < t->count)
         return fail(p, "camera: unexpected '%s' after fov",
                     at < MAX_TOKENS ? shown(t->tok[at], buf) : "...");
+    if (focus_given && c.aperture == 0.0f)
+        return fail(p, "camera focus needs an aperture (a pinhole is in focus everywhere)");
 
     if (!(c.fov_deg > 0.0f && c.fov_deg < 180.0f))
         return fail(p, "camera fov must be between 0 and 180 degrees (exclusive), got %s",

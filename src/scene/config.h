@@ -47,6 +47,8 @@ typedef struct vkrt_config_light {
 typedef struct vkrt_config_camera {
     float eye[3], look[3], up[3];
     float fov_deg;         /* vertical field of view, in (0, 180) */
+    float aperture;        /* the thin lens's radius, scene units; 0: a pinhole */
+    float focus;           /* distance of the plane in focus along the view axis; 0: |look - eye| */
     int line;
 } vkrt_config_camera;
 
