@@ -486,6 +486,11 @@ static const bad_case bad_cases[] = {
     {G "light ambient 1 1\n", "t.cfg:2: ", "light ambient needs 3 numbers, got 2"},
     {G "light area 0 0 0\n", "t.cfg:2: ", "unknown light kind 'area'"},
     {G "light\n", "t.cfg:2: ", "light needs a kind"},
+    /* coordinates beyond what the kernels' float arithmetic renders (coordinate_limit.h) */
+    {G "light point 0 0 2e11 1 1 1\n", "t.cfg:2: ", "light point position z 2e11 is outside [-1e11, 1e11]"},
+    {G "light spot -1.00001e11 0 0 0 -1 0 30 1 1 1\n", "t.cfg:2: ", "light spot position x -1.00001e11 is outside [-1e11, 1e11]"},
+    {G "camera eye 0 1e38 5 look 0 0 0 up 0 1 0 fov 45\n", "t.cfg:2: ", "camera eye y 1e38 is outside [-1e11, 1e11]"},
+    {G "camera eye 0 0 5 look 0 0 -1.00001e11 up 0 1 0 fov 45\n", "t.cfg:2: ", "camera look z -1.00001e11 is outside [-1e11, 1e11]"},
     /* cameras */
     {G "camera eye 0 0 0 look 0 0 0 up 0 1 0 fov 45\n", "t.cfg:2: ", "eye and look are the same point"},
     {G "camera eye 0 0 0 look 0 5 0 up 0 1 0 fov 45\n", "t.cfg:2: ", "up is parallel to the view direction"},
@@ -513,6 +518,22 @@ static const bad_case bad_cases[] = {
     {"# only a comment\n" CAMERA, "t.cfg: ", "no 'geometry' line"},
     {G "samples 2\n", "t.cfg: ", "no 'camera' line"},
 };
+
+/* Points up to 1e11 from the origin are taken as given; up is a direction, which any finite
+ * size may have (the camera's frame normalises it). */
+static void test_coordinates_at_the_limit(void **state)
+{
+    (void)state;
+    vkrt_config cfg;
+    parse_ok("geometry m.obj\nlight point 1e11 -1e11 0 1 1 1\nlight spot 0 1e11 0 0 -1 0 30 1 1 1\n"
+             "camera eye -1e11 0 1e11 look 1e11 0 -1e11 up 0 1e30 0 fov 45\n",
+             "base", &cfg);
+    assert_vec3(cfg.lights[0].position, 1e11f, -1e11f, 0);
+    assert_vec3(cfg.lights[1].position, 0, 1e11f, 0);
+    assert_vec3(cfg.cameras[0].eye, -1e11f, 0, 1e11f);
+    assert_vec3(cfg.cameras[0].look, 1e11f, 0, -1e11f);
+    vkrt_config_free(&cfg);
+}
 
 static void test_malformed(void **state)
 {
@@ -675,6 +696,7 @@ int main(void)
         cmocka_unit_test(test_environment_map),
         cmocka_unit_test(test_free_zeroed_struct),
         cmocka_unit_test(test_malformed),
+        cmocka_unit_test(test_coordinates_at_the_limit),
         cmocka_unit_test(test_nul_and_binary),
         cmocka_unit_test(test_long_lines),
         cmocka_unit_test(test_load_file),

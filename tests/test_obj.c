@@ -212,6 +212,27 @@ static void non_finite_vertex_names_line(void **state)
                       ":4: texture coordinate is not finite");
 }
 
+/* A finite coordinate past the range the kernels' float arithmetic renders (1e11,
+ * src/scene/coordinate_limit.h) is refused with its line: 1e38 used to render a black image with
+ * exit 0. Coordinates at the limit load as they are. */
+static void vertex_beyond_coordinate_limit_names_line(void **state)
+{
+    temp_dir *fx = *state;
+    const char *bad[] = {"1e38", "-1e38", "1.00001e11", "-3.4e38"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        char text[200], after[100];
+        snprintf(text, sizeof text, "v 0 0 0\nv %s 0 0\nv 0 1 0\nf 1 2 3\n", bad[i]);
+        snprintf(after, sizeof after, ":2: vertex coordinate %s is outside [-1e11, 1e11]", bad[i]);
+        assert_text_fails(fx, "far.obj", text, after);
+    }
+    vkrt_mesh m = load_ok(
+        temp_dir_write_text(fx, "edge.obj", "v -1e11 0 0\nv 1e11 0 0\nv 0 1e11 -1e11\nf 1 2 3\n"));
+    assert_int_equal(m.triangle_count, 1);
+    assert_vec3(&m.positions[0], -1e11f, 0, 0);
+    assert_vec3(&m.positions[6], 0, 1e11f, -1e11f);
+    vkrt_mesh_free(&m);
+}
+
 static void out_of_range_index_names_line(void **state)
 {
     temp_dir *fx = *state;
@@ -815,6 +836,7 @@ int main(void)
         temp_dir_test(references_to_absent_normals_are_dropped),
         temp_dir_test(crlf_line_endings),
         temp_dir_test(non_finite_vertex_names_line),
+        temp_dir_test(vertex_beyond_coordinate_limit_names_line),
         temp_dir_test(out_of_range_index_names_line),
         temp_dir_test(empty_and_triangle_free_files_fail),
         temp_dir_test(refused_face_index_names_line_and_index),

@@ -22,7 +22,9 @@
 #define M_PI 3.14159265358979323846
 #endif
 
+#include "../glsl/shared.h"
 #include "gpu_fixture.h"
+#include "render/camera_frame.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 
@@ -452,16 +454,21 @@ static void render_transformed(double scale, double offset, vkrt_accel_kind kind
     rmdir(dir);
 }
 
-/* The Cornell box moved 1e5 from the origin, and scaled by 1e-3, 1e3 and 1e5, renders as it does at
- * its own size. A fixed epsilon fails here: too small far from the origin (self-shadowing acne,
- * dark speckles on lit walls), too large on a small scene (light leaking through contacts). Holes
- * (rays slipping between triangles) would show the environment's pure blue. Edges may shift by a
- * pixel where the camera's rays round differently, so up to 1% of pixels may differ. */
+/* The Cornell box moved 1e5 from the origin, and scaled by 1e-3, 1e3, 1e5 and 1.2e8, renders as it
+ * does at its own size. A fixed epsilon fails here: too small far from the origin (self-shadowing
+ * acne, dark speckles on lit walls), too large on a small scene (light leaking through contacts).
+ * Holes (rays slipping between triangles) would show the environment's pure blue. Edges may shift
+ * by a pixel where the camera's rays round differently, so up to 1% of pixels may differ.
+ * Scaled by 1.2e8 the camera is 9.6e10 from the origin, near the 1e11 that scene files may use
+ * (src/scene/coordinate_limit.h): there the walls' normals overflowed to zero (every wall dark
+ * past a scale of 7.7e6) and the BVH lost the rays of the middle row and column, whose direction
+ * has a component of exactly 0 at an odd image size. */
 static void test_scale_and_offset(void **state)
 {
     (void)state;
-    enum { W = 96, H = 96 };
-    static const struct { double scale, offset; } cases[] = {{1, 1e5}, {1e-3, 0}, {1e3, 0}, {1e5, 0}};
+    enum { W = 95, H = 95 };
+    static const struct { double scale, offset; } cases[] = {
+        {1, 1e5}, {1, 1e7}, {1e-3, 0}, {1e3, 0}, {1e5, 0}, {1.2e8, 0}};
     static const vkrt_accel_kind kinds[] = {VKRT_ACCEL_GRID, VKRT_ACCEL_BVH};
     float *base = calloc(W * H * 3, sizeof *base), *moved = calloc(W * H * 3, sizeof *moved);
     assert_true(base && moved);
@@ -493,12 +500,31 @@ static void test_scale_and_offset(void **state)
     free(moved);
 }
 
+/* up is a direction of any finite length (docs/scene-format.md): 0 1e30 0 gives the frame of
+ * 0 1 0. Squared in float, its cross product with the view overflowed, and the camera's right
+ * became 0 x inf: a picture of NaNs, with exit 0. */
+static void test_camera_up_of_any_length(void **state)
+{
+    (void)state;
+    vkrt_config_camera unit = {.eye = {278, 273, -800}, .look = {278, 273, 0}, .up = {0, 1, 0},
+                               .fov_deg = 39.3077f};
+    vkrt_config_camera long_up = unit;
+    long_up.up[1] = 1e30f;
+    FrameParams a = {0}, b = {0};
+    vkrt_camera_params(&unit, 95, 95, &a);
+    vkrt_camera_params(&long_up, 95, 95, &b);
+    assert_true(a.right.x == b.right.x && a.right.y == b.right.y && a.right.z == b.right.z);
+    assert_true(a.up.x == b.up.x && a.up.y == b.up.y && a.up.z == b.up.z);
+    assert_true(fabsf(a.right.x) > 0.3f); /* tan(fov / 2): a right vector at all */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_cornell_point_light),
         cmocka_unit_test(test_cornell_all_lights),
         cmocka_unit_test(test_cornell_mirror_and_glass),
+        cmocka_unit_test(test_camera_up_of_any_length),
         cmocka_unit_test(test_scale_and_offset),
     };
     return cmocka_run_group_tests(tests, find_cornell, NULL);

@@ -57,7 +57,7 @@ bool sample_emitter(Surface s, vec3 u, out Surface light, out vec3 wi, out float
     vec3 d = p - s.position;
     dist = length(d);
     wi = d / dist;
-    vec3 ng = normalize(cross(t.v1.xyz - t.v0.xyz, t.v2.xyz - t.v0.xyz));
+    vec3 ng = triangle_normal(t.v0.xyz, t.v1.xyz, t.v2.xyz);
     float cos_light = -dot(wi, ng);
     Ray towards;
     towards.origin = vec4(s.position, 0.0);

@@ -138,6 +138,20 @@ vec3 offset_ray_origin(vec3 p, vec3 n, float magnitude)
     return p + ray_offset_distance(magnitude) * n;
 }
 
+/* The unit normal of the triangle's plane (winding a, b, c), or 0 for a triangle of no area. The
+ * cross product is divided by its largest component before it is normalised: its squared length
+ * is of degree 4 in the coordinates and overflowed float for a 555-unit Cornell box scaled by
+ * 1e7 (sides 5.55e9: (5.55e9)^4 > 3.4e38), where normalize() returned a zero normal and no
+ * light reached the walls. The division also helps tiny triangles: with sides under 1e-10
+ * that square is below float's smallest normal number, which a GPU may flush to 0. The cross
+ * product itself is finite for sides up to 1e19 (docs/scene-format.md, Coordinates). */
+vec3 triangle_normal(vec3 a, vec3 b, vec3 c)
+{
+    vec3 n = cross(b - a, c - a);
+    float largest = max(abs(n.x), max(abs(n.y), abs(n.z)));
+    return largest > 0.0 ? normalize(n / largest) : vec3(0.0);
+}
+
 /* The scale of a triangle's rounding errors, for offset_ray_origin (ray_offset_magnitude). */
 float triangle_magnitude(vec3 a, vec3 b, vec3 c)
 {

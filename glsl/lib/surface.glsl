@@ -33,7 +33,7 @@ Surface surface_at(Ray ray, Hit hit)
     float w = 1.0 - hit.u - hit.v;
     Surface s;
     s.position = w * tri.v0.xyz + hit.u * tri.v1.xyz + hit.v * tri.v2.xyz;
-    vec3 ng = normalize(cross(tri.v1.xyz - tri.v0.xyz, tri.v2.xyz - tri.v0.xyz));
+    vec3 ng = triangle_normal(tri.v0.xyz, tri.v1.xyz, tri.v2.xyz);
     s.front_face = dot(ng, ray.direction.xyz) < 0.0;
     if (!s.front_face)
         ng = -ng;

@@ -37,14 +37,19 @@ uint traversal_leaves = 0u;
 /* Marks "no node chosen yet" in a step. */
 const uint NO_NODE = 0xFFFFFFFFu;
 
+/* The inverse of d with each component's magnitude raised to tiny at least, sign kept. */
+vec3 inverse_at_least(vec3 d, vec3 tiny)
+{
+    return 1.0 / vec3(abs(d.x) < tiny.x ? (d.x < 0.0 ? -tiny.x : tiny.x) : d.x,
+                      abs(d.y) < tiny.y ? (d.y < 0.0 ? -tiny.y : tiny.y) : d.y,
+                      abs(d.z) < tiny.z ? (d.z < 0.0 ? -tiny.z : tiny.z) : d.z);
+}
+
 /* A direction component of exactly 0 would give 0 * inf = NaN in the slab test for an origin on a
  * slab plane; a tiny stand-in keeps every product finite and ordered. */
 vec3 safe_inverse(vec3 d)
 {
-    const float tiny = 1e-30;
-    return 1.0 / vec3(abs(d.x) < tiny ? (d.x < 0.0 ? -tiny : tiny) : d.x,
-                      abs(d.y) < tiny ? (d.y < 0.0 ? -tiny : tiny) : d.y,
-                      abs(d.z) < tiny ? (d.z < 0.0 ? -tiny : tiny) : d.z);
+    return inverse_at_least(d, vec3(1e-30));
 }
 
 /* The per-ray constants of the BVH's slab tests: a plane p's distance is fma(p, inv_dir, bias),
@@ -64,8 +69,18 @@ struct SlabRay {
     vec3 hi_bias;
 };
 
-SlabRay slab_ray_make(vec3 origin, vec3 inv_dir)
+/* The BVH's inverse direction: safe_inverse's stand-in for a component near 0 also grows with the
+ * origin's coordinate, to 2^-120 of it, so that origin * inv_dir stays below 2^120 and the biases
+ * finite. With 1e-30 alone, a ray with a component of exactly 0 (the middle column of an image of
+ * odd width) from an origin past 3.4e8 on that axis got an infinite product, -inf and NaN biases,
+ * and missed every box: a Cornell box scaled by 1e7 showed a cross of holes. The stand-in still
+ * puts every plane not through the origin at least 2^-24 |origin| / (2^-120 |origin|) = 2^96
+ * along the ray, beyond any hit. */
+const float SLAB_TINY_PER_COORDINATE = 7.52316385e-37; /* 2^-120 */
+
+SlabRay slab_ray_make(vec3 origin, vec3 dir)
 {
+    vec3 inv_dir = inverse_at_least(dir, max(vec3(1e-30), abs(origin) * SLAB_TINY_PER_COORDINATE));
     precise vec3 product = origin * inv_dir;
     precise vec3 margin = max(abs(product) * (1.0 / 2097152.0), vec3(1e-30));
     vec3 toward = mix(vec3(-1.0), vec3(1.0), greaterThanEqual(inv_dir, vec3(0.0)));
@@ -351,7 +366,7 @@ Hit bvh_traverse_nested(RayShear s, SlabRay b, float tmin, float tmax, bool any_
 /* The closest hit (any_hit false) or the first hit found (any_hit true) in (tmin, tmax). */
 Hit bvh_traverse(RayShear s, vec3 dir, float tmin, float tmax, bool any_hit)
 {
-    SlabRay b = slab_ray_make(s.origin, safe_inverse(dir));
+    SlabRay b = slab_ray_make(s.origin, dir);
     if (NESTED_WALK)
         return bvh_traverse_nested(s, b, tmin, tmax, any_hit);
     return bvh_traverse_one_loop(s, b, tmin, tmax, any_hit);

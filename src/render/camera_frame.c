@@ -12,11 +12,13 @@ static float radians(float degrees)
     return degrees * 3.14159265358979f / 180.0f;
 }
 
+/* In double: the square of a finite float's component may not be a finite float (an up of
+ * 0 1e30 0 gave a zero length's inverse and a picture of NaNs). */
 static void normalize3(float v[3])
 {
-    float len = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    double len = sqrt((double)v[0] * v[0] + (double)v[1] * v[1] + (double)v[2] * v[2]);
     for (int i = 0; i < 3; ++i)
-        v[i] /= len;
+        v[i] = (float)(v[i] / len);
 }
 
 static void cross3(const float a[3], const float b[3], float out[3])
@@ -33,8 +35,10 @@ void vkrt_camera_params(const vkrt_config_camera *camera, uint32_t width, uint32
     float forward[3] = {camera->look[0] - camera->eye[0], camera->look[1] - camera->eye[1],
                         camera->look[2] - camera->eye[2]};
     normalize3(forward);
+    float given_up[3] = {camera->up[0], camera->up[1], camera->up[2]};
+    normalize3(given_up); /* so that the cross product below stays finite too */
     float right[3], up[3];
-    cross3(forward, camera->up, right);
+    cross3(forward, given_up, right);
     normalize3(right);
     cross3(right, forward, up);
     float tan_half = tanf(radians(camera->fov_deg) * 0.5f);

@@ -10,6 +10,7 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "config.h"
+#include "coordinate_limit.h"
 #include "line_parser.h"
 #include "text_file.h"
 
@@ -119,6 +120,21 @@ static bool parse_vec3(parser *p, const tokens *t, int first, const char *what, 
         if (!parse_float(p, t->tok[first + i], part, &out[i]))
             return false;
     }
+    return true;
+}
+
+/* Parses a point as parse_vec3 does, and refuses a coordinate outside the range the kernels'
+ * float arithmetic renders (coordinate_limit.h). */
+static bool parse_point(parser *p, const tokens *t, int first, const char *what, float out[3])
+{
+    static const char *const axis[3] = {"x", "y", "z"};
+    char buf[SHOWN_TOKEN_BYTES + 4];
+    if (!parse_vec3(p, t, first, what, out))
+        return false;
+    for (int i = 0; i < 3; i++)
+        if (fabs(out[i]) > VKRT_COORDINATE_LIMIT)
+            return fail(p, "%s %s %s is outside " VKRT_COORDINATE_RANGE_TEXT, what, axis[i],
+                        shown(t->tok[first + i], buf));
     return true;
 }
 
@@ -414,12 +430,12 @@ static bool kw_light(parser *p, const tokens *t)
             return false;
         break;
     case VKRT_LIGHT_POINT:
-        if (!parse_vec3(p, t, 2, "light point position", l.position) ||
+        if (!parse_point(p, t, 2, "light point position", l.position) ||
             !parse_colour(p, t, 5, "light point colour", l.colour))
             return false;
         break;
     case VKRT_LIGHT_SPOT:
-        if (!parse_vec3(p, t, 2, "light spot position", l.position) ||
+        if (!parse_point(p, t, 2, "light spot position", l.position) ||
             !parse_vec3(p, t, 5, "light spot direction", l.direction) ||
             !parse_float(p, t->tok[8], "light spot half angle", &l.half_angle_deg) ||
             !parse_colour(p, t, 9, "light spot colour", l.colour))
@@ -490,7 +506,8 @@ static bool kw_camera(parser *p, const tokens *t)
         char what[32];
         if (n == 3) {
             snprintf(what, sizeof what, "camera %s", name);
-            if (!parse_vec3(p, t, at, what, dest[i]))
+            bool point = i < 2; /* eye and look are points; up is a direction */
+            if (!(point ? parse_point : parse_vec3)(p, t, at, what, dest[i]))
                 return false;
         } else if (!parse_float(p, t->tok[at], "camera fov", dest[i])) {
             return false;

@@ -7,6 +7,8 @@
  * the numbers of v/vt/vn records are checked with a strict grammar. Decisions:
  *   - v: all three coordinates must be plain decimal numbers that fit a float; otherwise
  *     "path:LINE: vertex coordinate is not finite (...)" or "... is not a number" is an error.
+ *     A coordinate outside +-VKRT_COORDINATE_LIMIT (coordinate_limit.h says why) is an error too:
+ *     "path:LINE: vertex coordinate 1e38 is outside [-1e11, 1e11], ...".
  *   - vt: the coordinates present (up to two) get the same check; a missing v defaults to 0.
  *   - vn: a normal that is not three finite numbers is marked unusable, not refused: the loader
  *     gives the triangles using it their geometric normal and records a warning.
@@ -18,6 +20,8 @@
  * kept only so the loader's warnings can name them.
  */
 #include "obj_scan.h"
+
+#include "coordinate_limit.h"
 
 #include <cctype>
 #include <cfloat>
@@ -244,6 +248,14 @@ bool scan_vertex(const char *path, uint32_t line, Span rest, vkrt_error *err)
         Number kind = classify_number(t);
         if (kind != Number::ok)
             return fail_number(path, line, "vertex coordinate", kind, t, err);
+        /* The float the GPU gets is what is checked, as scene.cfg's points are. */
+        float v = static_cast<float>(strtod(std::string(t.b, t.e).c_str(), nullptr));
+        if (std::fabs(v) > VKRT_COORDINATE_LIMIT) {
+            int n = static_cast<int>(t.len() < QUOTE_MAX ? t.len() : QUOTE_MAX);
+            return vkrt_error_set(
+                err, "%s:%u: vertex coordinate %.*s is outside " VKRT_COORDINATE_RANGE_TEXT, path,
+                line, n, t.b);
+        }
     }
     return true;
 }
