@@ -387,6 +387,72 @@ static void environment_map_poles_do_not_wrap(void **state)
     }
 }
 
+/* The spread (standard deviation, in pixels) of an image's light across its columns: the
+ * second moment of the column sums about their centroid. */
+static double column_spread(const float *rgb, int w, int h)
+{
+    double sum = 0, first = 0, second = 0;
+    for (int x = 0; x < w; ++x) {
+        double column = 0;
+        for (int y = 0; y < h; ++y)
+            column += rgb[3 * (y * w + x)];
+        sum += column;
+        first += column * (x + 0.5);
+        second += column * (x + 0.5) * (x + 0.5);
+    }
+    double mean = first / sum;
+    return sqrt(second / sum - mean * mean);
+}
+
+/* Depth of field, against its closed form: a thin emissive stripe (0.02 wide, 10 away) seen
+ * through a lens of radius A focused at distance f. Its every point spreads on the plane in focus
+ * into a disc of radius A |10 - f| / 10 (similar triangles through the lens), R pixels across
+ * the image; a vertical line's light then spreads sideways as the projection of that disc, whose
+ * variance is R^2 / 4, on top of the stripe's own width and the pixels' binning (1/12 each, in
+ * squared pixels). In focus (f = 10), the stripe is as sharp as through a pinhole. Both integrators:
+ * path draws the lens from the sampler, whitted from a stream of its own. */
+static void thin_lens_blurs_by_its_circle_of_confusion(void **state)
+{
+    (void)state;
+    scene_dir_write("stripe.obj", "mtllib stripe.mtl\nusemtl lamp\n"
+                                  "v -0.01 -5 -10\nv 0.01 -5 -10\nv 0.01 5 -10\nv -0.01 5 -10\n"
+                                  "f 1 2 3 4\n");
+    scene_dir_write("stripe.mtl", "newmtl lamp\nKd 0 0 0\nKe 1 1 1\n");
+    enum { N = 64 };
+    const double fov = 20.0, aperture = 0.2, width_px = 0.02 / (2 * 10 * tan(fov * M_PI / 360) / N);
+    const char *integrators[2] = {"path", "whitted"};
+    static float rgb[N * N * 3];
+    for (int i = 0; i < 2; ++i) {
+        for (int focused = 0; focused < 2; ++focused) {
+            double f = focused ? 10.0 : 5.0;
+            char cfg[512];
+            snprintf(cfg, sizeof cfg,
+                     "geometry stripe.obj\nresolution %d %d\nintegrator %s\n"
+                     "camera eye 0 0 0 look 0 0 -1 up 0 1 0 fov %g aperture %g focus %g\n",
+                     N, N, integrators[i], fov, aperture, f);
+            scene_dir_write("scene.cfg", cfg);
+            vkrt_frame_stats stats;
+            render_ok(N, N, &(vkrt_render_desc){.samples = 256}, rgb, &stats);
+            double pixel_at_focus = 2 * f * tan(fov * M_PI / 360) / N;
+            double radius_px = aperture * fabs(10 - f) / 10 / pixel_at_focus;
+            double want = sqrt(radius_px * radius_px / 4 + width_px * width_px / 12 + 1.0 / 12);
+            double got = column_spread(rgb, N, N);
+            if (focused) { /* binning a line into pixels is not smooth: compare with a pinhole */
+                snprintf(cfg, sizeof cfg,
+                         "geometry stripe.obj\nresolution %d %d\nintegrator %s\n"
+                         "camera eye 0 0 0 look 0 0 -1 up 0 1 0 fov %g\n",
+                         N, N, integrators[i], fov);
+                scene_dir_write("scene.cfg", cfg);
+                render_ok(N, N, &(vkrt_render_desc){.samples = 256}, rgb, &stats);
+                want = column_spread(rgb, N, N);
+            }
+            print_message("thin lens, %s, focus %g: spread %.3f pixels, expected %.3f\n",
+                          integrators[i], f, got, want);
+            assert_true(fabs(got - want) < 0.05 * want + 0.05);
+        }
+    }
+}
+
 /* A w x h 32-bit TGA (uncompressed, the top row first) whose left half has alpha 0 and right half
  * alpha 255, colour white: foliage's kind of texture, alpha carrying coverage. */
 static void write_half_cut_tga(const char *name, int w, int h)
@@ -572,6 +638,7 @@ int main(void)
         cmocka_unit_test(environment_map_furnace),
         cmocka_unit_test(environment_map_estimators_agree),
         cmocka_unit_test(environment_map_poles_do_not_wrap),
+        cmocka_unit_test(thin_lens_blurs_by_its_circle_of_confusion),
         cmocka_unit_test(cutouts_cut_every_ray),
         cmocka_unit_test(samples_are_stratified),
     };

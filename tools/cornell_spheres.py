@@ -79,6 +79,18 @@ output      cornell-spheres-lamp.png
 camera eye 278 273 -800  look 278 273 0  up 0 1 0  fov 39.3077
 """
 
+DOF_CFG = """\
+# Depth of field: the lamp-lit box through a thin lens of radius 25 focused on the glass sphere
+# (969 units away along the view axis), so the mirror sphere and the back wall blur.
+geometry    cornell-spheres.obj
+materials   lamp.mat
+resolution  512 512
+samples     64
+max-depth   8
+output      cornell-spheres-dof.png
+camera eye 278 273 -800  look 278 273 0  up 0 1 0  fov 39.3077  aperture 25  focus 969
+"""
+
 LAMP_MAT = """\
 # The lamp of cornell-spheres.obj as an emitter: Ke (numbers 8-10) 17 12 4, no reflection.
 lamp 0 @emissive 0 0 0 0  0 0 0 0  17 12 4
@@ -152,6 +164,7 @@ def main():
     obj.append(LAMP.rstrip("\n"))
     for name, text in (("cornell-spheres.obj", "\n".join(obj) + "\n"),
                        ("cornell-spheres.mtl", MTL), ("scene.cfg", CFG), ("lamp.cfg", LAMP_CFG),
+                       ("dof.cfg", DOF_CFG),
                        ("lamp.mat", LAMP_MAT)):
         with open(os.path.join(out, name), "w") as f:
             f.write(text)
