@@ -9,6 +9,7 @@
 
 const char *const vkrt_builtin_shaders[] = {
     "diffuse", "textured", "phong", "mirror", "glass", "emissive", "checker", "absorbing_glass",
+    "roughconductor", "roughdielectric", "roughplastic", "pbr",
     "environment", NULL,
 };
 

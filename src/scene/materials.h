@@ -22,7 +22,7 @@
 #include "obj_load.h"
 #include "texture.h"
 
-#define VKRT_MATERIAL_PARAM_COUNT 16
+#define VKRT_MATERIAL_PARAM_COUNT 20
 #define VKRT_MATERIAL_TEXTURE_SLOTS 8
 #define VKRT_SCENE_NO_TEXTURE UINT32_MAX
 
