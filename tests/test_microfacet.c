@@ -116,7 +116,7 @@ static double albedo(enum bsdf kind, double mu, double alpha, double eta, double
 
 /* ---- The furnace ---------------------------------------------------------------------------- */
 
-enum { COLUMNS = 3, ROWS = 5, TILE = 16, MARGIN = 2, SPP = 64 };
+enum { COLUMNS = 3, ROWS = 6, TILE = 16, MARGIN = 2, SPP = 64 };
 static const double view_cos = 0.5, eta = 1.5;
 static const double roughness[4] = {0.05, 0.2, 0.5, 1.0};
 /* Row 4: smooth glass, rough glass of roughness 0 (the smooth one by another name) and of 0.03
@@ -126,6 +126,16 @@ static const char *const last_row[COLUMNS] = {
     "@roughdielectric 0 0 0 0  0 0 0 0  0 0 0  1.5  0 0 0  0  0",
     "@roughdielectric 0 0 0 0  0 0 0 0  0 0 0  1.5  0 0 0  0  0.03",
 };
+
+/* Row 5: the .mtl's PBR extension through the pbr built-in: a metal of Pr 0.5; a plastic whose
+ * roughness is a map of 128/255 (data, not sRGB-decoded); a metal without Pr whose Ns 30 makes
+ * roughness (2 / 32)^(1/4) = 0.5 (materials.h, vkrt_ns_roughness). */
+static const char *const mtl_row[COLUMNS] = {
+    "Kd 1 1 1\nPr 0.5\nPm 1\n",
+    "Kd 1 1 1\nNi 1.5\nPm 0\nPr 0.9\nmap_Pr grey.tga\n",
+    "Kd 1 1 1\nKs 0.5 0.5 0.5\nNs 30\nPm 1\n",
+};
+static const double mtl_row_roughness[COLUMNS] = {0.5, 128.0 / 255.0, 0.5};
 
 /* The material file line of tile (row, column). */
 static void tile_material(int row, int column, char *line, size_t size)
@@ -137,8 +147,10 @@ static void tile_material(int row, int column, char *line, size_t size)
     };
     if (row < 4)
         snprintf(line, size, "t%d%d 0 %s  %g\n", row, column, shaders[column], roughness[row]);
-    else
+    else if (row == 4)
         snprintf(line, size, "t%d%d 0 %s\n", row, column, last_row[column]);
+    else
+        line[0] = '\0'; /* the .mtl's */
 }
 
 /* Writes the tiles' scene: tile (row, column) is 1 wide (x) and 2 deep (z) in the plane y = 0,
@@ -152,12 +164,12 @@ static void write_tiles(void)
     fprintf(obj, "mtllib tiles.mtl\n");
     for (int row = 0; row < ROWS; ++row)
         for (int column = 0; column < COLUMNS; ++column) {
-            double x0 = column - 1.5, x1 = x0 + 1, z0 = 2.0 * row - 5, z1 = z0 + 2;
+            double x0 = column - 1.5, x1 = x0 + 1, z0 = 2.0 * row - ROWS, z1 = z0 + 2;
             /* Counter-clockwise seen from +y. */
             fprintf(obj, "v %g 0 %g\nv %g 0 %g\nv %g 0 %g\nv %g 0 %g\nusemtl t%d%d\n"
                          "f -4 -3 -2 -1\n",
                     x0, z1, x1, z1, x1, z0, x0, z0, row, column);
-            fprintf(mtl, "newmtl t%d%d\n", row, column);
+            fprintf(mtl, "newmtl t%d%d\n%s", row, column, row == 5 ? mtl_row[column] : "");
             char line[256];
             tile_material(row, column, line, sizeof line);
             fputs(line, mat);
@@ -165,6 +177,11 @@ static void write_tiles(void)
     fclose(obj);
     fclose(mtl);
     fclose(mat);
+    /* A 1 x 1 8-bit grey TGA of 128: the roughness map. */
+    FILE *tga = scene_dir_open("grey.tga");
+    const unsigned char grey[19] = {0, 0, 3, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 1, 0, 8, 0x20, 128};
+    fwrite(grey, 1, sizeof grey, tga);
+    fclose(tga);
     char cfg[512];
     double d = 500, s = sqrt(1 - view_cos * view_cos);
     snprintf(cfg, sizeof cfg,
@@ -210,7 +227,7 @@ static bool furnace_agrees(uint32_t mode, double min_roughness)
     static const char *const names[COLUMNS] = {"conductor F0=1", "plastic Kd=1", "dielectric 1.5"};
     bool all = true;
     for (int row = 0; row < ROWS; ++row) {
-        if (row < 4 ? roughness[row] < min_roughness : min_roughness > 0)
+        if (row < 4 ? roughness[row] < min_roughness : row == 4 && min_roughness > 0)
             continue; /* light samples alone cannot find a narrow lobe, nor a delta one */
         for (int column = 0; column < COLUMNS; ++column) {
             double mean, se, seen, energy;
@@ -222,6 +239,12 @@ static bool furnace_agrees(uint32_t mode, double min_roughness)
                               "energy lost at cos 0.5: %.2f%%\n",
                               names[column], roughness[row], mean, seen, 4 * se,
                               100 * (1 - energy));
+            } else if (row == 5) {
+                double r = mtl_row_roughness[column];
+                albedo(column == 1 ? PLASTIC : CONDUCTOR, view_cos, r * r, eta, &seen);
+                print_message(".mtl pbr %s, roughness %.3f: picture %.5f, expected %.5f "
+                              "(+- %.5f)\n", column == 1 ? "plastic (map_Pr)" : "metal",
+                              r, mean, seen, 4 * se);
             } else {
                 double f = fresnel(view_cos, eta);
                 seen = f + (1 - f) / (eta * eta); /* the smooth interface, in closed form */

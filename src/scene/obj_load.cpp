@@ -143,7 +143,8 @@ struct MtlOrigin {
     std::string folder; /* of the .mtl that defined it */
     std::string path;   /* the .mtl itself */
     bool kd = true, ks = true, ke = true, ns = true, ni = true, d = true, illum = true, tf = true;
-    uint32_t map_kd_line = 0, map_d_line = 0;
+    bool pr = false, pm = false; /* unknown (the mirror disagreed): pbr only where maps say so */
+    uint32_t map_kd_line = 0, map_d_line = 0, map_pr_line = 0, map_pm_line = 0, unrendered_line = 0;
 };
 
 /* Mirrors tinyobj::LoadMtl's line handling to see which keywords each material block has, and on
@@ -190,6 +191,13 @@ std::vector<MtlOrigin> scan_mtl_fields(const std::string &text, const std::strin
             cur.map_kd_line = walker.number;
         if (has_keyword(line, "map_d"))
             cur.map_d_line = walker.number;
+        cur.pr |= has_keyword(line, "Pr");
+        cur.pm |= has_keyword(line, "Pm");
+        cur.map_pr_line = has_keyword(line, "map_Pr") ? walker.number : cur.map_pr_line;
+        cur.map_pm_line = has_keyword(line, "map_Pm") ? walker.number : cur.map_pm_line;
+        for (const char *k : {"Ps", "Pc", "Pcr", "map_Ps"})
+            if (!cur.unrendered_line && has_keyword(line, k))
+                cur.unrendered_line = walker.number;
     }
     out.push_back(cur);
     return out;
@@ -250,6 +258,8 @@ public:
         if (fields.size() != added) /* our mirror disagreed: trust all of tinyobjloader's values */
             fields.assign(added, MtlOrigin{folder_of(path), path});
         origins.insert(origins.end(), fields.begin(), fields.end());
+        for (size_t k = 0; k < added; k++) /* the line is 0 where there is nothing to say */
+            obj_warnings::warn_unrendered_pbr(path, fields[k].unrendered_line, (*materials)[before + k].name, warnings_);
         return true;
     }
 
@@ -308,6 +318,16 @@ void convert_material(const tinyobj::material_t &m, const MtlOrigin &o, const st
         out->map_kd = copy_string(resolve_texture(m.diffuse_texname, o.folder, obj_folder));
     if (!m.alpha_texname.empty())
         out->map_d = copy_string(resolve_texture(m.alpha_texname, o.folder, obj_folder));
+    out->has_pr = o.pr, out->pbr = o.pr || o.pm || !m.roughness_texname.empty() || !m.metallic_texname.empty();
+    out->pr = o.pr ? finite_or(m.roughness, 0.0f) : 0.0f;
+    out->pm = o.pm ? finite_or(m.metallic, 0.0f) : 0.0f;
+    out->ps = finite_or(m.sheen, 0.0f), out->pc = finite_or(m.clearcoat_thickness, 0.0f);
+    out->pcr = finite_or(m.clearcoat_roughness, 0.0f);
+    out->map_pr_line = static_cast<int>(o.map_pr_line), out->map_pm_line = static_cast<int>(o.map_pm_line);
+    if (!m.roughness_texname.empty())
+        out->map_pr = copy_string(resolve_texture(m.roughness_texname, o.folder, obj_folder));
+    if (!m.metallic_texname.empty())
+        out->map_pm = copy_string(resolve_texture(m.metallic_texname, o.folder, obj_folder));
 }
 
 void convert_materials(const std::vector<tinyobj::material_t> &materials, const MtlReader &reader,
@@ -859,6 +879,8 @@ extern "C" void vkrt_mesh_free(vkrt_mesh *mesh)
         free(mesh->materials[i].name);
         free(mesh->materials[i].map_kd);
         free(mesh->materials[i].map_d);
+        free(mesh->materials[i].map_pr);
+        free(mesh->materials[i].map_pm);
         free(mesh->materials[i].mtl_path);
     }
     free(mesh->materials);
