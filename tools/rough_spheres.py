@@ -1,11 +1,17 @@
 #!/usr/bin/env python3
-"""Writes scenes/rough-spheres/: nine spheres, a row each of the rough built-ins (top: a
-copper-coloured @roughconductor, middle: a blue @roughplastic, bottom: @roughdielectric glass of
-index 1.5) at roughness 0.05, 0.2 and 0.5 from left to right, over a grey floor before a wall of
-two colours (for the glass to show what it refracts), lit by an emissive quad above and in front
-and a dim constant environment: the scene of the Mitsuba agreement in docs/speed-vs-accuracy.md.
+"""Writes scenes/rough-spheres/: nine spheres, a row each of the rough built-ins (top: a white
+@roughconductor, Ks 1, for which Schlick's Fresnel is Mitsuba's conductor `none`; middle: a blue
+@roughplastic; bottom: @roughdielectric glass of index 1.5) at roughness 0.05, 0.2 and 0.5 from
+left to right, over a grey floor before a wall of two colours (for the glass to show what it
+refracts), lit by an emissive quad above and in front and a dim constant environment: the scene
+of the Mitsuba agreement in docs/speed-vs-accuracy.md.
 Usage:
-    rough_spheres.py OUTPUT_DIR"""
+    rough_spheres.py OUTPUT_DIR
+    rough_spheres.py --spheres VKRT.exr MITSUBA.exr CONVERGED.exr
+The second form prints, per sphere, the mean of vkrt's image and of Mitsuba's (renders of the
+scene.cfg at equal samples, as tools/agreement leaves them in its --work folder) against
+Mitsuba's converged image, and their per-pixel relative errors (tools/imagediff.py's)."""
+import math
 import os
 import sys
 
@@ -15,7 +21,7 @@ ROUGHNESS = (0.05, 0.2, 0.5)
 # name prefix, built-in, the numbers before roughness (the .mtl layout of docs/materials.md):
 # 0-2 Kd, 3 transparency, 4-6 Ks, 7 Ns, 8-10 Ke, 11 Ni, 12-14 Tf, 15 illum.
 ROWS = (
-    ("conductor", "@roughconductor", "0 0 0 0  0.95 0.64 0.54 0  0 0 0  0  0 0 0  0"),
+    ("conductor", "@roughconductor", "0 0 0 0  1 1 1 0  0 0 0  0  0 0 0  0"),
     ("plastic", "@roughplastic", "0.1 0.25 0.6 0  1 1 1 0  0 0 0  1.5  0 0 0  0"),
     ("dielectric", "@roughdielectric", "0 0 0 0  0 0 0 0  0 0 0  1.5  0 0 0  0"),
 )
@@ -76,6 +82,22 @@ output      rough-spheres.png
 camera eye 0 0 11  look 0 0 0  up 0 1 0  fov 50
 """
 
+WHITTED_CFG = """\
+# The rough spheres in Whitted's model: a point light and ambient light instead of the lamp; the
+# rough built-ins add the light's highlight through their BSDF and cast one glossy ray per hit.
+geometry    rough-spheres.obj
+materials   rough.mat
+integrator  whitted
+resolution  256 256
+samples     64
+max-depth   8
+environment 0.2 0.2 0.2
+light ambient 0.05 0.05 0.05
+light point 0 6.5 3   60 60 60
+output      rough-spheres-whitted.png
+camera eye 0 0 11  look 0 0 0  up 0 1 0  fov 50
+"""
+
 
 def material_file():
     lines = ["# The spheres' materials: numbers in the .mtl layout (docs/materials.md), roughness "
@@ -86,7 +108,37 @@ def material_file():
     return "\n".join(lines) + "\n"
 
 
+def sphere_table(vkrt_exr, mitsuba_exr, converged_exr):
+    """Per sphere: image means against the converged one, and per-pixel relative errors, over
+    a disc of 0.6 of the sphere's radius about its centre in the picture (the camera of CFG)."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import toolenv
+    toolenv.enter_venv()
+    import imagediff
+    import numpy as np
+    test, mitsuba, ref = (imagediff.read_exr(p) for p in (vkrt_exr, mitsuba_exr, converged_exr))
+    h, w, _ = ref.shape
+    half = 11 * math.tan(math.radians(25))  # fov 50 at distance 11: half the picture's height
+    ys, xs = np.mgrid[0:h, 0:w]
+    floor = imagediff.RELATIVE_FLOOR * float(ref.mean())
+    print("| sphere | roughness | mean: converged | vkrt | Mitsuba | per-pixel error: vkrt | Mitsuba |")
+    print("|---|---:|---:|---:|---:|---:|---:|")
+    for row, (name, _, _) in enumerate(ROWS):
+        for column, r in enumerate(ROUGHNESS):
+            cx = (0.5 + 2.4 * (column - 1) / (2 * half * w / h)) * w
+            cy = (0.5 - 2.4 * (1 - row) / (2 * half)) * h
+            disc = (xs + 0.5 - cx) ** 2 + (ys + 0.5 - cy) ** 2 < (0.6 * h / (2 * half)) ** 2
+            m = [float(img[disc].mean()) for img in (ref, test, mitsuba)]
+            e = [float((np.abs(img[disc] - ref[disc]) / (np.abs(ref[disc]) + floor)).mean())
+                 for img in (test, mitsuba)]
+            print(f"| {name} | {r} | {m[0]:.4f} | {m[1] / m[0] - 1:+.2%} | {m[2] / m[0] - 1:+.2%} "
+                  f"| {e[0]:.2%} | {e[1]:.2%} |")
+
+
 def main():
+    if sys.argv[1:2] == ["--spheres"]:
+        sphere_table(*sys.argv[2:5])
+        return
     out = sys.argv[1]
     os.makedirs(out, exist_ok=True)
     obj = ["# Nine rough spheres in a room; made by tools/rough_spheres.py.",
@@ -104,7 +156,8 @@ def main():
     mtl = MTL + "# Replaced by rough.mat's entries of the same names.\n" + "".join(
         f"newmtl {name}_{r}\n" for name, _, _ in ROWS for r in ROUGHNESS)
     for file, text in (("rough-spheres.obj", "\n".join(obj) + "\n"), ("rough-spheres.mtl", mtl),
-                       ("rough.mat", material_file()), ("scene.cfg", CFG)):
+                       ("rough.mat", material_file()), ("scene.cfg", CFG),
+                       ("whitted.cfg", WHITTED_CFG)):
         with open(os.path.join(out, file), "w") as f:
             f.write(text)
 
