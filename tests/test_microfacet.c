@@ -40,7 +40,7 @@ typedef struct {
 
 static double dot3(v3 a, v3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 
-/* ---- The model, written again from the papers --------------------------------------------- */
+/* ---- The model, written again from the papers (on purpose: not the shader's code) ----------- */
 
 static double fresnel(double cos_i, double eta)
 {

@@ -121,7 +121,8 @@ def sphere_table(vkrt_exr, mitsuba_exr, converged_exr):
     half = 11 * math.tan(math.radians(25))  # fov 50 at distance 11: half the picture's height
     ys, xs = np.mgrid[0:h, 0:w]
     floor = imagediff.RELATIVE_FLOOR * float(ref.mean())
-    print("| sphere | roughness | mean: converged | vkrt | Mitsuba | per-pixel error: vkrt | Mitsuba |")
+    print("| sphere | roughness | mean: converged | vkrt | Mitsuba | per-pixel error: vkrt "
+          "| Mitsuba |")
     print("|---|---:|---:|---:|---:|---:|---:|")
     for row, (name, _, _) in enumerate(ROWS):
         for column, r in enumerate(ROUGHNESS):

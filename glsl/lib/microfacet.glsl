@@ -111,7 +111,8 @@ float fresnel_diffuse_reflectance(float eta)
 /* An orthonormal frame about the shading normal, as cosine_direction builds it. */
 mat3 microfacet_frame(vec3 n)
 {
-    vec3 t = normalize(abs(n.x) > 0.5 ? cross(n, vec3(0.0, 1.0, 0.0)) : cross(n, vec3(1.0, 0.0, 0.0)));
+    vec3 t = normalize(abs(n.x) > 0.5 ? cross(n, vec3(0.0, 1.0, 0.0))
+                                      : cross(n, vec3(1.0, 0.0, 0.0)));
     return mat3(t, cross(n, t), n);
 }
 
@@ -121,7 +122,7 @@ vec3 to_local(mat3 f, vec3 v)
     return vec3(dot(v, f[0]), dot(v, f[1]), dot(v, f[2]));
 }
 
-/* ---- A rough material: which lobes, with which numbers ---------------------------------------- */
+/* ---- A rough material: which lobes, with which numbers -------------------------------------- */
 
 /* The built-ins describe themselves in this struct; the functions below evaluate, sample and
  * Whitted-shade any of them. A mixture: `metallic` of a conductor of colour f0, the rest a
@@ -147,7 +148,8 @@ struct RoughMaterial {
 vec3 plastic_diffuse(RoughMaterial m, vec3 o, vec3 i)
 {
     float fo = fresnel_dielectric(o.z, m.eta), fi = fresnel_dielectric(i.z, m.eta);
-    return m.diffuse * ((1.0 - fo) * (1.0 - fi) * i.z / (PI * (1.0 - fresnel_diffuse_reflectance(m.eta))));
+    float inside = 1.0 - fresnel_diffuse_reflectance(m.eta);
+    return m.diffuse * ((1.0 - fo) * (1.0 - fi) * i.z / (PI * inside));
 }
 
 /* Probability that the plastic samples its coat rather than its diffuse base: the coat's
@@ -324,5 +326,35 @@ void rough_whitted_shade(Surface s, RoughMaterial m, float coverage)
     if (rough_sample(s, specular_only, b))
         cast_ray(s, b.direction, coverage * b.weight);
 }
+
+/* The five entry points of a rough built-in whose RoughMaterial comes from material(s): one
+ * glossy ray per hit and the lights for Whitted (rough_whitted_shade), Ke from the front face and
+ * the GGX lobes for path, all cut out by coverage (d, map_d: mtl.glsl) as the .mtl built-ins are.
+ * A macro, so that the names it defines are the ones the generated module renames for the shader
+ * that expands it (count_rays is #defined to vkrt_count_rays_N there). */
+#define ROUGH_BUILTIN(material)                                                                   \
+    uint count_rays(Surface s) { return 1u + mtl_see_through_count(s); }                           \
+    void shade(Surface s)                                                                          \
+    {                                                                                              \
+        float coverage = mtl_see_through(s);                                                       \
+        rough_whitted_shade(s, material(s), coverage);                                             \
+        add_radiance(coverage * param3(8u));                                                       \
+    }                                                                                              \
+    vec3 emitted(Surface s) { return mtl_coverage(s) * mtl_emitted(s); }                           \
+    vec3 bsdf_eval(Surface s, vec3 wi, out float pdf)                                              \
+    {                                                                                              \
+        float coverage = mtl_coverage(s);                                                          \
+        vec3 f = rough_eval(s, material(s), wi, pdf);                                              \
+        pdf *= coverage;                                                                           \
+        return coverage * f;                                                                       \
+    }                                                                                              \
+    bool bsdf_sample(Surface s, out BsdfSample b)                                                  \
+    {                                                                                              \
+        if (mtl_pass_through(s, b))                                                                \
+            return true;                                                                           \
+        bool ok = rough_sample(s, material(s), b);                                                 \
+        b.pdf *= mtl_coverage(s);                                                                  \
+        return ok;                                                                                 \
+    }
 
 #endif

@@ -3,10 +3,11 @@
  * roughness Pr (parameter 16) times map_Pr (texture slot 2), metallic Pm (17) times map_Pm
  * (slot 3). A mixture, in the metallic workflow: a share `metallic` of a rough conductor whose
  * Schlick reflectance is the base colour, the rest a rough plastic (the base colour under a
- * clear GGX coat of index Ni, 11; 1 or less means 1.5). One roughness for both, GGX alpha = roughness^2.
+ * clear GGX coat of index Ni, 11; 1 or less means 1.5). One roughness for both, GGX
+ * alpha = roughness^2.
  * d and map_d cut it out as they do the other built-ins.
  * Whitted: the lights through the BSDF by light_sample, ambient light on the diffuse share, one
- * glossy reflection ray.
+ * glossy reflection ray. The entry points are ROUGH_BUILTIN's.
  */
 RoughMaterial pbr_material(Surface s)
 {
@@ -19,36 +20,4 @@ RoughMaterial pbr_material(Surface s)
                          false);
 }
 
-uint count_rays(Surface s)
-{
-    return 1u + mtl_see_through_count(s);
-}
-
-void shade(Surface s)
-{
-    float coverage = mtl_see_through(s);
-    rough_whitted_shade(s, pbr_material(s), coverage);
-    add_radiance(coverage * param3(8u));
-}
-
-vec3 emitted(Surface s)
-{
-    return mtl_coverage(s) * mtl_emitted(s);
-}
-
-vec3 bsdf_eval(Surface s, vec3 wi, out float pdf)
-{
-    float coverage = mtl_coverage(s);
-    vec3 f = rough_eval(s, pbr_material(s), wi, pdf);
-    pdf *= coverage;
-    return coverage * f;
-}
-
-bool bsdf_sample(Surface s, out BsdfSample b)
-{
-    if (mtl_pass_through(s, b))
-        return true;
-    bool ok = rough_sample(s, pbr_material(s), b);
-    b.pdf *= mtl_coverage(s);
-    return ok;
-}
+ROUGH_BUILTIN(pbr_material)

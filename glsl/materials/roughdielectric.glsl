@@ -6,6 +6,7 @@
  * as glass does: the OBJ's winding must face out of the solid.
  * Whitted: one ray per hit, reflected or refracted as the BSDF samples it (so rough glass is
  * noisy where smooth glass is not), plus highlights of the lights by light_sample.
+ * The entry points (count_rays, shade, emitted, bsdf_eval, bsdf_sample) are ROUGH_BUILTIN's.
  */
 RoughMaterial roughdielectric_material(Surface s)
 {
@@ -13,28 +14,4 @@ RoughMaterial roughdielectric_material(Surface s)
                          mtl_dielectric_eta(s), ggx_alpha(param(16u)), true);
 }
 
-uint count_rays(Surface s)
-{
-    return 1u;
-}
-
-void shade(Surface s)
-{
-    rough_whitted_shade(s, roughdielectric_material(s), 1.0);
-    add_radiance(param3(8u));
-}
-
-vec3 emitted(Surface s)
-{
-    return mtl_emitted(s);
-}
-
-vec3 bsdf_eval(Surface s, vec3 wi, out float pdf)
-{
-    return rough_eval(s, roughdielectric_material(s), wi, pdf);
-}
-
-bool bsdf_sample(Surface s, out BsdfSample b)
-{
-    return rough_sample(s, roughdielectric_material(s), b);
-}
+ROUGH_BUILTIN(roughdielectric_material)

@@ -6,6 +6,7 @@
  * for the light the coat reflects back down (lib/microfacet.glsl, plastic_diffuse).
  * Whitted: the lights through the whole BSDF by light_sample, the ambient light on the base, and
  * one glossy reflection ray from the coat.
+ * The entry points (count_rays, shade, emitted, bsdf_eval, bsdf_sample) are ROUGH_BUILTIN's.
  */
 RoughMaterial roughplastic_material(Surface s)
 {
@@ -14,28 +15,4 @@ RoughMaterial roughplastic_material(Surface s)
                          ggx_alpha(param(16u)), false);
 }
 
-uint count_rays(Surface s)
-{
-    return 1u;
-}
-
-void shade(Surface s)
-{
-    rough_whitted_shade(s, roughplastic_material(s), 1.0);
-    add_radiance(param3(8u));
-}
-
-vec3 emitted(Surface s)
-{
-    return mtl_emitted(s);
-}
-
-vec3 bsdf_eval(Surface s, vec3 wi, out float pdf)
-{
-    return rough_eval(s, roughplastic_material(s), wi, pdf);
-}
-
-bool bsdf_sample(Surface s, out BsdfSample b)
-{
-    return rough_sample(s, roughplastic_material(s), b);
-}
+ROUGH_BUILTIN(roughplastic_material)

@@ -234,26 +234,24 @@ static bool from_mtl(vkrt_scene_materials *out, vkrt_scene_material *mat, const 
     snprintf(shader_referrer, sizeof shader_referrer, "%s: material '%s'", mtl, m->name);
     if (!find_or_add_shader(out, mtl_builtin(m), NULL, shader_referrer, &mat->shader, err))
         return false;
-    char referrer[1200];
-    if (m->map_kd) {
-        snprintf(referrer, sizeof referrer, "%s:%d", mtl, m->map_kd_line);
-        if (!add_texture(out, mat, SLOT_MAP_KD, m->map_kd, VKRT_TEXTURE_COLOUR, referrer, err))
-            return false;
-    }
-    if (m->map_d) {
-        snprintf(referrer, sizeof referrer, "%s:%d", mtl, m->map_d_line);
-        if (!add_texture(out, mat, SLOT_MAP_D, m->map_d, VKRT_TEXTURE_ALPHA, referrer, err))
-            return false;
-    }
-    /* Roughness and metallic maps are data, read as they are stored (no sRGB decoding). */
-    if (m->map_pr) {
-        snprintf(referrer, sizeof referrer, "%s:%d", mtl, m->map_pr_line);
-        if (!add_texture(out, mat, SLOT_MAP_PR, m->map_pr, VKRT_TEXTURE_DATA, referrer, err))
-            return false;
-    }
-    if (m->map_pm) {
-        snprintf(referrer, sizeof referrer, "%s:%d", mtl, m->map_pm_line);
-        if (!add_texture(out, mat, SLOT_MAP_PM, m->map_pm, VKRT_TEXTURE_DATA, referrer, err))
+    /* Each map in its slot, named by its line for texture errors; roughness and metallic maps
+     * are data, read as they are stored (no sRGB decoding). */
+    const struct {
+        const char *path;
+        int line;
+        uint32_t slot;
+        vkrt_texture_usage usage;
+    } maps[] = {
+        {m->map_kd, m->map_kd_line, SLOT_MAP_KD, VKRT_TEXTURE_COLOUR},
+        {m->map_d, m->map_d_line, SLOT_MAP_D, VKRT_TEXTURE_ALPHA},
+        {m->map_pr, m->map_pr_line, SLOT_MAP_PR, VKRT_TEXTURE_DATA},
+        {m->map_pm, m->map_pm_line, SLOT_MAP_PM, VKRT_TEXTURE_DATA},
+    };
+    for (size_t i = 0; i < sizeof maps / sizeof *maps; ++i) {
+        char referrer[1200];
+        snprintf(referrer, sizeof referrer, "%s:%d", mtl, maps[i].line);
+        if (maps[i].path &&
+            !add_texture(out, mat, maps[i].slot, maps[i].path, maps[i].usage, referrer, err))
             return false;
     }
     return true;
