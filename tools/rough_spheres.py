@@ -8,9 +8,13 @@ of the Mitsuba agreement in docs/speed-vs-accuracy.md.
 Usage:
     rough_spheres.py OUTPUT_DIR
     rough_spheres.py --spheres VKRT.exr MITSUBA.exr CONVERGED.exr
+    rough_spheres.py --plastic-albedo
 The second form prints, per sphere, the mean of vkrt's image and of Mitsuba's (renders of the
 scene.cfg at equal samples, as tools/agreement leaves them in its --work folder) against
-Mitsuba's converged image, and their per-pixel relative errors (tools/imagediff.py's)."""
+Mitsuba's converged image, and their per-pixel relative errors (tools/imagediff.py's). The
+third prints the directional albedo at a viewing cosine of 0.5 of Mitsuba's roughplastic (Kd 1,
+index 1.5, 2^20 of its own samples) at the furnace's roughnesses, to hold against vkrt's
+(tests/test_microfacet.c prints those)."""
 import math
 import os
 import sys
@@ -136,7 +140,33 @@ def sphere_table(vkrt_exr, mitsuba_exr, converged_exr):
                   f"| {e[0]:.2%} | {e[1]:.2%} |")
 
 
+def plastic_albedo():
+    """Mitsuba's roughplastic's albedo at cos 0.5, by its own BSDF sampling."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import toolenv
+    toolenv.enter_venv()
+    toolenv.find_llvm()
+    import drjit as dr
+    import mitsuba as mi
+    mi.set_variant("llvm_ad_rgb")
+    n = 1 << 20
+    for r in (0.05, 0.2, 0.5, 1.0):
+        bsdf = mi.load_dict({"type": "roughplastic", "distribution": "ggx", "alpha": r * r,
+                             "int_ior": 1.5, "ext_ior": 1.0, "nonlinear": False,
+                             "diffuse_reflectance": {"type": "rgb", "value": [1.0, 1.0, 1.0]}})
+        si = dr.zeros(mi.SurfaceInteraction3f)
+        si.wi = mi.Vector3f(math.sqrt(0.75), 0.0, 0.5)
+        si.sh_frame = mi.Frame3f(mi.Normal3f(0.0, 0.0, 1.0))
+        rng = mi.PCG32(n)
+        _, weight = bsdf.sample(mi.BSDFContext(), si, rng.next_float32(),
+                                mi.Point2f(rng.next_float32(), rng.next_float32()))
+        print(f"roughplastic, roughness {r}: albedo at cos 0.5 {dr.mean(weight.x)[0]:.4f}")
+
+
 def main():
+    if sys.argv[1:2] == ["--plastic-albedo"]:
+        plastic_albedo()
+        return
     if sys.argv[1:2] == ["--spheres"]:
         sphere_table(*sys.argv[2:5])
         return
