@@ -22,6 +22,13 @@ float mtl_dielectric_eta(Surface s)
     return s.front_face ? ni : 1.0 / ni;
 }
 
+/* The perceptual roughness of the rough built-ins: number 16 times the red of texture slot 2
+ * (map_Pr, data); GGX alpha is its square (lib/microfacet.glsl). */
+float mtl_roughness(Surface s)
+{
+    return param(16u) * material_texture(2u, s.uv).r;
+}
+
 /* Glass's transmission filter Tf; all 0 (not given) means clear. */
 vec3 mtl_transmission_filter()
 {

@@ -12,12 +12,11 @@
 RoughMaterial pbr_material(Surface s)
 {
     vec3 base = mtl_diffuse(s);
-    float roughness = param(16u) * material_texture(2u, s.uv).r;
     float metallic = clamp(param(17u) * material_texture(3u, s.uv).r, 0.0, 1.0);
     /* The .mtl's Ni defaults to 1, which would be no coat at all: a coat needs an index above 1. */
     float ni = param(11u) > 1.0 ? param(11u) : 1.5;
-    return RoughMaterial(base, vec3(1.0), base, vec3(1.0), metallic, ni, ggx_alpha(roughness),
-                         false);
+    return RoughMaterial(base, vec3(1.0), base, vec3(1.0), metallic, ni,
+                         ggx_alpha(mtl_roughness(s)), false);
 }
 
 ROUGH_BUILTIN(pbr_material)

@@ -10,7 +10,7 @@
 RoughMaterial roughconductor_material(Surface s)
 {
     return RoughMaterial(vec3(0.0), vec3(0.0), param3(4u), vec3(1.0), 1.0, 1.5,
-                         ggx_alpha(param(16u)), false);
+                         ggx_alpha(mtl_roughness(s)), false);
 }
 
 ROUGH_BUILTIN(roughconductor_material)

@@ -11,7 +11,7 @@
 RoughMaterial roughdielectric_material(Surface s)
 {
     return RoughMaterial(vec3(0.0), vec3(0.0), vec3(0.0), mtl_transmission_filter(), 0.0,
-                         mtl_dielectric_eta(s), ggx_alpha(param(16u)), true);
+                         mtl_dielectric_eta(s), ggx_alpha(mtl_roughness(s)), true);
 }
 
 ROUGH_BUILTIN(roughdielectric_material)

@@ -12,7 +12,7 @@ RoughMaterial roughplastic_material(Surface s)
 {
     float ni = param(11u) > 0.0 ? param(11u) : 1.5;
     return RoughMaterial(mtl_diffuse(s), param3(4u), vec3(0.0), vec3(1.0), 0.0, ni,
-                         ggx_alpha(param(16u)), false);
+                         ggx_alpha(mtl_roughness(s)), false);
 }
 
 ROUGH_BUILTIN(roughplastic_material)
