@@ -38,7 +38,10 @@ typedef struct {
     double x, y, z;
 } v3;
 
-static double dot3(v3 a, v3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static double dot3(v3 a, v3 b)
+{
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 
 /* ---- The model, written again from the papers (on purpose: not the shader's code) ----------- */
 
@@ -166,8 +169,9 @@ static void write_tiles(void)
         for (int column = 0; column < COLUMNS; ++column) {
             double x0 = column - 1.5, x1 = x0 + 1, z0 = 2.0 * row - ROWS, z1 = z0 + 2;
             /* Counter-clockwise seen from +y. */
-            fprintf(obj, "v %g 0 %g\nv %g 0 %g\nv %g 0 %g\nv %g 0 %g\nusemtl t%d%d\n"
-                         "f -4 -3 -2 -1\n",
+            fprintf(obj,
+                    "v %g 0 %g\nv %g 0 %g\nv %g 0 %g\nv %g 0 %g\nusemtl t%d%d\n"
+                    "f -4 -3 -2 -1\n",
                     x0, z1, x1, z1, x1, z0, x0, z0, row, column);
             fprintf(mtl, "newmtl t%d%d\n%s", row, column, row == 5 ? mtl_row[column] : "");
             char line[256];
@@ -221,10 +225,10 @@ static bool furnace_agrees(vkrt_integrator integrator, uint32_t mode, double min
     float *rgb = malloc((size_t)w * h * 3 * sizeof *rgb);
     vkrt_error err = {{0}};
     vkrt_frame_stats stats;
-    if (!scene_dir_render((uint32_t)w, (uint32_t)h,
-                          &(vkrt_render_desc){.samples = SPP, .integrator = integrator,
-                                              .light_sampling = mode},
-                          rgb, &stats, &err))
+    if (!scene_dir_render(
+            (uint32_t)w, (uint32_t)h,
+            &(vkrt_render_desc){.samples = SPP, .integrator = integrator, .light_sampling = mode},
+            rgb, &stats, &err))
         fail_msg("render: %s", err.msg);
     static const char *const names[COLUMNS] = {"conductor F0=1", "plastic Kd=1", "dielectric 1.5"};
     bool all = true;
@@ -248,8 +252,8 @@ static bool furnace_agrees(vkrt_integrator integrator, uint32_t mode, double min
                 double r = mtl_row_roughness[column];
                 albedo(column == 1 ? PLASTIC : CONDUCTOR, view_cos, r * r, eta, &seen);
                 print_message(".mtl pbr %s, roughness %.3f: picture %.5f, expected %.5f "
-                              "(+- %.5f)\n", column == 1 ? "plastic (map_Pr)" : "metal",
-                              r, mean, seen, 4 * se);
+                              "(+- %.5f)\n",
+                              column == 1 ? "plastic (map_Pr)" : "metal", r, mean, seen, 4 * se);
             } else {
                 double f = fresnel(view_cos, eta);
                 seen = f + (1 - f) / (eta * eta); /* the smooth interface, in closed form */

@@ -283,8 +283,9 @@ static void three_estimators_agree(void **state)
 {
     (void)state;
     static const room_box shiny = {"shiny", {-0.5, 0, -0.3}, {0, 0.8, 0.2}};
-    room_estimators_agree(&shiny, 1, "newmtl shiny\nillum 2\nKd 0.3 0.3 0.3\n"
-                                     "Ks 0.5 0.5 0.5\nNs 20\n");
+    room_estimators_agree(&shiny, 1,
+                          "newmtl shiny\nillum 2\nKd 0.3 0.3 0.3\n"
+                          "Ks 0.5 0.5 0.5\nNs 20\n");
 }
 
 /* The three estimators again, in the room with a rough metal box and a rough plastic one, as the
@@ -296,8 +297,9 @@ static void rough_estimators_agree(void **state)
     (void)state;
     static const room_box boxes[] = {{"metal", {-0.6, 0, -0.3}, {-0.1, 0.8, 0.2}},
                                      {"coated", {0.1, 0, -0.4}, {0.6, 0.5, 0.1}}};
-    room_estimators_agree(boxes, 2, "newmtl metal\nKd 0.9 0.6 0.3\nPr 0.3\nPm 1\n"
-                                    "newmtl coated\nKd 0.2 0.4 0.7\nNi 1.5\nPr 0.2\nPm 0\n");
+    room_estimators_agree(boxes, 2,
+                          "newmtl metal\nKd 0.9 0.6 0.3\nPr 0.3\nPm 1\n"
+                          "newmtl coated\nKd 0.2 0.4 0.7\nNi 1.5\nPr 0.2\nPm 0\n");
 }
 
 /* Writes a w x h Radiance HDR (flat RGBE scanlines, the top row first) whose pixel (x, y) has

@@ -227,10 +227,9 @@ void renderer_material_ke(const vkrt_scene_materials *mats, uint32_t m, float ke
 {
     /* The built-ins whose emitted() is Ke (glsl/materials/): the others, and users' shaders,
      * give their parameters 8-10 other meanings. */
-    static const char *const emitting[] = {"diffuse",        "textured",        "phong",
-                                           "mirror",         "glass",           "emissive",
-                                           "roughconductor", "roughdielectric", "roughplastic",
-                                           "pbr"};
+    static const char *const emitting[] = {
+        "diffuse",  "textured",       "phong",           "mirror",       "glass",
+        "emissive", "roughconductor", "roughdielectric", "roughplastic", "pbr"};
     const char *builtin = mats->shaders[mats->list[m].shader].builtin;
     ke[0] = ke[1] = ke[2] = 0;
     if (m == mats->environment || !builtin)

@@ -10,8 +10,7 @@
 
 const char *const vkrt_builtin_shaders[] = {
     "diffuse", "textured", "phong", "mirror", "glass", "emissive", "checker", "absorbing_glass",
-    "roughconductor", "roughdielectric", "roughplastic", "pbr",
-    "environment", NULL,
+    "roughconductor", "roughdielectric", "roughplastic", "pbr", "environment", NULL,
 };
 
 /* Parameter layout of the built-ins, which the .mtl mapping fills (glsl/lib/mtl.glsl). */
@@ -137,8 +136,7 @@ static bool any_nonzero(const float *v, int n)
 static const char *mtl_builtin(const vkrt_mtl *m)
 {
     if (m->illum == 4 || m->illum == 6 || m->illum == 7)
-        return m->pbr && (m->has_pr ? m->pr : 1.0f) >= smooth_roughness ? "roughdielectric"
-                                                                          : "glass";
+        return m->pbr && (m->pr < 0.0f || m->pr >= smooth_roughness) ? "roughdielectric" : "glass";
     if (m->illum == 3 || m->illum == 5)
         return "mirror";
     if (any_nonzero(m->ke, 3) && !any_nonzero(m->kd, 3) && !any_nonzero(m->ks, 3) && !m->map_kd)
@@ -168,7 +166,7 @@ static void mtl_params(const vkrt_mtl *m, float *p)
     p[PARAM_ILLUM] = (float)m->illum;
     /* A map replaces its number (Blender's exporter writes both, and its importer ignores the
      * number where a map is linked): the shader multiplies them, so the number becomes 1. */
-    p[PARAM_ROUGHNESS] = m->map_pr ? 1.0f : m->has_pr ? m->pr : vkrt_ns_roughness(m->ns);
+    p[PARAM_ROUGHNESS] = m->map_pr ? 1.0f : m->pr >= 0.0f ? m->pr : vkrt_ns_roughness(m->ns);
     p[PARAM_METALLIC] = m->map_pm ? 1.0f : m->pm;
     p[PARAM_COAT] = m->pc;
     p[PARAM_COAT_ROUGHNESS] = m->pcr;

@@ -195,9 +195,9 @@ std::vector<MtlOrigin> scan_mtl_fields(const std::string &text, const std::strin
         cur.pm |= has_keyword(line, "Pm");
         cur.map_pr_line = has_keyword(line, "map_Pr") ? walker.number : cur.map_pr_line;
         cur.map_pm_line = has_keyword(line, "map_Pm") ? walker.number : cur.map_pm_line;
-        for (const char *k : {"Ps", "Pc", "Pcr", "map_Ps"})
-            if (!cur.unrendered_line && has_keyword(line, k))
-                cur.unrendered_line = walker.number;
+        if (!cur.unrendered_line && (has_keyword(line, "Ps") || has_keyword(line, "Pc") ||
+                                     has_keyword(line, "Pcr") || has_keyword(line, "map_Ps")))
+            cur.unrendered_line = walker.number;
     }
     out.push_back(cur);
     return out;
@@ -259,7 +259,8 @@ public:
             fields.assign(added, MtlOrigin{folder_of(path), path});
         origins.insert(origins.end(), fields.begin(), fields.end());
         for (size_t k = 0; k < added; k++) /* the line is 0 where there is nothing to say */
-            obj_warnings::warn_unrendered_pbr(path, fields[k].unrendered_line, (*materials)[before + k].name, warnings_);
+            obj_warnings::warn_unrendered_pbr(path, fields[k].unrendered_line,
+                                              (*materials)[before + k].name, warnings_);
         return true;
     }
 
@@ -314,20 +315,20 @@ void convert_material(const tinyobj::material_t &m, const MtlOrigin &o, const st
         out->mtl_path = copy_string(o.path);
     out->map_kd_line = static_cast<int>(o.map_kd_line);
     out->map_d_line = static_cast<int>(o.map_d_line);
-    if (!m.diffuse_texname.empty())
-        out->map_kd = copy_string(resolve_texture(m.diffuse_texname, o.folder, obj_folder));
-    if (!m.alpha_texname.empty())
-        out->map_d = copy_string(resolve_texture(m.alpha_texname, o.folder, obj_folder));
-    out->has_pr = o.pr, out->pbr = o.pr || o.pm || !m.roughness_texname.empty() || !m.metallic_texname.empty();
-    out->pr = o.pr ? finite_or(m.roughness, 0.0f) : 0.0f;
+    out->map_pr_line = static_cast<int>(o.map_pr_line);
+    out->map_pm_line = static_cast<int>(o.map_pm_line);
+    auto map = [&](const std::string &name) -> char * {
+        return name.empty() ? nullptr : copy_string(resolve_texture(name, o.folder, obj_folder));
+    };
+    out->map_kd = map(m.diffuse_texname);
+    out->map_d = map(m.alpha_texname);
+    out->map_pr = map(m.roughness_texname);
+    out->map_pm = map(m.metallic_texname);
+    out->pbr = o.pr || o.pm || out->map_pr || out->map_pm;
+    out->pr = o.pr ? finite_or(m.roughness, 0.0f) : -1.0f;
     out->pm = o.pm ? finite_or(m.metallic, 0.0f) : 0.0f;
-    out->ps = finite_or(m.sheen, 0.0f), out->pc = finite_or(m.clearcoat_thickness, 0.0f);
+    out->pc = finite_or(m.clearcoat_thickness, 0.0f);
     out->pcr = finite_or(m.clearcoat_roughness, 0.0f);
-    out->map_pr_line = static_cast<int>(o.map_pr_line), out->map_pm_line = static_cast<int>(o.map_pm_line);
-    if (!m.roughness_texname.empty())
-        out->map_pr = copy_string(resolve_texture(m.roughness_texname, o.folder, obj_folder));
-    if (!m.metallic_texname.empty())
-        out->map_pm = copy_string(resolve_texture(m.metallic_texname, o.folder, obj_folder));
 }
 
 void convert_materials(const std::vector<tinyobj::material_t> &materials, const MtlReader &reader,

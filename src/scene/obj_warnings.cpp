@@ -285,8 +285,9 @@ void warn_unrendered_pbr(const std::string &path, uint32_t line, const std::stri
     if (!line)
         return;
     out->add(folding_warning(path, line,
-                             "material '" + quoted(name) + "' has sheen or clearcoat (Ps, Pc, Pcr), "
-                             "which vkrt does not render: the pbr built-in leaves it out",
+                             "material '" + quoted(name) +
+                                 "' has sheen or clearcoat (Ps, Pc, Pcr), "
+                                 "which vkrt does not render: the pbr built-in leaves it out",
                              "unrendered-pbr", name,
                              "{n} materials have sheen or clearcoat (Ps, Pc, Pcr), which vkrt "
                              "does not render"));
