@@ -142,9 +142,9 @@ VKRT_STRUCT(TriangleTexcoords) {
     vec4 uv2;         /* xy: uv of v2 */
 };
 
-/* A material as the shading kernels see it: its shader (a case of the generated kernel), up to 16
+/* A material as the shading kernels see it: its shader (a case of the generated kernel), up to 20
  * numeric parameters and up to 8 textures (indices into the texture table). */
-#define VKRT_MATERIAL_PARAMS 16u
+#define VKRT_MATERIAL_PARAMS 20u
 #define VKRT_MATERIAL_TEXTURES 8u
 #define VKRT_NO_TEXTURE 0xFFFFFFFFu
 /* Material.info.w: where traversal reads the coverage of a cut-out (lib/cutout.glsl): none, the
@@ -155,7 +155,7 @@ VKRT_STRUCT(TriangleTexcoords) {
 #define VKRT_MATERIAL_USES_LIGHTS 1u   /* its shader reads light samples: the light kernel traces
                                           shadow rays for its hits (and for no others) */
 VKRT_STRUCT(Material) {
-    vec4 params[4];   /* parameter i is params[i / 4][i % 4] */
+    vec4 params[5];   /* parameter i is params[i / 4][i % 4] */
     uvec4 textures[2];/* texture of slot k is textures[k / 4][k % 4], or VKRT_NO_TEXTURE */
     uvec4 info;       /* x: shader index in the generated kernel, y: VKRT_MATERIAL_* flags,
                          z: texture count, w: VKRT_CUTOUT_* */

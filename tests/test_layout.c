@@ -57,7 +57,7 @@ static const field fields[] = {
     FIELD(hit, t, F32), FIELD(hit, u, F32), FIELD(hit, v, F32), FIELD(hit, triangle, U32),
     FIELD(triangle, v0, VEC4), FIELD(triangle, v1, VEC4), FIELD(triangle, v2, VEC4),
     FIELD(normals, n0, VEC4), FIELD(normals, n1, VEC4), FIELD(normals, n2, VEC4),
-    FIELD(material, params[0], VEC4), FIELD(material, params[3], VEC4),
+    FIELD(material, params[0], VEC4), FIELD(material, params[4], VEC4),
     FIELD(material, textures[0], UVEC4), FIELD(material, textures[1], UVEC4),
     FIELD(material, info, UVEC4),
     FIELD(light, position, VEC4), FIELD(light, direction, VEC4), FIELD(light, colour, VEC4),
@@ -216,7 +216,7 @@ static void test_sizes(void **state)
     assert_int_equal(sizeof(Hit), 16);
     assert_int_equal(sizeof(Triangle), 48);
     assert_int_equal(sizeof(TriangleNormals), 48);
-    assert_int_equal(sizeof(Material), 112);
+    assert_int_equal(sizeof(Material), 128);
     assert_int_equal(sizeof(TriangleTexcoords), 32);
     assert_int_equal(sizeof(WaveState), 16);
     assert_int_equal(sizeof(TextureInfo), 16);

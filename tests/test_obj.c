@@ -540,6 +540,40 @@ static void mtl_fields_are_parsed(void **state)
     vkrt_mesh_free(&m);
 }
 
+/* The PBR extension as Blender's exporter writes it: Pr, Pm and their maps (a map resolved as
+ * map_Kd, with its line), and Ps/Pc/Pcr read but warned about as not rendered, at their line. */
+static void mtl_pbr_fields_are_parsed(void **state)
+{
+    temp_dir *fx = *state;
+    temp_dir_write_text(fx, "m.mtl",
+                        "newmtl metal\nKd 0.9 0.6 0.2\nPr 0.25\nPm 1\nmap_Pr rough.png\n"
+                        "newmtl coated\nKd 0.5 0.5 0.5\nPm 0.5\nPc 1\nPcr 0.1\nPs 0.3\n"
+                        "newmtl old\nKs 0.5 0.5 0.5\nNs 30\n");
+    const char *text = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl metal\nf 1 2 3\n"
+                       "usemtl coated\nf 1 3 2\nusemtl old\nf 2 1 3\n";
+    vkrt_mesh m = load_ok(temp_dir_write_text(fx, "pbr.obj", text));
+    const vkrt_mtl *metal = &m.materials[m.material[0]];
+    const vkrt_mtl *coated = &m.materials[m.material[1]];
+    const vkrt_mtl *old = &m.materials[m.material[2]];
+    assert_true(metal->pbr);
+    assert_close(metal->pr, 0.25f);
+    assert_close(metal->pm, 1);
+    char want[600];
+    snprintf(want, sizeof want, "%s/rough.png", fx->dir);
+    assert_string_equal(metal->map_pr, want);
+    assert_int_equal(metal->map_pr_line, 5);
+    assert_null(metal->map_pm);
+    assert_true(coated->pbr);
+    assert_close(coated->pr, -1); /* not given: materials.c takes it from Ns */
+    assert_close(coated->pm, 0.5f);
+    assert_close(coated->pc, 1);
+    assert_close(coated->pcr, 0.1f);
+    assert_false(old->pbr);
+    assert_non_null(
+        strstr(m.warnings, "m.mtl:9: warning: material 'coated' has sheen or clearcoat"));
+    vkrt_mesh_free(&m);
+}
+
 /* The fields texture errors need (which .mtl, which line), map_d and Tf, over two .mtl files. */
 static void mtl_texture_lines_and_tf(void **state)
 {
@@ -848,6 +882,7 @@ int main(void)
         temp_dir_test(material_names_are_trimmed),
         temp_dir_test(mtl_fields_are_parsed),
         temp_dir_test(mtl_texture_lines_and_tf),
+        temp_dir_test(mtl_pbr_fields_are_parsed),
         cmocka_unit_test(tinyobjloader_suite),
         cmocka_unit_test(assimp_suite),
         cmocka_unit_test(cornell_box),

@@ -132,6 +132,7 @@ class Material:
         self.ns, self.ni, self.d, self.illum = 0.0, 1.0, 1.0, 2
         self.d_given = False  # `d` wins over `Tr` when a material has both (tinyobjloader)
         self.map_kd = self.map_d = None
+        self.roughness = 0.0  # a material file's number 16 (the rough built-ins)
 
     def builtin(self):
         """The built-in shader vkrt maps this material to (docs/materials.md's table)."""
@@ -194,7 +195,8 @@ def read_mtl(path, materials):
                 m.map_d = find_file(folder, args[-1])
 
 
-BUILTINS = ("diffuse", "textured", "phong", "mirror", "glass", "emissive")
+BUILTINS = ("diffuse", "textured", "phong", "mirror", "glass", "emissive", "roughconductor",
+            "roughdielectric", "roughplastic")
 
 
 def read_material_file(path):
@@ -212,12 +214,13 @@ def read_material_file(path):
             name, count = w[0], int(w[1])
             textures = [os.path.join(folder, t) for t in w[2:2 + count]]
             shader = w[2 + count]
-            p = [float(x) for x in w[3 + count:]] + [0.0] * 16
+            p = [float(x) for x in w[3 + count:]] + [0.0] * 20
             m = Material(name, folder)
             m.shader = shader[1:] if shader.startswith("@") else os.path.join(folder, shader)
             m.where = f"{path}:{number}"
             m.kd, m.d, m.ks, m.ns, m.ke = p[0:3], 1.0 - p[3], p[4:7], p[7], p[8:11]
             m.ni, m.tf = p[11], p[12:15]
+            m.roughness = p[16]
             m.map_kd = textures[0] if textures else None
             m.map_d = textures[1] if len(textures) > 1 else None
             out[name] = m
@@ -336,6 +339,35 @@ def two_sided(bsdf, reads_wi=False):
     return {"type": "vkrt_twosided", "bsdf": bsdf, "reads_wi": reads_wi}
 
 
+def rough_bsdf(m, kind, albedo, notes):
+    """Mitsuba's GGX BSDFs for vkrt's rough built-ins (glsl/lib/microfacet.glsl): the same
+    distribution, separable Smith masking and visible-normal sampling, alpha = roughness^2 (vkrt's
+    number is Blender's perceptual roughness, Mitsuba's `alpha` the GGX parameter). Where the
+    models differ, a note says so."""
+    r = min(max(m.roughness, 0.0), 1.0)
+    ggx = {"distribution": "ggx", "alpha": max(r * r, 1e-4), "sample_visible": True}
+    if r < 0.02:
+        notes.append(f"material '{m.name}': roughness {r} is smooth in vkrt (a delta lobe); "
+                     "Mitsuba gets GGX of alpha 1e-4")
+    if kind == "roughconductor":
+        # vkrt's Fresnel is Schlick's with F0 = Ks; Mitsuba's conductor `none` is Ks at every
+        # angle: the same where Ks is 1, brighter towards grazing angles in vkrt otherwise.
+        if min(m.ks) < 1.0:
+            notes.append(f"material '{m.name}': vkrt's Schlick Fresnel of Ks {m.ks} rises to 1 at "
+                         "grazing angles; Mitsuba's conductor `none` stays at Ks")
+        return two_sided({"type": "roughconductor", "material": "none",
+                          "specular_reflectance": reflectance(m.ks), **ggx})
+    if kind == "roughdielectric":
+        tint = m.tf if any(m.tf) else [1.0, 1.0, 1.0]
+        return {"type": "roughdielectric", "int_ior": m.ni if m.ni > 0 else 1.5, "ext_ior": 1.0,
+                "specular_transmittance": reflectance(tint), **ggx}
+    # vkrt's base sees the coat's smooth Fresnel transmission, 1 - F(cos); Mitsuba's
+    # roughplastic a table of the rough coat's: the same as the roughness goes to 0.
+    return two_sided({"type": "roughplastic", "int_ior": m.ni if m.ni > 0 else 1.5,
+                      "ext_ior": 1.0, "diffuse_reflectance": albedo, "nonlinear": False,
+                      "specular_reflectance": reflectance(m.ks), **ggx})
+
+
 def bsdf_for(m, notes):
     """The Mitsuba BSDF of a material, mapped as vkrt maps it. vkrt's surfaces are two-sided, so
     the one-sided Mitsuba BSDFs are wrapped in vkrt_twosided (glass is two-sided already).
@@ -377,6 +409,8 @@ def bsdf_for(m, notes):
                          f"{np.round(np.asarray(m.kd) + np.asarray(m.ks), 3).tolist()} is more "
                          "than 1, so it reflects more light than it receives; rendered as vkrt "
                          "renders it (the sum of both lobes), which is not physical")
+    elif kind in ("roughconductor", "roughdielectric", "roughplastic"):
+        bsdf = rough_bsdf(m, kind, albedo, notes)
     elif kind == "glass":
         tint = m.tf if any(m.tf) else [1.0, 1.0, 1.0]
         bsdf = {"type": "dielectric", "int_ior": m.ni if m.ni > 0 else 1.5, "ext_ior": 1.0,

@@ -40,7 +40,14 @@ vec3 environment_radiance(vec3 d, vec4 payload)
 {
     if (light_info.environment_width > 0u)
         return envmap_radiance(d);
-    return material_environment(d, payload);
+    /* The environment shader reads its own parameters (param reads vkrt_material's), also when
+     * a surface asks, as next-event estimation does: else a light sample of `environment 1 1 1`
+     * came back as the surface's Kd (invisible on a white furnace, black on a metal). */
+    uint asking = vkrt_material;
+    vkrt_material = VKRT_ENVIRONMENT_MATERIAL;
+    vec3 radiance = material_environment(d, payload);
+    vkrt_material = asking;
+    return radiance;
 }
 
 #endif

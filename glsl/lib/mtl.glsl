@@ -3,7 +3,8 @@
  * mapping fills (docs/materials.md has the table), so one .mtl material maps to any of them:
  *   0-2 Kd (diffuse albedo)   3 transparency (1 - d)   4-6 Ks (specular)   7 Ns (Phong exponent)
  *   8-10 Ke (emission)        11 Ni (index of refraction)   12-14 Tf (transmission filter)
- * and texture slot 0 is map_Kd (colour), slot 1 map_d (coverage).
+ *   15 illum   16 Pr (roughness)   17 Pm (metallic)   18 Pc (clearcoat)   19 Pcr (its roughness)
+ * and texture slot 0 is map_Kd (colour), slot 1 map_d (coverage), 2 map_Pr, 3 map_Pm.
  */
 #ifndef VKRT_MTL_GLSL
 #define VKRT_MTL_GLSL
@@ -11,6 +12,28 @@
 vec3 mtl_diffuse(Surface s)
 {
     return param3(0u) * material_texture(0u, s.uv).rgb;
+}
+
+/* eta = n_transmitted / n_incident at this hit of a glass solid of index Ni (0 means 1.5): the
+ * index inside over 1 entering (front face), its inverse leaving. */
+float mtl_dielectric_eta(Surface s)
+{
+    float ni = param(11u) > 0.0 ? param(11u) : 1.5;
+    return s.front_face ? ni : 1.0 / ni;
+}
+
+/* The perceptual roughness of the rough built-ins: number 16 times the red of texture slot 2
+ * (map_Pr, data); GGX alpha is its square (lib/microfacet.glsl). */
+float mtl_roughness(Surface s)
+{
+    return param(16u) * material_texture(2u, s.uv).r;
+}
+
+/* Glass's transmission filter Tf; all 0 (not given) means clear. */
+vec3 mtl_transmission_filter()
+{
+    vec3 tf = param3(12u);
+    return all(equal(tf, vec3(0.0))) ? vec3(1.0) : tf;
 }
 
 /* Coverage of the surface in [0, 1]: d, the uniform part. Below 1 the rest of the light goes

@@ -6,34 +6,21 @@
  * reflection (total internal reflection). Entering or leaving is read from front_face: the OBJ's
  * winding must face out of the solid.
  */
-vec3 glass_tint()
-{
-    vec3 tf = param3(12u);
-    return all(equal(tf, vec3(0.0))) ? vec3(1.0) : tf;
-}
-
-/* eta = n_transmitted / n_incident at this hit. */
-float glass_eta(Surface s)
-{
-    float ni = param(11u) > 0.0 ? param(11u) : 1.5;
-    return s.front_face ? ni : 1.0 / ni;
-}
-
 uint count_rays(Surface s)
 {
     float cos_i = -dot(s.incoming, s.normal);
-    return fresnel_dielectric(max(cos_i, 0.0), glass_eta(s)) >= 1.0 ? 1u : 2u;
+    return fresnel_dielectric(max(cos_i, 0.0), mtl_dielectric_eta(s)) >= 1.0 ? 1u : 2u;
 }
 
 void shade(Surface s)
 {
-    float eta = glass_eta(s);
+    float eta = mtl_dielectric_eta(s);
     float cos_i = max(-dot(s.incoming, s.normal), 0.0);
     float reflectance = fresnel_dielectric(cos_i, eta);
     cast_ray(s, reflect(s.incoming, s.normal), vec3(reflectance));
     if (reflectance < 1.0) {
         vec3 refracted = refract(s.incoming, s.normal, 1.0 / eta);
-        cast_ray(s, normalize(refracted), (1.0 - reflectance) * glass_tint());
+        cast_ray(s, normalize(refracted), (1.0 - reflectance) * mtl_transmission_filter());
     }
     add_radiance(param3(8u));
 }
@@ -42,8 +29,8 @@ void shade(Surface s)
  * refracted light tinted; both are delta lobes, so there is nothing to evaluate. */
 bool bsdf_sample(Surface s, out BsdfSample b)
 {
-    if (!dielectric_sample(s, glass_eta(s), b))
-        b.weight *= glass_tint();
+    if (!dielectric_sample(s, mtl_dielectric_eta(s), b))
+        b.weight *= mtl_transmission_filter();
     return true;
 }
 

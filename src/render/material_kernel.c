@@ -122,10 +122,11 @@ bool vkrt_material_kernel_create(vkrt_material_kernel *k, const vkrt_scene_mater
         add(&t, "#extension GL_EXT_shader_atomic_float : require\n#define VKRT_FLOAT_ATOMICS 1\n");
     if (path)
         add(&t, "#define VKRT_PATH 1\n");
-    add(&t, "#include \"../lib/material_api.glsl\"\n#include \"../lib/mtl.glsl\"\n");
+    add(&t, "#include \"../lib/material_api.glsl\"\n#include \"../lib/mtl.glsl\"\n"
+            "#include \"../lib/microfacet.glsl\"\n");
     add(&t, "#define VKRT_ENVIRONMENT_MATERIAL %uu\n", materials->environment);
     uint32_t environment_shader = materials->list[materials->environment].shader;
-    int line = path ? 6 : 5;
+    int line = path ? 7 : 6;
     for (uint32_t i = 0; i < materials->shader_count; ++i) {
         char display[1200];
         char *source = shader_text(&materials->shaders[i], display, sizeof display);

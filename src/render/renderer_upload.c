@@ -90,7 +90,7 @@ static bool texture_has_alpha(const vkrt_texture_set *set, uint32_t tex)
  * channel of map_Kd. */
 static uint32_t material_cutout(const vkrt_scene_materials *mats, uint32_t m)
 {
-    static const char *const cut[] = {"diffuse", "textured", "phong", "mirror"};
+    static const char *const cut[] = {"diffuse", "textured", "phong", "mirror", "pbr"};
     const vkrt_scene_material *mat = &mats->list[m];
     const char *builtin = mats->shaders[mat->shader].builtin;
     bool reads_mtl_maps = false;
@@ -227,8 +227,9 @@ void renderer_material_ke(const vkrt_scene_materials *mats, uint32_t m, float ke
 {
     /* The built-ins whose emitted() is Ke (glsl/materials/): the others, and users' shaders,
      * give their parameters 8-10 other meanings. */
-    static const char *const emitting[] = {"diffuse", "textured", "phong", "mirror", "glass",
-                                           "emissive"};
+    static const char *const emitting[] = {
+        "diffuse",  "textured",       "phong",           "mirror",       "glass",
+        "emissive", "roughconductor", "roughdielectric", "roughplastic", "pbr"};
     const char *builtin = mats->shaders[mats->list[m].shader].builtin;
     ke[0] = ke[1] = ke[2] = 0;
     if (m == mats->environment || !builtin)

@@ -20,7 +20,7 @@
 
 enum {
     VKRT_MATERIAL_FILE_MAX_TEXTURES = 8,
-    VKRT_MATERIAL_FILE_MAX_PARAMS = 16,
+    VKRT_MATERIAL_FILE_MAX_PARAMS = 20,
 };
 
 typedef struct vkrt_material_def {

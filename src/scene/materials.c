@@ -3,13 +3,14 @@
 #include "materials.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 const char *const vkrt_builtin_shaders[] = {
     "diffuse", "textured", "phong", "mirror", "glass", "emissive", "checker", "absorbing_glass",
-    "environment", NULL,
+    "roughconductor", "roughdielectric", "roughplastic", "pbr", "environment", NULL,
 };
 
 /* Parameter layout of the built-ins, which the .mtl mapping fills (glsl/lib/mtl.glsl). */
@@ -22,8 +23,16 @@ enum {
     PARAM_NI = 11,
     PARAM_TF = 12,
     PARAM_ILLUM = 15,
+    PARAM_ROUGHNESS = 16,
+    PARAM_METALLIC = 17,
+    PARAM_COAT = 18,
+    PARAM_COAT_ROUGHNESS = 19,
 };
-enum { SLOT_MAP_KD = 0, SLOT_MAP_D = 1 };
+enum { SLOT_MAP_KD = 0, SLOT_MAP_D = 1, SLOT_MAP_PR = 2, SLOT_MAP_PM = 3 };
+
+/* Below this roughness the GGX built-ins are smooth (glsl/lib/microfacet.glsl's
+ * MICROFACET_SMOOTH_ALPHA is its square): a PBR glass this smooth is the plain glass. */
+static const float smooth_roughness = 0.02f;
 
 static const float default_albedo = 0.8f;
 
@@ -127,14 +136,22 @@ static bool any_nonzero(const float *v, int n)
 static const char *mtl_builtin(const vkrt_mtl *m)
 {
     if (m->illum == 4 || m->illum == 6 || m->illum == 7)
-        return "glass";
+        return m->pbr && (m->pr < 0.0f || m->pr >= smooth_roughness) ? "roughdielectric" : "glass";
     if (m->illum == 3 || m->illum == 5)
         return "mirror";
     if (any_nonzero(m->ke, 3) && !any_nonzero(m->kd, 3) && !any_nonzero(m->ks, 3) && !m->map_kd)
         return "emissive";
+    if (m->pbr)
+        return "pbr";
     if (m->illum >= 2 && any_nonzero(m->ks, 3) && m->ns > 0.0f)
         return "phong";
     return m->map_kd ? "textured" : "diffuse";
+}
+
+float vkrt_ns_roughness(float ns)
+{
+    float alpha = sqrtf(2.0f / (fmaxf(ns, 0.0f) + 2.0f));
+    return sqrtf(alpha);
 }
 
 static void mtl_params(const vkrt_mtl *m, float *p)
@@ -147,6 +164,12 @@ static void mtl_params(const vkrt_mtl *m, float *p)
     p[PARAM_NI] = m->ni;
     memcpy(p + PARAM_TF, m->tf, sizeof m->tf);
     p[PARAM_ILLUM] = (float)m->illum;
+    /* A map replaces its number (Blender's exporter writes both, and its importer ignores the
+     * number where a map is linked): the shader multiplies them, so the number becomes 1. */
+    p[PARAM_ROUGHNESS] = m->map_pr ? 1.0f : m->pr >= 0.0f ? m->pr : vkrt_ns_roughness(m->ns);
+    p[PARAM_METALLIC] = m->map_pm ? 1.0f : m->pm;
+    p[PARAM_COAT] = m->pc;
+    p[PARAM_COAT_ROUGHNESS] = m->pcr;
 }
 
 static bool add_texture(vkrt_scene_materials *out, vkrt_scene_material *mat, uint32_t slot,
@@ -209,15 +232,24 @@ static bool from_mtl(vkrt_scene_materials *out, vkrt_scene_material *mat, const 
     snprintf(shader_referrer, sizeof shader_referrer, "%s: material '%s'", mtl, m->name);
     if (!find_or_add_shader(out, mtl_builtin(m), NULL, shader_referrer, &mat->shader, err))
         return false;
-    char referrer[1200];
-    if (m->map_kd) {
-        snprintf(referrer, sizeof referrer, "%s:%d", mtl, m->map_kd_line);
-        if (!add_texture(out, mat, SLOT_MAP_KD, m->map_kd, VKRT_TEXTURE_COLOUR, referrer, err))
-            return false;
-    }
-    if (m->map_d) {
-        snprintf(referrer, sizeof referrer, "%s:%d", mtl, m->map_d_line);
-        if (!add_texture(out, mat, SLOT_MAP_D, m->map_d, VKRT_TEXTURE_ALPHA, referrer, err))
+    /* Each map in its slot, named by its line for texture errors; roughness and metallic maps
+     * are data, read as they are stored (no sRGB decoding). */
+    const struct {
+        const char *path;
+        int line;
+        uint32_t slot;
+        vkrt_texture_usage usage;
+    } maps[] = {
+        {m->map_kd, m->map_kd_line, SLOT_MAP_KD, VKRT_TEXTURE_COLOUR},
+        {m->map_d, m->map_d_line, SLOT_MAP_D, VKRT_TEXTURE_ALPHA},
+        {m->map_pr, m->map_pr_line, SLOT_MAP_PR, VKRT_TEXTURE_DATA},
+        {m->map_pm, m->map_pm_line, SLOT_MAP_PM, VKRT_TEXTURE_DATA},
+    };
+    for (size_t i = 0; i < sizeof maps / sizeof *maps; ++i) {
+        char referrer[1200];
+        snprintf(referrer, sizeof referrer, "%s:%d", mtl, maps[i].line);
+        if (maps[i].path &&
+            !add_texture(out, mat, maps[i].slot, maps[i].path, maps[i].usage, referrer, err))
             return false;
     }
     return true;

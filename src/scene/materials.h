@@ -22,7 +22,7 @@
 #include "obj_load.h"
 #include "texture.h"
 
-#define VKRT_MATERIAL_PARAM_COUNT 16
+#define VKRT_MATERIAL_PARAM_COUNT 20
 #define VKRT_MATERIAL_TEXTURE_SLOTS 8
 #define VKRT_SCENE_NO_TEXTURE UINT32_MAX
 
@@ -63,6 +63,13 @@ extern const char *const vkrt_builtin_shaders[];
 bool vkrt_scene_materials_resolve(const vkrt_config *cfg, const vkrt_mesh *mesh,
                                   const vkrt_material_file *file, vkrt_scene_materials *out,
                                   vkrt_error *err);
+
+/* The GGX roughness (glsl/lib/microfacet.glsl: alpha = roughness^2) of a Blinn-Phong exponent
+ * ns, for .mtl materials without Pr: alpha = sqrt(2 / (ns + 2)), the exponent whose Phong lobe
+ * matches a Beckmann lobe of width alpha (Walter et al. 2007, "Microfacet Models for
+ * Refraction through Rough Surfaces", section 5.2; GGX and Beckmann agree near the peak). Ns 0
+ * is roughness 1. */
+float vkrt_ns_roughness(float ns);
 
 /* Frees and zeroes. Safe on a zeroed struct. */
 void vkrt_scene_materials_free(vkrt_scene_materials *m);

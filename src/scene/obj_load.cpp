@@ -143,7 +143,8 @@ struct MtlOrigin {
     std::string folder; /* of the .mtl that defined it */
     std::string path;   /* the .mtl itself */
     bool kd = true, ks = true, ke = true, ns = true, ni = true, d = true, illum = true, tf = true;
-    uint32_t map_kd_line = 0, map_d_line = 0;
+    bool pr = false, pm = false; /* unknown (the mirror disagreed): pbr only where maps say so */
+    uint32_t map_kd_line = 0, map_d_line = 0, map_pr_line = 0, map_pm_line = 0, unrendered_line = 0;
 };
 
 /* Mirrors tinyobj::LoadMtl's line handling to see which keywords each material block has, and on
@@ -190,6 +191,13 @@ std::vector<MtlOrigin> scan_mtl_fields(const std::string &text, const std::strin
             cur.map_kd_line = walker.number;
         if (has_keyword(line, "map_d"))
             cur.map_d_line = walker.number;
+        cur.pr |= has_keyword(line, "Pr");
+        cur.pm |= has_keyword(line, "Pm");
+        cur.map_pr_line = has_keyword(line, "map_Pr") ? walker.number : cur.map_pr_line;
+        cur.map_pm_line = has_keyword(line, "map_Pm") ? walker.number : cur.map_pm_line;
+        if (!cur.unrendered_line && (has_keyword(line, "Ps") || has_keyword(line, "Pc") ||
+                                     has_keyword(line, "Pcr") || has_keyword(line, "map_Ps")))
+            cur.unrendered_line = walker.number;
     }
     out.push_back(cur);
     return out;
@@ -250,6 +258,9 @@ public:
         if (fields.size() != added) /* our mirror disagreed: trust all of tinyobjloader's values */
             fields.assign(added, MtlOrigin{folder_of(path), path});
         origins.insert(origins.end(), fields.begin(), fields.end());
+        for (size_t k = 0; k < added; k++) /* the line is 0 where there is nothing to say */
+            obj_warnings::warn_unrendered_pbr(path, fields[k].unrendered_line,
+                                              (*materials)[before + k].name, warnings_);
         return true;
     }
 
@@ -304,10 +315,20 @@ void convert_material(const tinyobj::material_t &m, const MtlOrigin &o, const st
         out->mtl_path = copy_string(o.path);
     out->map_kd_line = static_cast<int>(o.map_kd_line);
     out->map_d_line = static_cast<int>(o.map_d_line);
-    if (!m.diffuse_texname.empty())
-        out->map_kd = copy_string(resolve_texture(m.diffuse_texname, o.folder, obj_folder));
-    if (!m.alpha_texname.empty())
-        out->map_d = copy_string(resolve_texture(m.alpha_texname, o.folder, obj_folder));
+    out->map_pr_line = static_cast<int>(o.map_pr_line);
+    out->map_pm_line = static_cast<int>(o.map_pm_line);
+    auto map = [&](const std::string &name) -> char * {
+        return name.empty() ? nullptr : copy_string(resolve_texture(name, o.folder, obj_folder));
+    };
+    out->map_kd = map(m.diffuse_texname);
+    out->map_d = map(m.alpha_texname);
+    out->map_pr = map(m.roughness_texname);
+    out->map_pm = map(m.metallic_texname);
+    out->pbr = o.pr || o.pm || out->map_pr || out->map_pm;
+    out->pr = o.pr ? finite_or(m.roughness, 0.0f) : -1.0f;
+    out->pm = o.pm ? finite_or(m.metallic, 0.0f) : 0.0f;
+    out->pc = finite_or(m.clearcoat_thickness, 0.0f);
+    out->pcr = finite_or(m.clearcoat_roughness, 0.0f);
 }
 
 void convert_materials(const std::vector<tinyobj::material_t> &materials, const MtlReader &reader,
@@ -859,6 +880,8 @@ extern "C" void vkrt_mesh_free(vkrt_mesh *mesh)
         free(mesh->materials[i].name);
         free(mesh->materials[i].map_kd);
         free(mesh->materials[i].map_d);
+        free(mesh->materials[i].map_pr);
+        free(mesh->materials[i].map_pm);
         free(mesh->materials[i].mtl_path);
     }
     free(mesh->materials);

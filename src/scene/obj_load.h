@@ -35,6 +35,13 @@ typedef struct vkrt_mtl {
     char *mtl_path;/* the .mtl file the material came from (as the OBJ's mtllib reaches it), or NULL */
     int map_kd_line, map_d_line; /* line of the map_Kd / map_d statement in mtl_path (the last one,
                                     which wins), 0 if unknown: texture errors name it */
+    /* The PBR extension (Blender's exporter): roughness Pr [-1: not given] and metallic Pm [0],
+     * their maps (resolved as map_Kd, or NULL) and lines; clearcoat Pc and its roughness Pcr [0]
+     * are read but not rendered, nor is sheen Ps (the loader warns about all three). */
+    bool pbr;      /* the block has Pr, Pm, map_Pr or map_Pm */
+    float pr, pm, pc, pcr;
+    char *map_pr, *map_pm;
+    int map_pr_line, map_pm_line;
 } vkrt_mtl;
 
 typedef struct vkrt_mesh {

@@ -279,6 +279,20 @@ void warn_dropped_references(const char *path, size_t normals, size_t texcoords,
             path, 0, "faces name texture coordinates but the file has no vt records; ignored"));
 }
 
+void warn_unrendered_pbr(const std::string &path, uint32_t line, const std::string &name,
+                         Warnings *out)
+{
+    if (!line)
+        return;
+    out->add(folding_warning(path, line,
+                             "material '" + quoted(name) +
+                                 "' has sheen or clearcoat (Ps, Pc, Pcr), "
+                                 "which vkrt does not render: the pbr built-in leaves it out",
+                             "unrendered-pbr", name,
+                             "{n} materials have sheen or clearcoat (Ps, Pc, Pcr), which vkrt "
+                             "does not render"));
+}
+
 void warn_unusable_normals(const char *path, size_t triangles, Warnings *out)
 {
     if (triangles)

@@ -1,0 +1,360 @@
+/*
+ * microfacet.glsl: GGX microfacet BSDFs, for the built-in rough materials (roughconductor,
+ * roughdielectric, roughplastic, pbr). Included by the generated material module after
+ * material_api.glsl; glslang drops what a scene's shaders do not call.
+ *
+ * The model, in one place so that the four built-ins cannot drift apart:
+ * - Normal distribution: GGX (Trowbridge-Reitz), isotropic, alpha = roughness^2 (the .mtl's Pr and
+ *   Blender's roughness are "perceptual": alpha is its square, as in Disney's and Blender's
+ *   Principled BSDF). Mitsuba's `alpha` is our alpha.
+ * - Masking-shadowing: Smith's separable form G = G1(wo) G1(wi), as Mitsuba 3's
+ *   MicrofacetDistribution::G, so that our lobes and Mitsuba's are the same function.
+ * - Sampling: the distribution of visible normals (Heitz 2018, "Sampling the GGX Distribution of
+ *   Visible Normals", JCGT 7(4)), whose pdf for a reflected direction is G1(wo) D / (4 cos_o):
+ *   the sample weight f cos / pdf is then F G1(wi), never larger than F.
+ * - Reflection and refraction through rough dielectrics: Walter, Marschner, Li and Torrance 2007,
+ *   "Microfacet Models for Refraction through Rough Surfaces" (eq. 21 for the BTDF, 17 for the
+ *   refracted half-vector's Jacobian), carrying radiance (the 1 / eta^2 of the smooth glass).
+ * Directions in the local frame have z along the shading normal, which faces the arriving ray.
+ * Single scattering: light that would bounce between microfacets is lost, a few percent at
+ * roughness 0.5 and more at 1 (tests/test_microfacet.c measures how much).
+ */
+#ifndef VKRT_MICROFACET_GLSL
+#define VKRT_MICROFACET_GLSL
+
+/* Below this alpha (roughness 0.02) a lobe is a delta lobe: D's peak, 1 / (pi alpha^2), passes
+ * 2e6 there and the half-vector of two float directions is no longer precise enough to evaluate
+ * it; a lobe that narrow is a mirror to every picture anyway. */
+const float MICROFACET_SMOOTH_ALPHA = 4e-4;
+
+/* ---- The distribution ------------------------------------------------------------------------ */
+
+/* GGX's alpha from a perceptual roughness in [0, 1]. */
+float ggx_alpha(float roughness)
+{
+    float r = clamp(roughness, 0.0, 1.0);
+    return r * r;
+}
+
+/* GGX normal distribution D(m) of a local microfacet normal m. */
+float ggx_d(vec3 m, float alpha)
+{
+    if (m.z <= 0.0)
+        return 0.0;
+    float a2 = alpha * alpha;
+    float t = m.z * m.z * (a2 - 1.0) + 1.0;
+    return a2 / (PI * t * t);
+}
+
+/* Smith's Lambda for GGX: G1 = 1 / (1 + Lambda). */
+float ggx_lambda(vec3 w, float alpha)
+{
+    float c2 = w.z * w.z;
+    float tan2 = max(1.0 - c2, 0.0) / max(c2, 1e-12);
+    return 0.5 * (sqrt(1.0 + alpha * alpha * tan2) - 1.0);
+}
+
+/* Smith's masking of direction w by microfacets of normal m: 0 where w sees m's back. */
+float ggx_g1(vec3 w, vec3 m, float alpha)
+{
+    if (dot(w, m) * w.z <= 0.0)
+        return 0.0;
+    return 1.0 / (1.0 + ggx_lambda(w, alpha));
+}
+
+/* A microfacet normal drawn from the normals visible from o (o.z > 0), density
+ * G1(o) max(0, o.m) D(m) / o.z: Heitz 2018, listing 1 (stretch, sample a projected disk warped
+ * towards the visible half, unstretch). */
+vec3 ggx_sample_visible(vec3 o, float alpha, float u1, float u2)
+{
+    vec3 vh = normalize(vec3(alpha * o.x, alpha * o.y, o.z));
+    float len2 = vh.x * vh.x + vh.y * vh.y;
+    vec3 t1 = len2 > 0.0 ? vec3(-vh.y, vh.x, 0.0) * inversesqrt(len2) : vec3(1.0, 0.0, 0.0);
+    vec3 t2 = cross(vh, t1);
+    float r = sqrt(u1), phi = 2.0 * PI * u2;
+    float p1 = r * cos(phi), p2 = r * sin(phi);
+    float h = 0.5 * (1.0 + vh.z);
+    p2 = (1.0 - h) * sqrt(max(1.0 - p1 * p1, 0.0)) + h * p2;
+    vec3 nh = p1 * t1 + p2 * t2 + sqrt(max(1.0 - p1 * p1 - p2 * p2, 0.0)) * vh;
+    return normalize(vec3(alpha * nh.x, alpha * nh.y, max(nh.z, 1e-6)));
+}
+
+/* Density of ggx_sample_visible drawing m, seen from o. */
+float ggx_visible_pdf(vec3 o, vec3 m, float alpha)
+{
+    return ggx_g1(o, m, alpha) * max(dot(o, m), 0.0) * ggx_d(m, alpha) / o.z;
+}
+
+/* Schlick's Fresnel approximation with normal-incidence reflectance f0 (conductors: f0 is the
+ * specular colour; Mitsuba's conductor takes a complex index instead, see docs/materials.md). */
+vec3 fresnel_schlick(vec3 f0, float cos_i)
+{
+    float c = clamp(1.0 - cos_i, 0.0, 1.0);
+    float c2 = c * c;
+    return f0 + (vec3(1.0) - f0) * (c2 * c2 * c);
+}
+
+/* The hemispherical average of fresnel_dielectric for light arriving from outside,
+ * 2 int_0^1 F(mu) mu dmu = int_0^1 F(sqrt(u)) du, by the midpoint rule in u (64 points: within
+ * 2e-4 of the integral for eta in [1.1, 3], which the plastic's normalisation needs). */
+float fresnel_diffuse_reflectance(float eta)
+{
+    const int n = 64;
+    float sum = 0.0;
+    for (int k = 0; k < n; ++k)
+        sum += fresnel_dielectric(sqrt((float(k) + 0.5) / float(n)), eta);
+    return sum / float(n);
+}
+
+/* ---- The local frame ------------------------------------------------------------------------- */
+
+/* An orthonormal frame about the shading normal, as cosine_direction builds it. */
+mat3 microfacet_frame(vec3 n)
+{
+    vec3 t = normalize(abs(n.x) > 0.5 ? cross(n, vec3(0.0, 1.0, 0.0))
+                                      : cross(n, vec3(1.0, 0.0, 0.0)));
+    return mat3(t, cross(n, t), n);
+}
+
+/* World to local is the transpose of the frame's columns. */
+vec3 to_local(mat3 f, vec3 v)
+{
+    return vec3(dot(v, f[0]), dot(v, f[1]), dot(v, f[2]));
+}
+
+/* ---- A rough material: which lobes, with which numbers -------------------------------------- */
+
+/* The built-ins describe themselves in this struct; the functions below evaluate, sample and
+ * Whitted-shade any of them. A mixture: `metallic` of a conductor of colour f0, the rest a
+ * plastic (a GGX dielectric coat of index eta and colour specular over a Lambertian diffuse),
+ * unless `dielectric` (a rough glass boundary of index eta, transmission tinted by tint). */
+struct RoughMaterial {
+    vec3 diffuse;   /* the plastic's Lambertian albedo under the coat */
+    vec3 specular;  /* the plastic coat's reflectance scale (1: a plain dielectric coat) */
+    vec3 f0;        /* the conductor's normal-incidence reflectance (Schlick) */
+    vec3 tint;      /* the dielectric's transmission filter */
+    float metallic; /* the conductor's share, in [0, 1] */
+    float eta;      /* n_transmitted / n_incident of the coat or glass at this hit */
+    float alpha;    /* GGX alpha of every lobe */
+    bool dielectric;
+};
+
+/* The plastic's diffuse lobe (f cos), the coat's transmission in and out with smooth-surface
+ * Fresnel: kd / pi (1 - F(cos_i)) (1 - F(cos_o)) / (1 - Fdr), Fdr the hemispherical average
+ * reflectance of the coat from outside. Fdr's normalisation counts the light the coat reflects
+ * back down again (internally) until it comes out: for kd = 1 the lobe's albedo is exactly
+ * 1 - F(cos_o), what the coat lets in. It equals Mitsuba's `plastic` (nonlinear false), whose
+ * inv_eta^2 / (1 - internal reflectance) is the same number (1 - Fdr_in = (1 - Fdr) / eta^2). */
+vec3 plastic_diffuse(RoughMaterial m, vec3 o, vec3 i)
+{
+    float fo = fresnel_dielectric(o.z, m.eta), fi = fresnel_dielectric(i.z, m.eta);
+    float inside = 1.0 - fresnel_diffuse_reflectance(m.eta);
+    return m.diffuse * ((1.0 - fo) * (1.0 - fi) * i.z / (PI * inside));
+}
+
+/* Probability that the plastic samples its coat rather than its diffuse base: the coat's
+ * Fresnel at the viewing angle against what the base gets, each by luminance. */
+float plastic_coat_probability(RoughMaterial m, vec3 o)
+{
+    float f = fresnel_dielectric(o.z, m.eta);
+    float ws = luminance(m.specular) * f, wd = luminance(m.diffuse) * (1.0 - f);
+    return ws + wd > 0.0 ? ws / (ws + wd) : 1.0;
+}
+
+/* Whether the material has a delta (smooth) specular lobe instead of a GGX one. */
+bool rough_is_smooth(RoughMaterial m)
+{
+    return m.alpha < MICROFACET_SMOOTH_ALPHA;
+}
+
+/* The reflectance of the mixture's specular lobes at a microfacet seen at cos_h: the conductor's
+ * Schlick share and the plastic coat's dielectric Fresnel share. */
+vec3 rough_specular_fresnel(RoughMaterial m, float cos_h)
+{
+    return m.metallic * fresnel_schlick(m.f0, cos_h) +
+           (1.0 - m.metallic) * m.specular * fresnel_dielectric(cos_h, m.eta);
+}
+
+/* f cos and pdf of a rough dielectric boundary for the local directions o (o.z > 0) and i. */
+vec3 rough_dielectric_lobe(RoughMaterial m, vec3 o, vec3 i, out float pdf)
+{
+    pdf = 0.0;
+    bool reflected = i.z > 0.0;
+    vec3 h = reflected ? o + i : o + m.eta * i;
+    if (i.z == 0.0 || dot(h, h) == 0.0)
+        return vec3(0.0);
+    h = normalize(h);
+    if (h.z < 0.0)
+        h = -h;
+    float oh = dot(o, h), ih = dot(i, h);
+    if (oh <= 0.0 || (reflected ? ih <= 0.0 : ih >= 0.0))
+        return vec3(0.0);
+    float f = fresnel_dielectric(oh, m.eta);
+    float d = ggx_d(h, m.alpha), g = ggx_g1(o, h, m.alpha) * ggx_g1(i, h, m.alpha);
+    float visible = ggx_visible_pdf(o, h, m.alpha);
+    if (reflected) {
+        pdf = f * visible / (4.0 * oh);
+        return vec3(f * d * g / (4.0 * o.z));
+    }
+    /* Walter's eq. 21 times |cos_i|, radiance carried (no eta^2 in the numerator), and eq. 17's
+     * Jacobian of the refracted half-vector for the pdf. */
+    float denom = oh + m.eta * ih;
+    pdf = (1.0 - f) * visible * m.eta * m.eta * abs(ih) / (denom * denom);
+    return m.tint * ((1.0 - f) * d * g * oh * abs(ih) / (o.z * denom * denom));
+}
+
+/* f cos and pdf of the reflecting mixture (conductor and plastic) for o (o.z > 0), i (i.z > 0). */
+vec3 rough_reflection_lobes(RoughMaterial m, vec3 o, vec3 i, out float pdf)
+{
+    float coat = plastic_coat_probability(m, o);
+    vec3 plastic = plastic_diffuse(m, o, i);
+    float pdf_diffuse = i.z / PI;
+    /* The probability of choosing the specular lobes over the diffuse one. */
+    float p_specular = m.metallic + (1.0 - m.metallic) * coat;
+    pdf = (1.0 - p_specular) * pdf_diffuse;
+    vec3 f = (1.0 - m.metallic) * plastic;
+    if (rough_is_smooth(m))
+        return f;
+    vec3 h = normalize(o + i);
+    float d = ggx_d(h, m.alpha), g = ggx_g1(o, h, m.alpha) * ggx_g1(i, h, m.alpha);
+    pdf += p_specular * ggx_visible_pdf(o, h, m.alpha) / (4.0 * dot(o, h));
+    return f + rough_specular_fresnel(m, dot(i, h)) * (d * g / (4.0 * o.z));
+}
+
+/* ---- What the built-ins call ----------------------------------------------------------------- */
+
+/* bsdf_eval of a rough material: f cos for the world direction wi, and the pdf of rough_sample
+ * choosing it. Delta lobes (roughness below 0.02) are left out, as bsdf_eval must. */
+vec3 rough_eval(Surface s, RoughMaterial m, vec3 wi, out float pdf)
+{
+    pdf = 0.0;
+    mat3 frame = microfacet_frame(s.normal);
+    vec3 o = to_local(frame, -s.incoming), i = to_local(frame, wi);
+    if (o.z <= 0.0)
+        return vec3(0.0);
+    /* The geometric surface decides the side: no light through it by a bent shading normal. */
+    bool above = dot(wi, s.geometric_normal) > 0.0;
+    if (m.dielectric) {
+        if (rough_is_smooth(m) || above != (i.z > 0.0))
+            return vec3(0.0);
+        return rough_dielectric_lobe(m, o, i, pdf);
+    }
+    if (i.z <= 0.0 || !above)
+        return vec3(0.0);
+    return rough_reflection_lobes(m, o, i, pdf);
+}
+
+/* bsdf_sample of a rough material: a visible normal, then reflection or (dielectric) refraction
+ * chosen by its Fresnel reflectance; for the reflecting mixture first one of the conductor, the
+ * coat and the diffuse base. The weight is rough_eval's value over its pdf, so that sampling and
+ * evaluation cannot disagree. */
+bool rough_sample(Surface s, RoughMaterial m, out BsdfSample b)
+{
+    b.delta = false;
+    b.pdf = 0.0;
+    b.weight = vec3(0.0);
+    b.direction = reflect(s.incoming, s.normal);
+    if (m.dielectric && rough_is_smooth(m)) {
+        if (!dielectric_sample(s, m.eta, b))
+            b.weight *= m.tint;
+        return true;
+    }
+    mat3 frame = microfacet_frame(s.normal);
+    vec3 o = to_local(frame, -s.incoming);
+    if (o.z <= 0.0)
+        return false;
+    vec3 i;
+    if (m.dielectric) {
+        vec3 h = ggx_sample_visible(o, m.alpha, random(), random());
+        float oh = dot(o, h);
+        if (random() < fresnel_dielectric(oh, m.eta))
+            i = reflect(-o, h);
+        else
+            i = refract(-o, h, 1.0 / m.eta);
+    } else {
+        float p_specular = m.metallic + (1.0 - m.metallic) * plastic_coat_probability(m, o);
+        float u = random();
+        if (u >= p_specular) {
+            b.direction = cosine_direction(s.normal, random(), random());
+            i = to_local(frame, b.direction);
+        } else if (rough_is_smooth(m)) {
+            /* The delta mirror of the smooth coat or metal, Fresnel at the normal. */
+            b.delta = true;
+            b.weight = rough_specular_fresnel(m, o.z) / p_specular;
+            return dot(b.direction, s.geometric_normal) > 0.0;
+        } else {
+            i = reflect(-o, ggx_sample_visible(o, m.alpha, random(), random()));
+        }
+    }
+    if (dot(i, i) == 0.0)
+        return false;
+    b.direction = normalize(frame * i);
+    vec3 f = rough_eval(s, m, b.direction, b.pdf);
+    if (!(b.pdf > 0.0))
+        return false;
+    b.weight = f / b.pdf;
+    return true;
+}
+
+/* Whitted's shading of a rough material (Cook's distributed ray tracing: the glossy reflection is
+ * one ray sampled from the BSDF per hit, converging with the pixel's samples): the scene's lights
+ * through the whole BSDF (highlights and diffuse; point lights are never hit by a ray, so nothing
+ * is counted twice), the ambient light on the diffuse base, and one ray from the specular lobes
+ * (a glossy reflection, or reflection or refraction through the glass). The diffuse base casts no
+ * ray, as diffuse surfaces do not in Whitted's model. Everything is scaled by coverage (the
+ * covered part of a cut-out; 1 for a solid surface). */
+void rough_whitted_shade(Surface s, RoughMaterial m, float coverage)
+{
+    vec3 sum = (1.0 - m.metallic) * m.diffuse * ambient_light();
+    if (m.dielectric)
+        sum = vec3(0.0);
+    for (uint k = 0u; k < light_count(); ++k) {
+        vec3 to_light, irradiance;
+        float pdf;
+        if (light_sample(s, k, to_light, irradiance))
+            sum += rough_eval(s, m, to_light, pdf) * irradiance;
+    }
+    add_radiance(coverage * sum);
+    BsdfSample b;
+    if (m.dielectric) {
+        if (rough_sample(s, m, b))
+            cast_ray(s, b.direction, coverage * b.weight);
+        return;
+    }
+    RoughMaterial specular_only = m;
+    specular_only.diffuse = vec3(0.0);
+    if (rough_sample(s, specular_only, b))
+        cast_ray(s, b.direction, coverage * b.weight);
+}
+
+/* The five entry points of a rough built-in whose RoughMaterial comes from material(s): one
+ * glossy ray per hit and the lights for Whitted (rough_whitted_shade), Ke from the front face and
+ * the GGX lobes for path, all cut out by coverage (d, map_d: mtl.glsl) as the .mtl built-ins are.
+ * A macro, so that the names it defines are the ones the generated module renames for the shader
+ * that expands it (count_rays is #defined to vkrt_count_rays_N there). */
+#define ROUGH_BUILTIN(material)                                                                   \
+    uint count_rays(Surface s) { return 1u + mtl_see_through_count(s); }                           \
+    void shade(Surface s)                                                                          \
+    {                                                                                              \
+        float coverage = mtl_see_through(s);                                                       \
+        rough_whitted_shade(s, material(s), coverage);                                             \
+        add_radiance(coverage * param3(8u));                                                       \
+    }                                                                                              \
+    vec3 emitted(Surface s) { return mtl_coverage(s) * mtl_emitted(s); }                           \
+    vec3 bsdf_eval(Surface s, vec3 wi, out float pdf)                                              \
+    {                                                                                              \
+        float coverage = mtl_coverage(s);                                                          \
+        vec3 f = rough_eval(s, material(s), wi, pdf);                                              \
+        pdf *= coverage;                                                                           \
+        return coverage * f;                                                                       \
+    }                                                                                              \
+    bool bsdf_sample(Surface s, out BsdfSample b)                                                  \
+    {                                                                                              \
+        if (mtl_pass_through(s, b))                                                                \
+            return true;                                                                           \
+        bool ok = rough_sample(s, material(s), b);                                                 \
+        b.pdf *= mtl_coverage(s);                                                                  \
+        return ok;                                                                                 \
+    }
+
+#endif

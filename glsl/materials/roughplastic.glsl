@@ -1,0 +1,18 @@
+/*
+ * roughplastic: a Lambertian base of albedo Kd times map_Kd (parameters 0-2, texture slot 0)
+ * under a GGX dielectric coat of index Ni (11; 0 means 1.5) whose reflection is scaled by Ks
+ * (4-6; 1 1 1 is a plain coat), roughness in 16 (GGX alpha = roughness^2; below 0.02 a smooth
+ * coat). The base sees the coat's smooth-surface Fresnel transmission in and out, normalised
+ * for the light the coat reflects back down (lib/microfacet.glsl, plastic_diffuse).
+ * Whitted: the lights through the whole BSDF by light_sample, the ambient light on the base, and
+ * one glossy reflection ray from the coat.
+ * The entry points (count_rays, shade, emitted, bsdf_eval, bsdf_sample) are ROUGH_BUILTIN's.
+ */
+RoughMaterial roughplastic_material(Surface s)
+{
+    float ni = param(11u) > 0.0 ? param(11u) : 1.5;
+    return RoughMaterial(mtl_diffuse(s), param3(4u), vec3(0.0), vec3(1.0), 0.0, ni,
+                         ggx_alpha(mtl_roughness(s)), false);
+}
+
+ROUGH_BUILTIN(roughplastic_material)
