@@ -35,6 +35,8 @@ const char *vkrt_usage(void)
            "                    table per depth and kernel: the frame is rendered again after\n"
            "                    300 ms of GPU warm-up, 11 times back to back, medians shown\n"
            "  --profile-repeat N  --profile with N timed frames instead of 11\n"
+           "  --seed N          another set of random numbers (default 0): renders of one scene\n"
+           "                    with different seeds have independent noise\n"
            "  --exposure STOPS  scale PNG output by 2^STOPS before the sRGB curve (EXR unchanged)\n"
            "  --device N        Vulkan device (see --list-devices); default: the first discrete\n"
            "                    GPU, else the first device\n"
@@ -132,7 +134,7 @@ static const struct known_option {
     {"--device", ALL},       {"--validation", ALL},     {"--quiet", ALL},
     {"--verbose", ALL},      {"--no-cache", ALL},       {"-o", RENDER},            {"--spp", RENDER | VIEW},
     {"--exposure", RENDER | VIEW},                      {"--profile", RENDER},
-    {"--profile-repeat", RENDER},                       {"--resume", RENDER},
+    {"--profile-repeat", RENDER},                       {"--seed", RENDER},                       {"--resume", RENDER},
     {"--script", VIEW},      {"--record", VIEW},        {"--json", BENCH},
     {"--stats", BENCH},      {"--kernel-stats", BENCH}, {"--whole-scene", BENCH},
     {"--workgroup", BENCH},  {"--grid-density", BENCH}, {"--bvh-width", BENCH},
@@ -228,6 +230,8 @@ static bool parse_render(const char *arg, const char *value, vkrt_render_options
     } else if (strcmp(arg, "--profile-repeat") == 0) {
         o->profile = true;
         return parse_u32(arg, value, 1, 1000, &o->profile_repeat, err);
+    } else if (strcmp(arg, "--seed") == 0) {
+        return parse_u32(arg, value, 0, UINT32_MAX, &o->seed, err);
     } else {
         *consumed = 0;
         if (strcmp(arg, "--profile") == 0)

@@ -46,6 +46,7 @@ typedef struct vkrt_render_options {
     float exposure;           /* --exposure, stops, PNG only */
     bool profile;             /* --profile: time every dispatch */
     uint32_t profile_repeat;  /* --profile-repeat: timed frames of a profile; 0 when not given */
+    uint32_t seed;            /* --seed: the random numbers' seed; 0 when not given */
     bool resume;              /* --resume: skip frames whose files are already complete */
 } vkrt_render_options;
 

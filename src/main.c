@@ -121,6 +121,7 @@ static bool render_frames(const vkrt_render_options *opts, const vkrt_scene *sce
     vkrt_render_desc desc = vkrt_render_desc_for(cfg, &opts->common, opts->samples);
     desc.profile = opts->profile;
     desc.profile_repeat = opts->profile_repeat;
+    desc.seed = opts->seed;
     vkrt_renderer *renderer;
     if (!vkrt_renderer_create(&renderer, ctx, scene, &desc, err))
         return false;

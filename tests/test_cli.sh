@@ -302,5 +302,12 @@ VKRT_CACHE_DIR=$tmp/unused "$vkrt" render "$src/scenes/cornell/scene.cfg" --widt
 check "--no-cache compiles every kernel" grep -q "kernels: [1-9][0-9]* compiled (no kernel cache" "$tmp/err"
 check "and writes no cache" test ! -e "$tmp/unused"
 
+# --seed (what it does is tests/test_path.c's seeds_give_independent_noise): taken by render.
+"$vkrt" render "$src/scenes/cornell-spheres/lamp.cfg" --width 8 --height 8 --spp 1 --quiet \
+    --seed 7 -o "$tmp/seed.png"
+check "render --seed exits 0" test $? -eq 0
+"$vkrt" render "$src/scenes/cornell-spheres/lamp.cfg" --seed x -o "$tmp/seedx.png" 2>"$tmp/err"
+check "--seed x is refused" test $? -eq 2
+
 echo "$passed passed, $failures failed"
 [ $failures -eq 0 ]

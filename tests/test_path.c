@@ -485,6 +485,36 @@ static void thin_lens_blurs_by_its_circle_of_confusion(void **state)
     }
 }
 
+/* --seed: a render's noise is a function of its seed. The same seed twice gives the same image
+ * (up to the order of the float atomic adds: 1e-4 relative), another seed an image whose
+ * difference is noise, the size of the noise itself (the images' difference has twice the
+ * variance of either: about the spread of a pixel over seeds). */
+static void seeds_give_independent_noise(void **state)
+{
+    (void)state;
+    write_sphere("sphere.obj", "white", 8, 16);
+    scene_dir_write("scene.mtl", "newmtl white\nKd 0.8 0.8 0.8\n");
+    scene_dir_write("scene.cfg", "geometry sphere.obj\nresolution 16 16\nmax-depth 4\n"
+                                 "environment 1 1 1\n"
+                                 "camera eye 0 0 3 look 0 0 0 up 0 1 0 fov 50\n");
+    enum { N = 16 };
+    float a[N * N * 3], b[N * N * 3], c[N * N * 3];
+    vkrt_frame_stats stats;
+    render_ok(N, N, &(vkrt_render_desc){.samples = 4, .seed = 5}, a, &stats);
+    render_ok(N, N, &(vkrt_render_desc){.samples = 4, .seed = 5}, b, &stats);
+    render_ok(N, N, &(vkrt_render_desc){.samples = 4, .seed = 6}, c, &stats);
+    double same = 0, other = 0;
+    for (int i = 0; i < N * N * 3; ++i) {
+        same = fmax(same, fabs(a[i] - b[i]) / fmax(fabs(a[i]), 1e-3));
+        other += (a[i] - c[i]) * (a[i] - c[i]);
+    }
+    other = sqrt(other / (N * N * 3));
+    print_message("seeds: same seed differs by %.2g (relative), another by %.3g (rms)\n", same,
+                  other);
+    assert_true(same < 1e-4);
+    assert_true(other > 1e-2);
+}
+
 /* A w x h 32-bit TGA (uncompressed, the top row first) whose left half has alpha 0 and right half
  * alpha 255, colour white: foliage's kind of texture, alpha carrying coverage. */
 static void write_half_cut_tga(const char *name, int w, int h)
@@ -672,6 +702,7 @@ int main(void)
         cmocka_unit_test(environment_map_estimators_agree),
         cmocka_unit_test(environment_map_poles_do_not_wrap),
         cmocka_unit_test(thin_lens_blurs_by_its_circle_of_confusion),
+        cmocka_unit_test(seeds_give_independent_noise),
         cmocka_unit_test(cutouts_cut_every_ray),
         cmocka_unit_test(samples_are_stratified),
     };

@@ -142,6 +142,7 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
     r->emitter_light = ok && r->integrator == VKRT_INTEGRATOR_WHITTED && first_emitter(mats);
     r->light_words = (scene->config.light_count + r->emitter_light + 31) / 32;
     r->clamp = desc->clamp;
+    r->seed = desc->seed;
     /* The path tracer's last wave only looks for the light its BSDF samples find (nee.comp skips
      * it): so light sampling and BSDF sampling both reach paths of max-depth + 2 segments, the
      * same paths, and max-depth 0 is direct light, as in Whitted (Mitsuba's max_depth is ours

@@ -54,6 +54,8 @@ typedef struct vkrt_render_desc {
     float clamp;              /* > 0: every contribution added to a pixel is scaled so that its
                                  largest channel is at most this (biased: fewer fireflies,
                                  lib/pixel.glsl); 0: no limit */
+    uint32_t seed;            /* the random numbers' seed: frame f of seed s draws other numbers than
+                                 of seed s' (--seed; 0: the default) */
     vkrt_tuning_overrides tuning; /* zero: the device's defaults (tuning.h) */
 } vkrt_render_desc;
 

@@ -194,7 +194,10 @@ bool vkrt_renderer_add_samples(vkrt_renderer *r, const vkrt_config_camera *camer
     vkrt_camera_params(camera, r->width, r->height, &params);
     params.eye.w = r->min_importance;
     params.image = (uvec4){r->width, r->height, 0, r->samples};
-    params.counts = (uvec4){r->triangle_count, r->light_count, pixels, frame_index};
+    /* The frame seed: the frame's index, moved by the golden ratio's bits per seed so that seeds
+     * do not share frames (every kernel hashes it before use). */
+    params.counts = (uvec4){r->triangle_count, r->light_count, pixels,
+                            frame_index + r->seed * 0x9E3779B9u};
     params.range = (uvec4){0, r->triangle_count, 0, r->light_words};
 
     Counters counters;

@@ -34,6 +34,7 @@ struct vkrt_renderer {
     float min_importance;
     bool profile;
     uint32_t profile_repeat;  /* timed frames of a profile */
+    uint32_t seed;            /* vkrt_render_desc.seed */
     bool texel_loads;         /* traversal reads triangles and nodes through the views below */
     VkBufferView triangle_view, node_view; /* texel views of triangles and accel.nodes */
     uint32_t *light_kinds;    /* VKRT_LIGHT_KIND_* per light, kept for the loop budget check */
