@@ -30,7 +30,10 @@
 
 /* sampler.glsl is written to compile as C as well as GLSL; GLSL's uint is C's uint32_t. */
 typedef uint32_t uint;
+#include <math.h>
+
 #include "../glsl/lib/sampler.glsl"
+#include "../glsl/lib/mis.glsl"
 
 enum {
     MAX_M = 12,      /* up to 4096 samples a pixel */
@@ -260,6 +263,28 @@ static void test_pairs_independent(void **state)
     assert_false(joint_chi2(unscrambled, 0, 0, 2) < chi2_0999_dof63);
 }
 
+/* The power heuristic of lib/mis.glsl, at its limits: always in [0, 1], never NaN, 1 against a
+ * pdf of 0 and 0 for one; a pdf so large that its square is infinite (an emitter seen edge-on)
+ * takes all the weight, as a^2 / (a^2 + b^2) tends to, instead of inf / inf. */
+static void test_power_heuristic_limits(void **state)
+{
+    (void)state;
+    const struct {
+        float a, b, want;
+    } cases[] = {
+        {1, 1, 0.5f},         {2, 1, 0.8f},         {1, 2, 0.2f},         {1e20f, 1, 1},
+        {1, 1e20f, 0},        {INFINITY, 1, 1},     {1, INFINITY, 0},     {INFINITY, INFINITY, 0.5f},
+        {0, 1, 0},            {1, 0, 1},            {NAN, 1, 0},          {1e-30f, 1e-30f, 0.5f},
+        {3e38f, 3e38f, 0.5f},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        float w = power_heuristic(cases[i].a, cases[i].b);
+        if (!(fabsf(w - cases[i].want) < 1e-6f))
+            fail_msg("power_heuristic(%g, %g) = %g, not %g", cases[i].a, cases[i].b, w,
+                     cases[i].want);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -268,6 +293,7 @@ int main(void)
         cmocka_unit_test(test_scramble_is_a_bijection),
         cmocka_unit_test(test_keys_give_different_points),
         cmocka_unit_test(test_pairs_independent),
+        cmocka_unit_test(test_power_heuristic_limits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

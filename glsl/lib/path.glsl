@@ -18,6 +18,7 @@
 
 #include "emitters.glsl"
 #include "environment.glsl"
+#include "mis.glsl"
 #include "pixel.glsl"
 
 /* Rays of this depth and deeper play Russian roulette before casting their continuation (depth 0
@@ -63,13 +64,6 @@ bool path_continues(Ray ray)
     return q >= 1.0 || path_1d(ray, SAMPLER_DIM_ROULETTE) < q;
 }
 
-/* Veach's power heuristic for a sample of pdf a against the other strategy's b. */
-float power_heuristic(float a, float b)
-{
-    a *= a;
-    b *= b;
-    return a + b > 0.0 ? a / (a + b) : 0.0;
-}
 
 /* The weight of a light sample of pdf pl against the BSDF's pb, and of a BSDF sample of pdf pb
  * that found a light of pdf pl, for the sampling LIGHT_SAMPLING asks. */
