@@ -122,6 +122,7 @@ static bool render_frames(const vkrt_render_options *opts, const vkrt_scene *sce
     desc.profile = opts->profile;
     desc.profile_repeat = opts->profile_repeat;
     desc.seed = opts->seed;
+    desc.shutter = cfg->shutter; /* render only: the viewer's camera has no next frame */
     vkrt_renderer *renderer;
     if (!vkrt_renderer_create(&renderer, ctx, scene, &desc, err))
         return false;
@@ -160,6 +161,9 @@ static bool render_frames(const vkrt_render_options *opts, const vkrt_scene *sce
         }
         if (ok)
             vkrt_image_remove_stale_temporaries(path);
+        /* Motion blur towards the next frame's camera; the last frame has none and is sharp. */
+        vkrt_renderer_set_next_camera(renderer, f + 1 < cfg->camera_count ? &cfg->cameras[f + 1]
+                                                                          : NULL);
         ok = ok && vkrt_renderer_render(renderer, &cfg->cameras[f], f, rgb, &stats, err) &&
              vkrt_image_write(path, desc.width, desc.height, rgb, opts->exposure, err);
         if (ok) {

@@ -59,9 +59,14 @@ bool scene_dir_render(uint32_t w, uint32_t h, const vkrt_render_desc *desc, floa
     d.width = w;
     d.height = h;
     d.samples = d.samples ? d.samples : 1;
+    d.shutter = d.shutter > 0 ? d.shutter : scene.config.shutter;
     vkrt_renderer *r = NULL;
-    bool ok = vkrt_renderer_create(&r, &ctx, &scene, &d, err) &&
-              vkrt_renderer_render(r, &scene.config.cameras[0], 0, rgb, stats, err);
+    bool ok = vkrt_renderer_create(&r, &ctx, &scene, &d, err);
+    /* The first camera, moving towards the second while the shutter is open (as vkrt render's
+     * frame 0 does). */
+    if (ok && scene.config.camera_count > 1)
+        vkrt_renderer_set_next_camera(r, &scene.config.cameras[1]);
+    ok = ok && vkrt_renderer_render(r, &scene.config.cameras[0], 0, rgb, stats, err);
     vkrt_renderer_destroy(r);
     fixture_context_destroy(&ctx);
     vkrt_scene_free(&scene);

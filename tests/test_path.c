@@ -419,6 +419,15 @@ static void environment_map_poles_do_not_wrap(void **state)
     }
 }
 
+/* A thin emissive stripe, 0.02 wide and 10 tall, 10 down -z, facing +z. */
+static void write_stripe(void)
+{
+    scene_dir_write("stripe.obj", "mtllib stripe.mtl\nusemtl lamp\n"
+                                  "v -0.01 -5 -10\nv 0.01 -5 -10\nv 0.01 5 -10\nv -0.01 5 -10\n"
+                                  "f 1 2 3 4\n");
+    scene_dir_write("stripe.mtl", "newmtl lamp\nKd 0 0 0\nKe 1 1 1\n");
+}
+
 /* The spread (standard deviation, in pixels) of an image's light across its columns: the
  * second moment of the column sums about their centroid. */
 static double column_spread(const float *rgb, int w, int h)
@@ -446,10 +455,7 @@ static double column_spread(const float *rgb, int w, int h)
 static void thin_lens_blurs_by_its_circle_of_confusion(void **state)
 {
     (void)state;
-    scene_dir_write("stripe.obj", "mtllib stripe.mtl\nusemtl lamp\n"
-                                  "v -0.01 -5 -10\nv 0.01 -5 -10\nv 0.01 5 -10\nv -0.01 5 -10\n"
-                                  "f 1 2 3 4\n");
-    scene_dir_write("stripe.mtl", "newmtl lamp\nKd 0 0 0\nKe 1 1 1\n");
+    write_stripe();
     enum { N = 64 };
     const double fov = 20.0, aperture = 0.2, width_px = 0.02 / (2 * 10 * tan(fov * M_PI / 360) / N);
     const char *integrators[2] = {"path", "whitted"};
@@ -482,6 +488,59 @@ static void thin_lens_blurs_by_its_circle_of_confusion(void **state)
                           integrators[i], f, got, want);
             assert_true(fabs(got - want) < 0.05 * want + 0.05);
         }
+    }
+}
+
+/* The light-weighted mean column of an image (its centroid across), in pixels from the left. */
+static double column_centroid(const float *rgb, int w, int h)
+{
+    double sum = 0, first = 0;
+    for (int x = 0; x < w; ++x)
+        for (int y = 0; y < h; ++y) {
+            sum += rgb[3 * (y * w + x)];
+            first += rgb[3 * (y * w + x)] * (x + 0.5);
+        }
+    return first / sum;
+}
+
+/* Motion blur along a flythrough, against its closed form: the camera moves 0.5 sideways between
+ * two frames, past the emissive stripe of the thin-lens test 10 away; with the shutter open for a
+ * share S of the interval, the stripe sweeps D = S * 0.5 / (pixel size at 10) pixels, uniformly
+ * in time: a box of width D, whose variance D^2 / 12 adds to the stripe's and the binning's, and
+ * whose centroid is D / 2 from where the still camera sees the stripe (the image's middle). With
+ * the shutter at 0 the stripe stays sharp. (The orientation's slerp: tests/test_camera_motion.c.) */
+static void motion_blur_smears_by_the_distance_travelled(void **state)
+{
+    (void)state;
+    write_stripe();
+    enum { N = 64 };
+    const double fov = 20.0, pixel = 2 * 10 * tan(fov * M_PI / 360) / N, width_px = 0.02 / pixel;
+    static float rgb[N * N * 3];
+    const struct {
+        const char *integrator;
+        double shutter;
+    } cases[] = {{"path", 1.0}, {"whitted", 1.0}, {"path", 0.5}, {"path", 0.0}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        char cfg[512];
+        snprintf(cfg, sizeof cfg,
+                 "geometry stripe.obj\nresolution %d %d\nintegrator %s\nshutter %g\n"
+                 "camera eye 0 0 0 look 0 0 -1 up 0 1 0 fov %g\n"
+                 "camera eye 0.5 0 0 look 0.5 0 -1 up 0 1 0 fov %g\n",
+                 N, N, cases[i].integrator, cases[i].shutter, fov, fov);
+        scene_dir_write("scene.cfg", cfg);
+        vkrt_frame_stats stats;
+        render_ok(N, N, &(vkrt_render_desc){.samples = 256}, rgb, &stats);
+        double d = cases[i].shutter * 0.5 / pixel;
+        double want = sqrt(d * d / 12 + width_px * width_px / 12 + 1.0 / 12);
+        double got = column_spread(rgb, N, N), centre = column_centroid(rgb, N, N);
+        print_message("motion blur, %s, shutter %g: spread %.3f pixels (closed form %.3f), "
+                      "centroid %.3f (closed form %.3f)\n",
+                      cases[i].integrator, cases[i].shutter, got, want, centre, N / 2 - d / 2);
+        if (cases[i].shutter > 0)
+            assert_true(fabs(got - want) < 0.05 * want + 0.05);
+        else
+            assert_true(got < 0.6); /* the stripe within a column or two */
+        assert_true(fabs(centre - (N / 2 - d / 2)) < 0.1);
     }
 }
 
@@ -703,6 +762,7 @@ int main(void)
         cmocka_unit_test(environment_map_poles_do_not_wrap),
         cmocka_unit_test(thin_lens_blurs_by_its_circle_of_confusion),
         cmocka_unit_test(seeds_give_independent_noise),
+        cmocka_unit_test(motion_blur_smears_by_the_distance_travelled),
         cmocka_unit_test(cutouts_cut_every_ray),
         cmocka_unit_test(samples_are_stratified),
     };

@@ -57,3 +57,101 @@ void vkrt_camera_params(const vkrt_config_camera *camera, uint32_t width, uint32
                                             : sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     }
 }
+
+/* The rotation of a camera's frame as a unit quaternion (w, x, y, z): the matrix whose columns
+ * are right, up and -forward (Shepperd's method, from the largest of the four candidates). */
+static void frame_quaternion(const float right[3], const float up[3], const float back[3],
+                             double q[4])
+{
+    double m[3][3] = {{right[0], up[0], back[0]}, {right[1], up[1], back[1]},
+                      {right[2], up[2], back[2]}};
+    double trace = m[0][0] + m[1][1] + m[2][2];
+    if (trace > 0) {
+        double s = 2 * sqrt(1 + trace);
+        q[0] = s / 4;
+        q[1] = (m[2][1] - m[1][2]) / s;
+        q[2] = (m[0][2] - m[2][0]) / s;
+        q[3] = (m[1][0] - m[0][1]) / s;
+    } else if (m[0][0] > m[1][1] && m[0][0] > m[2][2]) {
+        double s = 2 * sqrt(1 + m[0][0] - m[1][1] - m[2][2]);
+        q[0] = (m[2][1] - m[1][2]) / s;
+        q[1] = s / 4;
+        q[2] = (m[0][1] + m[1][0]) / s;
+        q[3] = (m[0][2] + m[2][0]) / s;
+    } else if (m[1][1] > m[2][2]) {
+        double s = 2 * sqrt(1 + m[1][1] - m[0][0] - m[2][2]);
+        q[0] = (m[0][2] - m[2][0]) / s;
+        q[1] = (m[0][1] + m[1][0]) / s;
+        q[2] = s / 4;
+        q[3] = (m[1][2] + m[2][1]) / s;
+    } else {
+        double s = 2 * sqrt(1 + m[2][2] - m[0][0] - m[1][1]);
+        q[0] = (m[1][0] - m[0][1]) / s;
+        q[1] = (m[0][2] + m[2][0]) / s;
+        q[2] = (m[1][2] + m[2][1]) / s;
+        q[3] = s / 4;
+    }
+}
+
+/* A camera's right, up and forward, unit and orthogonal, as vkrt_camera_params builds them. */
+static void camera_basis(const vkrt_config_camera *c, float right[3], float up[3],
+                         float forward[3])
+{
+    for (int i = 0; i < 3; ++i)
+        forward[i] = c->look[i] - c->eye[i];
+    normalize3(forward);
+    float given_up[3] = {c->up[0], c->up[1], c->up[2]};
+    normalize3(given_up);
+    cross3(forward, given_up, right);
+    normalize3(right);
+    cross3(right, forward, up);
+}
+
+void vkrt_camera_between(const vkrt_config_camera *a, const vkrt_config_camera *b, float t,
+                         vkrt_config_camera *out)
+{
+    *out = *a;
+    float ra[3], ua[3], fa[3], rb[3], ub[3], fb[3];
+    camera_basis(a, ra, ua, fa);
+    camera_basis(b, rb, ub, fb);
+    float ba[3] = {-fa[0], -fa[1], -fa[2]}, bb[3] = {-fb[0], -fb[1], -fb[2]};
+    double qa[4], qb[4], q[4];
+    frame_quaternion(ra, ua, ba, qa);
+    frame_quaternion(rb, ub, bb, qb);
+    /* Slerp along the shorter arc (q and -q are one rotation); nlerp where they nearly agree,
+     * where slerp's sin(angle) would divide by almost 0. */
+    double dot = qa[0] * qb[0] + qa[1] * qb[1] + qa[2] * qb[2] + qa[3] * qb[3];
+    double sign = dot < 0 ? -1 : 1;
+    dot *= sign;
+    double wa = 1 - t, wb = t;
+    if (dot < 0.9995) {
+        double angle = acos(dot);
+        wa = sin((1 - t) * angle) / sin(angle);
+        wb = sin(t * angle) / sin(angle);
+    }
+    double len = 0;
+    for (int i = 0; i < 4; ++i) {
+        q[i] = wa * qa[i] + wb * sign * qb[i];
+        len += q[i] * q[i];
+    }
+    len = sqrt(len);
+    double w = q[0] / len, x = q[1] / len, y = q[2] / len, z = q[3] / len;
+    /* The rotated frame's up (column 1) and -forward (column 2). */
+    double up[3] = {2 * (x * y - w * z), 1 - 2 * (x * x + z * z), 2 * (y * z + w * x)};
+    double back[3] = {2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)};
+    for (int i = 0; i < 3; ++i) {
+        out->eye[i] = (1 - t) * a->eye[i] + t * b->eye[i];
+        out->look[i] = out->eye[i] - (float)back[i];
+        out->up[i] = (float)up[i];
+    }
+    out->fov_deg = (1 - t) * a->fov_deg + t * b->fov_deg;
+    /* look is now one unit ahead: the focus distance that defaulted to |look - eye| is kept. */
+    if (a->aperture > 0 && !(a->focus > 0)) {
+        float da = 0, db = 0;
+        for (int i = 0; i < 3; ++i) {
+            da += (a->look[i] - a->eye[i]) * (a->look[i] - a->eye[i]);
+            db += (b->look[i] - b->eye[i]) * (b->look[i] - b->eye[i]);
+        }
+        out->focus = (1 - t) * sqrtf(da) + t * sqrtf(db);
+    }
+}

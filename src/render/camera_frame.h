@@ -19,4 +19,10 @@ typedef struct FrameParams FrameParams;
 void vkrt_camera_params(const vkrt_config_camera *camera, uint32_t width, uint32_t height,
                         FrameParams *params);
 
+/* The camera a fraction t (0 to 1) of the way from a to b, for motion blur: the eye and the field
+ * of view interpolated linearly, the orientation by spherical interpolation of the two frames'
+ * rotations (slerp, the shorter way round); the lens is a's. */
+void vkrt_camera_between(const vkrt_config_camera *a, const vkrt_config_camera *b, float t,
+                         vkrt_config_camera *out);
+
 #endif

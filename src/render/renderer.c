@@ -97,6 +97,9 @@ static bool size_ray_buffers(vkrt_renderer *r, const vkrt_render_desc *desc, vkr
     batch = batch < 1 ? 1 : batch > r->samples ? r->samples : batch;
     while (batch > 1 && pixels * batch > r->max_capacity)
         --batch;
+    /* Motion blur gives each pass its own time (renderer_frame.c): one sample a pass. */
+    if (r->shutter > 0)
+        batch = 1;
     r->batch = (uint32_t)batch;
     uint64_t rays = pixels * batch;
     r->capacity = desc->ray_capacity > rays ? desc->ray_capacity : (uint32_t)rays;
@@ -143,6 +146,7 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
     r->light_words = (scene->config.light_count + r->emitter_light + 31) / 32;
     r->clamp = desc->clamp;
     r->seed = desc->seed;
+    r->shutter = desc->shutter;
     /* The path tracer's last wave only looks for the light its BSDF samples find (nee.comp skips
      * it): so light sampling and BSDF sampling both reach paths of max-depth + 2 segments, the
      * same paths, and max-depth 0 is direct light, as in Whitted (Mitsuba's max_depth is ours

@@ -54,6 +54,9 @@ typedef struct vkrt_render_desc {
     float clamp;              /* > 0: every contribution added to a pixel is scaled so that its
                                  largest channel is at most this (biased: fewer fireflies,
                                  lib/pixel.glsl); 0: no limit */
+    float shutter;            /* motion blur: the share of the interval to the next camera
+                                 (vkrt_renderer_set_next_camera) each frame's samples are spread
+                                 over; 0: none (scene.cfg `shutter`) */
     uint32_t seed;            /* the random numbers' seed: frame f of seed s draws other numbers than
                                  of seed s' (--seed; 0: the default) */
     vkrt_tuning_overrides tuning; /* zero: the device's defaults (tuning.h) */
@@ -76,6 +79,11 @@ typedef struct vkrt_frame_stats {
  * otherwise *out is the renderer, to be freed with vkrt_renderer_destroy. */
 bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scene *scene,
                           const vkrt_render_desc *desc, vkrt_error *err);
+
+/* The camera of the next frame, towards which the frames rendered from now on move while their
+ * shutter is open (vkrt_render_desc.shutter); NULL (the default): no next frame, no motion
+ * blur. The camera is copied. */
+void vkrt_renderer_set_next_camera(vkrt_renderer *r, const vkrt_config_camera *next);
 
 /* Renders one frame from camera into rgb (width * height * 3 floats, linear radiance, the top row
  * first), averaged over the samples. stats may be NULL. */

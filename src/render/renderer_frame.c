@@ -79,6 +79,22 @@ static void record_zero(VkCommandBuffer cmd, const gpu_buffer *buf, VkDeviceSize
                          0, 1, &after, 0, NULL, 0, NULL);
 }
 
+/* Motion blur: the camera of the pass that starts at sample s of a moving frame. Each pass (one
+ * sample a pixel: renderer.c) takes its own time in the open shutter, stratified: pass k of n at
+ * shutter * (k + jitter) / n, the jitter hashed from the frame seed and k. */
+static void moving_camera(const vkrt_renderer *r, uint32_t s, uint32_t frame_seed,
+                          FrameParams *params)
+{
+    /* A Weyl sequence over the passes, offset per frame: jitters spread evenly in [0, 1). */
+    uint32_t bits = (frame_seed + 1u) * 0x9E3779B9u + s * 0x6C8E9CF5u;
+    float jitter = (float)(bits >> 8) * (1.0f / 16777216.0f);
+    float t = r->shutter * ((float)s + jitter) / (float)r->samples;
+    vkrt_config_camera at;
+    vkrt_camera_between(&r->camera, &r->next_camera, t, &at);
+    vkrt_camera_params(&at, r->width, r->height, params);
+    params->eye.w = r->min_importance;
+}
+
 /* Records sample passes [first, end) of one frame. There are no transfer commands: raygen clears
  * the image (pass 0) and resets the wave table, so the passes are dispatches and
  * compute-to-compute barriers only. */
@@ -91,6 +107,8 @@ static void record_passes(vkrt_renderer *r, VkCommandBuffer cmd, FrameParams par
         uint32_t rays = pixels * (end - s < r->batch ? end - s : r->batch);
         params.image.z = s;
         params.counts.z = rays;
+        if (r->has_next && r->shutter > 0)
+            moving_camera(r, s, params.counts.w, &params);
         params.wave = (uvec4){0, 0, r->max_depth, r->capacity};
         gpu_dispatch(cmd, &r->raygen, &r->set, &params, rays);
         profile_recorder_mark(cmd, p, 0, VKRT_KERNEL_RAYGEN);
@@ -191,6 +209,7 @@ bool vkrt_renderer_add_samples(vkrt_renderer *r, const vkrt_config_camera *camer
     if (!check_loop_budget(r, err))
         return false;
     FrameParams params = {0};
+    r->camera = *camera;
     vkrt_camera_params(camera, r->width, r->height, &params);
     params.eye.w = r->min_importance;
     params.image = (uvec4){r->width, r->height, 0, r->samples};
@@ -277,6 +296,13 @@ bool vkrt_renderer_read_image(vkrt_renderer *r, uint32_t passes, float *rgb, vkr
     }
     free(image);
     return ok;
+}
+
+void vkrt_renderer_set_next_camera(vkrt_renderer *r, const vkrt_config_camera *next)
+{
+    r->has_next = next != NULL;
+    if (next)
+        r->next_camera = *next;
 }
 
 bool vkrt_renderer_render(vkrt_renderer *r, const vkrt_config_camera *camera, uint32_t frame_index,

@@ -35,6 +35,10 @@ struct vkrt_renderer {
     bool profile;
     uint32_t profile_repeat;  /* timed frames of a profile */
     uint32_t seed;            /* vkrt_render_desc.seed */
+    float shutter;            /* vkrt_render_desc.shutter */
+    bool has_next;            /* next_camera holds the next frame's camera */
+    vkrt_config_camera next_camera;
+    vkrt_config_camera camera; /* the frame's camera, for the passes of a moving one */
     bool texel_loads;         /* traversal reads triangles and nodes through the views below */
     VkBufferView triangle_view, node_view; /* texel views of triangles and accel.nodes */
     uint32_t *light_kinds;    /* VKRT_LIGHT_KIND_* per light, kept for the loop budget check */

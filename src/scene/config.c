@@ -304,6 +304,19 @@ static bool kw_samples(parser *p, const tokens *t)
            parse_uint(p, t->tok[1], "samples", 1, MAX_SAMPLES, &p->cfg->samples);
 }
 
+static bool kw_shutter(parser *p, const tokens *t)
+{
+    char buf[SHOWN_TOKEN_BYTES + 4];
+    if (!want_numbers(p, t, 1, 1, "shutter") ||
+        !parse_float(p, t->tok[1], "shutter", &p->cfg->shutter))
+        return false;
+    if (!(p->cfg->shutter >= 0.0f && p->cfg->shutter <= 1.0f))
+        return fail(p, "shutter is the share of a frame's interval the shutter is open: from 0 to "
+                       "1, got %s",
+                    shown(t->tok[1], buf));
+    return true;
+}
+
 static bool kw_max_depth(parser *p, const tokens *t)
 {
     return want_numbers(p, t, 1, 1, "max-depth") &&
@@ -589,6 +602,7 @@ static const keyword keywords[] = {
     {"resolution", true, kw_resolution},
     {"samples", true, kw_samples},
     {"max-depth", true, kw_max_depth},
+    {"shutter", true, kw_shutter},
     {"accel", true, kw_accel},
     {"integrator", true, kw_integrator},
     {"output", true, kw_output},
@@ -624,8 +638,8 @@ static bool parse_line(void *ctx, const tokens *t)
         return keywords[i].parse(p, t);
     }
     return fail(p, "unknown keyword '%s' (expected geometry, materials, resolution, samples, "
-                   "max-depth, accel, integrator, output, environment, environment-map, light or "
-                   "camera)",
+                   "max-depth, shutter, accel, integrator, output, environment, environment-map, "
+                   "light or camera)",
                 shown(t->tok[0], buf));
 }
 

@@ -61,6 +61,8 @@ typedef struct vkrt_config {
     uint32_t width, height;   /* default 640 x 480 */
     uint32_t samples;         /* primary samples per pixel, default 1 */
     uint32_t max_depth;       /* secondary ray generations, default 6 */
+    float shutter;            /* motion blur: the share of the interval to the next camera during
+                                 which a frame's samples are taken, 0 (default) to 1 */
     vkrt_accel_kind accel;    /* default auto */
     vkrt_integrator integrator; /* default auto */
     float environment[3];     /* radiance of rays that miss, default 0; unused with a map */
