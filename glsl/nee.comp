@@ -72,7 +72,9 @@ vec3 direct_light(Surface s, uint shader, inout uint shadow_rays)
         float pdf_env, pdf_bsdf;
         vec3 wi = sample_environment(path_2d(vkrt_ray, SAMPLER_DIM_ENVIRONMENT), pdf_env);
         vec3 f = material_bsdf_eval(shader, s, wi, pdf_bsdf);
-        if (any(greaterThan(f, vec3(0.0)))) {
+        /* A sample straight up or down of a map has pdf 0 (sin(theta) = 0: envmap_pdf): no sample
+         * at all, not 0 / 0. It was the Mori knob's two NaN a 1080p frame. */
+        if (pdf_env > 0.0 && any(greaterThan(f, vec3(0.0)))) {
             vec3 le = environment_radiance(wi, vkrt_ray.payload);
             if (any(greaterThan(le, vec3(0.0)))) {
                 ++shadow_rays;
