@@ -42,14 +42,19 @@
 #define SAMPLER_DIM_LENS 16u            /* 2D: the point on the thin lens (depth 0) */
 #define SAMPLER_DEPTH_DIMS 18u
 
-/* x with its 32 bits in reverse order (GLSL's bitfieldReverse, written out for C). */
+/* x with its 32 bits in reverse order: GLSL's bitfieldReverse (one instruction on GPUs), written
+ * out for C. */
 uint sampler_reverse_bits(uint x)
 {
+#ifdef VKRT_GLSL
+    return bitfieldReverse(x);
+#else
     x = ((x >> 1u) & 0x55555555u) | ((x & 0x55555555u) << 1u);
     x = ((x >> 2u) & 0x33333333u) | ((x & 0x33333333u) << 2u);
     x = ((x >> 4u) & 0x0F0F0F0Fu) | ((x & 0x0F0F0F0Fu) << 4u);
     x = ((x >> 8u) & 0x00FF00FFu) | ((x & 0x00FF00FFu) << 8u);
     return (x >> 16u) | (x << 16u);
+#endif
 }
 
 /* The nested-uniform (Owen) scramble of the 32-bit fraction x under key seed: bit b (counting
