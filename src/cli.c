@@ -44,6 +44,8 @@ const char *vkrt_usage(void)
            "                    validation message makes the run fail\n"
            "  --no-cache        compile every kernel, neither reading nor writing the kernel\n"
            "                    cache (~/.cache/vkrt; VKRT_CACHE_DIR=DIR moves it)\n"
+           "  --frames A:B[:STEP]  render only frames A, A + STEP, ... up to B (numbered from 0,\n"
+           "                    as the output pattern numbers them), e.g. for a render farm\n"
            "  --resume          skip frames whose output files are already complete (a\n"
            "                    flythrough interrupted by Ctrl-C, a crash or a lost device)\n"
            "  --quiet           no summary on stderr\n"
@@ -134,7 +136,8 @@ static const struct known_option {
     {"--device", ALL},       {"--validation", ALL},     {"--quiet", ALL},
     {"--verbose", ALL},      {"--no-cache", ALL},       {"-o", RENDER},            {"--spp", RENDER | VIEW},
     {"--exposure", RENDER | VIEW},                      {"--profile", RENDER},
-    {"--profile-repeat", RENDER},                       {"--seed", RENDER},                       {"--resume", RENDER},
+    {"--profile-repeat", RENDER},                       {"--seed", RENDER},
+    {"--frames", RENDER},                       {"--resume", RENDER},
     {"--script", VIEW},      {"--record", VIEW},        {"--json", BENCH},
     {"--stats", BENCH},      {"--kernel-stats", BENCH}, {"--whole-scene", BENCH},
     {"--workgroup", BENCH},  {"--grid-density", BENCH}, {"--bvh-width", BENCH},
@@ -215,6 +218,34 @@ static bool parse_common(const char *arg, const char *value, vkrt_common_options
     return true;
 }
 
+/* --frames A:B[:STEP]: A and B included, STEP 1 when not given. */
+static bool parse_frame_range(const char *value, vkrt_render_options *o, vkrt_error *err)
+{
+    static const char *const form = "A:B or A:B:STEP, frame numbers from 0 with A <= B, STEP >= 1";
+    unsigned long n[3] = {0, 0, 1};
+    const char *p = value ? value : "";
+    int count = 0;
+    while (count < 3) {
+        char *end;
+        if (*p < '0' || *p > '9')
+            break;
+        n[count++] = strtoul(p, &end, 10);
+        p = end;
+        if (*p != ':')
+            break;
+        ++p;
+    }
+    if (count < 2 || *p != '\0' || n[0] > n[1] || n[1] > UINT32_MAX || n[2] < 1 ||
+        n[2] > UINT32_MAX)
+        return vkrt_error_set(err, "--frames: '%s' is not a frame range (%s)", value ? value : "",
+                              form);
+    o->frames_given = true;
+    o->frame_first = (uint32_t)n[0];
+    o->frame_last = (uint32_t)n[1];
+    o->frame_step = (uint32_t)n[2];
+    return true;
+}
+
 static bool parse_render(const char *arg, const char *value, vkrt_render_options *o,
                          int *consumed, vkrt_error *err)
 {
@@ -232,6 +263,8 @@ static bool parse_render(const char *arg, const char *value, vkrt_render_options
         return parse_u32(arg, value, 1, 1000, &o->profile_repeat, err);
     } else if (strcmp(arg, "--seed") == 0) {
         return parse_u32(arg, value, 0, UINT32_MAX, &o->seed, err);
+    } else if (strcmp(arg, "--frames") == 0) {
+        return parse_frame_range(value, o, err);
     } else {
         *consumed = 0;
         if (strcmp(arg, "--profile") == 0)

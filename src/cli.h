@@ -48,6 +48,8 @@ typedef struct vkrt_render_options {
     uint32_t profile_repeat;  /* --profile-repeat: timed frames of a profile; 0 when not given */
     uint32_t seed;            /* --seed: the random numbers' seed; 0 when not given */
     bool resume;              /* --resume: skip frames whose files are already complete */
+    bool frames_given;        /* --frames A:B[:STEP]: only frames A, A + STEP, ... up to B */
+    uint32_t frame_first, frame_last, frame_step;
 } vkrt_render_options;
 
 typedef struct vkrt_view_options {

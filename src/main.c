@@ -147,7 +147,10 @@ static bool render_frames(const vkrt_render_options *opts, const vkrt_scene *sce
     bool ok = rgb != NULL;
     if (!ok)
         vkrt_error_set(err, "out of memory for a %ux%u image", desc.width, desc.height);
-    for (uint32_t f = 0; ok && f < cfg->camera_count; ++f) {
+    uint32_t first = opts->frames_given ? opts->frame_first : 0;
+    uint32_t last = opts->frames_given ? opts->frame_last : cfg->camera_count - 1;
+    uint32_t step = opts->frames_given ? opts->frame_step : 1;
+    for (uint32_t f = first; ok && f <= last; f = f + step < f ? last + 1 : f + step) {
         if (stop_requested) {
             totals->interrupted = true;
             break;
@@ -201,6 +204,18 @@ static int run_render(const vkrt_render_options *opts)
     if (!opts->common.quiet)
         vkrt_mesh_print_warnings(&scene.mesh, "vkrt: ", opts->common.verbose, stderr);
     const char *output = opts->output ? opts->output : scene.config.output;
+    uint32_t cameras = scene.config.camera_count;
+    if (opts->frames_given && opts->frame_last >= cameras) {
+        fprintf(stderr, "vkrt: --frames %u:%u: %s has %u camera%s (frames 0 to %u)\n",
+                opts->frame_first, opts->frame_last, opts->scene_path, cameras,
+                cameras == 1 ? "" : "s", cameras - 1);
+        vkrt_scene_free(&scene);
+        return 1;
+    }
+    /* The frames this run renders: all, or --frames's. */
+    uint32_t frames = opts->frames_given
+                          ? (opts->frame_last - opts->frame_first) / opts->frame_step + 1
+                          : cameras;
     if (!check_output(output, scene.config.camera_count, &err)) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
         vkrt_scene_free(&scene);
@@ -226,19 +241,19 @@ static int run_render(const vkrt_render_options *opts)
     if (totals.interrupted) {
         fprintf(stderr, "vkrt: interrupted after %u of %u frames; run again with --resume to "
                         "finish\n",
-                totals.rendered + totals.skipped, scene.config.camera_count);
+                totals.rendered + totals.skipped, frames);
         vkrt_scene_free(&scene);
         return 130;
     }
     if (!opts->common.quiet && totals.skipped)
         fprintf(stderr, "vkrt: resumed: %u of %u frames were already complete\n", totals.skipped,
-                scene.config.camera_count);
+                frames);
     if (!opts->common.quiet) {
-        uint32_t frames = totals.rendered;
+        uint32_t rendered = totals.rendered;
         fprintf(stderr,
                 "vkrt: %s | %u triangles | accel %s | %u frame%s | %.1f ms/frame | %.3g Mrays/s\n",
-                device, scene.mesh.triangle_count, vkrt_accel_name(accel.kind), frames,
-                frames == 1 ? "" : "s", frames ? 1e3 * totals.seconds / frames : 0.0,
+                device, scene.mesh.triangle_count, vkrt_accel_name(accel.kind), rendered,
+                rendered == 1 ? "" : "s", rendered ? 1e3 * totals.seconds / rendered : 0.0,
                 totals.seconds > 0 ? totals.rays / totals.seconds * 1e-6 : 0.0);
         if (!opts->common.verbose) {
             fprintf(stderr, "vkrt: accel %s: %s\n", vkrt_accel_name(accel.kind), accel.reason);

@@ -62,6 +62,27 @@ check "frame 1 written" test -s "$tmp/fly01.png"
 check "two cameras without a frame number is refused" test $? -ne 0
 check "and says why" grep -q "frame number" "$tmp/err"
 
+# --frames A:B[:STEP]: only those frames, numbered as the output pattern numbers them.
+"$vkrt" render "$tmp/fly.cfg" --quiet --frames 1:2 -o "$tmp/fr%d.png"
+check "--frames 1:2 exits 0" test $? -eq 0
+check "--frames 1:2 writes frames 1 and 2" sh -c "test -s '$tmp/fr1.png' && test -s '$tmp/fr2.png'"
+check "--frames 1:2 leaves frame 0 out" test ! -e "$tmp/fr0.png"
+"$vkrt" render "$tmp/fly.cfg" --quiet --frames 0:2:2 -o "$tmp/fs%d.png"
+check "--frames 0:2:2 writes frames 0 and 2 only" \
+    sh -c "test -s '$tmp/fs0.png' && test ! -e '$tmp/fs1.png' && test -s '$tmp/fs2.png'"
+rm "$tmp/fs0.png"
+"$vkrt" render "$tmp/fly.cfg" --frames 0:2:2 --resume -o "$tmp/fs%d.png" 2>"$tmp/err"
+check "--frames with --resume renders only the range's missing frame" \
+    sh -c "grep -q 'resumed: 1 of 2 frames were already complete' '$tmp/err' && test -s '$tmp/fs0.png' && test ! -e '$tmp/fs1.png'"
+"$vkrt" render "$tmp/fly.cfg" --frames 1:3 -o "$tmp/fx%d.png" 2>"$tmp/err"
+check "--frames past the last camera is refused" test $? -eq 1
+check "and says how many frames there are" grep -q "has 3 cameras (frames 0 to 2)" "$tmp/err"
+for bad in 2:1 1 1:2:0 a:b 1:2:3:4; do
+    "$vkrt" render "$tmp/fly.cfg" --frames "$bad" -o "$tmp/fx%d.png" 2>"$tmp/err"
+    check "--frames $bad is refused" test $? -eq 2
+done
+check "and nothing was written" test ! -e "$tmp/fx0.png"
+
 # --resume: frame 0 complete, frame 1 missing, frame 2 cut short, a stale temporary beside it.
 "$vkrt" render "$tmp/fly.cfg" --quiet -o "$tmp/r%d.png"
 cp "$tmp/r0.png" "$tmp/r0.saved"
