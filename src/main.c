@@ -9,9 +9,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "bench.h"
 #include "cli.h"
+#include "clock.h"
 #include "error.h"
 #include "gpu/context.h"
 #include "gpu/spirv_cache.h"
@@ -113,6 +115,21 @@ static void print_kernel_cache(FILE *out)
                 compiled);
 }
 
+/* A flythrough's progress after a frame: frames done of the run's, frames per second and the
+ * time left at that rate. On a terminal one line, rewritten in place (the caller ends it); else a
+ * line per frame, for logs. */
+static void print_progress(FILE *out, uint32_t done, uint32_t total, uint32_t rendered,
+                           double seconds, const char *path, bool terminal)
+{
+    double rate = seconds > 0 ? rendered / seconds : 0;
+    char left[64] = "";
+    if (rate > 0 && done < total)
+        snprintf(left, sizeof left, ", about %.0f s left", (total - done) / rate);
+    fprintf(out, "%svkrt: %u of %u frames done (%s), %.2f frames/s%s%s", terminal ? "\r" : "",
+            done, total, path, rate, left, terminal ? "\033[K" : "\n");
+    fflush(out);
+}
+
 static bool render_frames(const vkrt_render_options *opts, const vkrt_scene *scene,
                           const char *output, gpu_context *ctx, render_totals *totals,
                           vkrt_accel_stats *accel, vkrt_error *err)
@@ -150,6 +167,10 @@ static bool render_frames(const vkrt_render_options *opts, const vkrt_scene *sce
     uint32_t first = opts->frames_given ? opts->frame_first : 0;
     uint32_t last = opts->frames_given ? opts->frame_last : cfg->camera_count - 1;
     uint32_t step = opts->frames_given ? opts->frame_step : 1;
+    uint32_t total = (last - first) / step + 1, done = 0;
+    bool progress = !opts->common.quiet && total > 1;
+    bool terminal = progress && isatty(fileno(stderr));
+    double start_ms = vkrt_clock_ms();
     for (uint32_t f = first; ok && f <= last; f = f + step < f ? last + 1 : f + step) {
         if (stop_requested) {
             totals->interrupted = true;
@@ -160,6 +181,7 @@ static bool render_frames(const vkrt_render_options *opts, const vkrt_scene *sce
         ok = vkrt_frame_path(path, sizeof path, output, f, err);
         if (ok && opts->resume && vkrt_image_is_complete(path, desc.width, desc.height)) {
             ++totals->skipped;
+            ++done;
             continue;
         }
         if (ok)
@@ -173,6 +195,8 @@ static bool render_frames(const vkrt_render_options *opts, const vkrt_scene *sce
             totals->seconds += stats.seconds;
             totals->rays += stats.primary_rays + stats.shadow_rays + stats.secondary_rays;
             ++totals->rendered;
+            if (terminal) /* the progress line makes way for this frame's messages */
+                fputs("\r\033[K", stderr);
             if (stats.dropped_rays && !opts->common.quiet)
                 fprintf(stderr, "vkrt: warning: frame %u: %llu rays did not fit the largest ray "
                                 "buffers the device allows (%u rays) and were not traced\n",
@@ -186,8 +210,13 @@ static bool render_frames(const vkrt_render_options *opts, const vkrt_scene *sce
             if (opts->common.verbose && stats.attempts > 1)
                 fprintf(stderr, "vkrt: frame %u: ray buffers grew to %u rays (%u attempts)\n", f,
                         stats.ray_capacity, stats.attempts);
+            if (progress)
+                print_progress(stderr, ++done, total, totals->rendered,
+                               (vkrt_clock_ms() - start_ms) / 1e3, path, terminal);
         }
     }
+    if (terminal && done > 0)
+        fputc('\n', stderr);
     free(rgb);
     vkrt_renderer_destroy(renderer);
     return ok;

@@ -63,8 +63,10 @@ check "two cameras without a frame number is refused" test $? -ne 0
 check "and says why" grep -q "frame number" "$tmp/err"
 
 # --frames A:B[:STEP]: only those frames, numbered as the output pattern numbers them.
-"$vkrt" render "$tmp/fly.cfg" --quiet --frames 1:2 -o "$tmp/fr%d.png"
+"$vkrt" render "$tmp/fly.cfg" --frames 1:2 -o "$tmp/fr%d.png" 2>"$tmp/err"
 check "--frames 1:2 exits 0" test $? -eq 0
+check "a flythrough prints its progress, a line a frame when not on a terminal" \
+    sh -c "grep -q '^vkrt: 1 of 2 frames done (.*fr1.png), [0-9.]* frames/s, about [0-9]* s left$' '$tmp/err' && grep -q '^vkrt: 2 of 2 frames done (.*fr2.png), [0-9.]* frames/s$' '$tmp/err'"
 check "--frames 1:2 writes frames 1 and 2" sh -c "test -s '$tmp/fr1.png' && test -s '$tmp/fr2.png'"
 check "--frames 1:2 leaves frame 0 out" test ! -e "$tmp/fr0.png"
 "$vkrt" render "$tmp/fly.cfg" --quiet --frames 0:2:2 -o "$tmp/fs%d.png"
