@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "renderer_private.h"
+#include "../scene/colour.h"
 
 /* Timed frames of a profile unless the description asks for another number. */
 static const uint32_t default_profile_repeat = 11;
@@ -33,10 +34,6 @@ static bool default_materials(const vkrt_scene *scene, vkrt_scene_materials *own
     return ok;
 }
 
-static float luminance(const float *rgb)
-{
-    return 0.2126f * rgb[0] + 0.7152f * rgb[1] + 0.0722f * rgb[2];
-}
 
 /* The name of the first material that emits light as an area light (renderer_material_ke), or
  * NULL when none does. */
@@ -45,7 +42,7 @@ static const char *first_emitter(const vkrt_scene_materials *mats)
     for (uint32_t i = 0; i < mats->count; ++i) {
         float ke[3];
         renderer_material_ke(mats, i, ke);
-        if (luminance(ke) > 0)
+        if (vkrt_luminance(ke) > 0)
             return mats->list[i].name;
     }
     return NULL;

@@ -18,14 +18,11 @@
 #include <string.h>
 
 #include "../../glsl/shared.h"
+#include "colour.h"
 
 /* The table's arrays are uploaded as Emitter records: keep the field types in step. */
 _Static_assert(sizeof(Emitter) == 4 * sizeof(uint32_t), "Emitter is four 32-bit fields");
 
-static double luminance(const float *rgb)
-{
-    return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
-}
 
 /* Area of triangle t in double, from its float corners. */
 static double triangle_area(const float *positions, uint32_t t)
@@ -123,7 +120,8 @@ bool vkrt_emitters_build(const float *positions, uint32_t triangle_count,
                                   "emitters: triangle %u has material %u, out of range "
                                   "(%u materials)",
                                   t, m, material_count);
-        if (luminance(material_ke + (size_t)m * 3) > 0.0 && triangle_area(positions, t) > 0.0)
+        if (vkrt_luminance(material_ke + (size_t)m * 3) > 0.0 &&
+            triangle_area(positions, t) > 0.0)
             count++;
     }
     if (count == 0)
@@ -144,7 +142,7 @@ bool vkrt_emitters_build(const float *positions, uint32_t triangle_count,
     double total = 0.0;
     uint32_t i = 0;
     for (uint32_t t = 0; t < triangle_count; t++) {
-        double lum = luminance(material_ke + (size_t)triangle_material[t] * 3);
+        double lum = vkrt_luminance(material_ke + (size_t)triangle_material[t] * 3);
         double area = triangle_area(positions, t);
         if (!(lum > 0.0 && area > 0.0))
             continue;

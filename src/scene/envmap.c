@@ -31,6 +31,7 @@
 #include <stb_image.h>
 
 #include "../../glsl/shared.h"
+#include "colour.h"
 
 #define PI_D 3.14159265358979323846
 #define PI_F 3.14159265358979323846f
@@ -389,10 +390,6 @@ static double cdf_build(const double *w, uint32_t n, float *cdf)
     return total;
 }
 
-static double luminance(const float *rgb)
-{
-    return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
-}
 
 /* The bilinear lookup (linear between texel centres, wrapping across) integrated over
  * each texel of one row, across only: over [x, x + 1] it weighs texels x - 1, x, x + 1 by 1/8,
@@ -404,8 +401,9 @@ static void row_filter(const float *rgb, uint32_t width, uint32_t y, double *out
     for (uint32_t x = 0; x < width; x++) {
         uint32_t left = x == 0 ? width - 1 : x - 1;
         uint32_t right = x + 1 == width ? 0 : x + 1;
-        out[x] = 0.75 * luminance(row + 3 * (size_t)x) +
-                 0.125 * (luminance(row + 3 * (size_t)left) + luminance(row + 3 * (size_t)right));
+        out[x] = 0.75 * vkrt_luminance(row + 3 * (size_t)x) +
+                 0.125 * (vkrt_luminance(row + 3 * (size_t)left) +
+                          vkrt_luminance(row + 3 * (size_t)right));
     }
 }
 
