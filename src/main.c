@@ -20,6 +20,7 @@
 #include "output/image_check.h"
 #include "output/image_write.h"
 #include "render/renderer.h"
+#include "render/trace_api.h"
 #include "scene/scene.h"
 #ifdef VKRT_VIEWER
 #include "view/viewer.h"
@@ -153,6 +154,12 @@ static bool render_frames(const vkrt_render_options *opts, const vkrt_scene *sce
         fprintf(stderr, "vkrt: integrator %s: %s\n", vkrt_integrator_name(integrator), why);
         print_kernel_cache(stderr);
     }
+    /* A profile's times, then what the driver says of each kernel, where it says anything. */
+    if (opts->profile && ctx->pipeline_statistics && !opts->common.quiet &&
+        !vkrt_renderer_print_kernel_statistics(renderer, stderr, err)) {
+        vkrt_renderer_destroy(renderer);
+        return false;
+    }
     if (integrator == VKRT_INTEGRATOR_PATH && !opts->common.quiet)
         for (uint32_t i = 0; i < cfg->light_count; ++i)
             if (cfg->lights[i].kind == VKRT_LIGHT_AMBIENT) {
@@ -255,7 +262,8 @@ static int run_render(const vkrt_render_options *opts)
     signal(SIGTERM, request_stop);
     gpu_context ctx;
     gpu_context_desc ctx_desc = {.device_index = opts->common.device,
-                                 .validation = opts->common.validation};
+                                 .validation = opts->common.validation,
+                                 .pipeline_statistics = opts->profile};
     render_totals totals = {0};
     vkrt_accel_stats accel = {0};
     bool ok = gpu_context_create(&ctx, &ctx_desc, &err) &&

@@ -75,3 +75,20 @@ bool vkrt_renderer_trace_kernel_statistics(vkrt_renderer *r, char *closest, size
     return gpu_pipeline_statistics(r->ctx, &r->trace, closest, closest_size, err) &&
            gpu_pipeline_statistics(r->ctx, &r->occlusion, any, any_size, err);
 }
+
+bool vkrt_renderer_print_kernel_statistics(vkrt_renderer *r, FILE *out, vkrt_error *err)
+{
+    /* The frame's kernels in dispatch order; `light` is nee.comp under the path integrator. */
+    const struct {
+        const char *name;
+        const gpu_pipeline *pipe;
+    } kernels[] = {{"raygen", &r->raygen}, {"trace", &r->trace}, {"light", &r->light},
+                   {"count", &r->count},   {"prepare", &r->prepare}, {"shade", &r->shade}};
+    for (size_t i = 0; i < sizeof kernels / sizeof kernels[0]; ++i) {
+        char text[2048];
+        if (!gpu_pipeline_statistics(r->ctx, kernels[i].pipe, text, sizeof text, err))
+            return false;
+        fprintf(out, "vkrt: kernel %s: %s\n", kernels[i].name, text);
+    }
+    return true;
+}

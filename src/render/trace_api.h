@@ -7,6 +7,7 @@
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "renderer.h"
 
@@ -41,5 +42,11 @@ bool vkrt_renderer_trace_stats(vkrt_renderer *r, const Ray *rays, uint32_t count
  * context created with pipeline_statistics; gpu_pipeline_statistics says what they hold). */
 bool vkrt_renderer_trace_kernel_statistics(vkrt_renderer *r, char *closest, size_t closest_size,
                                            char *any, size_t any_size, vkrt_error *err);
+
+/* Prints the driver's statistics (registers, spills, instructions: whatever it reports) of each
+ * kernel a frame dispatches, a line per kernel, for `vkrt render --profile`: a kernel's time
+ * alone does not say whether it waits on memory or runs few threads for want of registers.
+ * Needs a context created with pipeline_statistics (the device has to report them). */
+bool vkrt_renderer_print_kernel_statistics(vkrt_renderer *r, FILE *out, vkrt_error *err);
 
 #endif
