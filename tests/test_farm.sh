@@ -30,14 +30,19 @@ daemons=""
 cleanup() {
     if [ -n "$daemons" ]; then
         # Tasks first: slurmstepd outlives slurmd, so no task may be left running.
-        jobs=$(squeue --noheader --format=%A 2>/dev/null)
-        [ -n "$jobs" ] && scancel $jobs 2>/dev/null
+        jobs=$(timeout 10 squeue --noheader --format=%A 2>/dev/null)
+        [ -n "$jobs" ] && timeout 10 scancel $jobs 2>/dev/null
         waited=0
-        while [ -n "$(squeue --noheader 2>/dev/null)" ] && [ $waited -lt 50 ]; do
+        while [ -n "$(timeout 5 squeue --noheader 2>/dev/null)" ] && [ $waited -lt 50 ]; do
             sleep 0.2; waited=$((waited + 1))
         done
         for pid in $daemons; do kill "$pid" 2>/dev/null; done
+        # A daemon that does not stop within 10 s is killed, so that the waits below end.
+        (trap 'kill $timer; exit' TERM; sleep 10 & timer=$!; wait $timer; kill -KILL $daemons) \
+            >/dev/null 2>&1 &
+        watchdog=$!
         for pid in $daemons; do wait "$pid" 2>/dev/null; done
+        kill "$watchdog" 2>/dev/null
     fi
     rm -rf "$tmp"
 }
@@ -47,7 +52,7 @@ trap 'exit 1' INT TERM
 # A 12-camera flythrough of the Cornell box; a commented-out camera is not a frame.
 {
     echo "geometry $src/scenes/cornell/cornell.obj"
-    echo "resolution 32 32"
+    echo "resolution 40 40"
     echo "light point 278 500 279 250000 250000 250000"
     echo "# camera eye 0 273 -800 look 278 273 0 up 0 1 0 fov 40"
     awk 'BEGIN { for (f = 0; f < 12; f++)
@@ -55,11 +60,14 @@ trap 'exit 1' INT TERM
 } >"$tmp/fly.cfg"
 mkdir "$tmp/local" "$tmp/farm"
 # The local render, beside the rest of the set-up: each vkrt spends most of its time starting.
-"$vkrt" render "$tmp/fly.cfg" --spp 1 --seed 3 --quiet -o "$tmp/local/f%02d.png" &
+# tools/farm is given the same options, the size and exposure after its "--": a frame of another
+# size would not count as complete, one of another exposure would differ.
+"$vkrt" render "$tmp/fly.cfg" --spp 1 --width 32 --height 24 --exposure 1 --quiet \
+    -o "$tmp/local/f%02d.png" &
 local_render=$!
 
 # The completeness checks (no cluster needed): tools/farm's against what vkrt --resume skips.
-"$vkrt" render "$tmp/fly.cfg" --frames 0:0 --quiet -o "$tmp/w%d.exr" && mv "$tmp/w0.exr" "$tmp/whole.exr"
+"$vkrt" render "$tmp/fly.cfg" --frames 0:0 --width 32 --height 24 --quiet -o "$tmp/w%d.exr" && mv "$tmp/w0.exr" "$tmp/whole.exr"
 wait $local_render
 check "the local render exits 0" test $? -eq 0
 head -c 200 "$tmp/whole.exr" >"$tmp/cut.exr"
@@ -67,18 +75,18 @@ head -c 200 "$tmp/local/f00.png" >"$tmp/cut.png"
 python3 - "$farm" "$tmp" >"$tmp/complete" <<'PY'
 import importlib.machinery, sys
 farm = importlib.machinery.SourceFileLoader("farm", sys.argv[1]).load_module()
-for name, w, h in [("local/f00.png", 32, 32), ("local/f00.png", 32, 31), ("cut.png", 32, 32),
-                   ("whole.exr", 32, 32), ("whole.exr", 31, 32), ("cut.exr", 32, 32),
-                   ("none.png", 32, 32)]:
+for name, w, h in [("local/f00.png", 32, 24), ("local/f00.png", 24, 32), ("cut.png", 32, 24),
+                   ("whole.exr", 32, 24), ("whole.exr", 24, 32), ("cut.exr", 32, 24),
+                   ("none.png", 32, 24)]:
     print(name, w, h, farm.frame_is_complete(f"{sys.argv[2]}/{name}", w, h))
 PY
-check "a whole PNG is complete" grep -q "^local/f00.png 32 32 True$" "$tmp/complete"
-check "a PNG of another size is not" grep -q "^local/f00.png 32 31 False$" "$tmp/complete"
-check "a PNG cut short is not" grep -q "^cut.png 32 32 False$" "$tmp/complete"
-check "a whole EXR is complete" grep -q "^whole.exr 32 32 True$" "$tmp/complete"
-check "an EXR of another size is not" grep -q "^whole.exr 31 32 False$" "$tmp/complete"
-check "an EXR cut short is not" grep -q "^cut.exr 32 32 False$" "$tmp/complete"
-check "a missing file is not" grep -q "^none.png 32 32 False$" "$tmp/complete"
+check "a whole PNG is complete" grep -q "^local/f00.png 32 24 True$" "$tmp/complete"
+check "a PNG of another size is not" grep -q "^local/f00.png 24 32 False$" "$tmp/complete"
+check "a PNG cut short is not" grep -q "^cut.png 32 24 False$" "$tmp/complete"
+check "a whole EXR is complete" grep -q "^whole.exr 32 24 True$" "$tmp/complete"
+check "an EXR of another size is not" grep -q "^whole.exr 24 32 False$" "$tmp/complete"
+check "an EXR cut short is not" grep -q "^cut.exr 32 24 False$" "$tmp/complete"
+check "a missing file is not" grep -q "^none.png 32 24 False$" "$tmp/complete"
 "$farm" submit "$tmp/fly.cfg" --out "$tmp/farm/one.png" --vkrt "$vkrt" --job "$tmp/bad" \
     2>"$tmp/err"
 check "submit refuses an output without a frame number" test $? -eq 1
@@ -157,7 +165,7 @@ daemons="$daemons $!"
 slurmd -D -f "$SLURM_CONF" -N farmnode >/dev/null 2>&1 &
 daemons="$daemons $!"
 waited=0
-until [ "$(sinfo --noheader --nodes=farmnode --format=%T 2>/dev/null)" = idle ]; do
+until [ "$(timeout 5 sinfo --noheader --nodes=farmnode --format=%T 2>/dev/null)" = idle ]; do
     if [ $waited -ge 100 ]; then
         tail -n 5 "$tmp/munged.log" "$tmp/slurmctld.log" "$tmp/slurmd.log" 2>/dev/null
         finish "the single-node Slurm cluster did not come up within 20 s (logs above)"
@@ -168,11 +176,11 @@ done
 # Submit 12 frames in 4 tasks; three CPUs run three at a time, so task 3 is still waiting when
 # it is cancelled, and task 0 is cancelled once it runs (before, during or after its frames).
 "$farm" submit "$tmp/fly.cfg" --out "$tmp/farm/f%02d.png" --chunk 3 --gpus-per-task 1 \
-    --partition render --spp 1 --vkrt "$vkrt" --job "$tmp/job" -- --seed 3 >"$tmp/submit" 2>&1
+    --partition render --spp 1 --vkrt "$vkrt" --job "$tmp/job" -- --width 32 --height 24 --exposure 1 >"$tmp/submit" 2>&1
 status=$?
 check "submit exits 0" test $status -eq 0
 [ $status -eq 0 ] || cat "$tmp/submit"
-check "submit says 12 frames of 32x32" grep -q ": 12 frames of 32x32$" "$tmp/submit"
+check "submit says 12 frames of 32x24" grep -q ": 12 frames of 32x24$" "$tmp/submit"
 check "submit makes 4 tasks of 3 frames" grep -q "submitted job [0-9]*: 4 tasks (chunks 0-3) of 3 frames" "$tmp/submit"
 job=$(sed -n 's/.*submitted job \([0-9]*\).*/\1/p' "$tmp/submit")
 scancel "${job}_3"
