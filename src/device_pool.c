@@ -95,8 +95,8 @@ static void send_failure(int fd, report_kind kind, const vkrt_error *err)
 }
 
 /* The worker's life, in the child process; never returns. */
-static void worker_main(const vkrt_device_pool_desc *desc, uint32_t index, int from_parent,
-                        int to_parent)
+_Noreturn static void worker_main(const vkrt_device_pool_desc *desc, uint32_t index,
+                                  int from_parent, int to_parent)
 {
     /* Ctrl-C reaches the whole process group: the parent decides, and lets the frames being
      * rendered finish. A worker whose parent is gone reads the end of its pipe and stops. */
@@ -156,7 +156,7 @@ typedef struct pool_run {
     uint8_t *state; /* frame_state of each of desc->frames */
     uint32_t next;  /* no frame before this one is waiting */
     uint32_t in_flight;
-    uint32_t alive; /* workers whose report pipe is still open */
+    uint32_t alive;  /* workers whose report pipe is still open */
     double start_ms; /* when the run began */
 } pool_run;
 
@@ -253,27 +253,40 @@ static void read_report(pool_run *p, uint32_t w)
     }
 }
 
-/* Starts worker w: its two pipes and its process. */
-static bool start_worker(pool_run *p, uint32_t w, vkrt_error *err)
+static void close_pipes(int (*pipes)[2], int count)
 {
-    int down[2], up[2];
-    if (pipe(down) != 0)
-        return vkrt_error_set(err, "--devices: cannot make a pipe: %s", strerror(errno));
-    if (pipe(up) != 0) {
-        close(down[0]);
-        close(down[1]);
-        return vkrt_error_set(err, "--devices: cannot make a pipe: %s", strerror(errno));
+    for (int i = 0; i < count; ++i) {
+        close(pipes[i][0]);
+        close(pipes[i][1]);
     }
+}
+
+/* Makes count pipes and forks; on failure nothing is left open. *pid as fork() gives it. */
+static bool fork_with_pipes(int (*pipes)[2], int count, pid_t *pid, vkrt_error *err)
+{
+    for (int i = 0; i < count; ++i)
+        if (pipe(pipes[i]) != 0) {
+            close_pipes(pipes, i);
+            return vkrt_error_set(err, "--devices: cannot make a pipe: %s", strerror(errno));
+        }
     /* What the parent's stdio holds must not be written twice. */
     fflush(NULL);
-    pid_t pid = fork();
-    if (pid < 0) {
-        close(down[0]);
-        close(down[1]);
-        close(up[0]);
-        close(up[1]);
-        return vkrt_error_set(err, "--devices: cannot start a worker process: %s", strerror(errno));
+    *pid = fork();
+    if (*pid < 0) {
+        close_pipes(pipes, count);
+        return vkrt_error_set(err, "--devices: cannot start a process: %s", strerror(errno));
     }
+    return true;
+}
+
+/* Starts worker w: its two pipes (frames down, reports up) and its process. */
+static bool start_worker(pool_run *p, uint32_t w, vkrt_error *err)
+{
+    enum { down, up };
+    int pipes[2][2];
+    pid_t pid;
+    if (!fork_with_pipes(pipes, 2, &pid, err))
+        return false;
     if (pid == 0) {
         /* The earlier workers' ends stay with the parent: a worker holding another's pipe would
          * keep that one from seeing its parent go. */
@@ -281,13 +294,14 @@ static bool start_worker(pool_run *p, uint32_t w, vkrt_error *err)
             close_fd(&p->links[i].to_worker);
             close_fd(&p->links[i].from_worker);
         }
-        close(down[1]);
-        close(up[0]);
-        worker_main(p->desc, w, down[0], up[1]);
+        close(pipes[down][1]);
+        close(pipes[up][0]);
+        worker_main(p->desc, w, pipes[down][0], pipes[up][1]);
     }
-    close(down[0]);
-    close(up[1]);
-    p->links[w] = (worker_link){.pid = pid, .to_worker = down[1], .from_worker = up[0]};
+    close(pipes[down][0]);
+    close(pipes[up][1]);
+    p->links[w] =
+        (worker_link){.pid = pid, .to_worker = pipes[down][1], .from_worker = pipes[up][0]};
     ++p->alive;
     return true;
 }
@@ -366,16 +380,11 @@ bool vkrt_device_pool_run(const vkrt_device_pool_desc *desc, vkrt_pool_result *r
 bool vkrt_device_pool_list(bool (*list)(FILE *out, vkrt_error *err), char *text, size_t size,
                            uint32_t *device_count, vkrt_error *err)
 {
-    int fds[2];
-    if (pipe(fds) != 0)
-        return vkrt_error_set(err, "--devices: cannot make a pipe: %s", strerror(errno));
-    fflush(NULL);
-    pid_t pid = fork();
-    if (pid < 0) {
-        close(fds[0]);
-        close(fds[1]);
-        return vkrt_error_set(err, "--devices: cannot start a process: %s", strerror(errno));
-    }
+    int pipes[1][2];
+    pid_t pid;
+    if (!fork_with_pipes(pipes, 1, &pid, err))
+        return false;
+    int *fds = pipes[0];
     if (pid == 0) {
         close(fds[0]);
         FILE *out = fdopen(fds[1], "w");

@@ -414,8 +414,11 @@ static int render_on_devices(const vkrt_render_options *opts, const vkrt_scene *
         fprintf(stderr, "vkrt: %s\n", err.msg);
         return 1;
     }
-    if (list->count == 0)
+    if (list->count == 0) {
+        if (!opts->common.quiet)
+            fprintf(stderr, "vkrt: resumed: all %u frames were already complete\n", list->total);
         return 0;
+    }
     /* More workers than frames would only start devices to leave them idle. */
     if (workers > list->count)
         workers = list->count;

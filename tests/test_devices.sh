@@ -72,12 +72,24 @@ check "whose frames add up to the flythrough" \
 check "and the progress line counts to the end" grep -q "^vkrt: $frames of $frames frames done" "$tmp/err"
 check "no temporaries are left" sh -c "! ls '$tmp' | grep -q 'tmp-'"
 
-# --resume with --devices renders only the missing frames.
-rm "$tmp/two03.png" "$tmp/two07.png"
-"$vkrt" render "$tmp/fly.cfg" --devices 0,0 --resume -o "$tmp/two%02d.png" 2>"$tmp/err"
+# Ctrl-C (SIGINT to the parent; stopped around it so that frames are left): the frames being
+# rendered finish, exit 130, and --resume with --devices renders just the rest.
+"$vkrt" render "$tmp/fly.cfg" --devices 0,0 -o "$tmp/int%02d.png" 2>"$tmp/err" &
+pid=$!
+waited=0
+while [ ! -e "$tmp/int00.png" ] && [ $waited -lt 600 ]; do sleep 0.05; waited=$((waited + 1)); done
+kill -STOP $pid
+kill -INT $pid
+kill -CONT $pid
+wait $pid
+check "an interrupted --devices run exits 130" test $? -eq 130
+check "and says how to continue" grep -q "^vkrt: interrupted after [0-9]* of $frames frames; run again with --resume" "$tmp/err"
+written=$(ls "$tmp" | grep -c '^int.*png$')
+check "some but not all frames were written" test "$written" -gt 0 -a "$written" -lt $frames
+"$vkrt" render "$tmp/fly.cfg" --devices 0,0 --resume -o "$tmp/int%02d.png" 2>"$tmp/err"
 check "--devices with --resume exits 0" test $? -eq 0
-check "and renders just the two missing frames" grep -q "^vkrt: resumed: $((frames - 2)) of $frames frames were already complete" "$tmp/err"
-check "with the single device's bytes" same_frames "$tmp/two" "$tmp/one" $frames
+check "and renders just the missing frames" grep -q "^vkrt: resumed: $written of $frames frames were already complete" "$tmp/err"
+check "with the single device's bytes" same_frames "$tmp/int" "$tmp/one" $frames
 
 # A worker killed mid-run (kill -9: no chance to clean up): its frame goes to the others, every
 # frame is written once, the run succeeds and names the worker that failed. The parent is stopped
