@@ -397,7 +397,8 @@ static void print_pool_summary(const vkrt_render_options *opts, const vkrt_scene
             r->rendered, list->count, list->count == 1 ? "" : "s", r->seconds, r->start_seconds,
             rendering > 0 ? r->rendered / rendering : 0.0,
             gpu_seconds > 0 ? rays / gpu_seconds * 1e-6 : 0.0);
-    fputs(r->about, stderr);
+    if (!opts->common.verbose) /* else the first worker printed its choices at its start */
+        fputs(r->about, stderr);
 }
 
 /* Renders list's frames on --devices's devices. Returns the exit status. */

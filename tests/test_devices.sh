@@ -84,7 +84,7 @@ kill -CONT $pid
 wait $pid
 check "an interrupted --devices run exits 130" test $? -eq 130
 check "and says how to continue" grep -q "^vkrt: interrupted after [0-9]* of $frames frames; run again with --resume" "$tmp/err"
-written=$(ls "$tmp" | grep -c '^int.*png$')
+written=$(find "$tmp" -name 'int*.png' | wc -l)
 check "some but not all frames were written" test "$written" -gt 0 -a "$written" -lt $frames
 "$vkrt" render "$tmp/fly.cfg" --devices 0,0 --resume -o "$tmp/int%02d.png" 2>"$tmp/err"
 check "--devices with --resume exits 0" test $? -eq 0
@@ -125,7 +125,7 @@ check "the frame has the single device's bytes" cmp -s "$tmp/single05.png" "$tmp
 check "--devices 0,7 exits 1" test $? -eq 1
 check "and says there is no device 7" grep -q "^vkrt: --devices 0,7: there is no device 7; the 1 device:" "$tmp/err"
 check "and lists the devices" grep -q "^0: .*Vulkan" "$tmp/err"
-for bad in x 0,,1 1, -1 ""; do
+for bad in x 0,,1 '1,' -1 ""; do
     "$vkrt" render "$tmp/fly.cfg" --devices "$bad" -o "$tmp/bad%02d.png" 2>"$tmp/err"
     check "--devices '$bad' is refused" test $? -eq 2
 done
