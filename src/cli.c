@@ -1,5 +1,6 @@
 /* cli.c: command-line parsing (see cli.h). */
 #include "cli.h"
+#include "device_pool.h"
 
 #include <errno.h>
 #include <math.h>
@@ -49,6 +50,10 @@ const char *vkrt_usage(void)
            "                    as the output pattern numbers them), e.g. for a render farm\n"
            "  --resume          skip frames whose output files are already complete (a\n"
            "                    flythrough interrupted by Ctrl-C, a crash or a lost device)\n"
+           "  --devices all|N,M,...  render the frames on several devices at once, a worker\n"
+           "                    process each, each taking the next frame when done (a device\n"
+           "                    listed twice gets two workers); a worker that fails has its\n"
+           "                    frame rendered by the others; a summary per device at the end\n"
            "  --quiet           no summary on stderr\n"
            "  --list-devices    list Vulkan devices and exit\n"
            "  --help, --version\n"
@@ -138,7 +143,7 @@ static const struct known_option {
     {"--verbose", ALL},      {"--no-cache", ALL},       {"-o", RENDER},            {"--spp", RENDER | VIEW},
     {"--exposure", RENDER | VIEW},                      {"--profile", RENDER},
     {"--profile-repeat", RENDER},                       {"--seed", RENDER},
-    {"--frames", RENDER},                       {"--resume", RENDER},
+    {"--frames", RENDER},    {"--resume", RENDER},      {"--devices", RENDER},
     {"--script", VIEW},      {"--record", VIEW},        {"--json", BENCH},
     {"--stats", BENCH},      {"--kernel-stats", BENCH}, {"--whole-scene", BENCH},
     {"--workgroup", BENCH},  {"--grid-density", BENCH}, {"--bvh-width", BENCH},
@@ -266,6 +271,12 @@ static bool parse_render(const char *arg, const char *value, vkrt_render_options
         return parse_u32(arg, value, 0, UINT32_MAX, &o->seed, err);
     } else if (strcmp(arg, "--frames") == 0) {
         return parse_frame_range(value, o, err);
+    } else if (strcmp(arg, "--devices") == 0) {
+        if (!value)
+            return vkrt_error_set(err,
+                                  "--devices needs a value: all, or device numbers such as 0,2");
+        o->devices = value;
+        return vkrt_devices_spec_check(value, err);
     } else {
         *consumed = 0;
         if (strcmp(arg, "--profile") == 0)
@@ -419,6 +430,9 @@ bool vkrt_command_line_parse(int argc, char **argv, vkrt_command_line *cl, vkrt_
     const char *name = command_name(cl->command);
     if (!scene)
         return vkrt_error_set(err, "%s needs a scene file: vkrt %s SCENE.cfg", name, name);
+    if (cl->render.devices && cl->render.common.device >= 0)
+        return vkrt_error_set(err, "--device and --devices: give one (--devices %d for that device "
+                              "alone)", cl->render.common.device);
     cl->render.scene_path = scene;
     cl->view.scene_path = scene;
     return true;

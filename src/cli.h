@@ -50,6 +50,8 @@ typedef struct vkrt_render_options {
     bool resume;              /* --resume: skip frames whose files are already complete */
     bool frames_given;        /* --frames A:B[:STEP]: only frames A, A + STEP, ... up to B */
     uint32_t frame_first, frame_last, frame_step;
+    const char *devices;      /* --devices all|N,M,...: a worker process per device listed
+                                 (device_pool.h); NULL when not given */
 } vkrt_render_options;
 
 typedef struct vkrt_view_options {

@@ -1,6 +1,7 @@
 /*
  * main.c: the vkrt program. Parses the command line, loads the scene (all CPU, so bad input stops
- * before any GPU work), renders every frame and writes it, then prints a summary on stderr.
+ * before any GPU work), renders every frame and writes it (on one device, or with --devices on
+ * several, a worker process each: device_pool.h), then prints a summary on stderr.
  * Only this file decides how the process exits.
  */
 #define _POSIX_C_SOURCE 200809L
@@ -14,6 +15,7 @@
 #include "bench.h"
 #include "cli.h"
 #include "clock.h"
+#include "device_pool.h"
 #include "error.h"
 #include "gpu/context.h"
 #include "gpu/spirv_cache.h"
@@ -63,15 +65,6 @@ static bool check_output(const char *output, uint32_t frames, vkrt_error *err)
                               output, frames);
     return check_output_folder(first, err);
 }
-
-typedef struct render_totals {
-    double seconds;
-    uint64_t rays;
-    uint32_t rendered, skipped;
-    bool interrupted;
-    vkrt_integrator integrator;   /* what the renderer computed, and why */
-    char integrator_reason[256];
-} render_totals;
 
 /* Set by SIGINT or SIGTERM; frames are checked between, so the frame being written finishes (or
  * fails) cleanly and --resume can pick up after it. */
@@ -131,102 +124,369 @@ static void print_progress(FILE *out, uint32_t done, uint32_t total, uint32_t re
     fflush(out);
 }
 
-static bool render_frames(const vkrt_render_options *opts, const vkrt_scene *scene,
-                          const char *output, gpu_context *ctx, render_totals *totals,
-                          vkrt_accel_stats *accel, vkrt_error *err)
-{
-    const vkrt_config *cfg = &scene->config;
-    vkrt_render_desc desc = vkrt_render_desc_for(cfg, &opts->common, opts->samples);
-    desc.profile = opts->profile;
-    desc.profile_repeat = opts->profile_repeat;
-    desc.seed = opts->seed;
-    desc.shutter = cfg->shutter; /* render only: the viewer's camera has no next frame */
+/* One device rendering a scene's frames into their files: the single-device loop and each
+ * worker of --devices (device_pool.h) use it. */
+typedef struct frame_writer {
+    const vkrt_render_options *opts;
+    const vkrt_scene *scene;
+    const char *output;
+    bool clear_line;          /* a progress line is on the terminal: messages clear it first */
+    gpu_context ctx;
     vkrt_renderer *renderer;
-    if (!vkrt_renderer_create(&renderer, ctx, scene, &desc, err))
+    vkrt_render_desc desc;
+    float *rgb;
+} frame_writer;
+
+/* Creates the device's context and the renderer; tell says whether to print the choices
+ * (--verbose) and notes about the scene. On failure err says why and nothing is left. */
+static bool frame_writer_start(frame_writer *w, int device, bool tell, vkrt_error *err)
+{
+    const vkrt_render_options *opts = w->opts;
+    const vkrt_config *cfg = &w->scene->config;
+    w->desc = vkrt_render_desc_for(cfg, &opts->common, opts->samples);
+    w->desc.profile = opts->profile;
+    w->desc.profile_repeat = opts->profile_repeat;
+    w->desc.seed = opts->seed;
+    w->desc.shutter = cfg->shutter; /* render only: the viewer's camera has no next frame */
+    gpu_context_desc ctx_desc = {.device_index = device,
+                                 .validation = opts->common.validation,
+                                 .pipeline_statistics = opts->profile};
+    if (!gpu_context_create(&w->ctx, &ctx_desc, err))
         return false;
-    *accel = *vkrt_renderer_accel_stats(renderer);
+    if (!vkrt_renderer_create(&w->renderer, &w->ctx, w->scene, &w->desc, err)) {
+        gpu_context_destroy(&w->ctx);
+        return false;
+    }
     const char *why;
-    vkrt_integrator integrator = vkrt_renderer_integrator(renderer, &why);
-    totals->integrator = integrator;
-    snprintf(totals->integrator_reason, sizeof totals->integrator_reason, "%s", why);
-    if (opts->common.verbose) {
-        print_accel_stats(stderr, accel);
+    vkrt_integrator integrator = vkrt_renderer_integrator(w->renderer, &why);
+    if (tell && opts->common.verbose) {
+        print_accel_stats(stderr, vkrt_renderer_accel_stats(w->renderer));
         fprintf(stderr, "vkrt: integrator %s: %s\n", vkrt_integrator_name(integrator), why);
         print_kernel_cache(stderr);
     }
     /* A profile's times, then what the driver says of each kernel, where it says anything. */
-    if (opts->profile && ctx->pipeline_statistics && !opts->common.quiet &&
-        !vkrt_renderer_print_kernel_statistics(renderer, stderr, err)) {
-        vkrt_renderer_destroy(renderer);
+    if (opts->profile && w->ctx.pipeline_statistics && !opts->common.quiet &&
+        !vkrt_renderer_print_kernel_statistics(w->renderer, stderr, err)) {
+        vkrt_renderer_destroy(w->renderer);
+        gpu_context_destroy(&w->ctx);
         return false;
     }
-    if (integrator == VKRT_INTEGRATOR_PATH && !opts->common.quiet)
+    if (tell && integrator == VKRT_INTEGRATOR_PATH && !opts->common.quiet)
         for (uint32_t i = 0; i < cfg->light_count; ++i)
             if (cfg->lights[i].kind == VKRT_LIGHT_AMBIENT) {
                 fprintf(stderr, "vkrt: note: the path integrator computes indirect light and "
                                 "ignores `light ambient`, Whitted's stand-in for it\n");
                 break;
             }
-    float *rgb = malloc((size_t)desc.width * desc.height * 3 * sizeof *rgb);
-    bool ok = rgb != NULL;
-    if (!ok)
-        vkrt_error_set(err, "out of memory for a %ux%u image", desc.width, desc.height);
+    w->rgb = malloc((size_t)w->desc.width * w->desc.height * 3 * sizeof *w->rgb);
+    if (!w->rgb) {
+        vkrt_renderer_destroy(w->renderer);
+        gpu_context_destroy(&w->ctx);
+        return vkrt_error_set(err, "out of memory for a %ux%u image", w->desc.width,
+                              w->desc.height);
+    }
+    return true;
+}
+
+/* Renders frame f and writes its file (a temporary renamed onto it: image_write.h), with the
+ * frame's warnings. */
+static bool frame_writer_write(frame_writer *w, uint32_t f, vkrt_frame_stats *stats,
+                               vkrt_error *err)
+{
+    const vkrt_render_options *opts = w->opts;
+    const vkrt_config *cfg = &w->scene->config;
+    char path[4096];
+    if (!vkrt_frame_path(path, sizeof path, w->output, f, err))
+        return false;
+    vkrt_image_remove_stale_temporaries(path);
+    /* Motion blur towards the next frame's camera; the last frame has none and is sharp. */
+    vkrt_renderer_set_next_camera(w->renderer,
+                                  f + 1 < cfg->camera_count ? &cfg->cameras[f + 1] : NULL);
+    if (!vkrt_renderer_render(w->renderer, &cfg->cameras[f], f, w->rgb, stats, err) ||
+        !vkrt_image_write(path, w->desc.width, w->desc.height, w->rgb, opts->exposure, err))
+        return false;
+    if (w->clear_line) /* the progress line makes way for this frame's messages */
+        fputs("\r\033[K", stderr);
+    if (stats->dropped_rays && !opts->common.quiet)
+        fprintf(stderr, "vkrt: warning: frame %u: %llu rays did not fit the largest ray "
+                        "buffers the device allows (%u rays) and were not traced\n",
+                f, (unsigned long long)stats->dropped_rays, stats->ray_capacity);
+    if (stats->nonfinite && !opts->common.quiet)
+        fprintf(stderr, "vkrt: warning: frame %u: %u shading results were NaN or "
+                        "infinite and were dropped\n",
+                f, stats->nonfinite);
+    if (stats->profile.profiled && !opts->common.quiet)
+        vkrt_frame_profile_print(stderr, &stats->profile);
+    if (opts->common.verbose && stats->attempts > 1)
+        fprintf(stderr, "vkrt: frame %u: ray buffers grew to %u rays (%u attempts)\n", f,
+                stats->ray_capacity, stats->attempts);
+    return true;
+}
+
+/* Frees what start took; after a run that went well (ok), the validation layers' word too. */
+static bool frame_writer_finish(frame_writer *w, bool ok, vkrt_error *err)
+{
+    free(w->rgb);
+    vkrt_renderer_destroy(w->renderer);
+    return gpu_context_close(&w->ctx, ok, err);
+}
+
+/* The frames a run renders: --frames's (all by default), less, with --resume, those whose files
+ * are complete. */
+typedef struct frame_list {
+    uint32_t *frames;
+    uint32_t count;           /* to render */
+    uint32_t total;           /* in the range, complete ones included */
+    uint32_t skipped;         /* complete already (--resume) */
+} frame_list;
+
+static bool frame_list_make(const vkrt_render_options *opts, const vkrt_scene *scene,
+                            const char *output, frame_list *list, vkrt_error *err)
+{
+    const vkrt_config *cfg = &scene->config;
+    vkrt_render_desc desc = vkrt_render_desc_for(cfg, &opts->common, opts->samples);
     uint32_t first = opts->frames_given ? opts->frame_first : 0;
     uint32_t last = opts->frames_given ? opts->frame_last : cfg->camera_count - 1;
     uint32_t step = opts->frames_given ? opts->frame_step : 1;
-    uint32_t total = (last - first) / step + 1, done = 0;
-    bool progress = !opts->common.quiet && total > 1;
+    *list = (frame_list){.total = (last - first) / step + 1};
+    list->frames = malloc(list->total * sizeof *list->frames);
+    if (!list->frames)
+        return vkrt_error_set(err, "out of memory");
+    for (uint32_t i = 0; i < list->total; ++i) {
+        uint32_t f = first + i * step;
+        char path[4096];
+        if (!vkrt_frame_path(path, sizeof path, output, f, err)) {
+            free(list->frames);
+            return false;
+        }
+        if (opts->resume && vkrt_image_is_complete(path, desc.width, desc.height))
+            ++list->skipped;
+        else
+            list->frames[list->count++] = f;
+    }
+    return true;
+}
+
+typedef struct render_totals {
+    double seconds;
+    uint64_t rays;
+    uint32_t rendered;
+    bool interrupted;
+    char device[256];
+    vkrt_accel_stats accel;
+    vkrt_integrator integrator;   /* what the renderer computed, and why */
+    char integrator_reason[256];
+} render_totals;
+
+static bool render_on_one_device(const vkrt_render_options *opts, const vkrt_scene *scene,
+                                 const char *output, const frame_list *list,
+                                 render_totals *totals, vkrt_error *err)
+{
+    bool progress = !opts->common.quiet && list->total > 1;
     bool terminal = progress && isatty(fileno(stderr));
+    frame_writer w = {.opts = opts, .scene = scene, .output = output, .clear_line = terminal};
+    if (!frame_writer_start(&w, opts->common.device, true, err))
+        return false;
+    snprintf(totals->device, sizeof totals->device, "%s", w.ctx.properties.deviceName);
+    totals->accel = *vkrt_renderer_accel_stats(w.renderer);
+    const char *why;
+    totals->integrator = vkrt_renderer_integrator(w.renderer, &why);
+    snprintf(totals->integrator_reason, sizeof totals->integrator_reason, "%s", why);
     double start_ms = vkrt_clock_ms();
-    for (uint32_t f = first; ok && f <= last; f = f + step < f ? last + 1 : f + step) {
+    bool ok = true;
+    for (uint32_t i = 0; ok && i < list->count; ++i) {
         if (stop_requested) {
             totals->interrupted = true;
             break;
         }
         vkrt_frame_stats stats;
-        char path[4096];
-        ok = vkrt_frame_path(path, sizeof path, output, f, err);
-        if (ok && opts->resume && vkrt_image_is_complete(path, desc.width, desc.height)) {
-            ++totals->skipped;
-            ++done;
-            continue;
-        }
-        if (ok)
-            vkrt_image_remove_stale_temporaries(path);
-        /* Motion blur towards the next frame's camera; the last frame has none and is sharp. */
-        vkrt_renderer_set_next_camera(renderer, f + 1 < cfg->camera_count ? &cfg->cameras[f + 1]
-                                                                          : NULL);
-        ok = ok && vkrt_renderer_render(renderer, &cfg->cameras[f], f, rgb, &stats, err) &&
-             vkrt_image_write(path, desc.width, desc.height, rgb, opts->exposure, err);
-        if (ok) {
-            totals->seconds += stats.seconds;
-            totals->rays += stats.primary_rays + stats.shadow_rays + stats.secondary_rays;
-            ++totals->rendered;
-            if (terminal) /* the progress line makes way for this frame's messages */
-                fputs("\r\033[K", stderr);
-            if (stats.dropped_rays && !opts->common.quiet)
-                fprintf(stderr, "vkrt: warning: frame %u: %llu rays did not fit the largest ray "
-                                "buffers the device allows (%u rays) and were not traced\n",
-                        f, (unsigned long long)stats.dropped_rays, stats.ray_capacity);
-            if (stats.nonfinite && !opts->common.quiet)
-                fprintf(stderr, "vkrt: warning: frame %u: %u shading results were NaN or "
-                                "infinite and were dropped\n",
-                        f, stats.nonfinite);
-            if (stats.profile.profiled && !opts->common.quiet)
-                vkrt_frame_profile_print(stderr, &stats.profile);
-            if (opts->common.verbose && stats.attempts > 1)
-                fprintf(stderr, "vkrt: frame %u: ray buffers grew to %u rays (%u attempts)\n", f,
-                        stats.ray_capacity, stats.attempts);
-            if (progress)
-                print_progress(stderr, ++done, total, totals->rendered,
-                               (vkrt_clock_ms() - start_ms) / 1e3, path, terminal);
+        ok = frame_writer_write(&w, list->frames[i], &stats, err);
+        if (!ok)
+            break;
+        totals->seconds += stats.seconds;
+        totals->rays += stats.primary_rays + stats.shadow_rays + stats.secondary_rays;
+        ++totals->rendered;
+        if (progress) {
+            char path[4096];
+            vkrt_frame_path(path, sizeof path, output, list->frames[i], NULL);
+            print_progress(stderr, list->skipped + totals->rendered, list->total,
+                           totals->rendered, (vkrt_clock_ms() - start_ms) / 1e3, path, terminal);
         }
     }
-    if (terminal && done > 0)
+    if (terminal && totals->rendered > 0)
         fputc('\n', stderr);
-    free(rgb);
-    vkrt_renderer_destroy(renderer);
-    return ok;
+    return frame_writer_finish(&w, ok, err);
+}
+
+/* --devices: a worker process per device (device_pool.h), each with a frame_writer. */
+typedef struct pool_job {
+    frame_writer writer;      /* the worker's own, in the worker's process */
+    const frame_list *list;
+    bool progress, terminal;
+    double start_ms;
+} pool_job;
+
+static bool pool_worker_start(void *user, uint32_t worker, int device, vkrt_pool_start *started,
+                              vkrt_error *err)
+{
+    pool_job *job = user;
+    frame_writer *w = &job->writer;
+    if (!frame_writer_start(w, device, worker == 0, err))
+        return vkrt_error_prefix(err, "device %d", device);
+    const vkrt_accel_stats *accel = vkrt_renderer_accel_stats(w->renderer);
+    const char *why;
+    vkrt_integrator integrator = vkrt_renderer_integrator(w->renderer, &why);
+    snprintf(started->device_name, sizeof started->device_name, "%s",
+             w->ctx.properties.deviceName);
+    snprintf(started->about, sizeof started->about,
+             "vkrt: accel %s: %s\nvkrt: integrator %s: %s\n", vkrt_accel_name(accel->kind),
+             accel->reason, vkrt_integrator_name(integrator), why);
+    return true;
+}
+
+static bool pool_worker_render(void *user, uint32_t frame, vkrt_pool_frame *result,
+                               vkrt_error *err)
+{
+    pool_job *job = user;
+    vkrt_frame_stats stats;
+    if (!frame_writer_write(&job->writer, frame, &stats, err))
+        return false;
+    result->gpu_seconds = stats.seconds;
+    result->rays = stats.primary_rays + stats.shadow_rays + stats.secondary_rays;
+    return true;
+}
+
+static bool pool_worker_finish(void *user, bool ok, vkrt_error *err)
+{
+    pool_job *job = user;
+    return frame_writer_finish(&job->writer, ok, err);
+}
+
+static void pool_frame_done(void *user, uint32_t frame, uint32_t done, uint32_t worker)
+{
+    (void)worker;
+    pool_job *job = user;
+    if (!job->progress)
+        return;
+    char path[4096];
+    vkrt_frame_path(path, sizeof path, job->writer.output, frame, NULL);
+    print_progress(stderr, job->list->skipped + done, job->list->total, done,
+                   (vkrt_clock_ms() - job->start_ms) / 1e3, path, job->terminal);
+}
+
+/* The per-device summary of a --devices run, and every worker that failed (even with --quiet). */
+static void print_pool_summary(const vkrt_render_options *opts, const vkrt_scene *scene,
+                               const frame_list *list, const vkrt_pool_result *r)
+{
+    for (uint32_t w = 0; w < r->worker_count; ++w) {
+        const vkrt_pool_worker *k = &r->workers[w];
+        if (k->failed)
+            fprintf(stderr, "vkrt: device %d (%s) failed after %u frame%s: %s%s\n", k->device,
+                    k->device_name[0] ? k->device_name : "not started", k->frames,
+                    k->frames == 1 ? "" : "s", k->failure,
+                    k->lost_frame ? "; the frame it held went back to the others" : "");
+    }
+    if (opts->common.quiet)
+        return;
+    double gpu_seconds = 0;
+    uint64_t rays = 0;
+    for (uint32_t w = 0; w < r->worker_count; ++w) {
+        const vkrt_pool_worker *k = &r->workers[w];
+        gpu_seconds += k->gpu_seconds;
+        rays += k->rays;
+        fprintf(stderr, "vkrt: device %d (%s): %u frame%s, %.1f ms/frame\n", k->device,
+                k->device_name[0] ? k->device_name : "not started", k->frames,
+                k->frames == 1 ? "" : "s", k->frames ? 1e3 * k->seconds / k->frames : 0.0);
+    }
+    /* The rate once a device was ready: what a longer flythrough approaches. */
+    double rendering = r->seconds - r->start_seconds;
+    fprintf(stderr,
+            "vkrt: %u worker%s | %u triangles | %u of %u frame%s in %.2f s, the first device "
+            "ready after %.2f s | %.2f frames/s after that | %.3g Mrays/s per device\n",
+            r->worker_count, r->worker_count == 1 ? "" : "s", scene->mesh.triangle_count,
+            r->rendered, list->count, list->count == 1 ? "" : "s", r->seconds, r->start_seconds,
+            rendering > 0 ? r->rendered / rendering : 0.0,
+            gpu_seconds > 0 ? rays / gpu_seconds * 1e-6 : 0.0);
+    if (!opts->common.verbose) /* else the first worker printed its choices at its start */
+        fputs(r->about, stderr);
+}
+
+/* Renders list's frames on --devices's devices. Returns the exit status. */
+static int render_on_devices(const vkrt_render_options *opts, const vkrt_scene *scene,
+                             const char *output, const frame_list *list)
+{
+    vkrt_error err = {{0}};
+    char listing[4096];
+    uint32_t device_count;
+    int devices[VKRT_POOL_MAX_WORKERS];
+    uint32_t workers;
+    if (!vkrt_device_pool_list(gpu_list_devices, listing, sizeof listing, &device_count, &err) ||
+        !vkrt_devices_spec_parse(opts->devices, device_count, listing, devices, &workers, &err)) {
+        fprintf(stderr, "vkrt: %s\n", err.msg);
+        return 1;
+    }
+    if (list->count == 0) {
+        if (!opts->common.quiet)
+            fprintf(stderr, "vkrt: resumed: all %u frames were already complete\n", list->total);
+        return 0;
+    }
+    /* More workers than frames would only start devices to leave them idle. */
+    if (workers > list->count)
+        workers = list->count;
+    pool_job job = {
+        .writer = {.opts = opts, .scene = scene, .output = output},
+        .list = list,
+        .progress = !opts->common.quiet && list->total > 1,
+    };
+    job.terminal = job.progress && isatty(fileno(stderr));
+    job.writer.clear_line = job.terminal;
+    job.start_ms = vkrt_clock_ms();
+    vkrt_device_pool_desc desc = {
+        .devices = devices,
+        .worker_count = workers,
+        .frames = list->frames,
+        .frame_count = list->count,
+        .user = &job,
+        .start = pool_worker_start,
+        .render = pool_worker_render,
+        .finish = pool_worker_finish,
+        .frame_done = pool_frame_done,
+        .stop = &stop_requested,
+    };
+    vkrt_pool_result *result = malloc(sizeof *result);
+    if (!result) {
+        fprintf(stderr, "vkrt: out of memory\n");
+        return 1;
+    }
+    if (!vkrt_device_pool_run(&desc, result, &err)) {
+        fprintf(stderr, "vkrt: %s\n", err.msg);
+        free(result);
+        return 1;
+    }
+    if (job.terminal && result->rendered > 0)
+        fputc('\n', stderr);
+    print_pool_summary(opts, scene, list, result);
+    bool suspect = false;
+    for (uint32_t w = 0; w < result->worker_count; ++w)
+        suspect = suspect || result->workers[w].failed_at_end;
+    int status = 0;
+    if (result->interrupted) {
+        fprintf(stderr, "vkrt: interrupted after %u of %u frames; run again with --resume to "
+                        "finish\n",
+                list->skipped + result->rendered, list->total);
+        status = 130;
+    } else if (result->rendered < list->count) {
+        fprintf(stderr, "vkrt: %u of %u frames were not rendered: every worker failed\n",
+                list->count - result->rendered, list->count);
+        status = 1;
+    } else if (suspect) {
+        status = 1;
+    }
+    if (!opts->common.quiet && list->skipped)
+        fprintf(stderr, "vkrt: resumed: %u of %u frames were already complete\n", list->skipped,
+                list->total);
+    free(result);
+    return status;
 }
 
 static int run_render(const vkrt_render_options *opts)
@@ -248,11 +508,9 @@ static int run_render(const vkrt_render_options *opts)
         vkrt_scene_free(&scene);
         return 1;
     }
-    /* The frames this run renders: all, or --frames's. */
-    uint32_t frames = opts->frames_given
-                          ? (opts->frame_last - opts->frame_first) / opts->frame_step + 1
-                          : cameras;
-    if (!check_output(output, scene.config.camera_count, &err)) {
+    frame_list list;
+    if (!check_output(output, scene.config.camera_count, &err) ||
+        !frame_list_make(opts, &scene, output, &list, &err)) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
         vkrt_scene_free(&scene);
         return 1;
@@ -260,17 +518,16 @@ static int run_render(const vkrt_render_options *opts)
 
     signal(SIGINT, request_stop);
     signal(SIGTERM, request_stop);
-    gpu_context ctx;
-    gpu_context_desc ctx_desc = {.device_index = opts->common.device,
-                                 .validation = opts->common.validation,
-                                 .pipeline_statistics = opts->profile};
+    if (opts->devices) {
+        int status = render_on_devices(opts, &scene, output, &list);
+        free(list.frames);
+        vkrt_scene_free(&scene);
+        return status;
+    }
     render_totals totals = {0};
-    vkrt_accel_stats accel = {0};
-    bool ok = gpu_context_create(&ctx, &ctx_desc, &err) &&
-              render_frames(opts, &scene, output, &ctx, &totals, &accel, &err);
-    char device[256];
-    snprintf(device, sizeof device, "%s", ctx.properties.deviceName);
-    if (!gpu_context_close(&ctx, ok, &err)) {
+    bool ok = render_on_one_device(opts, &scene, output, &list, &totals, &err);
+    free(list.frames);
+    if (!ok) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
         vkrt_scene_free(&scene);
         return 1;
@@ -278,22 +535,24 @@ static int run_render(const vkrt_render_options *opts)
     if (totals.interrupted) {
         fprintf(stderr, "vkrt: interrupted after %u of %u frames; run again with --resume to "
                         "finish\n",
-                totals.rendered + totals.skipped, frames);
+                totals.rendered + list.skipped, list.total);
         vkrt_scene_free(&scene);
         return 130;
     }
-    if (!opts->common.quiet && totals.skipped)
-        fprintf(stderr, "vkrt: resumed: %u of %u frames were already complete\n", totals.skipped,
-                frames);
+    if (!opts->common.quiet && list.skipped)
+        fprintf(stderr, "vkrt: resumed: %u of %u frames were already complete\n", list.skipped,
+                list.total);
     if (!opts->common.quiet) {
         uint32_t rendered = totals.rendered;
         fprintf(stderr,
                 "vkrt: %s | %u triangles | accel %s | %u frame%s | %.1f ms/frame | %.3g Mrays/s\n",
-                device, scene.mesh.triangle_count, vkrt_accel_name(accel.kind), rendered,
-                rendered == 1 ? "" : "s", rendered ? 1e3 * totals.seconds / rendered : 0.0,
+                totals.device, scene.mesh.triangle_count, vkrt_accel_name(totals.accel.kind),
+                rendered, rendered == 1 ? "" : "s",
+                rendered ? 1e3 * totals.seconds / rendered : 0.0,
                 totals.seconds > 0 ? totals.rays / totals.seconds * 1e-6 : 0.0);
         if (!opts->common.verbose) {
-            fprintf(stderr, "vkrt: accel %s: %s\n", vkrt_accel_name(accel.kind), accel.reason);
+            fprintf(stderr, "vkrt: accel %s: %s\n", vkrt_accel_name(totals.accel.kind),
+                    totals.accel.reason);
             fprintf(stderr, "vkrt: integrator %s: %s\n", vkrt_integrator_name(totals.integrator),
                     totals.integrator_reason);
         }
