@@ -236,12 +236,13 @@ static void check_tree(const bvh *b, const float *pos, uint32_t n, uint32_t max_
     }
     free(seen);
 
-    /* walk from the root: every node once, depths, leaf cover, SAH */
+    /* walk from the root, depth first, left before right: every node once, depths, leaf cover,
+     * SAH, and the children of the k-th inner node at 2k + 1 (bvh.h; bvh_pairs.c relies on it) */
     uint32_t *visits = calloc(b->node_count, sizeof *visits);
     uint32_t *cover = calloc(n, sizeof *cover);
     uint32_t (*stack)[2] = malloc(b->node_count * sizeof *stack); /* node, depth */
     assert_true(visits && cover && stack);
-    uint32_t top = 0, leaves = 0, max_depth = 0;
+    uint32_t top = 0, leaves = 0, max_depth = 0, inner = 0;
     double root_area = half_area(b->nodes[0].lo, b->nodes[0].hi), sah = 0.0;
     stack[top][0] = 0;
     stack[top++][1] = 0;
@@ -260,8 +261,9 @@ static void check_tree(const bvh *b, const float *pos, uint32_t n, uint32_t max_
             continue;
         }
         check_inner(b, nd);
+        assert_int_equal(nd->left_first, 2 * inner++ + 1);
         sah += traversal_cost * w;
-        for (uint32_t c = 0; c < 2; c++) {
+        for (uint32_t c = 2; c-- > 0;) {
             assert_true(top + 1 < b->node_count + 1);
             stack[top][0] = nd->left_first + c;
             stack[top++][1] = depth + 1;

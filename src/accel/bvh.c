@@ -12,7 +12,11 @@
  *     and the record range is partitioned in place. Boxes and centroids are 4-lane vectors
  *     (bvh_lanes.h: SSE2 on x86-64), which halved the build: written as float arrays, every box
  *     update went through memory lane by lane.
- *  3. Parallelism is a pool of desc->threads threads (the caller's thread included) sharing a
+ *  3. With more than one thread, the top levels (nodes over top_min triangles: a share of one
+ *     thread's work, see TOP_JOBS_PER_THREAD) are split by all threads together, a level at a
+ *     time (bvh_top.c: binning and partitioning in parallel, into the order the serial partition
+ *     leaves). Their children below top_min become the first jobs of the pool.
+ *     The pool is desc->threads threads (the caller's thread included) sharing a
  *     stack of jobs. A job over more than SPAWN_MIN_PRIMS triangles splits its node and pushes
  *     its two children as new jobs; a smaller job builds its whole subtree alone, depth first,
  *     into its own slice of a scratch node array (the slice of a range [b, e) is nodes
@@ -30,6 +34,8 @@
 
 #include "bvh.h"
 #include "bvh_split.h"
+#include "bvh_threads.h"
+#include "bvh_top.h"
 #include "../clock.h"
 
 #include <math.h>
@@ -42,18 +48,25 @@
 /* Defaults of bvh_build_desc's zero fields (bvh.h documents them). */
 enum { DEFAULT_MAX_LEAF = BVH_DEFAULT_MAX_LEAF, DEFAULT_BINS = 16 };
 
-/* Threads when the descriptor says 0: one per online core, at most this many (past it the serial
- * top of the tree and the stitch pass dominate). The tree is the same for any count. */
+/* Threads when the descriptor says 0: one per online core, at most this many. The tree is the
+ * same for any count. */
 enum { DEFAULT_MAX_THREADS = 16 };
 #define DEFAULT_TRAVERSAL_COST BVH_DEFAULT_TRAVERSAL_COST
 
 /* Limits on the descriptor: bins live in fixed per-thread arrays. */
-enum { MIN_BINS = 2, MAX_BINS = BVH_SPLIT_MAX_BINS, MAX_THREADS = 64 };
+enum { MIN_BINS = 2, MAX_BINS = BVH_SPLIT_MAX_BINS, MAX_THREADS = BVH_MAX_THREADS };
 
 /* Jobs over more triangles than this split one node and hand both children back to the pool;
  * smaller ones build their subtree alone. Small enough that a 70k-triangle mesh yields dozens of
  * jobs for load balance, large enough that job overhead (a lock, a copy) stays negligible. */
 enum { SPAWN_MIN_PRIMS = 2048 };
+
+/* With more than one thread, nodes over top_min(n, threads) triangles are split by all threads
+ * together (bvh_top.c), a level at a time, before the pool starts: a job then holds at most
+ * 1 / TOP_JOBS_PER_THREAD of one thread's share, so the pool's jobs balance, and the top levels,
+ * which a single thread would split in turn while the others wait, no longer run on one. Below
+ * TOP_MIN_PRIMS, the chunks of bvh_top.c would be too few to share. */
+enum { TOP_MIN_PRIMS = 1 << 15, TOP_JOBS_PER_THREAD = 8 };
 
 /* bvh_node.count of an inner node (bvh.h). */
 enum { INNER_NODE_COUNT = 0 };
@@ -128,8 +141,11 @@ static void *make_refs(void *arg)
         bool finite = true;
         for (int a = 0; a < 3; a++) {
             finite = finite && isfinite(v[a]) && isfinite(v[3 + a]) && isfinite(v[6 + a]);
-            r->lo[a] = MINF(MINF(v[a], v[3 + a]), v[6 + a]);
-            r->hi[a] = MAXF(MAXF(v[a], v[3 + a]), v[6 + a]);
+            /* + 0: -0 becomes +0, so that a min or max over records never depends on the order
+             * it takes them in (of -0 and +0, MINPS keeps the later), which lets bvh_top.c
+             * add bins up in any order and match the serial build's bounds bit for bit. */
+            r->lo[a] = MINF(MINF(v[a], v[3 + a]), v[6 + a]) + 0.0f;
+            r->hi[a] = MAXF(MAXF(v[a], v[3 + a]), v[6 + a]) + 0.0f;
         }
         if (!finite && c->first_bad == c->end)
             c->first_bad = i;
@@ -147,23 +163,12 @@ static bool build_refs(const float *positions, uint32_t n, uint32_t threads, pri
                        aabb *bounds, aabb *cbounds, vkrt_error *err)
 {
     ref_chunk chunks[MAX_THREADS];
-    pthread_t tid[MAX_THREADS];
-    bool started[MAX_THREADS] = { false };
     for (uint32_t t = 0; t < threads; t++) {
         chunks[t] = (ref_chunk){ .positions = positions, .refs = refs,
                                  .begin = (uint32_t)((uint64_t)n * t / threads),
                                  .end = (uint32_t)((uint64_t)n * (t + 1) / threads) };
     }
-    /* A thread that cannot start costs speed, not correctness: this thread does its chunk. */
-    for (uint32_t t = 1; t < threads; t++)
-        started[t] = pthread_create(&tid[t], NULL, make_refs, &chunks[t]) == 0;
-    make_refs(&chunks[0]);
-    for (uint32_t t = 1; t < threads; t++) {
-        if (started[t])
-            pthread_join(tid[t], NULL);
-        else
-            make_refs(&chunks[t]);
-    }
+    bvh_threads_run(threads, make_refs, chunks, sizeof chunks[0]);
     aabb_empty(bounds);
     aabb_empty(cbounds);
     for (uint32_t t = 0; t < threads; t++) {
@@ -235,13 +240,25 @@ static void build_local(const build_ctx *ctx, thread_scratch *s, build_job *job)
     job->max_depth = max_depth;
 }
 
-/* Pushes a child job; the caller holds pool->lock. */
-static uint32_t push_job(job_pool *pool, const pending_node *root)
+/* A new job over root's range, not yet queued; the caller holds pool->lock or runs alone. */
+static uint32_t new_job(job_pool *pool, const pending_node *root)
 {
     uint32_t j = pool->job_count++;
     pool->jobs[j] = (build_job){ .root = *root };
+    return j;
+}
+
+/* Hands job j to the pool's threads; the same locking as new_job. */
+static void queue_job(job_pool *pool, uint32_t j)
+{
     pool->stack[pool->stack_len++] = j;
     pool->unfinished++;
+}
+
+static uint32_t push_job(job_pool *pool, const pending_node *root)
+{
+    uint32_t j = new_job(pool, root);
+    queue_job(pool, j);
     return j;
 }
 
@@ -265,6 +282,59 @@ static void run_job(job_pool *pool, thread_scratch *s, uint32_t j)
         }
     }
     build_local(ctx, s, job);
+}
+
+/* The top levels: the root job and then, level by level, every child over top_min triangles are
+ * split by all threads together (bvh_top.c); smaller children are queued for the pool. If memory
+ * for that runs out, a level's jobs are queued unsplit and the pool splits them, as it would
+ * with one thread: the tree is the same either way. */
+static void split_top(job_pool *pool, uint32_t root_job, uint32_t top_min, uint32_t threads)
+{
+    const build_ctx *ctx = pool->ctx;
+    /* A level's nodes are disjoint and each holds over top_min triangles. */
+    size_t cap = pool->jobs[root_job].root.end / top_min + 1;
+    uint32_t *level = malloc(cap * sizeof *level), *next = malloc(cap * sizeof *next);
+    bvh_top_node *nodes = malloc(cap * sizeof *nodes);
+    bvh_split_result *split = malloc(cap * sizeof *split);
+    uint32_t level_len = 1;
+    bool ok = level && next && nodes && split;
+    if (ok)
+        level[0] = root_job;
+    else
+        queue_job(pool, root_job);
+    while (ok && level_len > 0) {
+        for (uint32_t i = 0; i < level_len; i++) {
+            const pending_node *r = &pool->jobs[level[i]].root;
+            nodes[i] = (bvh_top_node){
+                .begin = r->begin, .end = r->end, .bounds = r->bounds, .cbounds = r->cbounds};
+        }
+        ok = bvh_top_split(&ctx->sah, ctx->refs, nodes, level_len, threads, split);
+        uint32_t next_len = 0;
+        for (uint32_t i = 0; i < level_len; i++) {
+            if (!ok || !split[i].split) {
+                queue_job(pool, level[i]);
+                continue;
+            }
+            pool->jobs[level[i]].kind = JOB_SPLIT;
+            for (int side = 0; side < 2; side++) {
+                pending_node c = child_pending(&pool->jobs[level[i]].root, &split[i], side, 0);
+                uint32_t j = new_job(pool, &c);
+                pool->jobs[level[i]].child[side] = j;
+                if (c.end - c.begin > top_min)
+                    next[next_len++] = j;
+                else
+                    queue_job(pool, j);
+            }
+        }
+        uint32_t *t = level;
+        level = next;
+        next = t;
+        level_len = next_len;
+    }
+    free(level);
+    free(next);
+    free(nodes);
+    free(split);
 }
 
 static void *worker(void *arg)
@@ -292,18 +362,10 @@ static void *worker(void *arg)
  * slows the build down. */
 static void run_pool(job_pool *pool, thread_scratch **scratch, uint32_t threads)
 {
-    pthread_t tid[MAX_THREADS];
     worker_arg args[MAX_THREADS];
-    bool started[MAX_THREADS] = { false };
     for (uint32_t t = 0; t < threads; t++)
         args[t] = (worker_arg){ .pool = pool, .scratch = scratch[t] };
-    for (uint32_t t = 1; t < threads; t++)
-        started[t] = pthread_create(&tid[t], NULL, worker, &args[t]) == 0;
-    worker(&args[0]);
-    for (uint32_t t = 1; t < threads; t++) {
-        if (started[t])
-            pthread_join(tid[t], NULL);
-    }
+    bvh_threads_run(threads, worker, args, sizeof args[0]);
 }
 
 /* ------------------------------------------------------------------------ stitching */
@@ -383,8 +445,6 @@ static void copy_all_places(const build_ctx *ctx, const job_pool *pool, const lo
                             uint32_t place_count, uint32_t n, uint32_t threads, bvh *out)
 {
     copy_share shares[MAX_THREADS];
-    pthread_t tid[MAX_THREADS];
-    bool started[MAX_THREADS] = { false };
     uint32_t p = 0, covered = 0;
     for (uint32_t t = 0; t < threads; t++) {
         shares[t] = (copy_share){ .ctx = ctx, .pool = pool, .places = places, .begin = p,
@@ -396,16 +456,7 @@ static void copy_all_places(const build_ctx *ctx, const job_pool *pool, const lo
         }
         shares[t].end = p;
     }
-    /* A thread that cannot start costs speed, not correctness: this thread does its share. */
-    for (uint32_t t = 1; t < threads; t++)
-        started[t] = pthread_create(&tid[t], NULL, copy_places, &shares[t]) == 0;
-    copy_places(&shares[0]);
-    for (uint32_t t = 1; t < threads; t++) {
-        if (started[t])
-            pthread_join(tid[t], NULL);
-        else
-            copy_places(&shares[t]);
-    }
+    bvh_threads_run(threads, copy_places, shares, sizeof shares[0]);
 }
 
 static double node_half_area(const bvh_node *n)
@@ -436,6 +487,15 @@ static float tree_sah(const bvh_node *nodes, uint32_t count, float traversal_cos
 }
 
 /* ------------------------------------------------------------------------ entry points */
+
+/* Ends the stage that began at *mark: its wall-clock and processor time go to out->stages[s],
+ * and *mark moves to now, where the next stage begins. */
+static void end_stage(bvh *out, bvh_stage s, bvh_stage_time *mark)
+{
+    bvh_stage_time now = {vkrt_clock_ms(), vkrt_clock_cpu_ms()};
+    out->stages[s] = (bvh_stage_time){now.wall_ms - mark->wall_ms, now.cpu_ms - mark->cpu_ms};
+    *mark = now;
+}
 
 static bool read_desc(const bvh_build_desc *desc, build_ctx *ctx, uint32_t *threads,
                       vkrt_error *err)
@@ -509,7 +569,8 @@ static bool alloc_mem(build_mem *m, bvh *out, uint32_t n, uint32_t threads, vkrt
 bool bvh_build(bvh *out, const float *positions, uint32_t triangle_count,
                const bvh_build_desc *desc, vkrt_error *err)
 {
-    double t0 = vkrt_clock_ms();
+    bvh_stage_time mark = {vkrt_clock_ms(), vkrt_clock_cpu_ms()};
+    double t0 = mark.wall_ms;
     if (!out)
         return vkrt_error_set(err, "bvh: no output");
     memset(out, 0, sizeof *out);
@@ -537,27 +598,37 @@ bool bvh_build(bvh *out, const float *positions, uint32_t triangle_count,
     }
     ctx.refs = m.refs;
     ctx.scratch_nodes = m.scratch_nodes;
+    end_stage(out, BVH_STAGE_REFS, &mark);
 
     job_pool pool = { .ctx = &ctx, .jobs = m.jobs, .stack = m.job_stack };
     pthread_mutex_init(&pool.lock, NULL);
     pthread_cond_init(&pool.wake, NULL);
-    push_job(&pool, &root);
+    uint32_t top_min =
+        MAXF((uint32_t)TOP_MIN_PRIMS, triangle_count / (threads * (uint32_t)TOP_JOBS_PER_THREAD));
+    if (threads > 1 && triangle_count > top_min)
+        split_top(&pool, new_job(&pool, &root), top_min, threads);
+    else
+        push_job(&pool, &root);
+    end_stage(out, BVH_STAGE_TOP, &mark);
     run_pool(&pool, m.scratch, threads);
     pthread_cond_destroy(&pool.wake);
     pthread_mutex_destroy(&pool.lock);
+    end_stage(out, BVH_STAGE_SUBTREES, &mark);
 
     uint32_t place_count;
     out->node_count = stitch(&pool, out->nodes, m.stitch_stack, m.places, &place_count,
                              &out->max_depth);
     out->prim_count = triangle_count;
     copy_all_places(&ctx, &pool, m.places, place_count, triangle_count, threads, out);
+    end_stage(out, BVH_STAGE_STITCH, &mark);
     free_mem(&m);
     /* Shrinking cannot fail in practice; if it does, the larger block is still valid. */
     bvh_node *shrunk = realloc(out->nodes, out->node_count * sizeof *out->nodes);
     if (shrunk)
         out->nodes = shrunk;
     out->sah_cost = tree_sah(out->nodes, out->node_count, ctx.sah.traversal_cost, &out->leaf_count);
-    out->build_ms = vkrt_clock_ms() - t0;
+    end_stage(out, BVH_STAGE_FINISH, &mark);
+    out->build_ms = mark.wall_ms - t0;
     return true;
 }
 
