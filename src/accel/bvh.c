@@ -48,9 +48,6 @@
 /* Defaults of bvh_build_desc's zero fields (bvh.h documents them). */
 enum { DEFAULT_MAX_LEAF = BVH_DEFAULT_MAX_LEAF, DEFAULT_BINS = 16 };
 
-/* Threads when the descriptor says 0: one per online core, at most this many. The tree is the
- * same for any count. */
-enum { DEFAULT_MAX_THREADS = 16 };
 #define DEFAULT_TRAVERSAL_COST BVH_DEFAULT_TRAVERSAL_COST
 
 /* Limits on the descriptor: bins live in fixed per-thread arrays. */
@@ -466,22 +463,66 @@ static double node_half_area(const bvh_node *n)
     return dx * dy + dy * dz + dz * dx;
 }
 
-/* The SAH cost of the finished tree, summed in node order so it is reproducible. A tree whose
- * root box has no area (all triangles on one line or point) weighs every node 1. */
-static float tree_sah(const bvh_node *nodes, uint32_t count, float traversal_cost,
-                      uint32_t *leaves)
+/* The tree's SAH cost is summed over blocks of this many nodes, blocks in parallel, and the
+ * blocks' sums added in block order: the same float for any thread count. */
+enum { SAH_BLOCK_NODES = 1 << 16 };
+
+typedef struct sah_share {
+    const bvh_node *nodes;
+    uint32_t count;
+    double root_area;
+    float traversal_cost;
+    uint32_t first_block, end_block;
+    double *block_sum;
+    uint32_t *block_leaves;
+} sah_share;
+
+/* A tree whose root box has no area (all triangles on one line or point) weighs every node 1. */
+static void *sum_sah_blocks(void *arg)
 {
-    double root_area = node_half_area(&nodes[0]);
+    const sah_share *s = arg;
+    for (uint32_t k = s->first_block; k < s->end_block; k++) {
+        uint32_t end = (uint32_t)MINF((uint64_t)s->count, (uint64_t)(k + 1) * SAH_BLOCK_NODES);
+        double sum = 0.0;
+        uint32_t leaves = 0;
+        for (uint32_t i = k * SAH_BLOCK_NODES; i < end; i++) {
+            const bvh_node *n = &s->nodes[i];
+            double w = s->root_area > 0.0 ? node_half_area(n) / s->root_area : 1.0;
+            if (n->count == INNER_NODE_COUNT) {
+                sum += s->traversal_cost * w;
+            } else {
+                sum += n->count * w;
+                leaves++;
+            }
+        }
+        s->block_sum[k] = sum;
+        s->block_leaves[k] = leaves;
+    }
+    return NULL;
+}
+
+/* The SAH cost of the finished tree and its leaf count; block_sum and block_leaves hold a
+ * block's each. */
+static float tree_sah(const bvh_node *nodes, uint32_t count, float traversal_cost, uint32_t threads,
+                      double *block_sum, uint32_t *block_leaves, uint32_t *leaves)
+{
+    uint32_t blocks = (uint32_t)(((uint64_t)count + SAH_BLOCK_NODES - 1) / SAH_BLOCK_NODES);
+    sah_share shares[MAX_THREADS];
+    for (uint32_t t = 0; t < threads; t++)
+        shares[t] = (sah_share){.nodes = nodes,
+                                .count = count,
+                                .root_area = node_half_area(&nodes[0]),
+                                .traversal_cost = traversal_cost,
+                                .first_block = (uint32_t)((uint64_t)blocks * t / threads),
+                                .end_block = (uint32_t)((uint64_t)blocks * (t + 1) / threads),
+                                .block_sum = block_sum,
+                                .block_leaves = block_leaves};
+    bvh_threads_run(threads, sum_sah_blocks, shares, sizeof shares[0]);
     double sum = 0.0;
     *leaves = 0;
-    for (uint32_t i = 0; i < count; i++) {
-        double w = root_area > 0.0 ? node_half_area(&nodes[i]) / root_area : 1.0;
-        if (nodes[i].count == INNER_NODE_COUNT) {
-            sum += traversal_cost * w;
-        } else {
-            sum += nodes[i].count * w;
-            (*leaves)++;
-        }
+    for (uint32_t k = 0; k < blocks; k++) {
+        sum += block_sum[k];
+        *leaves += block_leaves[k];
     }
     return (float)sum;
 }
@@ -504,11 +545,8 @@ static bool read_desc(const bvh_build_desc *desc, build_ctx *ctx, uint32_t *thre
     ctx->sah.max_leaf = d.max_leaf_size ? d.max_leaf_size : DEFAULT_MAX_LEAF;
     ctx->sah.bins = d.bins ? d.bins : DEFAULT_BINS;
     ctx->sah.traversal_cost = d.traversal_cost != 0.0f ? d.traversal_cost : DEFAULT_TRAVERSAL_COST;
-    *threads = d.threads;
-    if (*threads == 0) {
-        long cores = sysconf(_SC_NPROCESSORS_ONLN);
-        *threads = cores < 1 ? 1 : cores > DEFAULT_MAX_THREADS ? DEFAULT_MAX_THREADS : (uint32_t)cores;
-    }
+    /* 0: one per online core, at most 16 (bvh_threads.h). The tree is the same for any count. */
+    *threads = d.threads ? d.threads : bvh_threads_default();
     if (ctx->sah.bins < MIN_BINS || ctx->sah.bins > MAX_BINS)
         return vkrt_error_set(err, "bvh: bins must be %d..%d, got %u", MIN_BINS, MAX_BINS,
                               ctx->sah.bins);
@@ -528,6 +566,8 @@ typedef struct build_mem {
     uint32_t *job_stack;
     stitch_item *stitch_stack;
     local_place *places;
+    double *sah_block_sum;
+    uint32_t *sah_block_leaves;
     thread_scratch *scratch[MAX_THREADS];
 } build_mem;
 
@@ -539,6 +579,8 @@ static void free_mem(build_mem *m)
     free(m->job_stack);
     free(m->stitch_stack);
     free(m->places);
+    free(m->sah_block_sum);
+    free(m->sah_block_leaves);
     for (int t = 0; t < MAX_THREADS; t++) {
         if (m->scratch[t])
             free(m->scratch[t]->stack);
@@ -555,10 +597,13 @@ static bool alloc_mem(build_mem *m, bvh *out, uint32_t n, uint32_t threads, vkrt
     m->job_stack = malloc(max_nodes * sizeof *m->job_stack);
     m->stitch_stack = malloc(max_nodes * sizeof *m->stitch_stack);
     m->places = malloc(max_nodes * sizeof *m->places);
+    size_t sah_blocks = max_nodes / SAH_BLOCK_NODES + 1;
+    m->sah_block_sum = malloc(sah_blocks * sizeof *m->sah_block_sum);
+    m->sah_block_leaves = malloc(sah_blocks * sizeof *m->sah_block_leaves);
     out->nodes = malloc(max_nodes * sizeof *out->nodes);
     out->prim_order = malloc(n * sizeof *out->prim_order);
-    bool ok = m->refs && m->scratch_nodes && m->jobs && m->job_stack && m->stitch_stack && m->places &&
-              out->nodes && out->prim_order;
+    bool ok = m->refs && m->scratch_nodes && m->jobs && m->job_stack && m->stitch_stack &&
+              m->places && m->sah_block_sum && m->sah_block_leaves && out->nodes && out->prim_order;
     for (uint32_t t = 0; ok && t < threads; t++) {
         m->scratch[t] = malloc(sizeof *m->scratch[t]);
         ok = m->scratch[t] && (m->scratch[t]->stack = malloc(n * sizeof(pending_node)));
@@ -621,12 +666,13 @@ bool bvh_build(bvh *out, const float *positions, uint32_t triangle_count,
     out->prim_count = triangle_count;
     copy_all_places(&ctx, &pool, m.places, place_count, triangle_count, threads, out);
     end_stage(out, BVH_STAGE_STITCH, &mark);
+    out->sah_cost = tree_sah(out->nodes, out->node_count, ctx.sah.traversal_cost, threads,
+                             m.sah_block_sum, m.sah_block_leaves, &out->leaf_count);
     free_mem(&m);
     /* Shrinking cannot fail in practice; if it does, the larger block is still valid. */
     bvh_node *shrunk = realloc(out->nodes, out->node_count * sizeof *out->nodes);
     if (shrunk)
         out->nodes = shrunk;
-    out->sah_cost = tree_sah(out->nodes, out->node_count, ctx.sah.traversal_cost, &out->leaf_count);
     end_stage(out, BVH_STAGE_FINISH, &mark);
     out->build_ms = mark.wall_ms - t0;
     return true;

@@ -1,5 +1,7 @@
-/* bvh_pairs.c: the 64-byte two-box layout of bvh_pairs.h from the 32-byte tree of bvh.h. */
+/* bvh_pairs.c: the 64-byte two-box layout of bvh_pairs.h from the 32-byte tree of bvh.h, written
+ * by one thread per core (bvh_threads.h). */
 #include "bvh_pairs.h"
+#include "bvh_threads.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -27,6 +29,35 @@ static uint32_t record_of(const bvh_node *node)
     return (node->left_first - 1) / 2;
 }
 
+/* One thread's share of the records: the inner nodes among nodes[begin, end). */
+typedef struct pairs_share {
+    const bvh_node *nodes;
+    bvh_pair *pairs;
+    uint32_t begin, end;
+    bool ok;
+    vkrt_error err;
+} pairs_share;
+
+static void *write_records(void *arg)
+{
+    pairs_share *s = arg;
+    const bvh_node *nodes = s->nodes;
+    s->ok = true;
+    for (uint32_t i = s->begin; s->ok && i < s->end; i++) {
+        if (nodes[i].count > 0)
+            continue;
+        uint32_t first = nodes[i].left_first;
+        bvh_pair *p = &s->pairs[record_of(&nodes[i])];
+        p->unused[0] = p->unused[1] = 0;
+        for (int k = 0; s->ok && k < 2; k++) {
+            s->ok = set_child(p, k, &nodes[first + k], &s->err);
+            if (nodes[first + k].count == 0)
+                p->ref[k] = record_of(&nodes[first + k]);
+        }
+    }
+    return NULL;
+}
+
 bool bvh_pairs_build(const bvh *b, bvh_pairs *out, vkrt_error *err)
 {
     memset(out, 0, sizeof *out);
@@ -41,17 +72,20 @@ bool bvh_pairs_build(const bvh *b, bvh_pairs *out, vkrt_error *err)
         pairs[0] = (bvh_pair){.ref = {0}};
         ok = set_child(&pairs[0], 0, &nodes[0], err) && set_child(&pairs[0], 1, &nodes[0], err);
     }
-    for (uint32_t i = 0; ok && i < b->node_count; i++) {
-        if (nodes[i].count > 0)
-            continue;
-        uint32_t first = nodes[i].left_first;
-        bvh_pair *p = &pairs[record_of(&nodes[i])];
-        p->unused[0] = p->unused[1] = 0;
-        for (int k = 0; ok && k < 2; k++) {
-            ok = set_child(p, k, &nodes[first + k], err);
-            if (nodes[first + k].count == 0)
-                p->ref[k] = record_of(&nodes[first + k]);
-        }
+    /* Records are independent, so the nodes are cut into one range per thread. */
+    uint32_t threads = bvh_threads_default();
+    pairs_share shares[BVH_MAX_THREADS];
+    for (uint32_t t = 0; t < threads; t++)
+        shares[t] = (pairs_share){.nodes = nodes,
+                                  .pairs = pairs,
+                                  .begin = (uint32_t)((uint64_t)b->node_count * t / threads),
+                                  .end = (uint32_t)((uint64_t)b->node_count * (t + 1) / threads)};
+    if (ok)
+        bvh_threads_run(threads, write_records, shares, sizeof shares[0]);
+    for (uint32_t t = 0; ok && t < threads; t++) {
+        ok = shares[t].ok;
+        if (!ok && err)
+            *err = shares[t].err;
     }
     if (!ok) {
         free(pairs);

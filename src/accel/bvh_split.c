@@ -54,6 +54,8 @@ void bvh_split_bins_fill(bvh_split_scratch *s, const prim_ref *refs, uint32_t be
                          const bvh_bin_split *b)
 {
     const uint32_t nb = b->bins;
+    const bvh_bin_map map =
+        b->map; /* a copy: stores to s could alias *b, this stays in registers */
     for (int a = 0; a < 3; a++) {
         for (uint32_t k = 0; k < nb; k++)
             aabb_empty(&s->bins[a][k]);
@@ -62,7 +64,7 @@ void bvh_split_bins_fill(bvh_split_scratch *s, const prim_ref *refs, uint32_t be
     for (uint32_t i = begin; i < end; i++) {
         ref_lanes l = ref_load(&refs[i]);
         uint32_t k[4];
-        bvh_bins_of(&b->map, l.c, k);
+        bvh_bins_of(&map, l.c, k);
         aabb_grow_box(&s->bins[0][k[0]], l.lo, l.hi);
         aabb_grow_box(&s->bins[1][k[1]], l.lo, l.hi);
         aabb_grow_box(&s->bins[2][k[2]], l.lo, l.hi);

@@ -1,8 +1,19 @@
 /* bvh_threads.c: bvh_threads_run (bvh_threads.h) on POSIX threads. */
+#define _POSIX_C_SOURCE 200809L
+
 #include "bvh_threads.h"
 
 #include <pthread.h>
 #include <stdbool.h>
+#include <unistd.h>
+
+uint32_t bvh_threads_default(void)
+{
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    return cores < 1                         ? 1
+           : cores > BVH_DEFAULT_MAX_THREADS ? BVH_DEFAULT_MAX_THREADS
+                                             : (uint32_t)cores;
+}
 
 void bvh_threads_run(uint32_t threads, void *(*fn)(void *), void *args, size_t arg_size)
 {

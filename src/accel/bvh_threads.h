@@ -11,6 +11,10 @@
 /* The most threads a build may use. */
 enum { BVH_MAX_THREADS = 64 };
 
+/* Threads when a caller does not say: one per online core, at most BVH_DEFAULT_MAX_THREADS. */
+enum { BVH_DEFAULT_MAX_THREADS = 16 };
+uint32_t bvh_threads_default(void);
+
 /* Calls fn(args + t * arg_size) for t = 0 .. threads - 1, each on its own thread (t = 0 on the
  * caller's), and returns when all have returned. A thread that cannot start costs speed, not
  * correctness: its call runs on the caller's thread afterwards, so fn must not wait for the

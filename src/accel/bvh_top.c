@@ -134,13 +134,15 @@ static void classify_chunk(top_ctx *ctx, bvh_split_scratch *s, uint32_t c)
     if (ns->kind != BVH_SPLIT_BINNED)
         return;
     uint8_t *flags = ctx->flags - ctx->flag_base;
+    const bvh_bin_split split = ns->split; /* a copy: the byte stores could alias ns */
     aabb cb[2];
     aabb_empty(&cb[0]);
     aabb_empty(&cb[1]);
     uint32_t left = 0;
+    const prim_ref *refs = ctx->refs;
     for (uint32_t i = ch->begin; i < ch->end; i++) {
-        ref_lanes l = ref_load(&ctx->refs[i]);
-        bool goes_left = bvh_split_goes_left(&ns->split, l.c);
+        ref_lanes l = ref_load(&refs[i]);
+        bool goes_left = bvh_split_goes_left(&split, l.c);
         flags[i] = goes_left;
         left += goes_left;
         aabb_grow_point(&cb[goes_left ? 0 : 1], l.c);
