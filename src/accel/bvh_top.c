@@ -12,8 +12,9 @@
  *     from begin, with the k-th of [mid, end) that belongs left, counted from end, and nothing
  *     else; so each chunk of [begin, mid) swaps its misplaced records with the partners of their
  *     ranks, found from per-chunk counts, and the order is Hoare's.
- * The children's bounds are unions of bins (exact: min and max do not round), their centroid
- * bounds unions of the chunks'. The tree is therefore the serial build's, byte for byte.
+ * The children's bounds are unions of bins (exact: min and max do not round, and records hold no
+ * -0, bvh.c, so no order of combining them can tell the zeros apart), their centroid bounds
+ * unions of the chunks'. The tree is therefore the serial build's, byte for byte.
  */
 #include "bvh_top.h"
 #include "bvh_threads.h"
@@ -133,7 +134,8 @@ static void classify_chunk(top_ctx *ctx, bvh_split_scratch *s, uint32_t c)
     const node_state *ns = &ctx->state[ch->node];
     if (ns->kind != BVH_SPLIT_BINNED)
         return;
-    uint8_t *flags = ctx->flags - ctx->flag_base;
+    uint8_t *flags = ctx->flags;
+    const uint32_t base = ctx->flag_base;
     const bvh_bin_split split = ns->split; /* a copy: the byte stores could alias ns */
     aabb cb[2];
     aabb_empty(&cb[0]);
@@ -143,7 +145,7 @@ static void classify_chunk(top_ctx *ctx, bvh_split_scratch *s, uint32_t c)
     for (uint32_t i = ch->begin; i < ch->end; i++) {
         ref_lanes l = ref_load(&refs[i]);
         bool goes_left = bvh_split_goes_left(&split, l.c);
-        flags[i] = goes_left;
+        flags[i - base] = goes_left;
         left += goes_left;
         aabb_grow_point(&cb[goes_left ? 0 : 1], l.c);
     }
@@ -158,7 +160,8 @@ static bool place_mid(top_ctx *ctx, uint32_t i, bvh_split_result *out)
 {
     node_state *ns = &ctx->state[i];
     chunk *first = &ctx->chunks[ns->first_chunk];
-    const uint8_t *flags = ctx->flags - ctx->flag_base;
+    const uint8_t *flags = ctx->flags;
+    const uint32_t base = ctx->flag_base;
     uint32_t left = 0;
     aabb_empty(&out->cbounds[0]);
     aabb_empty(&out->cbounds[1]);
@@ -182,7 +185,7 @@ static bool place_mid(top_ctx *ctx, uint32_t i, bvh_split_result *out)
             right_of_left = (ch->end - ch->begin) - ch->left;
         } else {
             for (uint32_t k = ch->begin; k < split_at; k++)
-                right_of_left += !flags[k];
+                right_of_left += !flags[k - base];
         }
         uint32_t left_in_left = (split_at - ch->begin) - right_of_left;
         ch->wrong_left = right_of_left;
@@ -205,14 +208,15 @@ static bool place_mid(top_ctx *ctx, uint32_t i, bvh_split_result *out)
 static uint32_t find_wrong_right(const top_ctx *ctx, const node_state *ns, uint32_t rank)
 {
     const chunk *first = &ctx->chunks[ns->first_chunk];
-    const uint8_t *flags = ctx->flags - ctx->flag_base;
+    const uint8_t *flags = ctx->flags;
+    const uint32_t base = ctx->flag_base;
     uint32_t c = ns->chunk_count - 1;
     while (first[c].rank_right > rank || first[c].rank_right + first[c].wrong_right <= rank)
         c--;
     uint32_t skip = rank - first[c].rank_right;
     uint32_t j = first[c].end - 1;
     for (;; j--) {
-        if (flags[j] && skip-- == 0)
+        if (flags[j - base] && skip-- == 0)
             return j;
     }
 }
@@ -224,14 +228,15 @@ static void swap_chunk(top_ctx *ctx, bvh_split_scratch *s, uint32_t c)
     const node_state *ns = &ctx->state[ch->node];
     if (ns->kind != BVH_SPLIT_BINNED || ch->wrong_left == 0)
         return;
-    const uint8_t *flags = ctx->flags - ctx->flag_base;
+    const uint8_t *flags = ctx->flags;
+    const uint32_t base = ctx->flag_base;
     prim_ref *refs = ctx->refs;
     uint32_t j = find_wrong_right(ctx, ns, ch->rank_left);
     uint32_t end = MINF(ch->end, ns->mid);
     for (uint32_t i = ch->begin; i < end; i++) {
-        if (flags[i])
+        if (flags[i - base])
             continue;
-        while (!flags[j])
+        while (!flags[j - base])
             j--;
         prim_ref tmp = refs[i];
         refs[i] = refs[j];
