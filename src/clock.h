@@ -8,4 +8,8 @@
  * difference of two readings means anything; it never goes back when the wall clock is set. */
 double vkrt_clock_ms(void);
 
+/* Milliseconds of processor time the whole process has used, all its threads together
+ * (CLOCK_PROCESS_CPUTIME_ID): over a stretch of wall time, how many cores were busy. */
+double vkrt_clock_cpu_ms(void);
+
 #endif

@@ -182,7 +182,7 @@ static double half_area(const float lo[3], const float hi[3])
     return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
 }
 
-/* A leaf's bounds must equal the union of its triangles' vertices. */
+/* A leaf's bounds must equal the union of its triangles' vertices, bit for bit. */
 static void check_leaf(const bvh *b, const bvh_node *nd, const float *pos, uint32_t max_leaf,
                        uint32_t *cover)
 {
@@ -198,6 +198,10 @@ static void check_leaf(const bvh *b, const bvh_node *nd, const float *pos, uint3
             lo[a] = fminf(lo[a], tlo[a]);
             hi[a] = fmaxf(hi[a], thi[a]);
         }
+    }
+    for (int a = 0; a < 3; a++) { /* the builder's records hold +0 for -0 (bvh.c) */
+        lo[a] += 0.0f;
+        hi[a] += 0.0f;
     }
     assert_memory_equal(lo, nd->lo, sizeof lo);
     assert_memory_equal(hi, nd->hi, sizeof hi);
@@ -236,12 +240,13 @@ static void check_tree(const bvh *b, const float *pos, uint32_t n, uint32_t max_
     }
     free(seen);
 
-    /* walk from the root: every node once, depths, leaf cover, SAH */
+    /* walk from the root, depth first, left before right: every node once, depths, leaf cover,
+     * SAH, and the children of the k-th inner node at 2k + 1 (bvh.h; bvh_pairs.c relies on it) */
     uint32_t *visits = calloc(b->node_count, sizeof *visits);
     uint32_t *cover = calloc(n, sizeof *cover);
     uint32_t (*stack)[2] = malloc(b->node_count * sizeof *stack); /* node, depth */
     assert_true(visits && cover && stack);
-    uint32_t top = 0, leaves = 0, max_depth = 0;
+    uint32_t top = 0, leaves = 0, max_depth = 0, inner = 0;
     double root_area = half_area(b->nodes[0].lo, b->nodes[0].hi), sah = 0.0;
     stack[top][0] = 0;
     stack[top++][1] = 0;
@@ -260,8 +265,9 @@ static void check_tree(const bvh *b, const float *pos, uint32_t n, uint32_t max_
             continue;
         }
         check_inner(b, nd);
+        assert_int_equal(nd->left_first, 2 * inner++ + 1);
         sah += traversal_cost * w;
-        for (uint32_t c = 0; c < 2; c++) {
+        for (uint32_t c = 2; c-- > 0;) {
             assert_true(top + 1 < b->node_count + 1);
             stack[top][0] = nd->left_first + c;
             stack[top++][1] = depth + 1;
@@ -721,26 +727,43 @@ static void test_huge_and_tiny(void **state)
     free(pos);
 }
 
-/* The build is deterministic: any thread count gives the same bytes. */
-static void test_threads_identical(void **state)
+/* A soup in the positive octant where every fourth coordinate is zero, -0 and +0 in turn: many
+ * node bounds are a min of both zeros, whose result (MINPS keeps the later operand) would depend
+ * on the order the threads of the top levels (bvh_top.c) combine records in. */
+static float *make_signed_zero_soup(uint32_t n)
 {
-    (void)state;
-    enum { N = 60000 };
-    float *pos = make_soup(N, SOUP_SEED, 100.0, 1.0);
+    float *p = make_soup(n, SOUP_SEED + 1, 100.0, 1.0);
+    for (size_t i = 0; i < (size_t)n * FLOATS_PER_TRI; i++)
+        p[i] = i % 4 ? fabsf(p[i]) : (i / 4) % 2 ? -0.0f : 0.0f;
+    return p;
+}
+
+/* The build is deterministic: any thread count gives the same bytes, the top levels split by
+ * all threads (bvh_top.c, over 32768 triangles) included. */
+static void check_threads_identical(float *pos, uint32_t n)
+{
     bvh ref;
     const bvh_build_desc one = { .threads = 1 };
-    build_ok(&ref, pos, N, &one);
-    check_tree(&ref, pos, N, DEFAULT_MAX_LEAF, 1.0f);
+    build_ok(&ref, pos, n, &one);
+    check_tree(&ref, pos, n, DEFAULT_MAX_LEAF, 1.0f);
     for (uint32_t t = 2; t <= 4; t++) {
         const bvh_build_desc d = { .threads = t };
         bvh b;
-        build_ok(&b, pos, N, &d);
-        check_tree(&b, pos, N, DEFAULT_MAX_LEAF, 1.0f);
+        build_ok(&b, pos, n, &d);
+        check_tree(&b, pos, n, DEFAULT_MAX_LEAF, 1.0f);
         assert_same_tree(&ref, &b);
         bvh_free(&b);
     }
     bvh_free(&ref);
     free(pos);
+}
+
+static void test_threads_identical(void **state)
+{
+    (void)state;
+    enum { N = 60000 };
+    check_threads_identical(make_soup(N, SOUP_SEED, 100.0, 1.0), N);
+    check_threads_identical(make_signed_zero_soup(N), N);
 }
 
 /* SAH should beat splitting at the middle of the order by a wide margin on a soup; a sanity

@@ -6,7 +6,9 @@
  * RUNS default 5; THREADS 0: one per core; LEAF and COST the build's largest leaf and SAH node
  * cost (bvh_build_desc; 0: bvh.h's defaults; vkrt uses 2 and 0.5 on GPUs, src/render/accel_gpu.c).
  * Prints each run's milliseconds (the first builds into memory the process never touched, as a
- * render's one build does) and the smallest, median and largest.
+ * render's one build does), split into the build and the layout, with the processor time all
+ * threads spent (what the build costs in work: over wall time, how many cores it kept busy), and
+ * the smallest, median and largest.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
@@ -19,11 +21,16 @@
 
 enum { max_runs = 1000 };
 
-static double now_ms(void)
+static double clock_ms(clockid_t clock)
 {
     struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
+    clock_gettime(clock, &ts);
     return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+static double now_ms(void)
+{
+    return clock_ms(CLOCK_MONOTONIC);
 }
 
 static int compare_doubles(const void *a, const void *b)
@@ -58,15 +65,23 @@ int main(int argc, char **argv)
                            .traversal_cost = cost};
     bvh b = {0};
     for (int r = 0; r < runs; ++r) {
-        double start = now_ms();
+        double start = now_ms(), cpu_start = clock_ms(CLOCK_PROCESS_CPUTIME_ID);
         bvh_pairs pairs = {0};
-        if (!bvh_build(&b, mesh.positions, mesh.triangle_count, &desc, &err) ||
-            !bvh_pairs_build(&b, &pairs, &err)) {
+        bool built = bvh_build(&b, mesh.positions, mesh.triangle_count, &desc, &err);
+        double built_at = now_ms(), cpu_built = clock_ms(CLOCK_PROCESS_CPUTIME_ID);
+        if (!built || !bvh_pairs_build(&b, &pairs, &err)) {
             fprintf(stderr, "bvh-bench: %s\n", err.msg);
             return 1;
         }
         ms[r] = now_ms() - start;
-        printf("run %d: %.1f ms\n", r + 1, ms[r]);
+        printf("run %d: %.1f ms (build %.1f ms, processor %.1f ms; pairs %.1f ms)\n", r + 1, ms[r],
+               built_at - start, cpu_built - cpu_start, ms[r] - (built_at - start));
+        static const char *const stage_names[BVH_STAGE_COUNT] = {"refs", "top", "subtrees",
+                                                                 "stitch", "finish"};
+        printf("  stages, wall / processor ms:");
+        for (int s = 0; s < BVH_STAGE_COUNT; ++s)
+            printf(" %s %.1f / %.1f", stage_names[s], b.stages[s].wall_ms, b.stages[s].cpu_ms);
+        printf("\n");
         bvh_pairs_free(&pairs);
         if (r + 1 < runs)
             bvh_free(&b);

@@ -12,7 +12,11 @@
  *     and the record range is partitioned in place. Boxes and centroids are 4-lane vectors
  *     (bvh_lanes.h: SSE2 on x86-64), which halved the build: written as float arrays, every box
  *     update went through memory lane by lane.
- *  3. Parallelism is a pool of desc->threads threads (the caller's thread included) sharing a
+ *  3. With more than one thread, the top levels (nodes over top_min triangles: a share of one
+ *     thread's work, see TOP_JOBS_PER_THREAD) are split by all threads together, a level at a
+ *     time (bvh_top.c: binning and partitioning in parallel, into the order the serial partition
+ *     leaves). Their children below top_min become the first jobs of the pool.
+ *     The pool is desc->threads threads (the caller's thread included) sharing a
  *     stack of jobs. A job over more than SPAWN_MIN_PRIMS triangles splits its node and pushes
  *     its two children as new jobs; a smaller job builds its whole subtree alone, depth first,
  *     into its own slice of a scratch node array (the slice of a range [b, e) is nodes
@@ -30,6 +34,8 @@
 
 #include "bvh.h"
 #include "bvh_split.h"
+#include "bvh_threads.h"
+#include "bvh_top.h"
 #include "../clock.h"
 
 #include <math.h>
@@ -42,18 +48,22 @@
 /* Defaults of bvh_build_desc's zero fields (bvh.h documents them). */
 enum { DEFAULT_MAX_LEAF = BVH_DEFAULT_MAX_LEAF, DEFAULT_BINS = 16 };
 
-/* Threads when the descriptor says 0: one per online core, at most this many (past it the serial
- * top of the tree and the stitch pass dominate). The tree is the same for any count. */
-enum { DEFAULT_MAX_THREADS = 16 };
 #define DEFAULT_TRAVERSAL_COST BVH_DEFAULT_TRAVERSAL_COST
 
 /* Limits on the descriptor: bins live in fixed per-thread arrays. */
-enum { MIN_BINS = 2, MAX_BINS = BVH_SPLIT_MAX_BINS, MAX_THREADS = 64 };
+enum { MIN_BINS = 2, MAX_BINS = BVH_SPLIT_MAX_BINS, MAX_THREADS = BVH_MAX_THREADS };
 
 /* Jobs over more triangles than this split one node and hand both children back to the pool;
  * smaller ones build their subtree alone. Small enough that a 70k-triangle mesh yields dozens of
  * jobs for load balance, large enough that job overhead (a lock, a copy) stays negligible. */
 enum { SPAWN_MIN_PRIMS = 2048 };
+
+/* With more than one thread, nodes over top_min(n, threads) triangles are split by all threads
+ * together (bvh_top.c), a level at a time, before the pool starts: a job then holds at most
+ * 1 / TOP_JOBS_PER_THREAD of one thread's share, so the pool's jobs balance, and the top levels,
+ * which a single thread would split in turn while the others wait, no longer run on one. Below
+ * TOP_MIN_PRIMS, the chunks of bvh_top.c would be too few to share. */
+enum { TOP_MIN_PRIMS = 1 << 15, TOP_JOBS_PER_THREAD = 8 };
 
 /* bvh_node.count of an inner node (bvh.h). */
 enum { INNER_NODE_COUNT = 0 };
@@ -128,8 +138,11 @@ static void *make_refs(void *arg)
         bool finite = true;
         for (int a = 0; a < 3; a++) {
             finite = finite && isfinite(v[a]) && isfinite(v[3 + a]) && isfinite(v[6 + a]);
-            r->lo[a] = MINF(MINF(v[a], v[3 + a]), v[6 + a]);
-            r->hi[a] = MAXF(MAXF(v[a], v[3 + a]), v[6 + a]);
+            /* + 0: -0 becomes +0, so that a min or max over records never depends on the order
+             * it takes them in (of -0 and +0, MINPS keeps the later), which lets bvh_top.c
+             * add bins up in any order and match the serial build's bounds bit for bit. */
+            r->lo[a] = MINF(MINF(v[a], v[3 + a]), v[6 + a]) + 0.0f;
+            r->hi[a] = MAXF(MAXF(v[a], v[3 + a]), v[6 + a]) + 0.0f;
         }
         if (!finite && c->first_bad == c->end)
             c->first_bad = i;
@@ -147,23 +160,12 @@ static bool build_refs(const float *positions, uint32_t n, uint32_t threads, pri
                        aabb *bounds, aabb *cbounds, vkrt_error *err)
 {
     ref_chunk chunks[MAX_THREADS];
-    pthread_t tid[MAX_THREADS];
-    bool started[MAX_THREADS] = { false };
     for (uint32_t t = 0; t < threads; t++) {
         chunks[t] = (ref_chunk){ .positions = positions, .refs = refs,
                                  .begin = (uint32_t)((uint64_t)n * t / threads),
                                  .end = (uint32_t)((uint64_t)n * (t + 1) / threads) };
     }
-    /* A thread that cannot start costs speed, not correctness: this thread does its chunk. */
-    for (uint32_t t = 1; t < threads; t++)
-        started[t] = pthread_create(&tid[t], NULL, make_refs, &chunks[t]) == 0;
-    make_refs(&chunks[0]);
-    for (uint32_t t = 1; t < threads; t++) {
-        if (started[t])
-            pthread_join(tid[t], NULL);
-        else
-            make_refs(&chunks[t]);
-    }
+    bvh_threads_run(threads, make_refs, chunks, sizeof chunks[0]);
     aabb_empty(bounds);
     aabb_empty(cbounds);
     for (uint32_t t = 0; t < threads; t++) {
@@ -235,13 +237,25 @@ static void build_local(const build_ctx *ctx, thread_scratch *s, build_job *job)
     job->max_depth = max_depth;
 }
 
-/* Pushes a child job; the caller holds pool->lock. */
-static uint32_t push_job(job_pool *pool, const pending_node *root)
+/* A new job over root's range, not yet queued; the caller holds pool->lock or runs alone. */
+static uint32_t new_job(job_pool *pool, const pending_node *root)
 {
     uint32_t j = pool->job_count++;
     pool->jobs[j] = (build_job){ .root = *root };
+    return j;
+}
+
+/* Hands job j to the pool's threads; the same locking as new_job. */
+static void queue_job(job_pool *pool, uint32_t j)
+{
     pool->stack[pool->stack_len++] = j;
     pool->unfinished++;
+}
+
+static uint32_t push_job(job_pool *pool, const pending_node *root)
+{
+    uint32_t j = new_job(pool, root);
+    queue_job(pool, j);
     return j;
 }
 
@@ -265,6 +279,59 @@ static void run_job(job_pool *pool, thread_scratch *s, uint32_t j)
         }
     }
     build_local(ctx, s, job);
+}
+
+/* The top levels: the root job and then, level by level, every child over top_min triangles are
+ * split by all threads together (bvh_top.c); smaller children are queued for the pool. If memory
+ * for that runs out, a level's jobs are queued unsplit and the pool splits them, as it would
+ * with one thread: the tree is the same either way. */
+static void split_top(job_pool *pool, uint32_t root_job, uint32_t top_min, uint32_t threads)
+{
+    const build_ctx *ctx = pool->ctx;
+    /* A level's nodes are disjoint and each holds over top_min triangles. */
+    size_t cap = pool->jobs[root_job].root.end / top_min + 1;
+    uint32_t *level = malloc(cap * sizeof *level), *next = malloc(cap * sizeof *next);
+    bvh_top_node *nodes = malloc(cap * sizeof *nodes);
+    bvh_split_result *split = malloc(cap * sizeof *split);
+    uint32_t level_len = 1;
+    bool ok = level && next && nodes && split;
+    if (ok)
+        level[0] = root_job;
+    else
+        queue_job(pool, root_job);
+    while (ok && level_len > 0) {
+        for (uint32_t i = 0; i < level_len; i++) {
+            const pending_node *r = &pool->jobs[level[i]].root;
+            nodes[i] = (bvh_top_node){
+                .begin = r->begin, .end = r->end, .bounds = r->bounds, .cbounds = r->cbounds};
+        }
+        ok = bvh_top_split(&ctx->sah, ctx->refs, nodes, level_len, threads, split);
+        uint32_t next_len = 0;
+        for (uint32_t i = 0; i < level_len; i++) {
+            if (!ok || !split[i].split) {
+                queue_job(pool, level[i]);
+                continue;
+            }
+            pool->jobs[level[i]].kind = JOB_SPLIT;
+            for (int side = 0; side < 2; side++) {
+                pending_node c = child_pending(&pool->jobs[level[i]].root, &split[i], side, 0);
+                uint32_t j = new_job(pool, &c);
+                pool->jobs[level[i]].child[side] = j;
+                if (c.end - c.begin > top_min)
+                    next[next_len++] = j;
+                else
+                    queue_job(pool, j);
+            }
+        }
+        uint32_t *t = level;
+        level = next;
+        next = t;
+        level_len = next_len;
+    }
+    free(level);
+    free(next);
+    free(nodes);
+    free(split);
 }
 
 static void *worker(void *arg)
@@ -292,18 +359,10 @@ static void *worker(void *arg)
  * slows the build down. */
 static void run_pool(job_pool *pool, thread_scratch **scratch, uint32_t threads)
 {
-    pthread_t tid[MAX_THREADS];
     worker_arg args[MAX_THREADS];
-    bool started[MAX_THREADS] = { false };
     for (uint32_t t = 0; t < threads; t++)
         args[t] = (worker_arg){ .pool = pool, .scratch = scratch[t] };
-    for (uint32_t t = 1; t < threads; t++)
-        started[t] = pthread_create(&tid[t], NULL, worker, &args[t]) == 0;
-    worker(&args[0]);
-    for (uint32_t t = 1; t < threads; t++) {
-        if (started[t])
-            pthread_join(tid[t], NULL);
-    }
+    bvh_threads_run(threads, worker, args, sizeof args[0]);
 }
 
 /* ------------------------------------------------------------------------ stitching */
@@ -383,8 +442,6 @@ static void copy_all_places(const build_ctx *ctx, const job_pool *pool, const lo
                             uint32_t place_count, uint32_t n, uint32_t threads, bvh *out)
 {
     copy_share shares[MAX_THREADS];
-    pthread_t tid[MAX_THREADS];
-    bool started[MAX_THREADS] = { false };
     uint32_t p = 0, covered = 0;
     for (uint32_t t = 0; t < threads; t++) {
         shares[t] = (copy_share){ .ctx = ctx, .pool = pool, .places = places, .begin = p,
@@ -396,16 +453,7 @@ static void copy_all_places(const build_ctx *ctx, const job_pool *pool, const lo
         }
         shares[t].end = p;
     }
-    /* A thread that cannot start costs speed, not correctness: this thread does its share. */
-    for (uint32_t t = 1; t < threads; t++)
-        started[t] = pthread_create(&tid[t], NULL, copy_places, &shares[t]) == 0;
-    copy_places(&shares[0]);
-    for (uint32_t t = 1; t < threads; t++) {
-        if (started[t])
-            pthread_join(tid[t], NULL);
-        else
-            copy_places(&shares[t]);
-    }
+    bvh_threads_run(threads, copy_places, shares, sizeof shares[0]);
 }
 
 static double node_half_area(const bvh_node *n)
@@ -415,27 +463,80 @@ static double node_half_area(const bvh_node *n)
     return dx * dy + dy * dz + dz * dx;
 }
 
-/* The SAH cost of the finished tree, summed in node order so it is reproducible. A tree whose
- * root box has no area (all triangles on one line or point) weighs every node 1. */
-static float tree_sah(const bvh_node *nodes, uint32_t count, float traversal_cost,
-                      uint32_t *leaves)
+/* The tree's SAH cost is summed over blocks of this many nodes, blocks in parallel, and the
+ * blocks' sums added in block order: the same float for any thread count. */
+enum { SAH_BLOCK_NODES = 1 << 16 };
+
+typedef struct sah_share {
+    const bvh_node *nodes;
+    uint32_t count;
+    double root_area;
+    float traversal_cost;
+    uint32_t first_block, end_block;
+    double *block_sum;
+    uint32_t *block_leaves;
+} sah_share;
+
+/* A tree whose root box has no area (all triangles on one line or point) weighs every node 1. */
+static void *sum_sah_blocks(void *arg)
 {
-    double root_area = node_half_area(&nodes[0]);
+    const sah_share *s = arg;
+    for (uint32_t k = s->first_block; k < s->end_block; k++) {
+        uint32_t end = (uint32_t)MINF((uint64_t)s->count, (uint64_t)(k + 1) * SAH_BLOCK_NODES);
+        double sum = 0.0;
+        uint32_t leaves = 0;
+        for (uint32_t i = k * SAH_BLOCK_NODES; i < end; i++) {
+            const bvh_node *n = &s->nodes[i];
+            double w = s->root_area > 0.0 ? node_half_area(n) / s->root_area : 1.0;
+            if (n->count == INNER_NODE_COUNT) {
+                sum += s->traversal_cost * w;
+            } else {
+                sum += n->count * w;
+                leaves++;
+            }
+        }
+        s->block_sum[k] = sum;
+        s->block_leaves[k] = leaves;
+    }
+    return NULL;
+}
+
+/* The SAH cost of the finished tree and its leaf count; block_sum and block_leaves hold a
+ * block's each. */
+static float tree_sah(const bvh_node *nodes, uint32_t count, float traversal_cost, uint32_t threads,
+                      double *block_sum, uint32_t *block_leaves, uint32_t *leaves)
+{
+    uint32_t blocks = (uint32_t)(((uint64_t)count + SAH_BLOCK_NODES - 1) / SAH_BLOCK_NODES);
+    sah_share shares[MAX_THREADS];
+    for (uint32_t t = 0; t < threads; t++)
+        shares[t] = (sah_share){.nodes = nodes,
+                                .count = count,
+                                .root_area = node_half_area(&nodes[0]),
+                                .traversal_cost = traversal_cost,
+                                .first_block = (uint32_t)((uint64_t)blocks * t / threads),
+                                .end_block = (uint32_t)((uint64_t)blocks * (t + 1) / threads),
+                                .block_sum = block_sum,
+                                .block_leaves = block_leaves};
+    bvh_threads_run(threads, sum_sah_blocks, shares, sizeof shares[0]);
     double sum = 0.0;
     *leaves = 0;
-    for (uint32_t i = 0; i < count; i++) {
-        double w = root_area > 0.0 ? node_half_area(&nodes[i]) / root_area : 1.0;
-        if (nodes[i].count == INNER_NODE_COUNT) {
-            sum += traversal_cost * w;
-        } else {
-            sum += nodes[i].count * w;
-            (*leaves)++;
-        }
+    for (uint32_t k = 0; k < blocks; k++) {
+        sum += block_sum[k];
+        *leaves += block_leaves[k];
     }
     return (float)sum;
 }
 
 /* ------------------------------------------------------------------------ entry points */
+
+/* Ends the stage that began at *mark: its wall-clock and processor time go to out->stages[s],
+ * and *mark moves to now, where the next stage begins. */
+static void end_stage(bvh *out, bvh_stage s, bvh_stage_time *mark)
+{
+    bvh_stage_time now = {vkrt_clock_ms(), vkrt_clock_cpu_ms()};
+    out->stages[s] = (bvh_stage_time){now.wall_ms - mark->wall_ms, now.cpu_ms - mark->cpu_ms};
+    *mark = now;
+}
 
 static bool read_desc(const bvh_build_desc *desc, build_ctx *ctx, uint32_t *threads,
                       vkrt_error *err)
@@ -444,11 +545,8 @@ static bool read_desc(const bvh_build_desc *desc, build_ctx *ctx, uint32_t *thre
     ctx->sah.max_leaf = d.max_leaf_size ? d.max_leaf_size : DEFAULT_MAX_LEAF;
     ctx->sah.bins = d.bins ? d.bins : DEFAULT_BINS;
     ctx->sah.traversal_cost = d.traversal_cost != 0.0f ? d.traversal_cost : DEFAULT_TRAVERSAL_COST;
-    *threads = d.threads;
-    if (*threads == 0) {
-        long cores = sysconf(_SC_NPROCESSORS_ONLN);
-        *threads = cores < 1 ? 1 : cores > DEFAULT_MAX_THREADS ? DEFAULT_MAX_THREADS : (uint32_t)cores;
-    }
+    /* 0: one per online core, at most 16 (bvh_threads.h). The tree is the same for any count. */
+    *threads = d.threads ? d.threads : bvh_threads_default();
     if (ctx->sah.bins < MIN_BINS || ctx->sah.bins > MAX_BINS)
         return vkrt_error_set(err, "bvh: bins must be %d..%d, got %u", MIN_BINS, MAX_BINS,
                               ctx->sah.bins);
@@ -468,6 +566,8 @@ typedef struct build_mem {
     uint32_t *job_stack;
     stitch_item *stitch_stack;
     local_place *places;
+    double *sah_block_sum;
+    uint32_t *sah_block_leaves;
     thread_scratch *scratch[MAX_THREADS];
 } build_mem;
 
@@ -479,6 +579,8 @@ static void free_mem(build_mem *m)
     free(m->job_stack);
     free(m->stitch_stack);
     free(m->places);
+    free(m->sah_block_sum);
+    free(m->sah_block_leaves);
     for (int t = 0; t < MAX_THREADS; t++) {
         if (m->scratch[t])
             free(m->scratch[t]->stack);
@@ -495,10 +597,13 @@ static bool alloc_mem(build_mem *m, bvh *out, uint32_t n, uint32_t threads, vkrt
     m->job_stack = malloc(max_nodes * sizeof *m->job_stack);
     m->stitch_stack = malloc(max_nodes * sizeof *m->stitch_stack);
     m->places = malloc(max_nodes * sizeof *m->places);
+    size_t sah_blocks = max_nodes / SAH_BLOCK_NODES + 1;
+    m->sah_block_sum = malloc(sah_blocks * sizeof *m->sah_block_sum);
+    m->sah_block_leaves = malloc(sah_blocks * sizeof *m->sah_block_leaves);
     out->nodes = malloc(max_nodes * sizeof *out->nodes);
     out->prim_order = malloc(n * sizeof *out->prim_order);
-    bool ok = m->refs && m->scratch_nodes && m->jobs && m->job_stack && m->stitch_stack && m->places &&
-              out->nodes && out->prim_order;
+    bool ok = m->refs && m->scratch_nodes && m->jobs && m->job_stack && m->stitch_stack &&
+              m->places && m->sah_block_sum && m->sah_block_leaves && out->nodes && out->prim_order;
     for (uint32_t t = 0; ok && t < threads; t++) {
         m->scratch[t] = malloc(sizeof *m->scratch[t]);
         ok = m->scratch[t] && (m->scratch[t]->stack = malloc(n * sizeof(pending_node)));
@@ -509,7 +614,8 @@ static bool alloc_mem(build_mem *m, bvh *out, uint32_t n, uint32_t threads, vkrt
 bool bvh_build(bvh *out, const float *positions, uint32_t triangle_count,
                const bvh_build_desc *desc, vkrt_error *err)
 {
-    double t0 = vkrt_clock_ms();
+    bvh_stage_time mark = {vkrt_clock_ms(), vkrt_clock_cpu_ms()};
+    double t0 = mark.wall_ms;
     if (!out)
         return vkrt_error_set(err, "bvh: no output");
     memset(out, 0, sizeof *out);
@@ -537,27 +643,38 @@ bool bvh_build(bvh *out, const float *positions, uint32_t triangle_count,
     }
     ctx.refs = m.refs;
     ctx.scratch_nodes = m.scratch_nodes;
+    end_stage(out, BVH_STAGE_REFS, &mark);
 
     job_pool pool = { .ctx = &ctx, .jobs = m.jobs, .stack = m.job_stack };
     pthread_mutex_init(&pool.lock, NULL);
     pthread_cond_init(&pool.wake, NULL);
-    push_job(&pool, &root);
+    uint32_t top_min =
+        MAXF((uint32_t)TOP_MIN_PRIMS, triangle_count / (threads * (uint32_t)TOP_JOBS_PER_THREAD));
+    if (threads > 1 && triangle_count > top_min)
+        split_top(&pool, new_job(&pool, &root), top_min, threads);
+    else
+        push_job(&pool, &root);
+    end_stage(out, BVH_STAGE_TOP, &mark);
     run_pool(&pool, m.scratch, threads);
     pthread_cond_destroy(&pool.wake);
     pthread_mutex_destroy(&pool.lock);
+    end_stage(out, BVH_STAGE_SUBTREES, &mark);
 
     uint32_t place_count;
     out->node_count = stitch(&pool, out->nodes, m.stitch_stack, m.places, &place_count,
                              &out->max_depth);
     out->prim_count = triangle_count;
     copy_all_places(&ctx, &pool, m.places, place_count, triangle_count, threads, out);
+    end_stage(out, BVH_STAGE_STITCH, &mark);
+    out->sah_cost = tree_sah(out->nodes, out->node_count, ctx.sah.traversal_cost, threads,
+                             m.sah_block_sum, m.sah_block_leaves, &out->leaf_count);
     free_mem(&m);
     /* Shrinking cannot fail in practice; if it does, the larger block is still valid. */
     bvh_node *shrunk = realloc(out->nodes, out->node_count * sizeof *out->nodes);
     if (shrunk)
         out->nodes = shrunk;
-    out->sah_cost = tree_sah(out->nodes, out->node_count, ctx.sah.traversal_cost, &out->leaf_count);
-    out->build_ms = vkrt_clock_ms() - t0;
+    end_stage(out, BVH_STAGE_FINISH, &mark);
+    out->build_ms = mark.wall_ms - t0;
     return true;
 }
 

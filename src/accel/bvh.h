@@ -12,7 +12,9 @@
 
 /* One node, 32 bytes, the layout the kernels read (glsl/shared.h BvhNode has the same bytes).
  * count == 0: an inner node whose two children are nodes[left_first] and nodes[left_first + 1]
- * (siblings are adjacent, so one index serves both). count > 0: a leaf holding triangles
+ * (siblings are adjacent, so one index serves both). Sibling pairs lie in the depth-first order
+ * (left before right) of their parents: the children of the k-th inner node in that order are
+ * nodes 2k + 1 and 2k + 2 (bvh_pairs.c relies on it). count > 0: a leaf holding triangles
  * left_first .. left_first + count - 1 of the BVH's triangle order (prim_order). */
 typedef struct bvh_node {
     float lo[3];
@@ -32,6 +34,22 @@ typedef struct bvh_build_desc {
     float traversal_cost;     /* SAH cost of visiting a node, relative to one triangle test; 0: 1 */
 } bvh_build_desc;
 
+/* The build's stages, in the order they run (bvh.c's header comment describes them). */
+typedef enum bvh_stage {
+    BVH_STAGE_REFS,     /* allocation and the triangles' reference records */
+    BVH_STAGE_TOP,      /* the top levels, split by all threads together */
+    BVH_STAGE_SUBTREES, /* the pool of jobs: the rest of the tree */
+    BVH_STAGE_STITCH,   /* the jobs stitched into one node array, prim_order */
+    BVH_STAGE_FINISH,   /* scratch freed, the tree's SAH cost */
+    BVH_STAGE_COUNT
+} bvh_stage;
+
+/* One stage's wall-clock time and the processor time of the whole process during it (all
+ * threads): their ratio says how many cores the stage kept busy. */
+typedef struct bvh_stage_time {
+    double wall_ms, cpu_ms;
+} bvh_stage_time;
+
 typedef struct bvh {
     bvh_node *nodes;          /* nodes[0] is the root */
     uint32_t node_count;
@@ -41,6 +59,7 @@ typedef struct bvh {
     uint32_t max_depth;       /* of the deepest leaf; the root has depth 0 */
     float sah_cost;           /* SAH cost of the whole tree, relative to the root's area */
     double build_ms;          /* wall-clock build time */
+    bvh_stage_time stages[BVH_STAGE_COUNT];
 } bvh;
 
 /* A leaf as the GPU layouts (bvh_pairs.h, bvh_quads.h) refer to it in one word: the flag,

@@ -29,32 +29,10 @@ static inline float half_area(const aabb *b)
     return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
 }
 
-/* How a node maps centroids to bins: bin = clamp((c - lo) * scale, 0, last), truncated, on all
- * three axes at once. Binning and partitioning both go through bins_of, so they agree on every
- * triangle's bin. The clamps keep the conversion defined even if rounding strays outside
- * [0, last] (a NaN lands in bin 0). */
-typedef struct bin_map {
-    vec4 lo, scale, last;
-} bin_map;
-
-static inline void bins_of(const bin_map *m, vec4 c, uint32_t k[4])
-{
-    vec4 f = v4_mul(v4_sub(c, m->lo), m->scale);
-    f = v4_min(v4_max(f, v4_set1(0.0f)), m->last);
-    v4_to_u32(f, k);
-}
-
-typedef struct bin_split {
-    int axis;              /* -1: no split with both sides non-empty */
-    uint32_t bin;          /* left side: bins [0, bin) */
-    bin_map map;           /* the node's bins */
-    float cost;            /* A_left N_left + A_right N_right */
-} bin_split;
-
 /* The bins of a node with centroid bounds cb: nb per axis where the extent is usable (positive
  * and finite). Other axes get scale 0 and lo 0, so their refs all fall into bin 0 without a
  * branch (finite centroid times 0), and are not swept. */
-static bin_map make_bin_map(const aabb *cb, uint32_t nb, bool active[3])
+static bvh_bin_map make_bin_map(const aabb *cb, uint32_t nb, bool active[3])
 {
     float lo[4], hi[4], mlo[3], scale[3];
     v4_store(lo, cb->lo);
@@ -66,15 +44,18 @@ static bin_map make_bin_map(const aabb *cb, uint32_t nb, bool active[3])
         mlo[a] = active[a] ? lo[a] : 0.0f;
         scale[a] = active[a] ? scale[a] : 0.0f;
     }
-    return (bin_map){ .lo = v4_set3(mlo[0], mlo[1], mlo[2]),
-                      .scale = v4_set3(scale[0], scale[1], scale[2]),
-                      .last = v4_set1((float)(nb - 1)) };
+    return (bvh_bin_map){.lo = v4_set3(mlo[0], mlo[1], mlo[2]),
+                         .scale = v4_set3(scale[0], scale[1], scale[2]),
+                         .last = v4_set1((float)(nb - 1))};
 }
 
 /* Bins the centroids of refs[begin, end) on all three axes. */
-static void fill_bins(bvh_split_scratch *s, const prim_ref *refs, uint32_t begin, uint32_t end,
-                      const bin_map *map, uint32_t nb)
+void bvh_split_bins_fill(bvh_split_scratch *s, const prim_ref *refs, uint32_t begin, uint32_t end,
+                         const bvh_bin_split *b)
 {
+    const uint32_t nb = b->bins;
+    const bvh_bin_map map =
+        b->map; /* a copy: stores to s could alias *b, this stays in registers */
     for (int a = 0; a < 3; a++) {
         for (uint32_t k = 0; k < nb; k++)
             aabb_empty(&s->bins[a][k]);
@@ -83,7 +64,7 @@ static void fill_bins(bvh_split_scratch *s, const prim_ref *refs, uint32_t begin
     for (uint32_t i = begin; i < end; i++) {
         ref_lanes l = ref_load(&refs[i]);
         uint32_t k[4];
-        bins_of(map, l.c, k);
+        bvh_bins_of(&map, l.c, k);
         aabb_grow_box(&s->bins[0][k[0]], l.lo, l.hi);
         aabb_grow_box(&s->bins[1][k[1]], l.lo, l.hi);
         aabb_grow_box(&s->bins[2][k[2]], l.lo, l.hi);
@@ -93,10 +74,19 @@ static void fill_bins(bvh_split_scratch *s, const prim_ref *refs, uint32_t begin
     }
 }
 
+void bvh_split_bins_bounds(const bvh_split_scratch *s, const bvh_bin_split *b, uint32_t first,
+                           uint32_t end, aabb *out)
+{
+    aabb_empty(out);
+    for (uint32_t k = first; k < end; k++)
+        aabb_grow(out, &s->bins[b->axis][k]);
+}
+
 /* Sweeps one axis's bins: right-to-left areas first, then left to right for the costs.
  * Strict < keeps the first of equal costs, so the choice is reproducible. */
-static void sweep_axis(bvh_split_scratch *s, int a, uint32_t nb, bin_split *best)
+static void sweep_axis(bvh_split_scratch *s, int a, bvh_bin_split *best)
 {
+    const uint32_t nb = best->bins;
     const aabb *bins = s->bins[a];
     const uint32_t *counts = s->counts[a];
     aabb acc;
@@ -129,25 +119,38 @@ static uint32_t bin_count(const bvh_split_params *p, uint32_t count)
     return MINF(p->bins, MAXF(count, (uint32_t)SMALL_NODE_MIN_BINS));
 }
 
-static bin_split find_bin_split(const bvh_split_params *p, bvh_split_scratch *s,
-                                const prim_ref *refs, uint32_t begin, uint32_t end, const aabb *cb)
+void bvh_split_bins_init(const bvh_split_params *p, uint32_t count, const aabb *cbounds,
+                         bvh_bin_split *b)
 {
-    uint32_t nb = bin_count(p, end - begin);
-    bool active[3];
-    bin_split best = { .axis = -1, .cost = INFINITY, .map = make_bin_map(cb, nb, active) };
-    fill_bins(s, refs, begin, end, &best.map, nb);
+    uint32_t nb = bin_count(p, count);
+    *b = (bvh_bin_split){.bins = nb, .axis = -1, .cost = INFINITY};
+    b->map = make_bin_map(cbounds, nb, b->active);
+}
+
+/* Costs are compared unnormalised, times A_parent: split when
+ * traversal_cost * A + A_l N_l + A_r N_r < N * A, which also behaves for a flat (A = 0) node. */
+bvh_split_kind bvh_split_choose(const bvh_split_params *p, bvh_split_scratch *s, uint32_t count,
+                                const aabb *bounds, bvh_bin_split *b)
+{
+    if (count <= ALWAYS_LEAF_PRIMS)
+        return BVH_SPLIT_LEAF;
     for (int a = 0; a < 3; a++) {
-        if (active[a])
-            sweep_axis(s, a, nb, &best);
+        if (b->active[a])
+            sweep_axis(s, a, b);
     }
-    return best;
+    bool must_split = count > p->max_leaf;
+    float area = half_area(bounds);
+    bool worth = b->axis >= 0 && p->traversal_cost * area + b->cost < (float)count * area;
+    if (b->axis >= 0 && (must_split || worth))
+        return BVH_SPLIT_BINNED;
+    return must_split ? BVH_SPLIT_MEDIAN : BVH_SPLIT_LEAF;
 }
 
 /* Partitions refs[begin, end) in place, Hoare's way (each ref is looked at once, and only pairs
  * on the wrong sides move): bins below split->bin go left. Collects the children's bounds on the
  * way, so they are exact. Returns the first index of the right side. */
 static uint32_t partition_refs(prim_ref *refs, uint32_t begin, uint32_t end,
-                               const bin_split *split, bvh_split_result *out)
+                               const bvh_bin_split *split, bvh_split_result *out)
 {
     const int a = split->axis;
     const uint32_t left_bins = split->bin;
@@ -162,7 +165,7 @@ static uint32_t partition_refs(prim_ref *refs, uint32_t begin, uint32_t end,
         uint32_t k[4];
         for (; i < j; i++) { /* the first ref from the left that belongs right */
             li = ref_load(&refs[i]);
-            bins_of(&split->map, li.c, k);
+            bvh_bins_of(&split->map, li.c, k);
             if (k[a] >= left_bins)
                 break;
             aabb_grow_box(&lb, li.lo, li.hi);
@@ -174,7 +177,7 @@ static uint32_t partition_refs(prim_ref *refs, uint32_t begin, uint32_t end,
         aabb_grow_point(&rcb, li.c);
         for (j--; j > i; j--) { /* the first ref from the right that belongs left */
             lj = ref_load(&refs[j]);
-            bins_of(&split->map, lj.c, k);
+            bvh_bins_of(&split->map, lj.c, k);
             if (k[a] < left_bins)
                 break;
             aabb_grow_box(&rb, lj.lo, lj.hi);
@@ -211,7 +214,7 @@ static void range_bounds(const prim_ref *refs, uint32_t begin, uint32_t end, aab
 /* Splits the range in the middle of its order: the fallback when binning finds no split with
  * both sides non-empty (all centroids equal, or extents that overflow) and the node is too big
  * for a leaf. Halving the count makes the recursion terminate. */
-static void median_split(const prim_ref *refs, uint32_t begin, uint32_t end, bvh_split_result *out)
+void bvh_split_median(const prim_ref *refs, uint32_t begin, uint32_t end, bvh_split_result *out)
 {
     out->split = true;
     out->mid = begin + (end - begin) / 2;
@@ -219,8 +222,6 @@ static void median_split(const prim_ref *refs, uint32_t begin, uint32_t end, bvh
     range_bounds(refs, out->mid, end, &out->bounds[1], &out->cbounds[1]);
 }
 
-/* Costs are compared unnormalised, times A_parent: split when
- * traversal_cost * A + A_l N_l + A_r N_r < N * A, which also behaves for a flat (A = 0) node. */
 void bvh_split_node(const bvh_split_params *p, bvh_split_scratch *s, prim_ref *refs,
                     uint32_t begin, uint32_t end, const aabb *bounds, const aabb *cbounds,
                     bvh_split_result *out)
@@ -229,16 +230,17 @@ void bvh_split_node(const bvh_split_params *p, bvh_split_scratch *s, prim_ref *r
     out->split = false;
     if (count <= ALWAYS_LEAF_PRIMS)
         return;
-    bool must_split = count > p->max_leaf;
-    bin_split b = find_bin_split(p, s, refs, begin, end, cbounds);
-    float area = half_area(bounds);
-    bool worth = b.axis >= 0 && p->traversal_cost * area + b.cost < (float)count * area;
-    if (b.axis >= 0 && (must_split || worth)) {
+    bvh_bin_split b;
+    bvh_split_bins_init(p, count, cbounds, &b);
+    bvh_split_bins_fill(s, refs, begin, end, &b);
+    bvh_split_kind kind = bvh_split_choose(p, s, count, bounds, &b);
+    if (kind == BVH_SPLIT_BINNED) {
         out->mid = partition_refs(refs, begin, end, &b, out);
         out->split = out->mid > begin && out->mid < end;
         if (out->split)
             return;
+        kind = count > p->max_leaf ? BVH_SPLIT_MEDIAN : BVH_SPLIT_LEAF;
     }
-    if (must_split)
-        median_split(refs, begin, end, out);
+    if (kind == BVH_SPLIT_MEDIAN)
+        bvh_split_median(refs, begin, end, out);
 }

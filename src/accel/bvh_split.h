@@ -42,6 +42,70 @@ typedef struct bvh_split_result {
     aabb cbounds[2];       /* centroid bounds of the children */
 } bvh_split_result;
 
+/* How a node maps centroids to bins: bin = clamp((c - lo) * scale, 0, last), truncated, on all
+ * three axes at once. Binning and partitioning both go through bvh_bins_of, so they agree on
+ * every triangle's bin. The clamps keep the conversion defined even if rounding strays outside
+ * [0, last] (a NaN lands in bin 0). */
+typedef struct bvh_bin_map {
+    vec4 lo, scale, last;
+} bvh_bin_map;
+
+static inline void bvh_bins_of(const bvh_bin_map *m, vec4 c, uint32_t k[4])
+{
+    vec4 f = v4_mul(v4_sub(c, m->lo), m->scale);
+    f = v4_min(v4_max(f, v4_set1(0.0f)), m->last);
+    v4_to_u32(f, k);
+}
+
+/* One node's binned split: its bins, and once chosen the plane (left side: bins [0, bin) of
+ * axis). */
+typedef struct bvh_bin_split {
+    bvh_bin_map map;
+    uint32_t bins;  /* per axis */
+    bool active[3]; /* axes with a usable extent; the others are not swept */
+    int axis;       /* -1: no split with both sides non-empty */
+    uint32_t bin;
+    float cost; /* A_left N_left + A_right N_right */
+} bvh_bin_split;
+
+/* What bvh_split_choose decides for a node. */
+typedef enum bvh_split_kind {
+    BVH_SPLIT_LEAF,   /* keep the node whole */
+    BVH_SPLIT_BINNED, /* partition by the chosen plane */
+    BVH_SPLIT_MEDIAN, /* too big for a leaf and no plane separates it: bvh_split_median */
+} bvh_split_kind;
+
+/* bvh_split_node in pieces, for one big node split by many threads (bvh_top.c): the bins of a
+ * node of `count` triangles with centroid bounds cbounds; each thread fills a scratch from a
+ * slice of the node's records (fill clears the scratch's first b->bins bins first); the slices'
+ * bins are added up; then the choice. Bins hold exact unions (records hold no -0, bvh.c) and
+ * counts, so the slices add up to the bins one pass over the whole range gives. */
+void bvh_split_bins_init(const bvh_split_params *p, uint32_t count, const aabb *cbounds,
+                         bvh_bin_split *b);
+void bvh_split_bins_fill(bvh_split_scratch *s, const prim_ref *refs, uint32_t begin, uint32_t end,
+                         const bvh_bin_split *b);
+
+/* Sweeps the filled bins s of a node of `count` triangles and exact bounds `bounds`, sets the
+ * plane in *b, and says what the node does (the same decision bvh_split_node makes). */
+bvh_split_kind bvh_split_choose(const bvh_split_params *p, bvh_split_scratch *s, uint32_t count,
+                                const aabb *bounds, bvh_bin_split *b);
+
+/* Whether a centroid goes to the left child of a BVH_SPLIT_BINNED choice. */
+static inline bool bvh_split_goes_left(const bvh_bin_split *b, vec4 c)
+{
+    uint32_t k[4];
+    bvh_bins_of(&b->map, c, k);
+    return k[b->axis] < b->bin;
+}
+
+/* The exact bounds of bins [first, end) of the chosen axis: a child's bounds, read from bins. */
+void bvh_split_bins_bounds(const bvh_split_scratch *s, const bvh_bin_split *b, uint32_t first,
+                           uint32_t end, aabb *out);
+
+/* Splits refs[begin, end) in the middle of its order (BVH_SPLIT_MEDIAN), children's bounds
+ * included. */
+void bvh_split_median(const prim_ref *refs, uint32_t begin, uint32_t end, bvh_split_result *out);
+
 /* Decides whether the node over refs[begin, end), with exact bounds `bounds` and centroid bounds
  * `cbounds`, is a leaf or splits, and on a split reorders refs[begin, end) so that its children
  * are [begin, out->mid) and [out->mid, end), both non-empty, with their bounds in *out. A node of
