@@ -31,8 +31,8 @@ typedef struct kd_node {
 #define KDTREE_MAX_DEPTH 48u
 
 /* What kdtree_build_desc's zero fields mean: the costs of the SAH, C = K_T + K_I (P_L N_L +
- * P_R N_R), multiplied by the empty-space bonus when one side holds nothing (kdtree.c says how
- * they were chosen). */
+ * P_R N_R), multiplied by the empty-space bonus when one side holds nothing. Only K_T / K_I
+ * matters to the tree; docs/kdtree.md ("The termination rule") has what other ratios did. */
 #define KDTREE_DEFAULT_TRAVERSAL_COST 15.0f
 #define KDTREE_DEFAULT_INTERSECTION_COST 20.0f
 #define KDTREE_DEFAULT_EMPTY_BONUS 0.8f
