@@ -84,6 +84,9 @@ typedef uint32_t uint;
  * tree whose paths could need more (one entry per level of pairs, up to 3 per level of quads).
  * The most rays one hit may cast: a material's count_rays answer above it is its error. */
 #define VKRT_BVH_STACK_SIZE 64
+/* The kd-tree's traversal stack: one entry per level (src/accel/kdtree.h KDTREE_MAX_DEPTH, the
+ * deepest tree the builder makes, is the same number). */
+#define VKRT_KD_STACK_SIZE 48
 #define VKRT_MAX_CAST 64u
 
 /* Marks a hit record of a ray that missed every triangle. */
@@ -239,6 +242,19 @@ VKRT_STRUCT(TextureInfo) {
 #define VKRT_TRAVERSE_BRUTE 0u
 #define VKRT_TRAVERSE_GRID 1u
 #define VKRT_TRAVERSE_BVH 2u
+#define VKRT_TRAVERSE_KDTREE 3u
+
+/* A node of the kd-tree, 16 bytes, one texel (src/accel/kdtree.h, kd_node, has the same bytes).
+ * axis 0-2: split at `split` on that axis, children a (below the plane) and b (above);
+ * axis == VKRT_KD_LEAF: triangles grid_refs[a .. a + b - 1] (the references binding). The root's
+ * box is the GridInfo's lo and hi. */
+#define VKRT_KD_LEAF 3u
+VKRT_STRUCT(KdNode) {
+    float split;
+    uint axis;
+    uint a;
+    uint b;
+};
 
 /* The uniform grid's frame (src/accel/grid.h): cell c = x + dims.x * (y + dims.y * z). */
 VKRT_STRUCT(GridInfo) {

@@ -166,14 +166,14 @@ static void print_stats(FILE *out, const vkrt_traversal_stats *s)
 static void print_row(FILE *out, const bench_row *b)
 {
     if (b->stats) {
-        fprintf(out, "%-28s %-5s %9u", b->scene, vkrt_accel_name(b->accel.kind), b->triangles);
+        fprintf(out, "%-28s %-6s %9u", b->scene, vkrt_accel_name(b->accel.kind), b->triangles);
         print_stats(out, &b->primary_stats);
         print_stats(out, &b->shadow_stats);
         print_stats(out, &b->diffuse_stats);
         fprintf(out, " %8u %8u\n", b->hits, b->blocked);
         return;
     }
-    fprintf(out, "%-28s %-5s %9u %9.1f %8.2f %10.4g %10.4g %10.4g %8u %8u\n", b->scene,
+    fprintf(out, "%-28s %-6s %9u %9.1f %8.2f %10.4g %10.4g %10.4g %8u %8u\n", b->scene,
             vkrt_accel_name(b->accel.kind), b->triangles, b->accel.build_ms,
             b->accel.bytes / 1048576.0, mrays(b->primary_timed, b->primary_ms),
             mrays(b->shadow_timed, b->shadow_ms), mrays(b->diffuse_timed, b->diffuse_ms), b->hits,
@@ -186,17 +186,17 @@ static void print_row(FILE *out, const bench_row *b)
 static void print_header(FILE *out, bool stats)
 {
     if (stats) {
-        fprintf(out, "%-28s %-5s %9s %-20s %-20s %-20s %8s %8s\n", "scene", "accel", "triangles",
+        fprintf(out, "%-28s %-6s %9s %-20s %-20s %-20s %8s %8s\n", "scene", "accel", "triangles",
                 "  primary", "  shadow", "  diffuse", "hits", "blocked");
-        fprintf(out, "%-28s %-5s %9s", "", "", "");
+        fprintf(out, "%-28s %-6s %9s", "", "", "");
         for (int k = 0; k < 3; ++k)
             fprintf(out, " %6s %6s %6s", "nodes", "tris", "simd");
         fprintf(out, "\n");
         return;
     }
-    fprintf(out, "%-28s %-5s %9s %9s %8s %10s %10s %10s %8s %8s\n", "scene", "accel", "triangles",
+    fprintf(out, "%-28s %-6s %9s %9s %8s %10s %10s %10s %8s %8s\n", "scene", "accel", "triangles",
             "build_ms", "MiB", "primary", "shadow", "diffuse", "hits", "blocked");
-    fprintf(out, "%-28s %-5s %9s %9s %8s %10s %10s %10s %8s %8s\n", "", "", "", "", "", "Mrays/s",
+    fprintf(out, "%-28s %-6s %9s %9s %8s %10s %10s %10s %8s %8s\n", "", "", "", "", "", "Mrays/s",
             "Mrays/s", "Mrays/s", "", "");
 }
 
@@ -223,12 +223,13 @@ static bool write_json(const char *path, const gpu_context *ctx, const bench_row
                "  \"results\": [\n", vkrt_tuning_for(ctx, NULL).warmup_ms, BENCH_TIMED_RUNS);
     for (uint32_t i = 0; i < count; ++i) {
         const bench_row *b = &rows[i];
-        fprintf(f, "    {\"workgroup_size\": %u, \"bvh_max_leaf\": %u, "
-                   "\"bvh_traversal_cost\": %g, \"sah_cost\": %.3f, \"stats\": %s, "
-                   "\"loads\": \"%s\", \"walk\": \"%s\", ",
-                b->workgroup_size, b->accel.bvh_max_leaf,
-                (double)b->accel.bvh_traversal_cost,
-                b->accel.sah_cost, b->stats ? "true" : "false",
+        fprintf(f,
+                "    {\"workgroup_size\": %u, \"bvh_max_leaf\": %u, "
+                "\"bvh_traversal_cost\": %g, \"kd_traversal_cost\": %g, \"sah_cost\": %.3f, "
+                "\"stats\": %s, "
+                "\"loads\": \"%s\", \"walk\": \"%s\", ",
+                b->workgroup_size, b->accel.bvh_max_leaf, (double)b->accel.bvh_traversal_cost,
+                (double)b->accel.kd_traversal_cost, b->accel.sah_cost, b->stats ? "true" : "false",
                 b->texel_loads ? "texel" : "storage", b->nested_walk ? "nested" : "one-loop");
         if (b->kernel_stats)
             fprintf(f, "\"trace_kernel\": {%s}, \"occlusion_kernel\": {%s}, ", b->trace_kernel,
@@ -277,9 +278,10 @@ int vkrt_bench_run(const vkrt_bench_options *opts)
         fprintf(stderr, "vkrt: %s\n", err.msg);
         return 1;
     }
-    static const vkrt_accel_kind all[] = {VKRT_ACCEL_BRUTE, VKRT_ACCEL_GRID, VKRT_ACCEL_BVH};
+    static const vkrt_accel_kind all[] = {VKRT_ACCEL_BRUTE, VKRT_ACCEL_GRID, VKRT_ACCEL_BVH,
+                                          VKRT_ACCEL_KDTREE};
     const vkrt_accel_kind *kinds = opts->common.accel_given ? &opts->common.accel : all;
-    uint32_t kind_count = opts->common.accel_given ? 1 : 3;
+    uint32_t kind_count = opts->common.accel_given ? 1 : (uint32_t)(sizeof all / sizeof *all);
     bench_row *rows = calloc((size_t)opts->scene_count * kind_count, sizeof *rows);
     uint32_t row_count = 0;
     bool ok = rows != NULL;

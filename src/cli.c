@@ -23,7 +23,7 @@ const char *vkrt_usage(void)
            "  --width W         image width in pixels (overrides `resolution`)\n"
            "  --height H        image height in pixels\n"
            "  --spp N           samples per pixel (overrides `samples`)\n"
-           "  --accel A         auto | brute | grid | bvh (overrides `accel`)\n"
+           "  --accel A         auto | brute | grid | bvh | kdtree (overrides `accel`)\n"
            "  --integrator I    auto | whitted | path (overrides `integrator`): Whitted's\n"
            "                    delta lights and perfect mirrors, or the path tracer\n"
            "  --clamp L         scale each contribution a path adds to a pixel down so that\n"
@@ -59,14 +59,15 @@ const char *vkrt_usage(void)
            "  --help, --version\n"
            "\n"
            "bench options: --width, --height, --accel, --device, --validation, --quiet,\n"
-           "  --verbose, --no-cache as for render (without --accel: brute, grid and bvh in turn)\n"
+           "  --verbose, --no-cache as for render (without --accel: brute, grid, bvh and kdtree\n"
+           "  in turn)\n"
            "  --json PATH       write the results as JSON too\n"
            "  --stats           count nodes, triangles and SIMD use per ray instead of timing\n"
            "  --kernel-stats    print the driver's statistics of the trace kernels\n"
            "  --whole-scene     load materials and textures too (tracing reads neither)\n"
            "  tuning, each against the device's default (research/journal.md):\n"
            "  --workgroup N  --grid-density CELLS_PER_TRIANGLE  --bvh-width 2|4  --bvh-leaf N\n"
-           "  --bvh-cost C  --loads storage|texel  --walk one-loop|nested\n"
+           "  --bvh-cost C  --kd-cost C  --loads storage|texel  --walk one-loop|nested\n"
            "\n"
            "view options: --width, --height, --spp, --accel, --integrator, --clamp, --exposure,\n"
            "  --device, --validation, --quiet, --no-cache as for render; the window opens at the\n"
@@ -147,7 +148,8 @@ static const struct known_option {
     {"--script", VIEW},      {"--record", VIEW},        {"--json", BENCH},
     {"--stats", BENCH},      {"--kernel-stats", BENCH}, {"--whole-scene", BENCH},
     {"--workgroup", BENCH},  {"--grid-density", BENCH}, {"--bvh-width", BENCH},
-    {"--bvh-leaf", BENCH},   {"--bvh-cost", BENCH},     {"--loads", BENCH},
+    {"--bvh-leaf", BENCH},   {"--bvh-cost", BENCH},     {"--kd-cost", BENCH},
+    {"--loads", BENCH},
     {"--walk", BENCH},       {"--integrator", RENDER | VIEW}, {"--clamp", RENDER | VIEW},
 };
 
@@ -196,7 +198,7 @@ static bool parse_common(const char *arg, const char *value, vkrt_common_options
     } else if (strcmp(arg, "--accel") == 0) {
         *consumed = 1;
         if (!value || !vkrt_accel_parse(value, &c->accel))
-            return vkrt_error_set(err, "--accel: '%s' is not one of auto, brute, grid, bvh",
+            return vkrt_error_set(err, "--accel: '%s' is not one of auto, brute, grid, bvh, kdtree",
                                   value ? value : "");
         c->accel_given = true;
     } else if (strcmp(arg, "--integrator") == 0) {
@@ -328,6 +330,11 @@ static bool parse_bench(const char *arg, const char *value, vkrt_bench_options *
             return false;
         if (!(t->bvh_traversal_cost > 0 && t->bvh_traversal_cost <= 100))
             return vkrt_error_set(err, "--bvh-cost: '%s' is not in (0, 100]", value);
+    } else if (strcmp(arg, "--kd-cost") == 0) {
+        if (!parse_float(arg, value, &t->kd_traversal_cost, err))
+            return false;
+        if (!(t->kd_traversal_cost > 0 && t->kd_traversal_cost <= 100))
+            return vkrt_error_set(err, "--kd-cost: '%s' is not in (0, 100]", value);
     } else if (strcmp(arg, "--bvh-width") == 0) {
         if (!parse_u32(arg, value, 2, 4, &t->bvh_width, err))
             return false;

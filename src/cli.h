@@ -69,7 +69,7 @@ typedef struct vkrt_bench_options {
     uint32_t scene_count;
     const char *json;         /* --json: where to write the results */
     vkrt_tuning_overrides tuning; /* --workgroup, --grid-density, --bvh-width, --bvh-leaf,
-                                     --bvh-cost, --loads, --walk */
+                                     --bvh-cost, --kd-cost, --loads, --walk */
     bool kernel_stats;        /* --kernel-stats: the driver's statistics of the trace kernels */
     bool stats;               /* --stats: count traversal work instead of timing */
     bool whole_scene;         /* --whole-scene: load materials and textures too */

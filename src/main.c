@@ -85,6 +85,12 @@ static void print_accel_stats(FILE *out, const vkrt_accel_stats *s)
                 "%.2f MiB, built in %.1f ms\n",
                 s->nodes, s->leaves, s->triangles_per_leaf, s->max_depth, s->sah_cost,
                 s->bytes / 1048576.0, s->build_ms);
+    else if (s->kind == VKRT_ACCEL_KDTREE)
+        fprintf(out,
+                "vkrt: kd-tree: %u nodes, %u leaves (%u empty), %.2f triangles per non-empty "
+                "leaf, %u references, depth %u, SAH cost %.1f, %.2f MiB, built in %.1f ms\n",
+                s->nodes, s->leaves, s->empty_leaves, s->triangles_per_leaf, s->references,
+                s->max_depth, s->sah_cost, s->bytes / 1048576.0, s->build_ms);
     else if (s->kind == VKRT_ACCEL_GRID)
         fprintf(out,
                 "vkrt: grid: %ux%ux%u = %u cells, %u occupied, %.2f triangles per occupied cell, "

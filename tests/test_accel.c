@@ -1,5 +1,6 @@
 /*
- * test_accel.c: the grid and the BVH, walked on the GPU, against brute force on the GPU.
+ * test_accel.c: the grid, the BVH and the kd-tree, walked on the GPU, against brute force on the
+ * GPU.
  *
  * All three share the kernels' intersection test, so for the same triangle they report the same
  * t bit for bit; they may differ only when two triangles are hit at the same distance (a shared
@@ -97,6 +98,7 @@ static const tracer tracers[] = {
     {"bvh pairs, nested", VKRT_ACCEL_BVH, 2, VKRT_WALK_NESTED},
     {"bvh quads, one loop", VKRT_ACCEL_BVH, 4, VKRT_WALK_ONE_LOOP},
     {"bvh quads, nested", VKRT_ACCEL_BVH, 4, VKRT_WALK_NESTED},
+    {"kdtree", VKRT_ACCEL_KDTREE, 0, VKRT_WALK_DEFAULT},
 };
 enum { TRACERS = sizeof tracers / sizeof *tracers };
 static const tracer *const brute = &tracers[0];

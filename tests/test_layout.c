@@ -39,6 +39,7 @@ typedef struct Probe {
     Material material_pair[2];
     LightInfo light_info;
     Emitter emitter_pair[2];
+    KdNode kd_pair[2];
 } Probe;
 
 typedef enum { F32, U32, VEC4, UVEC4 } field_type;
@@ -87,6 +88,8 @@ static const field fields[] = {
     FIELD(light_info, environment_sampled, U32), FIELD(light_info, pad2, U32),
     FIELD(emitter_pair[0], triangle, U32), FIELD(emitter_pair[0], keep, F32),
     FIELD(emitter_pair[1], alias, U32), FIELD(emitter_pair[1], power, F32),
+    FIELD(kd_pair[0], split, F32), FIELD(kd_pair[0], axis, U32), FIELD(kd_pair[1], a, U32),
+    FIELD(kd_pair[1], b, U32),
     FIELD(grid, lo, VEC4), FIELD(grid, hi, VEC4), FIELD(grid, cell_size, VEC4), FIELD(grid, dims, UVEC4),
     {"hit_pair[1].triangle", offsetof(Probe, hit_pair) + sizeof(Hit) + offsetof(Hit, triangle), U32},
     {"hit_pair[1].t", offsetof(Probe, hit_pair) + sizeof(Hit) + offsetof(Hit, t), F32},
@@ -113,6 +116,7 @@ static char *probe_kernel(void)
                              "  TriangleTexcoords texcoords; WaveState wave; TextureInfo texture;\n"
                              "  Hit hit_pair[2]; Ray ray_pair[2]; Material material_pair[2];\n"
                              "  LightInfo light_info; Emitter emitter_pair[2];\n"
+                             "  KdNode kd_pair[2];\n"
                              "};\n"
                              "void main() {\n"
                              "  if (gl_GlobalInvocationID.x != 0u) return;\n");
@@ -229,6 +233,7 @@ static void test_sizes(void **state)
     assert_int_equal(sizeof(GridInfo), 64);
     assert_int_equal(sizeof(LightInfo), 48);
     assert_int_equal(sizeof(Emitter), 16);
+    assert_int_equal(sizeof(KdNode), 16);
 }
 
 /* A buffer past one storage buffer's range (a scene too big for it) is refused with a message

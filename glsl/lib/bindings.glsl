@@ -33,12 +33,13 @@ layout(std430, set = 0, binding = VKRT_BINDING_IMAGE) buffer ImageBuffer { vec4 
 layout(std430, set = 0, binding = VKRT_BINDING_IMAGE) buffer ImageWords { uint image_words[]; };
 layout(std430, set = 0, binding = VKRT_BINDING_COUNTERS) buffer CounterBuffer { Counters counters; };
 
-/* The acceleration structure: the grid's frame; the BVH's nodes (4-wide or pairs) or the grid's
- * cell starts (one binding, three views: only the chosen one is read); the grid's triangle
- * references. */
+/* The acceleration structure: the grid's frame (the kd-tree's root box); the BVH's nodes (4-wide
+ * or pairs), the kd-tree's nodes or the grid's cell starts (one binding, four views: only the
+ * chosen one is read); the grid's or the kd-tree's triangle references. */
 layout(std430, set = 0, binding = VKRT_BINDING_GRID_INFO) readonly buffer GridInfoBuffer { GridInfo grid; };
 layout(std430, set = 0, binding = VKRT_BINDING_ACCEL_NODES) readonly buffer BvhNodeBuffer { BvhQuad bvh_nodes[]; };
 layout(std430, set = 0, binding = VKRT_BINDING_ACCEL_NODES) readonly buffer BvhPairBuffer { BvhPair bvh_pairs[]; };
+layout(std430, set = 0, binding = VKRT_BINDING_ACCEL_NODES) readonly buffer KdNodeBuffer { KdNode kd_nodes[]; };
 layout(std430, set = 0, binding = VKRT_BINDING_ACCEL_NODES) readonly buffer GridCellBuffer { uint grid_cell_start[]; };
 layout(std430, set = 0, binding = VKRT_BINDING_GRID_REFS) readonly buffer GridRefBuffer { uint grid_refs[]; };
 

@@ -12,6 +12,7 @@
 #include "traverse_brute.glsl"
 #include "traverse_bvh.glsl"
 #include "traverse_grid.glsl"
+#include "traverse_kdtree.glsl"
 
 /* Closest hit in (tmin, tmax); hit.triangle == VKRT_NO_HIT on a miss. */
 Hit trace_closest(vec3 origin, vec3 dir, float tmin, float tmax)
@@ -20,6 +21,8 @@ Hit trace_closest(vec3 origin, vec3 dir, float tmin, float tmax)
     cutout_begin_ray(origin, dir);
     if (ACCEL_KIND == VKRT_TRAVERSE_BVH)
         return bvh_traverse(s, dir, tmin, tmax, false);
+    if (ACCEL_KIND == VKRT_TRAVERSE_KDTREE)
+        return kd_traverse(s, dir, tmin, tmax, false);
     if (ACCEL_KIND == VKRT_TRAVERSE_GRID)
         return grid_traverse(s, dir, tmin, tmax, false);
     return brute_closest(s, tmin, tmax);
@@ -32,6 +35,8 @@ bool trace_any(vec3 origin, vec3 dir, float tmin, float tmax)
     cutout_begin_ray(origin, dir);
     if (ACCEL_KIND == VKRT_TRAVERSE_BVH)
         return bvh_traverse(s, dir, tmin, tmax, true).triangle != VKRT_NO_HIT;
+    if (ACCEL_KIND == VKRT_TRAVERSE_KDTREE)
+        return kd_traverse(s, dir, tmin, tmax, true).triangle != VKRT_NO_HIT;
     if (ACCEL_KIND == VKRT_TRAVERSE_GRID)
         return grid_traverse(s, dir, tmin, tmax, true).triangle != VKRT_NO_HIT;
     return brute_any(s, tmin, tmax);

@@ -13,6 +13,24 @@
 #ifndef VKRT_TRAVERSE_GRID_GLSL
 #define VKRT_TRAVERSE_GRID_GLSL
 
+/* Tests the triangles grid_refs[first .. end - 1] (a grid cell's, or a kd-tree leaf's), keeping
+ * the closest hit in hit; returns true when the ray is done: any_hit and one was found. */
+bool test_references(RayShear s, uint first, uint end, float tmin, bool any_hit, inout Hit hit)
+{
+    for (uint r = first; r < end; ++r) {
+        uint i = grid_refs[r];
+        Triangle tri = load_triangle(i);
+        float t, u, v;
+        if (intersect_triangle(s, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tmin, hit.t, t, u, v) &&
+            cutout_keeps(i, u, v)) {
+            hit = Hit(t, u, v, i);
+            if (any_hit)
+                return true;
+        }
+    }
+    return false;
+}
+
 Hit grid_traverse(RayShear s, vec3 dir, float tmin, float tmax, bool any_hit)
 {
     const float inf = uintBitsToFloat(0x7f800000u);
@@ -39,18 +57,9 @@ Hit grid_traverse(RayShear s, vec3 dir, float tmin, float tmax, bool any_hit)
 
     while (true) {
         uint index = uint(cell.x) + grid.dims.x * (uint(cell.y) + grid.dims.y * uint(cell.z));
-        uint end = grid_cell_start[index + 1u];
-        for (uint r = grid_cell_start[index]; r < end; ++r) {
-            uint i = grid_refs[r];
-            Triangle tri = load_triangle(i);
-            float t, u, v;
-            if (intersect_triangle(s, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tmin, hit.t, t, u, v) &&
-                cutout_keeps(i, u, v)) {
-                hit = Hit(t, u, v, i);
-                if (any_hit)
-                    return hit;
-            }
-        }
+        if (test_references(s, grid_cell_start[index], grid_cell_start[index + 1u], tmin, any_hit,
+                            hit))
+            return hit;
         float cell_exit = min(t_next.x, min(t_next.y, t_next.z));
         if (hit.triangle != VKRT_NO_HIT && hit.t <= cell_exit)
             break;

@@ -9,12 +9,16 @@
 #include "../accel/bvh.h"
 #include "../accel/bvh_pairs.h"
 #include "../accel/bvh_quads.h"
+#include "../accel/kdtree.h"
 #include "../clock.h"
 
 _Static_assert(sizeof(bvh_quad) == sizeof(BvhQuad), "bvh_quad and BvhQuad must be the same bytes");
 _Static_assert(sizeof(bvh_pair) == sizeof(BvhPair), "bvh_pair and BvhPair must be the same bytes");
 _Static_assert(BVH_LEAF_REF == VKRT_BVH_LEAF, "one leaf flag");
-
+_Static_assert(sizeof(kd_node) == sizeof(KdNode), "kd_node and KdNode must be the same bytes");
+_Static_assert(KD_LEAF == VKRT_KD_LEAF, "one kd-tree leaf mark");
+_Static_assert(KDTREE_MAX_DEPTH == VKRT_KD_STACK_SIZE,
+               "the kd-tree's stack holds its deepest path");
 
 static bool upload_grid(vkrt_accel_gpu *a, gpu_context *ctx, const grid *g, vkrt_error *err)
 {
@@ -118,6 +122,51 @@ static bool build_bvh(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc
     return ok;
 }
 
+/* The kd-tree's root box goes in the grid frame's lo and hi (glsl/lib/traverse_kdtree.glsl). */
+static bool build_kdtree(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc *desc,
+                         const float *positions, uint32_t n, vkrt_error *err)
+{
+    float ratio = desc->kd_traversal_cost > 0
+                      ? desc->kd_traversal_cost
+                      : KDTREE_DEFAULT_TRAVERSAL_COST / KDTREE_DEFAULT_INTERSECTION_COST;
+    const kdtree_build_desc build = {
+        .traversal_cost = ratio * KDTREE_DEFAULT_INTERSECTION_COST,
+    };
+    kdtree t;
+    if (!kdtree_build(&t, positions, n, &build, err))
+        return false;
+    /* The walk's stack marks its entries in the top bit (glsl/lib/traverse_kdtree.glsl). */
+    if (t.node_count > 0x7FFFFFFFu) {
+        vkrt_error_set(err, "kd-tree of %u nodes: the GPU walk holds at most 2^31", t.node_count);
+        kdtree_free(&t);
+        return false;
+    }
+    GridInfo box = {.lo = {t.lo[0], t.lo[1], t.lo[2], 0}, .hi = {t.hi[0], t.hi[1], t.hi[2], 0}};
+    size_t node_bytes = (size_t)t.node_count * sizeof *t.nodes;
+    size_t ref_bytes = (size_t)t.ref_count * sizeof *t.refs;
+    bool ok = gpu_buffer_create_from(ctx, &a->info, &box, sizeof box, "kd-tree box", err) &&
+              gpu_buffer_create_from(ctx, &a->nodes, t.nodes, node_bytes, "kd-tree nodes", err) &&
+              (ref_bytes ? gpu_buffer_create_from(ctx, &a->refs, t.refs, ref_bytes,
+                                                  "kd-tree references", err)
+                         : gpu_buffer_create(ctx, &a->refs, 0, "kd-tree references", err));
+    if (ok) {
+        vkrt_accel_stats *s = &a->stats;
+        s->bytes = sizeof box + node_bytes + ref_bytes;
+        s->nodes = t.node_count;
+        s->leaves = t.leaf_count;
+        s->empty_leaves = t.empty_leaves;
+        s->references = t.ref_count;
+        uint32_t full = t.leaf_count - t.empty_leaves;
+        s->triangles_per_leaf = full ? (double)t.ref_count / full : 0;
+        s->max_depth = t.max_depth;
+        s->sah_cost = t.sah_cost;
+        s->kd_traversal_cost = ratio;
+        s->build_ms = t.build_ms;
+    }
+    kdtree_free(&t);
+    return ok;
+}
+
 static bool build_brute(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_error *err)
 {
     GridInfo unused = {0};
@@ -166,6 +215,8 @@ bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel
         ok = upload_grid(a, ctx, &g, err);
     } else if (kind == VKRT_ACCEL_BVH) {
         ok = build_bvh(a, ctx, desc, positions, triangle_count, err);
+    } else if (kind == VKRT_ACCEL_KDTREE) {
+        ok = build_kdtree(a, ctx, desc, positions, triangle_count, err);
     } else {
         ok = build_brute(a, ctx, err);
     }

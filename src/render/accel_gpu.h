@@ -1,9 +1,10 @@
 /*
  * accel_gpu.h: the chosen acceleration structure, built on the CPU and uploaded for the kernels.
  *
- * Owns the three buffers of bindings 9-11 (grid frame, BVH nodes or grid cell starts, grid
- * references) and the triangle order: a BVH stores its triangles in leaf order, so every
- * per-triangle array the kernels read is uploaded in that order, and prim_order maps back.
+ * Owns the three buffers of bindings 9-11 (grid frame or kd-tree box, BVH or kd-tree nodes or
+ * grid cell starts, grid or kd-tree references) and the triangle order: a BVH stores its triangles
+ * in leaf order, so every per-triangle array the kernels read is uploaded in that order, and
+ * prim_order maps back.
  */
 #ifndef VKRT_ACCEL_GPU_H
 #define VKRT_ACCEL_GPU_H
@@ -23,14 +24,18 @@ typedef struct vkrt_accel_stats {
     double build_ms;            /* CPU build time */
     double choose_ms;           /* time to decide (the grid built for auto's statistics) */
     size_t bytes;               /* GPU memory of the structure, triangles not counted */
-    uint32_t nodes;             /* BVH nodes or grid cells */
-    uint32_t leaves;            /* BVH leaves or occupied grid cells */
-    double triangles_per_leaf;  /* mean triangles per BVH leaf or per occupied grid cell */
+    uint32_t nodes;             /* BVH or kd-tree nodes, or grid cells */
+    uint32_t leaves;            /* BVH or kd-tree leaves, or occupied grid cells */
+    double triangles_per_leaf;  /* mean triangles per BVH leaf, non-empty kd-tree leaf or
+                                   occupied grid cell */
     uint32_t grid_dims[3];
     uint32_t max_cell_refs;     /* grid: the fullest cell's triangles */
-    uint32_t max_depth;         /* BVH, of its GPU layout */
+    uint32_t max_depth;         /* BVH, of its GPU layout; kd-tree */
     uint32_t bvh_width;         /* BVH: children per GPU node, 2 or 4 */
-    float sah_cost;             /* BVH */
+    float sah_cost;             /* BVH; kd-tree (in units of a triangle test) */
+    float kd_traversal_cost;    /* kd-tree: the build's K_T / K_I */
+    uint32_t references;        /* kd-tree: triangle references in its leaves */
+    uint32_t empty_leaves;      /* kd-tree */
     uint32_t bvh_max_leaf;      /* BVH: the build's largest leaf */
     float bvh_traversal_cost;   /* BVH: the build's SAH cost of a node against a triangle */
 } vkrt_accel_stats;
@@ -52,6 +57,7 @@ typedef struct vkrt_accel_desc {
     uint32_t bvh_max_leaf;    /* bvh_build_desc.max_leaf_size, at most 16 (the GPU's leaf
                                  references); 0: bvh.h's default */
     float bvh_traversal_cost; /* bvh_build_desc.traversal_cost; 0: bvh.h's default */
+    float kd_traversal_cost;  /* the kd-tree's K_T / K_I; 0: kdtree.h's default */
     bool grid_competes;       /* auto weighs the grid against the BVH (vkrt_tuning) */
 } vkrt_accel_desc;
 

@@ -68,9 +68,10 @@ static bool create_material_kernel(vkrt_renderer *r, gpu_pipeline *pipe, const c
 
 static uint32_t traverse_kind(vkrt_accel_kind kind)
 {
-    return kind == VKRT_ACCEL_BVH    ? VKRT_TRAVERSE_BVH
-           : kind == VKRT_ACCEL_GRID ? VKRT_TRAVERSE_GRID
-                                     : VKRT_TRAVERSE_BRUTE;
+    return kind == VKRT_ACCEL_BVH      ? VKRT_TRAVERSE_BVH
+           : kind == VKRT_ACCEL_GRID   ? VKRT_TRAVERSE_GRID
+           : kind == VKRT_ACCEL_KDTREE ? VKRT_TRAVERSE_KDTREE
+                                       : VKRT_TRAVERSE_BRUTE;
 }
 
 bool renderer_create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoords,

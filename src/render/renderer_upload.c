@@ -199,8 +199,9 @@ bool renderer_create_texel_views(vkrt_renderer *r, vkrt_error *err)
     if (!gpu_buffer_view_create(r->ctx, &r->triangles, &r->triangle_view, &whole_triangles, err) ||
         !gpu_buffer_view_create(r->ctx, &r->accel.nodes, &r->node_view, &whole_nodes, err))
         return false;
-    /* Only the BVH's walk reads nodes through a view (the grid's cells stay storage buffers). */
-    if (r->accel.stats.kind != VKRT_ACCEL_BVH)
+    /* Only the BVH's and the kd-tree's walks read nodes through a view (the grid's cells stay
+     * storage buffers). */
+    if (r->accel.stats.kind != VKRT_ACCEL_BVH && r->accel.stats.kind != VKRT_ACCEL_KDTREE)
         whole_nodes = true;
     if (r->tuning.texel_loads_required && !(whole_triangles && whole_nodes))
         return vkrt_error_set(err, "texel loads: the triangles (%zu bytes) or the structure's "

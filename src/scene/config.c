@@ -741,6 +741,8 @@ const char *vkrt_accel_name(vkrt_accel_kind kind)
         return "grid";
     case VKRT_ACCEL_BVH:
         return "bvh";
+    case VKRT_ACCEL_KDTREE:
+        return "kdtree";
     }
     return "unknown";
 }
@@ -748,7 +750,7 @@ const char *vkrt_accel_name(vkrt_accel_kind kind)
 bool vkrt_accel_parse(const char *name, vkrt_accel_kind *kind)
 {
     static const vkrt_accel_kind all[] = {VKRT_ACCEL_AUTO, VKRT_ACCEL_BRUTE, VKRT_ACCEL_GRID,
-                                          VKRT_ACCEL_BVH};
+                                          VKRT_ACCEL_BVH, VKRT_ACCEL_KDTREE};
     if (!name)
         return false;
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++) {

@@ -19,6 +19,7 @@ typedef enum vkrt_accel_kind {
     VKRT_ACCEL_BRUTE,
     VKRT_ACCEL_GRID,
     VKRT_ACCEL_BVH,
+    VKRT_ACCEL_KDTREE,
 } vkrt_accel_kind;
 
 /* Which light transport the renderer computes (docs/scene-format.md, `integrator`). */

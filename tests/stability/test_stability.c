@@ -27,7 +27,9 @@
 #include "render/renderer.h"
 #include "scene/scene.h"
 
-static const vkrt_accel_kind all_kinds[] = {VKRT_ACCEL_BRUTE, VKRT_ACCEL_GRID, VKRT_ACCEL_BVH};
+static const vkrt_accel_kind all_kinds[] = {VKRT_ACCEL_BRUTE, VKRT_ACCEL_GRID, VKRT_ACCEL_BVH,
+                                            VKRT_ACCEL_KDTREE};
+enum { KINDS = sizeof all_kinds / sizeof *all_kinds };
 
 /* Renders the folder's scene.cfg at w x h with the given structure; fails the test on error. */
 static void render(vkrt_accel_kind kind, uint32_t w, uint32_t h, float *rgb, vkrt_frame_stats *stats)
@@ -235,32 +237,68 @@ static void test_self_shadows_hold_far_from_the_origin(void **state)
  * on integer coordinates, rays through pixel centres parallel to the y axis at x, z = 0 exactly
  * (orthographic-like rays down the middle, fov tiny), give the same picture with every structure,
  * finite everywhere, and the cube's top and the floor where they belong. */
-static void test_axis_parallel_rays_on_cell_boundaries(void **state)
+static const char cube_on_floor_obj[] =
+    "v -4 0 -4\nv 4 0 -4\nv 4 0 4\nv -4 0 4\n"
+    "v -1 0 -1\nv 1 0 -1\nv 1 2 -1\nv -1 2 -1\nv -1 0 1\nv 1 0 1\nv 1 2 1\nv -1 2 1\n"
+    "f 1 4 3 2\nf 5 8 7 6\nf 9 10 11 12\nf 5 6 10 9\nf 8 12 11 7\nf 5 9 12 8\nf 6 7 11 10\n";
+
+/* Renders the scene.cfg written last with every structure: finite, and the same as brute force
+ * value for value. */
+static void render_all_alike(float rgb[][5 * 5 * 3])
 {
-    (void)state;
-    scene_dir_write("grid.obj",
-               "v -4 0 -4\nv 4 0 -4\nv 4 0 4\nv -4 0 4\n"
-               "v -1 0 -1\nv 1 0 -1\nv 1 2 -1\nv -1 2 -1\nv -1 0 1\nv 1 0 1\nv 1 2 1\nv -1 2 1\n"
-               "f 1 4 3 2\nf 5 8 7 6\nf 9 10 11 12\nf 5 6 10 9\nf 8 12 11 7\nf 5 9 12 8\nf 6 7 11 10\n");
-    /* fov 90 and 4 x 4 pixels from height 4: pixel centres at x, z = +-1, +-3 on the floor's plane,
-     * exactly the cube's edges and the floor's quarter lines (the grid's cell boundaries). The
-     * centre column (x = 0) of a 5-wide picture looks straight down the y axis. */
-    scene_dir_write("scene.cfg", "geometry grid.obj\nlight directional 0 -1 0  1 1 1\n"
-                            "camera eye 0 4 0 look 0 0 0 up 0 0 1 fov 90\n");
     enum { N = 5 };
-    float rgb[3][N * N * 3];
-    for (size_t k = 0; k < 3; ++k) {
+    for (size_t k = 0; k < KINDS; ++k) {
         render(all_kinds[k], N, N, rgb[k], NULL);
         assert_all_finite(rgb[k], N * N * 3, vkrt_accel_name(all_kinds[k]));
     }
     for (int i = 0; i < N * N * 3; ++i)
-        for (size_t k = 1; k < 3; ++k)
+        for (size_t k = 1; k < KINDS; ++k)
             if (rgb[k][i] != rgb[0][i])
                 fail_msg("value %d: brute %g, %s %g", i, rgb[0][i], vkrt_accel_name(all_kinds[k]),
                          rgb[k][i]);
+}
+
+static void test_axis_parallel_rays_on_cell_boundaries(void **state)
+{
+    (void)state;
+    scene_dir_write("grid.obj", cube_on_floor_obj);
+    /* fov 90 and 4 x 4 pixels from height 4: pixel centres at x, z = +-1, +-3 on the floor's plane,
+     * exactly the cube's edges and the floor's quarter lines (the grid's cell boundaries). The
+     * centre column (x = 0) of a 5-wide picture looks straight down the y axis. */
+    scene_dir_write("scene.cfg", "geometry grid.obj\nlight directional 0 -1 0  1 1 1\n"
+                                 "camera eye 0 4 0 look 0 0 0 up 0 0 1 fov 90\n");
+    enum { N = 5 };
+    float rgb[KINDS][N * N * 3];
+    render_all_alike(rgb);
     /* The centre pixel sees the cube's top, lit head-on: 0.8 / pi. */
     const float *centre = rgb[0] + 3 * (2 * N + 2);
     assert_float_equal(centre[0], 0.8 / M_PI, 1e-6);
+}
+
+/* Axis-parallel rays in split planes. Naive kd-tree walk: a ray whose direction has a 0 component
+ * and whose origin lies on a node's split plane runs in that plane, and a walk that sends it to
+ * one side only (the side the origin is "below", say) misses the triangles that touch the plane
+ * from the other: the SAH with perfect splits puts planes exactly at the cube's faces. vkrt: the
+ * eye above the cube's edge x = z = -1, looking straight down: the middle row and column of a
+ * 5 x 5 picture run in the planes x = -1 and z = -1, the centre ray along the cube's vertical
+ * edge; those meeting the cube's top (its corner and the points 0.6 along its edges) see it lit
+ * head-on, the same with every structure. The kd-tree's walk first failed this: in the plane it
+ * visited both sides but ended in the first, on the shadowed floor beneath the top. */
+static void test_axis_parallel_rays_in_split_planes(void **state)
+{
+    (void)state;
+    scene_dir_write("grid.obj", cube_on_floor_obj);
+    scene_dir_write("scene.cfg", "geometry grid.obj\nlight directional 0 -1 0  1 1 1\n"
+                                 "camera eye -1 4 -1 look -1 0 -1 up 0 0 1 fov 90\n");
+    enum { N = 5 };
+    float rgb[KINDS][N * N * 3];
+    render_all_alike(rgb);
+    /* The rays that meet the top on its edges: the centre (its corner), and 0.6 along each edge
+     * (row 1 of the middle column, column 1 of the middle row). Beneath the top the floor lies in
+     * its shadow, so a walk that loses the edge shows black there. */
+    static const int on_top[3][2] = {{2, 2}, {1, 2}, {2, 1}};
+    for (int i = 0; i < 3; ++i)
+        assert_float_equal(rgb[0][3 * (on_top[i][0] * N + on_top[i][1])], 0.8 / M_PI, 1e-6);
 }
 
 /* Degenerate triangles: zero-area (a repeated vertex), collinear vertices and slivers 1e-7 wide.
@@ -288,7 +326,7 @@ static void test_degenerate_triangles_change_nothing(void **state)
           "f 5 6 7\nf 8 9 10\nf 11 12 13\nf 14 14 5\nf 6 6 6\n",
           f);
     fclose(f);
-    for (size_t k = 0; k < 3; ++k) {
+    for (size_t k = 0; k < KINDS; ++k) {
         render(all_kinds[k], N, N, got, NULL);
         assert_all_finite(got, N * N * 3, vkrt_accel_name(all_kinds[k]));
         int differ = 0;
@@ -361,6 +399,7 @@ int main(void)
         cmocka_unit_test(test_light_inside_a_closed_box_does_not_leak),
         cmocka_unit_test(test_self_shadows_hold_far_from_the_origin),
         cmocka_unit_test(test_axis_parallel_rays_on_cell_boundaries),
+        cmocka_unit_test(test_axis_parallel_rays_in_split_planes),
         cmocka_unit_test(test_degenerate_triangles_change_nothing),
         cmocka_unit_test(test_glass_chains_stay_bounded_and_finite),
     };
