@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -130,10 +131,53 @@ static void print_progress(FILE *out, uint32_t done, uint32_t total, uint32_t re
     fflush(out);
 }
 
+/* Device memory by what it is for, against what the device has, and host memory: the mesh's
+ * arrays and the process's peak (--verbose, issue 20). */
+static void print_memory(FILE *out, const vkrt_renderer *renderer, const gpu_context *ctx,
+                         const vkrt_scene *scene)
+{
+    vkrt_renderer_memory m = vkrt_renderer_memory_use(renderer);
+    const double MiB = 1048576.0;
+    fprintf(out,
+            "vkrt: device memory: triangles %.1f MiB, nodes %.1f MiB, textures %.1f MiB, rays "
+            "%.1f MiB, image %.1f MiB, other %.1f MiB: %.1f MiB of the device's %.1f MiB\n",
+            m.triangles / MiB, m.nodes / MiB, m.textures / MiB, m.rays / MiB, m.image / MiB,
+            m.other / MiB, m.total / MiB, ctx->memory_limit / MiB);
+    const vkrt_mesh *mesh = &scene->mesh;
+    size_t per_triangle = 9 * sizeof(float) * (1 + (mesh->normals != NULL)) +
+                          6 * sizeof(float) * (mesh->texcoords != NULL) + sizeof(int32_t);
+    struct rusage usage;
+    double peak = getrusage(RUSAGE_SELF, &usage) == 0 ? usage.ru_maxrss / 1024.0 : 0.0;
+    fprintf(out,
+            "vkrt: host memory: mesh %.1f MiB (positions, normals, texture coordinates, "
+            "materials), peak resident %.1f MiB\n",
+            (double)mesh->triangle_count * per_triangle / MiB, peak);
+}
+
+/* Wall-clock ms of the stages of a render's start (issue 20), printed with --verbose: the
+ * clock read when main began, when the scene was loaded, the Vulkan device opened, the renderer
+ * made (BVH, upload, kernels), the first frame traced and its image written. */
+typedef struct startup_clock {
+    double main, scene, vulkan, renderer, frame, image;
+} startup_clock;
+
+static void print_startup(FILE *out, const startup_clock *t, const vkrt_scene *scene,
+                          const vkrt_accel_stats *accel)
+{
+    fprintf(out,
+            "vkrt: start-up: scene %.0f ms (OBJ %.0f ms), Vulkan %.0f ms, renderer %.0f ms "
+            "(structure %.0f ms), first frame %.0f ms, its image written %.0f ms; %.0f ms since "
+            "main\n",
+            t->scene - t->main, scene->obj_ms, t->vulkan - t->scene, t->renderer - t->vulkan,
+            accel->build_ms + accel->choose_ms, t->frame - t->renderer, t->image - t->frame,
+            t->image - t->main);
+}
+
 static bool render_frames(const vkrt_render_options *opts, const vkrt_scene *scene,
                           const char *output, gpu_context *ctx, render_totals *totals,
-                          vkrt_accel_stats *accel, vkrt_error *err)
+                          vkrt_accel_stats *accel, startup_clock *clock, vkrt_error *err)
 {
+    clock->vulkan = vkrt_clock_ms();
     const vkrt_config *cfg = &scene->config;
     vkrt_render_desc desc = vkrt_render_desc_for(cfg, &opts->common, opts->samples);
     desc.profile = opts->profile;
@@ -143,6 +187,7 @@ static bool render_frames(const vkrt_render_options *opts, const vkrt_scene *sce
     vkrt_renderer *renderer;
     if (!vkrt_renderer_create(&renderer, ctx, scene, &desc, err))
         return false;
+    clock->renderer = vkrt_clock_ms();
     *accel = *vkrt_renderer_accel_stats(renderer);
     const char *why;
     vkrt_integrator integrator = vkrt_renderer_integrator(renderer, &why);
@@ -152,6 +197,7 @@ static bool render_frames(const vkrt_render_options *opts, const vkrt_scene *sce
         print_accel_stats(stderr, accel);
         fprintf(stderr, "vkrt: integrator %s: %s\n", vkrt_integrator_name(integrator), why);
         print_kernel_cache(stderr);
+        print_memory(stderr, renderer, ctx, scene);
     }
     if (integrator == VKRT_INTEGRATOR_PATH && !opts->common.quiet)
         for (uint32_t i = 0; i < cfg->light_count; ++i)
@@ -189,8 +235,12 @@ static bool render_frames(const vkrt_render_options *opts, const vkrt_scene *sce
         /* Motion blur towards the next frame's camera; the last frame has none and is sharp. */
         vkrt_renderer_set_next_camera(renderer, f + 1 < cfg->camera_count ? &cfg->cameras[f + 1]
                                                                           : NULL);
-        ok = ok && vkrt_renderer_render(renderer, &cfg->cameras[f], f, rgb, &stats, err) &&
-             vkrt_image_write(path, desc.width, desc.height, rgb, opts->exposure, err);
+        ok = ok && vkrt_renderer_render(renderer, &cfg->cameras[f], f, rgb, &stats, err);
+        if (ok && !clock->frame)
+            clock->frame = vkrt_clock_ms();
+        ok = ok && vkrt_image_write(path, desc.width, desc.height, rgb, opts->exposure, err);
+        if (ok && !clock->image)
+            clock->image = vkrt_clock_ms();
         if (ok) {
             totals->seconds += stats.seconds;
             totals->rays += stats.primary_rays + stats.shadow_rays + stats.secondary_rays;
@@ -222,14 +272,16 @@ static bool render_frames(const vkrt_render_options *opts, const vkrt_scene *sce
     return ok;
 }
 
-static int run_render(const vkrt_render_options *opts)
+static int run_render(const vkrt_render_options *opts, double main_ms)
 {
     vkrt_error err = {{0}};
     vkrt_scene scene;
+    startup_clock clock = {.main = main_ms};
     if (!vkrt_scene_load(opts->scene_path, &scene, &err)) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
         return 1;
     }
+    clock.scene = vkrt_clock_ms();
     if (!opts->common.quiet)
         vkrt_mesh_print_warnings(&scene.mesh, "vkrt: ", opts->common.verbose, stderr);
     const char *output = opts->output ? opts->output : scene.config.output;
@@ -259,7 +311,7 @@ static int run_render(const vkrt_render_options *opts)
     render_totals totals = {0};
     vkrt_accel_stats accel = {0};
     bool ok = gpu_context_create(&ctx, &ctx_desc, &err) &&
-              render_frames(opts, &scene, output, &ctx, &totals, &accel, &err);
+              render_frames(opts, &scene, output, &ctx, &totals, &accel, &clock, &err);
     char device[256];
     snprintf(device, sizeof device, "%s", ctx.properties.deviceName);
     if (!gpu_context_close(&ctx, ok, &err)) {
@@ -284,6 +336,8 @@ static int run_render(const vkrt_render_options *opts)
                 device, scene.mesh.triangle_count, vkrt_accel_name(accel.kind), rendered,
                 rendered == 1 ? "" : "s", rendered ? 1e3 * totals.seconds / rendered : 0.0,
                 totals.seconds > 0 ? totals.rays / totals.seconds * 1e-6 : 0.0);
+        if (opts->common.verbose && clock.image)
+            print_startup(stderr, &clock, &scene, &accel);
         if (!opts->common.verbose) {
             fprintf(stderr, "vkrt: accel %s: %s\n", vkrt_accel_name(accel.kind), accel.reason);
             fprintf(stderr, "vkrt: integrator %s: %s\n", vkrt_integrator_name(totals.integrator),
@@ -296,6 +350,7 @@ static int run_render(const vkrt_render_options *opts)
 
 int main(int argc, char **argv)
 {
+    double main_ms = vkrt_clock_ms();
     vkrt_command_line cl;
     vkrt_error err = {{0}};
     if (!vkrt_command_line_parse(argc, argv, &cl, &err)) {
@@ -322,7 +377,7 @@ int main(int argc, char **argv)
         }
         return 0;
     case VKRT_COMMAND_RENDER:
-        return run_render(&cl.render);
+        return run_render(&cl.render, main_ms);
     case VKRT_COMMAND_BENCH:
         return vkrt_bench_run(&cl.bench);
     case VKRT_COMMAND_VIEW:

@@ -31,6 +31,19 @@ check "render to PNG exits 0" test $? -eq 0
 check "PNG written" test -s "$tmp/c.png"
 check "PNG has the PNG signature" sh -c "head -c 8 '$tmp/c.png' | od -An -c | grep -q 'P   N   G'"
 check "summary names rays per second" grep -q "Mrays/s" "$tmp/err"
+# Issue 20: --verbose reports memory and the start-up's stages; a scene too big for the device
+# (made small here by VKRT_DEVICE_MEMORY_LIMIT) is refused with the sizes, not a driver error.
+"$vkrt" render "$src/scenes/cornell/scene.cfg" --width 48 --height 32 --spp 2 -o "$tmp/v.png" --verbose 2>"$tmp/err"
+check "--verbose prints device memory by kind against the device's" \
+    grep -q "^vkrt: device memory: triangles .* MiB, nodes .* rays .* MiB of the device's .* MiB$" "$tmp/err"
+check "--verbose prints host memory" grep -q "^vkrt: host memory: mesh .* peak resident" "$tmp/err"
+check "--verbose prints the start-up's stages" grep -q "^vkrt: start-up: scene .* (OBJ .*), Vulkan .* first frame" "$tmp/err"
+VKRT_DEVICE_MEMORY_LIMIT=300000 "$vkrt" render "$src/scenes/cornell/scene.cfg" --width 48 --height 32 --spp 2 \
+    -o "$tmp/small.png" 2>"$tmp/err"
+check "a scene beyond the device's memory exits 1" test $? -eq 1
+check "and says it does not fit, with the sizes" \
+    grep -q "does not fit .*MiB more device memory with .* MiB already in use makes .* MiB, and the device has 0.3 MiB (VKRT_DEVICE_MEMORY_LIMIT)" "$tmp/err"
+check "and writes no image" test ! -e "$tmp/small.png"
 "$vkrt" render "$src/scenes/cornell-spheres/scene.cfg" --width 16 --height 16 --profile -o "$tmp/p.png" 2>"$tmp/err"
 check "--profile exits 0" test $? -eq 0
 check "--profile prints the share of tracing" grep -q "the frame costs .*x its tracing" "$tmp/err"
