@@ -17,6 +17,7 @@
 #include "clock.h"
 #include "error.h"
 #include "gpu/context.h"
+#include "gpu/pipeline.h"
 #include "gpu/spirv_cache.h"
 #include "output/image_check.h"
 #include "output/image_write.h"
@@ -108,9 +109,13 @@ static void print_kernel_cache(FILE *out)
     uint32_t loaded, compiled;
     gpu_spirv_cache_counts(&loaded, &compiled);
     char dir[4096];
+    uint32_t pipelines_loaded, pipelines_stored;
+    gpu_pipeline_cache_counts(&pipelines_loaded, &pipelines_stored);
     if (gpu_spirv_cache_dir(dir, sizeof dir))
-        fprintf(out, "vkrt: kernels: %u compiled, %u from the cache in %s\n", compiled, loaded,
-                dir);
+        fprintf(out,
+                "vkrt: kernels: %u compiled, %u from the cache in %s; pipelines: %u from the "
+                "driver's data there, %u stored\n",
+                compiled, loaded, dir, pipelines_loaded, pipelines_stored);
     else
         fprintf(out, "vkrt: kernels: %u compiled (no kernel cache: --no-cache, VKRT_CACHE_DIR is empty, or there is no HOME)\n",
                 compiled);

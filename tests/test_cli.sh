@@ -333,6 +333,16 @@ VKRT_CACHE_DIR=$cache "$vkrt" render "$src/scenes/cornell/scene.cfg" --width 24 
     --verbose -o "$tmp/k5.png" 2>"$tmp/err"
 check "after them, every kernel comes from the cache" grep -q "kernels: 0 compiled, [1-9][0-9]* from the cache" "$tmp/err"
 check "no temporary file is left in the cache" sh -c "! ls '$cache' | grep -q tmp"
+check "the driver's pipeline data comes from the cache too" grep -q "pipelines: [1-9][0-9]* from the driver's data there, 0 stored" "$tmp/err"
+# A damaged pipeline entry is not handed to the driver: it is made and written again, whole.
+first=$(ls "$cache"/*.vkpc | head -n 1)
+size=$(wc -c <"$first")
+printf 'not a pipeline cache' >"$first"
+VKRT_CACHE_DIR=$cache "$vkrt" render "$src/scenes/cornell/scene.cfg" --width 24 --height 16 \
+    --verbose -o "$tmp/k7.png" 2>"$tmp/err"
+check "a damaged pipeline entry still renders the same picture" cmp -s "$tmp/k1.png" "$tmp/k7.png"
+check "and is stored again" grep -q "pipelines: [1-9][0-9]* from the driver's data there, 1 stored" "$tmp/err"
+check "whole" test "$(wc -c <"$first")" -eq "$size"
 VKRT_CACHE_DIR=$tmp/unused "$vkrt" render "$src/scenes/cornell/scene.cfg" --width 24 --height 16 \
     --no-cache --verbose -o "$tmp/k6.png" 2>"$tmp/err"
 check "--no-cache compiles every kernel" grep -q "kernels: [1-9][0-9]* compiled (no kernel cache" "$tmp/err"
