@@ -80,7 +80,9 @@ def targets_table(profile_ms, profile_over):
         status = f"met on {len(met)} of {len(SCENES)}"
         for n in SCENES:
             if n not in met:
-                status += (f"; **missed on {n}**, which reaches "
+                # Issue 21 retired the bunny's 1080p shadow target: its dispatch is too small.
+                status += (f"; {n} **retired** (below)" if (n, k) == ("bunny", "shadow") else
+                           f"; **missed on {n}**, which reaches "
                            f"{k4[n][k + '_mrays_per_s']:,.0f} at 3840x2160" if n in k4 else
                            f"; **missed on {n}**")
         rows.append((f"{k} rays at 1920x1080, at least {TARGETS[k]:,} Mrays/s",
@@ -96,10 +98,9 @@ def targets_table(profile_ms, profile_over):
     rows.append(("BVH build of 225k triangles (Lost Empire) under 100 ms, CPU (2 cores) or GPU",
                  f"median {build.group(2)} ms, least {build.group(1)} ms over 20 runs on 2 cores",
                  "met" if float(build.group(2)) < 100 else "**missed**"))
-    met = sum(x >= embree["target_primary_ratio"] for _, x in ratios)
-    rows.append(("lavapipe: at least half Embree 3's primary rays per second",
+    rows.append(("lavapipe against Embree 3's primary rays per second",
                  ", ".join(f"{n} {x:.2f}x" for n, x in ratios),
-                 f"**missed** (met on {met} of {len(ratios)})" if met < len(ratios) else "met"))
+                 "a recorded ratio, not a target (below)"))
     return markdown(["target", "measured", ""], rows, ["---"] * 3)
 
 
@@ -218,6 +219,26 @@ def startup_section(folder=STARTUP):
                     rows, ["---", "---:", "---:"])
 
 
+def tiled_startup_section(path=f"{STARTUP_CPU}/tiled-3x3-log.txt"):
+    """Lost Empire tiled 3 x 3 on this machine, before and after the parallel OBJ read: per run
+    the wall and user CPU seconds, and the --verbose start-up stages where the build prints them."""
+    log = load(path)
+    rows = []
+    for block in log.split("\n== ")[1:]:
+        name = block.split(" load:")[0].split("\n")[0]
+        t = re.search(r"wall ([0-9.]+) s user ([0-9.]+) s", block)
+        if not t:
+            continue
+        st = re.search(r"start-up: scene (\d+) ms \(OBJ (\d+) ms\), Vulkan (\d+) ms, renderer (\d+) ms "
+                       r"\(structure (\d+) ms\), first frame (\d+) ms, its image written (\d+) ms", block)
+        bvh = re.search(r"built in ([0-9.]+) ms", block)
+        stages = ([f"{int(v) / 1e3:.1f}" for v in st.groups()] if st else
+                  ["", "", "", "", f"{float(bvh.group(1)) / 1e3:.1f}" if bvh else "", "", ""])
+        rows.append([name, t.group(1), t.group(2)] + stages)
+    return markdown(["run", "wall, s", "user CPU, s", "scene", "OBJ", "Vulkan", "renderer", "BVH",
+                     "first frame", "PNG"], rows, ["---"] + ["---:"] * 9)
+
+
 def glossy_section():
     """Issue 19's speed case: the glossy, depth-of-field Sponza over the diffuse pinhole one."""
     log = load(f"{GLOSSY}/glossy-dof-log.txt")
@@ -243,6 +264,7 @@ def main():
     path_frames, path_equal = path_section()
     startup = startup_section()
     startup_cpu = startup_section(STARTUP_CPU)
+    tiled_cpu = tiled_startup_section()
     plain_ms, glossy_ms = glossy_section()
     embree = load(EMBREE)
     m = embree["machine"]
@@ -284,6 +306,13 @@ Issue 8's targets on its four scenes (`{FINAL}/`: vkrt.json, rtpipe.json, vkrt-4
 whitted.txt; the build: `{BUILD}`; lavapipe against Embree: `{EMBREE}`):
 
 {targets_table(frame_ms, over)}
+
+Two decisions of issue 21, from the speed issue's last pass, with no more work on either:
+- **The bunny's shadow target at 1080p is retired.** Its 514k shadow rays do not fill an H200;
+  the same kernels pass 6,000 Mrays/s at 3840x2160 (6,932, the table further down). The figure
+  kept is throughput on dispatches of at least 2 million rays, which every other row meets.
+- **Lavapipe against Embree 3 (0.24-0.46x on primary rays) stays a recorded ratio**, not a
+  target: lavapipe is the CPU device that tests run on, and vkrt's speed is a GPU's.
 
 The four scenes were run once more in the same call (vkrt-again.json): {again}. A later call of the
 same kernels (`{PASS6}/committed*.json`) read shadow Mrays/s {pass6}.
@@ -377,6 +406,18 @@ where the frame itself takes most of the time, the cache saves the compile (1.1-
 
 {startup_cpu}
 
+Lost Empire tiled 3 x 3 (2,024,982 triangles, an 80 MB OBJ) on the same machine, before (main at
+51dfdb0, the serial loader) and after the OBJ's geometry is read on every core
+(`{STARTUP_CPU}/tiled-3x3-log.txt`, with the command): `vkrt render tiled/scene.cfg --integrator
+whitted --width 640 --height 360 --verbose`, stages in seconds from `--verbose`'s start-up line
+(the build before prints only the BVH's). Other sessions kept the load average at 25-34 on the
+two cores throughout, so the wall times are mostly waiting and say nothing about either loader;
+the CPU time does: the OBJ read alone took 3.77 s of user CPU before and 3.57 s after, the same
+work, now cut into chunks of 4 MiB that any number of cores share (identical meshes: test_obj).
+What it gains on 16 free cores is `research/gpu-run big-startup`'s to say.
+
+{tiled_cpu}
+
 ## The BVH build (issue 20)
 
 Issue 20 asks for a BVH over 10 M triangles in well under a second. The build was a job pool in
@@ -413,13 +454,29 @@ top held 10 M triangles to 4.7-5.2 s on the H200 host.
 
 ## Glossy and out of focus (issue 19)
 
-`research/gpu-run glossy-dof` (`{GLOSSY}/`): Sponza under sun and sky with its floor a rough
+`SPLIT_VARIANTS=vkrt-fresnel research/gpu-run shadow-split` on the H200 (driver 580.159.04;
+`research/results/glossy-dof-h200/split-nee/fresnel-log.txt`; 1080p, 16 spp, medians of 3
+profiled frames, two interleaved rounds): Sponza under sun and sky with its floor a rough
 plastic of roughness 0.2 and a thin lens (scenes/shared/sponza-glossy-dof.cfg) takes
-{glossy_ms:.1f} ms at 1080p and 16 spp against {plain_ms:.1f} ms for the diffuse floor through a
-pinhole (sponza-path.cfg): {glossy_ms / plain_ms:.2f}x, where issue 19 asks for at most 1.3x.
-The lens is not what costs: split apart (`{GLOSSY}/split.txt`), the thin lens alone takes 223.3
-ms against 221.6 (1.01x), the glossy floor alone 354.8 ms (1.60x), its tracing 1.46x the diffuse
-frame's (more rays: the coat keeps paths alive) and its shading kernels 80 ms against 33.
+**274.8 ms** against **219.6 ms** for the diffuse floor through a pinhole (sponza-path.cfg):
+**1.25x**, within issue 19's 1.3x. The glossy floor through a pinhole takes 272.9 ms, so the
+lens costs 0.7%.
+
+| binary (`.bundle/bin/`) | diffuse, pinhole | glossy, pinhole | glossy + lens | ratio |
+|---|---:|---:|---:|---:|
+| before (main at 51dfdb0 + `--profile` statistics) | 219.6 | 338.5 | 340.5 | 1.55x |
+| the plastic's Fdr by 8-point Gauss-Legendre (vkrt-fresnel: main now) | 219.7 | 272.9 | 274.8 | 1.25x |
+| that, and shadow rays traced apart from the BSDFs (research/variants/nee-split.patch) | 219.6 | 278.0 | 279.7 | 1.27x |
+
+What the glossy floor cost was arithmetic, not rays: the frames trace the same rays (the trace
+column of `--profile` agrees to 1% at every depth), and the driver's statistics that `--profile`
+now prints showed the kernels' registers unchanged by the glossy material (72 in nee.comp,
+56 in shade.comp). The rough plastic's diffuse lobe normalises by the coat's hemispherical
+Fresnel reflectance, which lib/microfacet.glsl integrated with a 64-point midpoint rule in every
+evaluation: three evaluations and a sample per hit, 64 Fresnel terms each. Gauss-Legendre with
+8 points in cos theta is 40 times more accurate (within 2e-5 for an index of 1.01 to 3.5) at an
+eighth of the cost. The split of next-event estimation into a tracing kernel and an
+evaluation in shade.comp, tried first, moved the cost without removing it (research/journal.md).
 
 ## The CPU: lavapipe against Embree 3
 

@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -18,6 +19,7 @@
 #include "device_pool.h"
 #include "error.h"
 #include "gpu/context.h"
+#include "gpu/pipeline.h"
 #include "gpu/spirv_cache.h"
 #include "output/image_check.h"
 #include "output/image_write.h"
@@ -107,9 +109,13 @@ static void print_kernel_cache(FILE *out)
     uint32_t loaded, compiled;
     gpu_spirv_cache_counts(&loaded, &compiled);
     char dir[4096];
+    uint32_t pipelines_loaded, pipelines_stored;
+    gpu_pipeline_cache_counts(&pipelines_loaded, &pipelines_stored);
     if (gpu_spirv_cache_dir(dir, sizeof dir))
-        fprintf(out, "vkrt: kernels: %u compiled, %u from the cache in %s\n", compiled, loaded,
-                dir);
+        fprintf(out,
+                "vkrt: kernels: %u compiled, %u from the cache in %s; pipelines: %u from the "
+                "driver's data there, %u stored\n",
+                compiled, loaded, dir, pipelines_loaded, pipelines_stored);
     else
         fprintf(out, "vkrt: kernels: %u compiled (no kernel cache: --no-cache, VKRT_CACHE_DIR is empty, or there is no HOME)\n",
                 compiled);
@@ -130,6 +136,48 @@ static void print_progress(FILE *out, uint32_t done, uint32_t total, uint32_t re
     fflush(out);
 }
 
+/* Device memory by what it is for, against what the device has, and host memory: the mesh's
+ * arrays and the process's peak (--verbose, issue 20). */
+static void print_memory(FILE *out, const vkrt_renderer *renderer, const gpu_context *ctx,
+                         const vkrt_scene *scene)
+{
+    vkrt_renderer_memory m = vkrt_renderer_memory_use(renderer);
+    const double MiB = 1048576.0;
+    fprintf(out,
+            "vkrt: device memory: triangles %.1f MiB, nodes %.1f MiB, textures %.1f MiB, rays "
+            "%.1f MiB, image %.1f MiB, other %.1f MiB: %.1f MiB of the device's %.1f MiB\n",
+            m.triangles / MiB, m.nodes / MiB, m.textures / MiB, m.rays / MiB, m.image / MiB,
+            m.other / MiB, m.total / MiB, ctx->memory_limit / MiB);
+    const vkrt_mesh *mesh = &scene->mesh;
+    size_t per_triangle = 9 * sizeof(float) * (1 + (mesh->normals != NULL)) +
+                          6 * sizeof(float) * (mesh->texcoords != NULL) + sizeof(int32_t);
+    struct rusage usage;
+    double peak = getrusage(RUSAGE_SELF, &usage) == 0 ? usage.ru_maxrss / 1024.0 : 0.0;
+    fprintf(out,
+            "vkrt: host memory: mesh %.1f MiB (positions, normals, texture coordinates, "
+            "materials), peak resident %.1f MiB\n",
+            (double)mesh->triangle_count * per_triangle / MiB, peak);
+}
+
+/* Wall-clock ms of the stages of a render's start (issue 20), printed with --verbose: the
+ * clock read when main began, when the scene was loaded, the Vulkan device opened, the renderer
+ * made (BVH, upload, kernels), the first frame traced and its image written. */
+typedef struct startup_clock {
+    double main, scene, vulkan, renderer, frame, image;
+} startup_clock;
+
+static void print_startup(FILE *out, const startup_clock *t, const vkrt_scene *scene,
+                          const vkrt_accel_stats *accel)
+{
+    fprintf(out,
+            "vkrt: start-up: scene %.0f ms (OBJ %.0f ms), Vulkan %.0f ms, renderer %.0f ms "
+            "(structure %.0f ms), first frame %.0f ms, its image written %.0f ms; %.0f ms since "
+            "main\n",
+            t->scene - t->main, scene->obj_ms, t->vulkan - t->scene, t->renderer - t->vulkan,
+            accel->build_ms + accel->choose_ms, t->frame - t->renderer, t->image - t->frame,
+            t->image - t->main);
+}
+
 /* One device rendering a scene's frames into their files: the single-device loop and each
  * worker of --devices (device_pool.h) use it. */
 typedef struct frame_writer {
@@ -137,6 +185,7 @@ typedef struct frame_writer {
     const vkrt_scene *scene;
     const char *output;
     bool clear_line;          /* a progress line is on the terminal: messages clear it first */
+    startup_clock *clock;     /* the single-device run's start-up stages, or NULL */
     gpu_context ctx;
     vkrt_renderer *renderer;
     vkrt_render_desc desc;
@@ -159,16 +208,21 @@ static bool frame_writer_start(frame_writer *w, int device, bool tell, vkrt_erro
                                  .pipeline_statistics = opts->profile};
     if (!gpu_context_create(&w->ctx, &ctx_desc, err))
         return false;
+    if (w->clock)
+        w->clock->vulkan = vkrt_clock_ms();
     if (!vkrt_renderer_create(&w->renderer, &w->ctx, w->scene, &w->desc, err)) {
         gpu_context_destroy(&w->ctx);
         return false;
     }
+    if (w->clock)
+        w->clock->renderer = vkrt_clock_ms();
     const char *why;
     vkrt_integrator integrator = vkrt_renderer_integrator(w->renderer, &why);
     if (tell && opts->common.verbose) {
         print_accel_stats(stderr, vkrt_renderer_accel_stats(w->renderer));
         fprintf(stderr, "vkrt: integrator %s: %s\n", vkrt_integrator_name(integrator), why);
         print_kernel_cache(stderr);
+        print_memory(stderr, w->renderer, &w->ctx, w->scene);
     }
     /* A profile's times, then what the driver says of each kernel, where it says anything. */
     if (opts->profile && w->ctx.pipeline_statistics && !opts->common.quiet &&
@@ -208,9 +262,14 @@ static bool frame_writer_write(frame_writer *w, uint32_t f, vkrt_frame_stats *st
     /* Motion blur towards the next frame's camera; the last frame has none and is sharp. */
     vkrt_renderer_set_next_camera(w->renderer,
                                   f + 1 < cfg->camera_count ? &cfg->cameras[f + 1] : NULL);
-    if (!vkrt_renderer_render(w->renderer, &cfg->cameras[f], f, w->rgb, stats, err) ||
-        !vkrt_image_write(path, w->desc.width, w->desc.height, w->rgb, opts->exposure, err))
+    if (!vkrt_renderer_render(w->renderer, &cfg->cameras[f], f, w->rgb, stats, err))
         return false;
+    if (w->clock && !w->clock->frame)
+        w->clock->frame = vkrt_clock_ms();
+    if (!vkrt_image_write(path, w->desc.width, w->desc.height, w->rgb, opts->exposure, err))
+        return false;
+    if (w->clock && !w->clock->image)
+        w->clock->image = vkrt_clock_ms();
     if (w->clear_line) /* the progress line makes way for this frame's messages */
         fputs("\r\033[K", stderr);
     if (stats->dropped_rays && !opts->common.quiet)
@@ -286,11 +345,12 @@ typedef struct render_totals {
 
 static bool render_on_one_device(const vkrt_render_options *opts, const vkrt_scene *scene,
                                  const char *output, const frame_list *list,
-                                 render_totals *totals, vkrt_error *err)
+                                 render_totals *totals, startup_clock *clock, vkrt_error *err)
 {
     bool progress = !opts->common.quiet && list->total > 1;
     bool terminal = progress && isatty(fileno(stderr));
-    frame_writer w = {.opts = opts, .scene = scene, .output = output, .clear_line = terminal};
+    frame_writer w = {.opts = opts, .scene = scene, .output = output, .clear_line = terminal,
+                      .clock = clock};
     if (!frame_writer_start(&w, opts->common.device, true, err))
         return false;
     snprintf(totals->device, sizeof totals->device, "%s", w.ctx.properties.deviceName);
@@ -495,14 +555,16 @@ static int render_on_devices(const vkrt_render_options *opts, const vkrt_scene *
     return status;
 }
 
-static int run_render(const vkrt_render_options *opts)
+static int run_render(const vkrt_render_options *opts, double main_ms)
 {
     vkrt_error err = {{0}};
     vkrt_scene scene;
+    startup_clock clock = {.main = main_ms};
     if (!vkrt_scene_load(opts->scene_path, &scene, &err)) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
         return 1;
     }
+    clock.scene = vkrt_clock_ms();
     if (!opts->common.quiet)
         vkrt_mesh_print_warnings(&scene.mesh, "vkrt: ", opts->common.verbose, stderr);
     const char *output = opts->output ? opts->output : scene.config.output;
@@ -531,7 +593,7 @@ static int run_render(const vkrt_render_options *opts)
         return status;
     }
     render_totals totals = {0};
-    bool ok = render_on_one_device(opts, &scene, output, &list, &totals, &err);
+    bool ok = render_on_one_device(opts, &scene, output, &list, &totals, &clock, &err);
     free(list.frames);
     if (!ok) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
@@ -556,6 +618,8 @@ static int run_render(const vkrt_render_options *opts)
                 rendered, rendered == 1 ? "" : "s",
                 rendered ? 1e3 * totals.seconds / rendered : 0.0,
                 totals.seconds > 0 ? totals.rays / totals.seconds * 1e-6 : 0.0);
+        if (opts->common.verbose && clock.image)
+            print_startup(stderr, &clock, &scene, &totals.accel);
         if (!opts->common.verbose) {
             fprintf(stderr, "vkrt: accel %s: %s\n", vkrt_accel_name(totals.accel.kind),
                     totals.accel.reason);
@@ -569,6 +633,7 @@ static int run_render(const vkrt_render_options *opts)
 
 int main(int argc, char **argv)
 {
+    double main_ms = vkrt_clock_ms();
     vkrt_command_line cl;
     vkrt_error err = {{0}};
     if (!vkrt_command_line_parse(argc, argv, &cl, &err)) {
@@ -595,7 +660,7 @@ int main(int argc, char **argv)
         }
         return 0;
     case VKRT_COMMAND_RENDER:
-        return run_render(&cl.render);
+        return run_render(&cl.render, main_ms);
     case VKRT_COMMAND_BENCH:
         return vkrt_bench_run(&cl.bench);
     case VKRT_COMMAND_VIEW:

@@ -31,6 +31,19 @@ check "render to PNG exits 0" test $? -eq 0
 check "PNG written" test -s "$tmp/c.png"
 check "PNG has the PNG signature" sh -c "head -c 8 '$tmp/c.png' | od -An -c | grep -q 'P   N   G'"
 check "summary names rays per second" grep -q "Mrays/s" "$tmp/err"
+# Issue 20: --verbose reports memory and the start-up's stages; a scene too big for the device
+# (made small here by VKRT_DEVICE_MEMORY_LIMIT) is refused with the sizes, not a driver error.
+"$vkrt" render "$src/scenes/cornell/scene.cfg" --width 48 --height 32 --spp 2 -o "$tmp/v.png" --verbose 2>"$tmp/err"
+check "--verbose prints device memory by kind against the device's" \
+    grep -q "^vkrt: device memory: triangles .* MiB, nodes .* rays .* MiB of the device's .* MiB$" "$tmp/err"
+check "--verbose prints host memory" grep -q "^vkrt: host memory: mesh .* peak resident" "$tmp/err"
+check "--verbose prints the start-up's stages" grep -q "^vkrt: start-up: scene .* (OBJ .*), Vulkan .* first frame" "$tmp/err"
+VKRT_DEVICE_MEMORY_LIMIT=300000 "$vkrt" render "$src/scenes/cornell/scene.cfg" --width 48 --height 32 --spp 2 \
+    -o "$tmp/small.png" 2>"$tmp/err"
+check "a scene beyond the device's memory exits 1" test $? -eq 1
+check "and says it does not fit, with the sizes" \
+    grep -q "does not fit .*MiB more device memory with .* MiB already in use makes .* MiB, and the device has 0.3 MiB (VKRT_DEVICE_MEMORY_LIMIT)" "$tmp/err"
+check "and writes no image" test ! -e "$tmp/small.png"
 "$vkrt" render "$src/scenes/cornell-spheres/scene.cfg" --width 16 --height 16 --profile -o "$tmp/p.png" 2>"$tmp/err"
 check "--profile exits 0" test $? -eq 0
 check "--profile prints the share of tracing" grep -q "the frame costs .*x its tracing" "$tmp/err"
@@ -320,6 +333,16 @@ VKRT_CACHE_DIR=$cache "$vkrt" render "$src/scenes/cornell/scene.cfg" --width 24 
     --verbose -o "$tmp/k5.png" 2>"$tmp/err"
 check "after them, every kernel comes from the cache" grep -q "kernels: 0 compiled, [1-9][0-9]* from the cache" "$tmp/err"
 check "no temporary file is left in the cache" sh -c "! ls '$cache' | grep -q tmp"
+check "the driver's pipeline data comes from the cache too" grep -q "pipelines: [1-9][0-9]* from the driver's data there, 0 stored" "$tmp/err"
+# A damaged pipeline entry is not handed to the driver: it is made and written again, whole.
+first=$(ls "$cache"/*.vkpc | head -n 1)
+size=$(wc -c <"$first")
+printf 'not a pipeline cache' >"$first"
+VKRT_CACHE_DIR=$cache "$vkrt" render "$src/scenes/cornell/scene.cfg" --width 24 --height 16 \
+    --verbose -o "$tmp/k7.png" 2>"$tmp/err"
+check "a damaged pipeline entry still renders the same picture" cmp -s "$tmp/k1.png" "$tmp/k7.png"
+check "and is stored again" grep -q "pipelines: [1-9][0-9]* from the driver's data there, 1 stored" "$tmp/err"
+check "whole" test "$(wc -c <"$first")" -eq "$size"
 VKRT_CACHE_DIR=$tmp/unused "$vkrt" render "$src/scenes/cornell/scene.cfg" --width 24 --height 16 \
     --no-cache --verbose -o "$tmp/k6.png" 2>"$tmp/err"
 check "--no-cache compiles every kernel" grep -q "kernels: [1-9][0-9]* compiled (no kernel cache" "$tmp/err"

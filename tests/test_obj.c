@@ -5,7 +5,9 @@
  * indices, geometric normals, CRLF, errors with file:line, odd encodings, materials). Then the
  * shared scenes, when $VKRT_SCENES_DIR is set: every .obj of the tinyobjloader and assimp parser
  * suites must load or fail cleanly, with triangle counts matching their SOURCE.txt, and the
- * Cornell box and the Stanford bunny must load whole.
+ * Cornell box and the Stanford bunny must load whole. The parallel parse (obj_geometry.h) is held
+ * to the serial one: every suite file, and a file written to put every case at a cut, give the
+ * same mesh, warnings or error whether read whole on one thread or cut at every line on several.
  */
 #define _XOPEN_SOURCE 700
 #include <dirent.h>
@@ -23,6 +25,7 @@
 #include <cmocka.h>
 
 #include "scene/obj_load.h"
+#include "scene/text_file.h"
 #include "temp_dir.h"
 
 /* ------------------------------------------------------------------------ helpers */
@@ -67,6 +70,130 @@ static vkrt_mesh load_ok(const char *path)
     if (!vkrt_obj_load(path, &mesh, &err))
         fail_msg("loading %s failed: %s", path, err.msg);
     return mesh;
+}
+
+/* ------------------------------------------------------------------------ the parallel parse */
+
+static void assert_same_floats(const float *a, const float *b, size_t n, const char *what,
+                               const char *name)
+{
+    if ((a == NULL) != (b == NULL))
+        fail_msg("%s: %s present in one parse only", name, what);
+    if (a && memcmp(a, b, n * sizeof *a) != 0)
+        fail_msg("%s: %s differ between the serial and the split parse", name, what);
+}
+
+/* The two parses of one text agree on everything: the error, or the mesh and its warnings. */
+static void assert_same_parse(bool ok_a, const vkrt_mesh *a, const vkrt_error *err_a, bool ok_b,
+                              const vkrt_mesh *b, const vkrt_error *err_b, const char *name,
+                              size_t chunk)
+{
+    if (ok_a != ok_b || (!ok_a && strcmp(err_a->msg, err_b->msg) != 0))
+        fail_msg("%s cut every %zu bytes: \"%s\" against \"%s\" serially", name, chunk,
+                 ok_b ? "loaded" : err_b->msg, ok_a ? "loaded" : err_a->msg);
+    if (!ok_a)
+        return;
+    size_t n = a->triangle_count;
+    if (n != b->triangle_count)
+        fail_msg("%s cut every %zu bytes: %u triangles against %zu", name, chunk, b->triangle_count,
+                 n);
+    assert_same_floats(a->positions, b->positions, 9 * n, "positions", name);
+    assert_same_floats(a->normals, b->normals, 9 * n, "normals", name);
+    assert_same_floats(a->texcoords, b->texcoords, 6 * n, "texture coordinates", name);
+    if (memcmp(a->material, b->material, n * sizeof *a->material) != 0)
+        fail_msg("%s cut every %zu bytes: materials of the triangles differ", name, chunk);
+    assert_int_equal(a->material_count, b->material_count);
+    for (uint32_t i = 0; i < a->material_count; i++)
+        assert_string_equal(a->materials[i].name, b->materials[i].name);
+    assert_string_equal(a->warnings, b->warnings);
+    assert_string_equal(a->warnings_all ? a->warnings_all : "",
+                        b->warnings_all ? b->warnings_all : "");
+}
+
+/* Parses text whole on one thread, then cut every 1, 2, 7, 64 and 4096 bytes (at the next line
+ * end) on two and on five threads, and holds every cut parse to the whole one. base_dir as for
+ * vkrt_obj_parse. Returns the serial parse's success. */
+static bool check_split_parses(const char *text, size_t size, const char *name,
+                               const char *base_dir)
+{
+    static const size_t CHUNKS[] = {1, 2, 7, 64, 4096};
+    vkrt_mesh whole;
+    vkrt_error whole_err = {{0}};
+    bool whole_ok =
+        vkrt_obj_parse_split(text, size, name, base_dir, SIZE_MAX, 1, &whole, &whole_err);
+    for (size_t c = 0; c < sizeof CHUNKS / sizeof CHUNKS[0]; c++) {
+        if (CHUNKS[c] > size && c > 0)
+            break;
+        for (unsigned threads = 2; threads <= 5; threads += 3) {
+            vkrt_mesh cut;
+            vkrt_error cut_err = {{0}};
+            bool cut_ok = vkrt_obj_parse_split(text, size, name, base_dir, CHUNKS[c], threads, &cut,
+                                               &cut_err);
+            assert_same_parse(whole_ok, &whole, &whole_err, cut_ok, &cut, &cut_err, name,
+                              CHUNKS[c]);
+            vkrt_mesh_free(&cut);
+        }
+    }
+    vkrt_mesh_free(&whole);
+    return whole_ok;
+}
+
+/* check_split_parses on the file at path, with its folder for the .mtl files. */
+static void check_split_file(const char *path)
+{
+    char *text, *folder = vkrt_text_dir_of(path);
+    size_t size;
+    vkrt_error err = {{0}};
+    if (!vkrt_text_read_file(path, SIZE_MAX, "OBJ", &text, &size, &err))
+        fail_msg("%s", err.msg);
+    check_split_parses(text, size, path, folder);
+    free(text);
+    free(folder);
+}
+
+/* What crosses a cut: relative indices (v, vt and vn) reaching back over many chunks, the usemtl,
+ * g, o and s in force, line numbers in warnings; and lines that end in CRLF, in "\\" (rc10 knows
+ * no continuation lines: "f 1 2 \\" then "3" is a refused face), in nothing at the file's end. */
+static const char AWKWARD_MTL[] = "newmtl red\nKd 1 0 0\nnewmtl blue\nKd 0 0 1\n";
+static const char AWKWARD[] = "# cut anywhere\nmtllib awkward.mtl\nv 0 0 0\nv 1 0 0\r\nv 1 1 0\nv "
+                              "0 1 0\n\nvt 0 0\nvt 1 0\nvt 1 1\n"
+                              "vn 0 0 1\nvn 0 0 nan\no first\ng box side\nusemtl red\ns 1\n"
+                              "f -4/-3/-2 -3/-2/-2 -2/-1/-2\n"
+                              "   \t\n"
+                              "f 1/1/1 2/2/1 3/3/1 4/3/1\r\n"
+                              "usemtl nothing\nf 1 2\nf 2 3 4\n"
+                              "v 0 0 1\nv 0 1 1\nvw 0 0 0.5\nusemtl blue\ng other\ns off\n"
+                              "f -1 -2 -6//-1\nf -6/-3 -5/-2 -4/-1\n"
+                              "usemtl red\nl 1 2\np 3\nf 4 5 6 -1";
+static const char CONTINUED[] = "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 \\\n3\n";
+
+static void split_parse_matches_serial(void **state)
+{
+    temp_dir_write_text(*state, "awkward.mtl", AWKWARD_MTL);
+    const char *dir = temp_dir_path(*state, "");
+    assert_true(check_split_parses(AWKWARD, strlen(AWKWARD), "awkward.obj", dir));
+    /* the same at every start offset of the cuts: chunks of 1 byte end at every line end anyway,
+     * so the file is cut again after a prefix of every length */
+    vkrt_mesh m;
+    vkrt_error err = {{0}};
+    assert_true(vkrt_obj_parse_split(AWKWARD, strlen(AWKWARD), "awkward.obj", dir, 3, 4, &m, &err));
+    assert_int_equal(m.triangle_count, 8);
+    assert_int_equal(m.material[2], 0);  /* red, from before every cut */
+    assert_int_equal(m.material[3], -1); /* usemtl nothing */
+    assert_int_equal(m.material[4], 1);  /* blue */
+    assert_int_equal(m.material[7], 0);
+    assert_vec3(&m.positions[36], 0, 1, 1); /* f -1 -2 -6//-1: v 6, v 5, v 1 */
+    assert_vec3(&m.positions[39], 0, 0, 1);
+    assert_vec3(&m.positions[42], 0, 0, 0);
+    assert_vec3(&m.normals[36], 1, 0, 0); /* vn 2 (nan) is unusable: the geometric normal */
+    assert_non_null(
+        strstr(m.warnings_all, "awkward.obj:21: warning: face of fewer than 3 corners"));
+    assert_non_null(strstr(m.warnings_all, "awkward.obj:20: warning: usemtl nothing"));
+    vkrt_mesh_free(&m);
+    assert_false(check_split_parses(CONTINUED, strlen(CONTINUED), "continued.obj", NULL));
+    assert_false(
+        vkrt_obj_parse_split(CONTINUED, strlen(CONTINUED), "continued.obj", NULL, 1, 2, &m, &err));
+    assert_string_equal(err.msg, "continued.obj:4: face index '\\' is not a number");
 }
 
 /* ------------------------------------------------------------------------ small files */
@@ -759,6 +886,7 @@ static int check_suite_file(const char *suite, const char *path)
     const expected_failure *xf = expected_failure_of(relative);
     vkrt_mesh m;
     vkrt_error err = {{0}};
+    check_split_file(path);
     if (!vkrt_obj_load(path, &m, &err)) {
         if (strncmp(err.msg, path, strlen(path)) != 0)
             fail_msg("error for %s does not start with its path: %s", path, err.msg);
@@ -883,6 +1011,7 @@ int main(void)
         temp_dir_test(mtl_fields_are_parsed),
         temp_dir_test(mtl_texture_lines_and_tf),
         temp_dir_test(mtl_pbr_fields_are_parsed),
+        temp_dir_test(split_parse_matches_serial),
         cmocka_unit_test(tinyobjloader_suite),
         cmocka_unit_test(assimp_suite),
         cmocka_unit_test(cornell_box),

@@ -21,6 +21,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "gpu/pipeline.h"
 #include "gpu/shader.h"
 #include "gpu/spirv_cache.h"
 #include "temp_dir.h"
@@ -221,6 +222,63 @@ static void the_directory_follows_xdg(void **state)
     assert_string_equal(dir, "/home/u/.cache/vkrt");
 }
 
+/* The driver's pipeline cache data (pipeline.c): kept whole and handed back only when whole;
+ * the Vulkan header is checked against the device before the driver sees the data. */
+static void pipeline_cache_entries_are_checked(void **state)
+{
+    temp_dir *fx = *state;
+    setenv("VKRT_CACHE_DIR", fx->dir, 1);
+    VkPhysicalDeviceProperties props = {.vendorID = 0x10DE, .deviceID = 0x2335};
+    for (unsigned i = 0; i < VK_UUID_SIZE; ++i)
+        props.pipelineCacheUUID[i] = (uint8_t)(3 * i + 1);
+    unsigned char data[100];
+    for (size_t i = 0; i < sizeof data; ++i)
+        data[i] = (unsigned char)(i * 7);
+    VkPipelineCacheHeaderVersionOne h = {.headerSize = 32,
+                                         .headerVersion = VK_PIPELINE_CACHE_HEADER_VERSION_ONE,
+                                         .vendorID = props.vendorID,
+                                         .deviceID = props.deviceID};
+    memcpy(h.pipelineCacheUUID, props.pipelineCacheUUID, VK_UUID_SIZE);
+    memcpy(data, &h, sizeof h);
+    assert_true(gpu_pipeline_cache_header_ok(data, sizeof data, &props));
+    assert_false(gpu_pipeline_cache_header_ok(data, 31, &props)); /* shorter than a header */
+    props.driverVersion++; /* not in the header: the key has it */
+    assert_true(gpu_pipeline_cache_header_ok(data, sizeof data, &props));
+    props.pipelineCacheUUID[5] ^= 1; /* another driver build */
+    assert_false(gpu_pipeline_cache_header_ok(data, sizeof data, &props));
+    props.pipelineCacheUUID[5] ^= 1;
+    props.deviceID++;
+    assert_false(gpu_pipeline_cache_header_ok(data, sizeof data, &props));
+    props.deviceID--;
+    data[4] = 2; /* header version */
+    assert_false(gpu_pipeline_cache_header_ok(data, sizeof data, &props));
+    data[4] = 1;
+
+    gpu_spirv_key key = gpu_spirv_key_of_bytes("a pipeline", 10);
+    gpu_spirv_cache_store_bytes(&key, data, sizeof data);
+    void *back;
+    size_t size;
+    assert_true(gpu_spirv_cache_load_bytes(&key, &back, &size));
+    assert_int_equal(size, sizeof data);
+    assert_memory_equal(back, data, sizeof data);
+    free(back);
+    gpu_spirv_key other = gpu_spirv_key_of_bytes("a pipeline!", 11);
+    assert_false(gpu_spirv_cache_load_bytes(&other, &back, &size));
+    char path[800];
+    snprintf(path, sizeof path, "%s/%016llx%016llx.vkpc", fx->dir, (unsigned long long)key.h[0],
+             (unsigned long long)key.h[1]);
+    FILE *f = fopen(path, "r+b");
+    assert_non_null(f);
+    fseek(f, 32 + 50, SEEK_SET); /* one byte of the data flipped */
+    fputc(data[50] ^ 0x40, f);
+    fclose(f);
+    assert_false(gpu_spirv_cache_load_bytes(&key, &back, &size));
+    assert_null(back);
+    gpu_spirv_cache_store_bytes(&key, data, sizeof data);
+    assert_int_equal(truncate(path, 32 + 60), 0); /* cut short */
+    assert_false(gpu_spirv_cache_load_bytes(&key, &back, &size));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -228,6 +286,7 @@ int main(void)
         temp_dir_test(damaged_files_are_misses),
         temp_dir_test(no_cache_still_compiles),
         cmocka_unit_test(the_directory_follows_xdg),
+        temp_dir_test(pipeline_cache_entries_are_checked),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -7,11 +7,38 @@
  */
 #include "buffer.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 #include "vk_check.h"
 
 static const size_t min_buffer_size = 16;
+
+static double mib(VkDeviceSize bytes)
+{
+    return (double)bytes / 1048576.0;
+}
+
+/* Refuses device-local memory the device cannot give (context.h), in words a user can act on. */
+static bool check_device_memory(gpu_context *ctx, VkDeviceSize bytes, vkrt_error *err)
+{
+    const char *name = ctx->properties.deviceName;
+    if (bytes > ctx->max_allocation)
+        return vkrt_error_set(err,
+                              "the scene does not fit %s: one allocation of %.1f MiB is more "
+                              "than the device allows (maxMemoryAllocationSize %.1f MiB)",
+                              name, mib(bytes), mib(ctx->max_allocation));
+    if (bytes > ctx->memory_limit - ctx->memory_used)
+        return vkrt_error_set(err,
+                              "the scene does not fit %s: %.1f MiB more device memory with "
+                              "%.1f MiB already in use makes %.1f MiB, and the device has "
+                              "%.1f MiB%s",
+                              name, mib(bytes), mib(ctx->memory_used),
+                              mib(ctx->memory_used + bytes), mib(ctx->memory_limit),
+                              getenv("VKRT_DEVICE_MEMORY_LIMIT") ? " (VKRT_DEVICE_MEMORY_LIMIT)"
+                                                                 : "");
+    return true;
+}
 
 static bool create_with_memory(gpu_context *ctx, gpu_buffer *buf, size_t size,
                                VkBufferUsageFlags usage, VkMemoryPropertyFlags wanted,
@@ -36,6 +63,9 @@ static bool create_with_memory(gpu_context *ctx, gpu_buffer *buf, size_t size,
         vkrt_error_set(err, "no suitable memory type for a buffer of %zu bytes", size);
         goto fail;
     }
+    bool device_local = wanted & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+    if (device_local && !check_device_memory(ctx, req.size, err))
+        goto fail;
     /* Buffers whose address shaders or acceleration structure builds take need memory allocated
      * for it (bufferDeviceAddress); no other vkrt buffer asks for it. */
     VkMemoryAllocateFlagsInfo address_flags = {
@@ -49,6 +79,10 @@ static bool create_with_memory(gpu_context *ctx, gpu_buffer *buf, size_t size,
         .memoryTypeIndex = type,
     };
     GPU_CHECK(vkAllocateMemory(ctx->device, &alloc, NULL, &buf->memory));
+    if (device_local) {
+        buf->device_bytes = req.size;
+        ctx->memory_used += req.size;
+    }
     GPU_CHECK(vkBindBufferMemory(ctx->device, buf->buffer, buf->memory, 0));
     if (ctx->memory.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT &&
         wanted & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT)
@@ -143,6 +177,7 @@ void gpu_buffer_destroy(gpu_context *ctx, gpu_buffer *buf)
         vkDestroyBuffer(ctx->device, buf->buffer, NULL);
     if (buf->memory)
         vkFreeMemory(ctx->device, buf->memory, NULL);
+    ctx->memory_used -= buf->device_bytes;
     memset(buf, 0, sizeof *buf);
 }
 

@@ -15,13 +15,16 @@ typedef struct gpu_buffer {
     VkDeviceMemory memory;
     VkDeviceSize size;
     void *mapped;        /* non-NULL for host-visible buffers (staging) */
+    VkDeviceSize device_bytes; /* device-local memory it holds (counted in ctx->memory_used) */
 } gpu_buffer;
 
 /* Creates a device-local storage buffer of size bytes (at least 16, since Vulkan has no empty
  * buffers), usable as a transfer source and destination and as a uniform texel buffer
  * (gpu_buffer_view_create). what names the buffer in messages:
- * a buffer larger than the device's maxStorageBufferRange is refused with its size and the limit.
- * On failure nothing is left allocated. */
+ * a buffer larger than the device's maxStorageBufferRange or maxMemoryAllocationSize, or than
+ * the device memory left (ctx->memory_limit less ctx->memory_used), is refused with its size and
+ * the limit ("... does not fit ..."), before the driver is asked. On failure nothing is left
+ * allocated. */
 bool gpu_buffer_create(gpu_context *ctx, gpu_buffer *buf, size_t size, const char *what,
                        vkrt_error *err);
 

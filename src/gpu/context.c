@@ -240,6 +240,26 @@ static bool has_extension(const VkExtensionProperties *extensions, uint32_t coun
     return false;
 }
 
+/* ctx->max_allocation where Vulkan 1.1 does not say (no limit), and ctx->memory_limit: the largest
+ * device-local heap, or VKRT_DEVICE_MEMORY_LIMIT bytes where that is smaller (a test's small
+ * device). */
+static void set_memory_limit(gpu_context *ctx)
+{
+    if (ctx->max_allocation == 0)
+        ctx->max_allocation = UINT64_MAX;
+    for (uint32_t i = 0; i < ctx->memory.memoryHeapCount; i++)
+        if (ctx->memory.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT &&
+            ctx->memory.memoryHeaps[i].size > ctx->memory_limit)
+            ctx->memory_limit = ctx->memory.memoryHeaps[i].size;
+    if (ctx->memory_limit == 0) /* no heap says device-local: the first one holds everything */
+        ctx->memory_limit = ctx->memory.memoryHeaps[0].size;
+    const char *limit = getenv("VKRT_DEVICE_MEMORY_LIMIT");
+    char *end;
+    unsigned long long bytes = limit && *limit ? strtoull(limit, &end, 10) : 0;
+    if (bytes > 0 && *end == '\0' && bytes < ctx->memory_limit)
+        ctx->memory_limit = bytes;
+}
+
 static bool create_device(gpu_context *ctx, const gpu_context_desc *desc, vkrt_error *err)
 {
     VkPhysicalDeviceFeatures supported;
@@ -315,8 +335,12 @@ static bool create_device(gpu_context *ctx, const gpu_context_desc *desc, vkrt_e
     /* Subgroup sums let the wave kernels reserve ray slots with one atomic per subgroup instead
      * of one per ray (glsl/count.comp); Vulkan 1.1 devices report which operations they have. */
     if (ctx->properties.apiVersion >= VK_API_VERSION_1_1) {
+        VkPhysicalDeviceMaintenance3Properties maintenance3 = {
+            .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES,
+        };
         VkPhysicalDeviceSubgroupProperties subgroup = {
             .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES,
+            .pNext = &maintenance3,
         };
         VkPhysicalDeviceProperties2 properties2 = {
             .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2,
@@ -329,7 +353,9 @@ static bool create_device(gpu_context *ctx, const gpu_context_desc *desc, vkrt_e
                                               VK_SUBGROUP_FEATURE_VOTE_BIT;
         ctx->subgroup_arithmetic = (subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) &&
                                    (subgroup.supportedOperations & needed) == needed;
+        ctx->max_allocation = maintenance3.maxMemoryAllocationSize;
     }
+    set_memory_limit(ctx);
     /* For testing the fallback on a device that has them. */
     const char *no_subgroups = getenv("VKRT_NO_SUBGROUPS");
     if (no_subgroups && *no_subgroups && strcmp(no_subgroups, "0") != 0)

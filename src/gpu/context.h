@@ -66,6 +66,13 @@ typedef struct gpu_context {
     uint64_t timeout_ns;         /* the watchdog's limit per submission */
     bool lost;                   /* a submission timed out or the device was lost: the device is
                                     not waited for again, only left to the process's exit */
+    /* Device memory (issue 20): a buffer that would take more than one allocation may hold or
+     * more than the device-local heap has left is refused with the sizes (buffer.c), not left to
+     * the driver's VK_ERROR_OUT_OF_DEVICE_MEMORY. */
+    VkDeviceSize max_allocation;   /* maxMemoryAllocationSize (Vulkan 1.1), else no limit */
+    VkDeviceSize memory_limit;     /* the device-local heap's size, or VKRT_DEVICE_MEMORY_LIMIT
+                                      (bytes; to test the message) where that is smaller */
+    VkDeviceSize memory_used;      /* device-local memory allocated by gpu_buffer_* now */
     uint32_t validation_messages;   /* messages the validation layers reported so far */
     bool messenger_quiet;
     char first_validation_message[512];

@@ -3,11 +3,94 @@
  */
 #include "pipeline.h"
 
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "spirv_cache.h"
 #include "vk_check.h"
+
+static _Atomic uint32_t cache_loaded, cache_stored;
+
+bool gpu_pipeline_cache_header_ok(const void *data, size_t size,
+                                  const VkPhysicalDeviceProperties *props)
+{
+    VkPipelineCacheHeaderVersionOne h;
+    if (!data || size < sizeof h)
+        return false;
+    memcpy(&h, data, sizeof h);
+    return h.headerSize >= sizeof h && h.headerSize <= size &&
+           h.headerVersion == VK_PIPELINE_CACHE_HEADER_VERSION_ONE &&
+           h.vendorID == props->vendorID && h.deviceID == props->deviceID &&
+           memcmp(h.pipelineCacheUUID, props->pipelineCacheUUID, VK_UUID_SIZE) == 0;
+}
+
+void gpu_pipeline_cache_counts(uint32_t *loaded, uint32_t *stored)
+{
+    *loaded = atomic_load(&cache_loaded);
+    *stored = atomic_load(&cache_stored);
+}
+
+/* The key of a pipeline's cache data: everything the driver's compiled form depends on. */
+static bool pipeline_key(const gpu_context *ctx, const uint32_t *spirv, size_t word_count,
+                         const VkSpecializationInfo *spec, VkPipelineCreateFlags flags,
+                         gpu_spirv_key *key)
+{
+    const VkPhysicalDeviceProperties *p = &ctx->properties;
+    uint32_t device[4] = {p->vendorID, p->deviceID, p->driverVersion, (uint32_t)flags};
+    size_t entries = spec->mapEntryCount * sizeof *spec->pMapEntries;
+    size_t size = word_count * 4 + entries + spec->dataSize + sizeof device + VK_UUID_SIZE;
+    unsigned char *bytes = malloc(size), *at = bytes;
+    if (!bytes)
+        return false;
+    memcpy(at, spirv, word_count * 4);
+    memcpy(at += word_count * 4, spec->pMapEntries, entries);
+    memcpy(at += entries, spec->pData, spec->dataSize);
+    memcpy(at += spec->dataSize, device, sizeof device);
+    memcpy(at + sizeof device, p->pipelineCacheUUID, VK_UUID_SIZE);
+    *key = gpu_spirv_key_of_bytes(bytes, size);
+    free(bytes);
+    return true;
+}
+
+/* A VkPipelineCache holding the data stored under key, when there is a whole entry for this
+ * device (*hit), else an empty one. */
+static bool open_pipeline_cache(gpu_context *ctx, const gpu_spirv_key *key, VkPipelineCache *cache,
+                                bool *hit, vkrt_error *err)
+{
+    void *data = NULL;
+    size_t size = 0;
+    *hit = gpu_spirv_cache_load_bytes(key, &data, &size) &&
+           gpu_pipeline_cache_header_ok(data, size, &ctx->properties);
+    VkPipelineCacheCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_CACHE_CREATE_INFO,
+        .initialDataSize = *hit ? size : 0,
+        .pInitialData = *hit ? data : NULL,
+    };
+    VkResult result = vkCreatePipelineCache(ctx->device, &info, NULL, cache);
+    free(data);
+    if (result != VK_SUCCESS)
+        return vkrt_error_set(err, "vkCreatePipelineCache failed: %s", gpu_result_name(result));
+    if (*hit)
+        atomic_fetch_add(&cache_loaded, 1u);
+    return true;
+}
+
+/* Stores the driver's data of cache under key, best effort. */
+static void store_pipeline_cache(gpu_context *ctx, const gpu_spirv_key *key, VkPipelineCache cache)
+{
+    size_t size = 0;
+    if (vkGetPipelineCacheData(ctx->device, cache, &size, NULL) != VK_SUCCESS || size == 0)
+        return;
+    void *data = malloc(size);
+    if (data && vkGetPipelineCacheData(ctx->device, cache, &size, data) == VK_SUCCESS &&
+        gpu_pipeline_cache_header_ok(data, size, &ctx->properties)) {
+        gpu_spirv_cache_store_bytes(key, data, size);
+        atomic_fetch_add(&cache_stored, 1u);
+    }
+    free(data);
+}
 
 bool gpu_storage_set_create(gpu_context *ctx, gpu_storage_set *set, uint32_t binding_count,
                             uint32_t push_size, vkrt_error *err)
@@ -133,6 +216,7 @@ bool gpu_pipeline_create(gpu_context *ctx, gpu_pipeline *pipe, const gpu_storage
 {
     memset(pipe, 0, sizeof *pipe);
     VkShaderModule module = VK_NULL_HANDLE;
+    VkPipelineCache cache = VK_NULL_HANDLE;
     uint32_t count = spec_count + 1;
     VkSpecializationMapEntry *entries = calloc(count, sizeof *entries);
     uint32_t *values = calloc(count, sizeof *values);
@@ -159,6 +243,14 @@ bool gpu_pipeline_create(gpu_context *ctx, gpu_pipeline *pipe, const gpu_storage
         .pCode = spirv,
     };
     GPU_CHECK(vkCreateShaderModule(ctx->device, &module_info, NULL, &module));
+    VkPipelineCreateFlags flags =
+        ctx->pipeline_statistics ? VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR : 0;
+    char dir[4096];
+    gpu_spirv_key key;
+    bool hit = false, cached = gpu_spirv_cache_dir(dir, sizeof dir) &&
+                               pipeline_key(ctx, spirv, word_count, &specialization, flags, &key);
+    if (cached && !open_pipeline_cache(ctx, &key, &cache, &hit, err))
+        goto fail;
     VkComputePipelineCreateInfo info = {
         .sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO,
         .stage =
@@ -170,16 +262,21 @@ bool gpu_pipeline_create(gpu_context *ctx, gpu_pipeline *pipe, const gpu_storage
                 .pSpecializationInfo = &specialization,
             },
         .layout = set->pipeline_layout,
-        .flags = ctx->pipeline_statistics ? VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR : 0,
+        .flags = flags,
     };
-    GPU_CHECK(vkCreateComputePipelines(ctx->device, VK_NULL_HANDLE, 1, &info, NULL,
-                                       &pipe->pipeline));
+    GPU_CHECK(vkCreateComputePipelines(ctx->device, cache, 1, &info, NULL, &pipe->pipeline));
     pipe->workgroup_size = workgroup_size;
+    if (cached && !hit)
+        store_pipeline_cache(ctx, &key, cache);
+    if (cache)
+        vkDestroyPipelineCache(ctx->device, cache, NULL);
     vkDestroyShaderModule(ctx->device, module, NULL);
     free(entries);
     free(values);
     return true;
 fail:
+    if (cache)
+        vkDestroyPipelineCache(ctx->device, cache, NULL);
     if (module)
         vkDestroyShaderModule(ctx->device, module, NULL);
     free(entries);

@@ -59,11 +59,25 @@ typedef struct gpu_pipeline {
 } gpu_pipeline;
 
 /* Creates a compute pipeline from SPIR-V. Constant id 0 is the workgroup size
- * (local_size_x_id = 0) and is set to workgroup_size; more constants come in spec. */
+ * (local_size_x_id = 0) and is set to workgroup_size; more constants come in spec. The driver's
+ * compiled form is kept in the kernel cache (spirv_cache.h, issue 20) under a key of the SPIR-V,
+ * the specialization and the driver (pipelineCacheUUID, vendor and device id, driver version),
+ * so a later start hands it back to the driver through a VkPipelineCache; an entry that is not
+ * whole or whose Vulkan header names another device is not used, and is written anew. */
 bool gpu_pipeline_create(gpu_context *ctx, gpu_pipeline *pipe, const gpu_storage_set *set,
                          const uint32_t *spirv, size_t word_count, uint32_t workgroup_size,
                          const gpu_spec_constant *spec, uint32_t spec_count, const char *name,
                          vkrt_error *err);
+
+/* Whether data (size bytes) starts with the header Vulkan specifies for pipeline cache data
+ * (VkPipelineCacheHeaderVersionOne) for the device of props: a header of at least 32 bytes,
+ * version one, props's vendor and device id and pipelineCacheUUID. */
+bool gpu_pipeline_cache_header_ok(const void *data, size_t size,
+                                  const VkPhysicalDeviceProperties *props);
+
+/* How many pipelines this process made with the driver's data from the cache, and how many it
+ * stored there, for --verbose. */
+void gpu_pipeline_cache_counts(uint32_t *loaded, uint32_t *stored);
 
 /* The driver's statistics of the pipeline's compiled kernel (registers and the like, as
  * `"name": value` pairs joined by ", ", cut to size), for a context created with

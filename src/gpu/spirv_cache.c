@@ -3,7 +3,9 @@
  *
  * A file is "<32 hex digits of the key>.spv": a header (the format's magic, the key again and the
  * word count), the SPIR-V words, then a 64-bit hash of those words, so that a truncated or
- * damaged file is a miss rather than a kernel the driver chokes on.
+ * damaged file is a miss rather than a kernel the driver chokes on. The driver's pipeline cache
+ * data (pipeline.c) is kept the same way in "<key>.vkpc": a header (its own magic, the key and the
+ * byte count), the bytes, their hash.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "spirv_cache.h"
@@ -32,8 +34,12 @@ static const uint64_t MAX_WORDS = 1u << 24;
 typedef struct file_header {
     uint64_t magic;
     uint64_t key[2];
-    uint64_t word_count;
+    uint64_t word_count; /* bytes, in a .vkpc file */
 } file_header;
+
+/* "VKRTPCD" and its version; a pipeline cache bigger than MAX_BYTES is not kept. */
+static const uint64_t BYTES_MAGIC = 0x3144435054524B56ull; /* "VKRTPCD1", little-endian */
+static const uint64_t MAX_BYTES = 1u << 26;
 
 static _Atomic uint32_t loaded_count, compiled_count;
 static atomic_bool disabled;
@@ -109,47 +115,75 @@ bool gpu_spirv_cache_dir(char *dir, size_t dir_size)
     return n > 0 && (size_t)n < dir_size;
 }
 
-/* The file of key in the cache directory; false when there is no directory. */
-static bool key_path(const gpu_spirv_key *key, char *path, size_t size)
+gpu_spirv_key gpu_spirv_key_of_bytes(const void *data, size_t size)
+{
+    gpu_spirv_key key = {
+        {fnv1a(data, size, 0xCBF29CE484222325ull), block_hash(data, size, 0x243F6A8885A308D3ull)}};
+    return key;
+}
+
+/* The file of key with extension ext (".spv") in the cache directory; false when there is no
+ * directory. */
+static bool key_path(const gpu_spirv_key *key, const char *ext, char *path, size_t size)
 {
     char dir[4096];
     if (!gpu_spirv_cache_dir(dir, sizeof dir))
         return false;
-    int n = snprintf(path, size, "%s/%016llx%016llx.spv", dir, (unsigned long long)key->h[0],
-                     (unsigned long long)key->h[1]);
+    int n = snprintf(path, size, "%s/%016llx%016llx%s", dir, (unsigned long long)key->h[0],
+                     (unsigned long long)key->h[1], ext);
     return n > 0 && (size_t)n < size;
 }
 
-bool gpu_spirv_cache_load(const gpu_spirv_key *key, uint32_t **spirv, size_t *word_count)
+/* Reads key's file with extension ext: its header (magic, the key, count units of unit bytes,
+ * 0 < count <= max) and data, whose hash must match. *data is malloc'd; false on any miss. */
+static bool load_entry(const gpu_spirv_key *key, const char *ext, uint64_t magic, size_t unit,
+                       uint64_t max, void **data, uint64_t *count)
 {
-    *spirv = NULL;
-    *word_count = 0;
+    *data = NULL;
+    *count = 0;
     char path[4200];
-    if (!key_path(key, path, sizeof path))
+    if (!key_path(key, ext, path, sizeof path))
         return false;
     FILE *f = fopen(path, "rb");
     if (!f)
         return false;
     file_header h;
-    uint32_t *words = NULL;
+    unsigned char *bytes = NULL;
     uint64_t stored_hash = 0;
-    bool ok = fread(&h, sizeof h, 1, f) == 1 && h.magic == FILE_MAGIC &&
-              h.key[0] == key->h[0] && h.key[1] == key->h[1] && h.word_count > 5 &&
-              h.word_count <= MAX_WORDS;
+    bool ok = fread(&h, sizeof h, 1, f) == 1 && h.magic == magic && h.key[0] == key->h[0] &&
+              h.key[1] == key->h[1] && h.word_count > 0 && h.word_count <= max;
+    size_t size = ok ? (size_t)h.word_count * unit : 0;
     if (ok) {
-        words = malloc((size_t)h.word_count * sizeof *words);
-        ok = words && fread(words, sizeof *words, (size_t)h.word_count, f) == h.word_count &&
+        bytes = malloc(size);
+        ok = bytes && fread(bytes, 1, size, f) == size &&
              fread(&stored_hash, sizeof stored_hash, 1, f) == 1 && fgetc(f) == EOF &&
-             words[0] == SPIRV_MAGIC &&
-             block_hash(words, (size_t)h.word_count * sizeof *words, 0) == stored_hash;
+             block_hash(bytes, size, 0) == stored_hash;
     }
     fclose(f);
     if (!ok) {
-        free(words);
+        free(bytes);
+        return false;
+    }
+    *data = bytes;
+    *count = h.word_count;
+    return true;
+}
+
+bool gpu_spirv_cache_load(const gpu_spirv_key *key, uint32_t **spirv, size_t *word_count)
+{
+    void *data;
+    uint64_t count;
+    *spirv = NULL;
+    *word_count = 0;
+    if (!load_entry(key, ".spv", FILE_MAGIC, sizeof **spirv, MAX_WORDS, &data, &count))
+        return false;
+    uint32_t *words = data;
+    if (count <= 5 || words[0] != SPIRV_MAGIC) {
+        free(data);
         return false;
     }
     *spirv = words;
-    *word_count = (size_t)h.word_count;
+    *word_count = (size_t)count;
     atomic_fetch_add(&loaded_count, 1u);
     return true;
 }
@@ -169,11 +203,14 @@ static bool make_dirs(char *path)
     return mkdir(path, 0700) == 0 || errno == EEXIST;
 }
 
-void gpu_spirv_cache_store(const gpu_spirv_key *key, const uint32_t *spirv, size_t word_count)
+/* Writes the header, size bytes of data and their hash to key's file with extension ext, whole
+ * under a temporary name and then renamed; best effort. */
+static void store_entry(const gpu_spirv_key *key, const char *ext, const file_header *h,
+                        const void *data, size_t size)
 {
     char dir[4096], path[4200], temp[4300];
-    if (!gpu_spirv_cache_dir(dir, sizeof dir) || !key_path(key, path, sizeof path) ||
-        word_count > MAX_WORDS || !make_dirs(dir))
+    if (!gpu_spirv_cache_dir(dir, sizeof dir) || !key_path(key, ext, path, sizeof path) ||
+        !make_dirs(dir))
         return;
     int n = snprintf(temp, sizeof temp, "%s.%ld.tmp", path, (long)getpid());
     if (n < 0 || (size_t)n >= sizeof temp)
@@ -181,14 +218,36 @@ void gpu_spirv_cache_store(const gpu_spirv_key *key, const uint32_t *spirv, size
     FILE *f = fopen(temp, "wb");
     if (!f)
         return;
-    file_header h = {FILE_MAGIC, {key->h[0], key->h[1]}, word_count};
-    uint64_t hash = block_hash(spirv, word_count * sizeof *spirv, 0);
-    bool ok = fwrite(&h, sizeof h, 1, f) == 1 &&
-              fwrite(spirv, sizeof *spirv, word_count, f) == word_count &&
+    uint64_t hash = block_hash(data, size, 0);
+    bool ok = fwrite(h, sizeof *h, 1, f) == 1 && fwrite(data, 1, size, f) == size &&
               fwrite(&hash, sizeof hash, 1, f) == 1;
     ok = fclose(f) == 0 && ok;
     if (!ok || rename(temp, path) != 0)
         remove(temp);
+}
+
+void gpu_spirv_cache_store(const gpu_spirv_key *key, const uint32_t *spirv, size_t word_count)
+{
+    if (word_count > MAX_WORDS)
+        return;
+    file_header h = {FILE_MAGIC, {key->h[0], key->h[1]}, word_count};
+    store_entry(key, ".spv", &h, spirv, word_count * sizeof *spirv);
+}
+
+void gpu_spirv_cache_store_bytes(const gpu_spirv_key *key, const void *data, size_t size)
+{
+    if (size == 0 || size > MAX_BYTES)
+        return;
+    file_header h = {BYTES_MAGIC, {key->h[0], key->h[1]}, size};
+    store_entry(key, ".vkpc", &h, data, size);
+}
+
+bool gpu_spirv_cache_load_bytes(const gpu_spirv_key *key, void **data, size_t *size)
+{
+    uint64_t count;
+    bool ok = load_entry(key, ".vkpc", BYTES_MAGIC, 1, MAX_BYTES, data, &count);
+    *size = ok ? (size_t)count : 0;
+    return ok;
 }
 
 void gpu_spirv_cache_counts(uint32_t *loaded, uint32_t *compiled)

@@ -204,6 +204,24 @@ const vkrt_accel_stats *vkrt_renderer_accel_stats(const vkrt_renderer *r)
     return &r->accel.stats;
 }
 
+vkrt_renderer_memory vkrt_renderer_memory_use(const vkrt_renderer *r)
+{
+    vkrt_renderer_memory m = {
+        .triangles = r->triangles.device_bytes + r->normals.device_bytes +
+                     r->texcoords.device_bytes + r->triangle_material.device_bytes,
+        .nodes =
+            r->accel.info.device_bytes + r->accel.nodes.device_bytes + r->accel.refs.device_bytes,
+        .textures = r->texture_infos.device_bytes + r->texels.device_bytes,
+        .rays = r->rays.device_bytes + r->rays_b.device_bytes + r->hits.device_bytes +
+                r->visibility.device_bytes + r->slots.device_bytes,
+        .image = r->image.device_bytes,
+        .other = r->materials.device_bytes + r->lights.device_bytes + r->counters.device_bytes +
+                 r->waves.device_bytes + r->emitters.device_bytes + r->environment.device_bytes,
+    };
+    m.total = m.triangles + m.nodes + m.textures + m.rays + m.image + m.other;
+    return m;
+}
+
 const vkrt_tuning *vkrt_renderer_tuning(const vkrt_renderer *r)
 {
     return &r->tuning;

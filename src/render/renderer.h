@@ -113,6 +113,20 @@ vkrt_integrator vkrt_renderer_integrator(const vkrt_renderer *r, const char **re
 /* The acceleration structure the renderer built, why, and its statistics. */
 const vkrt_accel_stats *vkrt_renderer_accel_stats(const vkrt_renderer *r);
 
+/* Device memory the renderer's buffers hold, in bytes, by what they are for (--verbose). */
+typedef struct vkrt_renderer_memory {
+    uint64_t triangles; /* vertices, normals, texture coordinates, triangle materials */
+    uint64_t nodes;     /* the acceleration structure */
+    uint64_t textures;  /* texels and their table */
+    uint64_t rays;      /* rays, hits, shadow-ray visibility, ray slots */
+    uint64_t image;     /* the accumulated image */
+    uint64_t other;     /* materials, lights, emitters, environment map, counters */
+    uint64_t total;
+} vkrt_renderer_memory;
+
+/* What vkrt_renderer_memory says the renderer holds now. */
+vkrt_renderer_memory vkrt_renderer_memory_use(const vkrt_renderer *r);
+
 /* The settings the renderer resolved for its device (tuning.h), and whether traversal reads
  * through texel views (the setting, where the views could hold the buffers). */
 const vkrt_tuning *vkrt_renderer_tuning(const vkrt_renderer *r);

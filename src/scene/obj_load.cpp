@@ -5,19 +5,26 @@
  * is lenient in ways a renderer cannot afford and it keeps no line numbers, so this file wraps it:
  *
  *  1. The file is read once into memory (or the caller's text is copied).
- *  2. The pre-scan of obj_scan.h refuses UTF-16 and NUL bytes (a UTF-8 BOM is skipped), walks the
- *     lines exactly as tinyobjloader does, checks the numbers of v/vt/vn records with a strict
- *     grammar (rc10 reads "nan" or "abc" as 0 without a word) and records the line of every v, vn,
- *     vt and f record and the vertex count of every face. A vn that is not three finite numbers,
- *     or has zero length, is treated as absent: the triangles using it get their geometric normal
- *     and a warning is recorded. Records vkrt ignores and rc10 parses unsafely ("vw", "t") are
- *     blanked in place (same offsets, same line numbers) so tinyobjloader never reads them.
- *  3. tinyobjloader parses the same bytes (through an istream over the buffer) with triangulation
- *     off. Its num_face_vertices is an unsigned char, so faces of more than 255 vertices come back
- *     with a wrapped count; the pre-scan's counts are used instead, and the two are cross-checked.
+ *  2. The geometry is read in parallel (obj_geometry.h): the text is cut into chunks at line ends,
+ *     and on every core the pre-scan of obj_scan.h walks a chunk's lines exactly as tinyobjloader
+ *     does, checks the numbers of v/vt/vn records with a strict grammar (rc10 reads "nan" or "abc"
+ *     as 0 without a word), records the line of every v, vn, vt and f record and reads the corners
+ *     of every face as rc10's parseTriple does (atoi), while tinyobjloader's own number parser
+ *     (LoadObjWithCallback) reads the chunk's v, vt and vn numbers, so each float is the one its
+ *     LoadObj gives. Line numbers, record counts and relative indices are then put together over
+ *     the chunks. UTF-16 and NUL bytes are refused first (a UTF-8 BOM is skipped). A vn that is
+ *     not three finite numbers, or has zero length, is treated as absent: the triangles using it
+ *     get their geometric normal and a warning is recorded. Records vkrt ignores and rc10 parses
+ *     unsafely ("vw", "t") are blanked in place so tinyobjloader never reads them.
+ *  3. tinyobjloader's LoadObj reads the remaining lines (usemtl, mtllib, g, o, s, l, p, faces it
+ *     refuses or drops) in file order, with a one-triangle face after each usemtl, whose material
+ *     is the one that usemtl chose: the materials, the material of each face, the errors for
+ *     an index of 0 and the warnings are its own, and their line numbers are put back to the
+ *     file's. Faces of more than 255 corners keep them all (rc10 counts in an unsigned char).
  *  4. Every index is validated against the attribute sizes, and polygons become fans
- *     (v0, vi, vi+1). Out-of-range indices are "path:LINE: face index N out of range (...)", except
- *     that vt/vn references in a file with no vt/vn records at all are dropped with a warning.
+ *     (v0, vi, vi+1), written on every core. Out-of-range indices are "path:LINE: face index N
+ *     out of range (...)", except that vt/vn references in a file with no vt/vn records at all
+ *     are dropped with a warning.
  *
  * Materials come through our own tinyobj::MaterialReader so we know which .mtl each came from
  * (map_Kd and map_d are resolved against that .mtl's folder, falling back to the OBJ's folder when
@@ -56,20 +63,20 @@ extern "C" {
 #include "obj_load.h"
 #include "text_file.h"
 }
+#include "obj_geometry.h"
 #include "obj_scan.h"
 #include "obj_warnings.h"
 
 namespace {
 
-using obj_scan::blank_ignored_records;
 using obj_scan::check_encoding;
+using obj_scan::Corner;
 using obj_scan::FaceLine;
 using obj_scan::has_keyword;
 using obj_scan::is_blank;
 using obj_scan::LineWalker;
 using obj_scan::next_token;
 using obj_scan::ObjScan;
-using obj_scan::prescan;
 using obj_scan::Span;
 using obj_warnings::MtlLibraries;
 using obj_warnings::number_after;
@@ -349,15 +356,18 @@ void convert_materials(const std::vector<tinyobj::material_t> &materials, const 
 
 /* ---------------------------------------------------------------------------- validation */
 
+/* The file as read: its geometry (obj_geometry.h, every chunk's records and the numbers of the
+ * whole file) and what tinyobjloader made of the other lines: the materials, and the material of
+ * each usemtl record (usemtl_material, in file order). */
 struct Parsed {
-    tinyobj::attrib_t attrib;
-    std::vector<tinyobj::shape_t> shapes;
+    obj_geometry::Geometry geometry;
     std::vector<tinyobj::material_t> materials;
+    std::vector<int> usemtl_material;
 };
 
-/* One polygon after validation: its corners in tinyobjloader's index array. */
+/* One polygon after validation: its corners, 0-based (-1: not given). */
 struct Face {
-    const tinyobj::index_t *corners;
+    const Corner *corners;
     uint32_t count;
     int32_t material;
 };
@@ -413,16 +423,15 @@ bool index_ok(int index, size_t count, bool optional)
     return index >= 0 && static_cast<size_t>(index) < count;
 }
 
-bool validate_face(const char *path, const std::string &text, const Parsed &p, const FaceLine &face, const tinyobj::index_t *corners, vkrt_error *err)
+bool validate_face(const char *path, const std::string &text, const Parsed &p, const FaceLine &face, const Corner *corners, vkrt_error *err)
 {
-    size_t nv = p.attrib.vertices.size() / 3, nt = p.attrib.texcoords.size() / 2,
-           nn = p.attrib.normals.size() / 3;
+    size_t nv = p.geometry.vertices.size() / 3, nt = p.geometry.texcoords.size() / 2, nn = p.geometry.normals.size() / 3;
     for (uint32_t c = 0; c < face.corners; c++) {
-        if (!index_ok(corners[c].vertex_index, nv, false))
+        if (!index_ok(corners[c].v, nv, false))
             return fail_index(path, text, face, c, VERTEX_INDEX, nv, face.v_before, err);
-        if (!index_ok(corners[c].texcoord_index, nt, true))
+        if (!index_ok(corners[c].vt, nt, true))
             return fail_index(path, text, face, c, TEXCOORD_INDEX, nt, face.vt_before, err);
-        if (!index_ok(corners[c].normal_index, nn, true))
+        if (!index_ok(corners[c].vn, nn, true))
             return fail_index(path, text, face, c, NORMAL_INDEX, nn, face.vn_before, err);
     }
     return true;
@@ -512,34 +521,21 @@ bool mismatch(const char *path, const char *what, vkrt_error *err)
     return vkrt_error_set(err, "%s: cannot load: tinyobjloader and the line scan disagree on %s", path, what);
 }
 
-/* Pairs tinyobjloader's faces (all shapes, in file order) with the scanned f lines and validates
- * every index. The scanned corner count is authoritative: rc10 stores it in an unsigned char. */
-bool collect_faces(const char *path, const std::string &text, const Parsed &p, const ObjScan &scan,
-                   std::vector<Face> *faces, vkrt_error *err)
+/* Validates every index of every face, in file order, and gives each face the material of the
+ * last usemtl before it. */
+bool collect_faces(const char *path, const std::string &text, const Parsed &p, std::vector<Face> *faces,
+                   vkrt_error *err)
 {
-    size_t k = 0;
-    for (const tinyobj::shape_t &shape : p.shapes) {
-        const tinyobj::mesh_t &m = shape.mesh;
-        size_t offset = 0;
-        for (size_t f = 0; f < m.num_face_vertices.size(); f++, k++) {
-            if (k >= scan.faces.size() || (scan.faces[k].corners & 0xFFu) != m.num_face_vertices[f])
-                return mismatch(path, "the faces", err);
-            const FaceLine &face = scan.faces[k];
-            if (face.corners > m.indices.size() - offset)
-                return mismatch(path, "the face sizes", err);
-            if (!validate_face(path, text, p, face, &m.indices[offset], err))
+    for (const obj_geometry::Chunk &chunk : p.geometry.chunks)
+        for (const FaceLine &face : chunk.scan.faces) {
+            const Corner *corners = &chunk.scan.corners[face.first_corner];
+            if (!validate_face(path, text, p, face, corners, err))
                 return false;
-            int mat = f < m.material_ids.size() ? m.material_ids[f] : -1;
+            int mat = face.usemtl_before ? p.usemtl_material[face.usemtl_before - 1] : -1;
             if (mat < 0 || static_cast<size_t>(mat) >= p.materials.size())
                 mat = -1;
-            faces->push_back(Face{&m.indices[offset], face.corners, mat});
-            offset += face.corners;
+            faces->push_back(Face{corners, face.corners, mat});
         }
-        if (offset != m.indices.size())
-            return mismatch(path, "the face sizes", err);
-    }
-    if (k != scan.faces.size())
-        return mismatch(path, "the number of faces", err);
     return true;
 }
 
@@ -548,31 +544,32 @@ bool collect_faces(const char *path, const std::string &text, const Parsed &p, c
  * with a warning rather than refusing the file. Where records exist, a bad index stays an error. */
 void drop_references_to_absent_attributes(const char *path, Parsed *p, Warnings *warnings)
 {
-    bool no_normals = p->attrib.normals.empty(), no_texcoords = p->attrib.texcoords.empty();
+    bool no_normals = p->geometry.normals.empty(), no_texcoords = p->geometry.texcoords.empty();
     size_t dropped_normals = 0, dropped_texcoords = 0;
-    for (tinyobj::shape_t &shape : p->shapes)
-        for (tinyobj::index_t &corner : shape.mesh.indices) {
-            if (no_normals && corner.normal_index != -1)
-                corner.normal_index = -1, dropped_normals++;
-            if (no_texcoords && corner.texcoord_index != -1)
-                corner.texcoord_index = -1, dropped_texcoords++;
+    if (!no_normals && !no_texcoords)
+        return;
+    for (obj_geometry::Chunk &chunk : p->geometry.chunks)
+        for (Corner &corner : chunk.scan.corners) {
+            if (no_normals && corner.vn != -1)
+                corner.vn = -1, dropped_normals++;
+            if (no_texcoords && corner.vt != -1)
+                corner.vt = -1, dropped_texcoords++;
         }
     obj_warnings::warn_dropped_references(path, dropped_normals, dropped_texcoords, warnings);
 }
 
 /* tinyobjloader's own number parser may overflow a float even where ours did not (it is not
  * correctly rounded), so the values it produced are checked too. */
-bool check_parsed_values(const char *path, const Parsed &p, const ObjScan &scan, vkrt_error *err)
+bool check_parsed_values(const char *path, const Parsed &p, vkrt_error *err)
 {
-    if (p.attrib.vertices.size() / 3 != scan.v_line.size() || p.attrib.texcoords.size() / 2 != scan.vt_line.size() ||
-        p.attrib.normals.size() / 3 != scan.vn_line.size())
-        return mismatch(path, "the number of v/vt/vn records", err);
-    for (size_t i = 0; i < p.attrib.vertices.size(); i++)
-        if (!std::isfinite(p.attrib.vertices[i]))
-            return vkrt_error_set(err, "%s:%u: vertex coordinate is not finite", path, scan.v_line[i / 3]);
-    for (size_t i = 0; i < p.attrib.texcoords.size(); i++)
-        if (!std::isfinite(p.attrib.texcoords[i]))
-            return vkrt_error_set(err, "%s:%u: texture coordinate is not finite", path, scan.vt_line[i / 2]);
+    for (size_t i = 0; i < p.geometry.vertices.size(); i++)
+        if (!std::isfinite(p.geometry.vertices[i]))
+            return vkrt_error_set(err, "%s:%u: vertex coordinate is not finite", path,
+                                  obj_geometry::record_line(p.geometry, 0, i / 3));
+    for (size_t i = 0; i < p.geometry.texcoords.size(); i++)
+        if (!std::isfinite(p.geometry.texcoords[i]))
+            return vkrt_error_set(err, "%s:%u: texture coordinate is not finite", path,
+                                  obj_geometry::record_line(p.geometry, 1, i / 2));
     return true;
 }
 
@@ -584,7 +581,7 @@ struct Vec3 {
 
 Vec3 vertex_at(const Parsed &p, int i)
 {
-    const float *v = &p.attrib.vertices[3 * static_cast<size_t>(i)];
+    const float *v = &p.geometry.vertices[3 * static_cast<size_t>(i)];
     return Vec3{v[0], v[1], v[2]};
 }
 
@@ -605,12 +602,12 @@ Vec3 geometric_normal(const Vec3 &a, const Vec3 &b, const Vec3 &c)
 }
 
 /* The file's normal for a corner, if it has a usable one. */
-bool file_normal(const Parsed &p, const ObjScan &scan, const tinyobj::index_t &corner, Vec3 *out)
+bool file_normal(const Parsed &p, const Corner &corner, Vec3 *out)
 {
-    int i = corner.normal_index;
-    if (i < 0 || !scan.vn_usable[static_cast<size_t>(i)])
+    int i = corner.vn;
+    if (i < 0 || !p.geometry.summary.vn_usable[static_cast<size_t>(i)])
         return false;
-    const float *n = &p.attrib.normals[3 * static_cast<size_t>(i)];
+    const float *n = &p.geometry.normals[3 * static_cast<size_t>(i)];
     Vec3 v{n[0], n[1], n[2]};
     double len2 = v.x * v.x + v.y * v.y + v.z * v.z;
     if (!(len2 > 0.0) || !std::isfinite(len2))
@@ -637,8 +634,8 @@ OutputPlan plan_output(const std::vector<Face> &faces)
     for (const Face &f : faces) {
         plan.triangles += f.count - 2;
         for (uint32_t c = 0; c < f.count; c++) {
-            plan.any_normals |= f.corners[c].normal_index >= 0;
-            plan.any_texcoords |= f.corners[c].texcoord_index >= 0;
+            plan.any_normals |= f.corners[c].vn >= 0;
+            plan.any_texcoords |= f.corners[c].vt >= 0;
         }
     }
     return plan;
@@ -665,27 +662,25 @@ void allocate_output(const OutputPlan &plan, vkrt_mesh *mesh)
 
 /* Writes triangle t from three corners; returns whether it needed the geometric normal although
  * the file gave normals to some of its corners. */
-bool write_triangle(const Parsed &p, const ObjScan &scan, const tinyobj::index_t *tri[3], int32_t material,
-                    size_t t, vkrt_mesh *mesh)
+bool write_triangle(const Parsed &p, const Corner *tri[3], int32_t material, size_t t, vkrt_mesh *mesh)
 {
     Vec3 pos[3];
     for (int k = 0; k < 3; k++) {
-        pos[k] = vertex_at(p, tri[k]->vertex_index);
+        pos[k] = vertex_at(p, tri[k]->v);
         store3(&mesh->positions[9 * t + 3 * k], pos[k]);
     }
     mesh->material[t] = material;
     if (mesh->texcoords)
         for (int k = 0; k < 3; k++) {
-            int i = tri[k]->texcoord_index;
+            int i = tri[k]->vt;
             for (int j = 0; j < 2; j++)
-                mesh->texcoords[6 * t + 2 * k + j] = i >= 0 ? p.attrib.texcoords[2 * static_cast<size_t>(i) + j] : 0.0f;
+                mesh->texcoords[6 * t + 2 * k + j] = i >= 0 ? p.geometry.texcoords[2 * static_cast<size_t>(i) + j] : 0.0f;
         }
     if (!mesh->normals)
         return false;
     Vec3 n[3];
-    bool all = file_normal(p, scan, *tri[0], &n[0]) && file_normal(p, scan, *tri[1], &n[1]) &&
-               file_normal(p, scan, *tri[2], &n[2]);
-    bool some = tri[0]->normal_index >= 0 || tri[1]->normal_index >= 0 || tri[2]->normal_index >= 0;
+    bool all = file_normal(p, *tri[0], &n[0]) && file_normal(p, *tri[1], &n[1]) && file_normal(p, *tri[2], &n[2]);
+    bool some = tri[0]->vn >= 0 || tri[1]->vn >= 0 || tri[2]->vn >= 0;
     if (!all)
         n[0] = n[1] = n[2] = geometric_normal(pos[0], pos[1], pos[2]);
     for (int k = 0; k < 3; k++)
@@ -707,16 +702,43 @@ void compute_bounds(vkrt_mesh *mesh)
         }
 }
 
-/* Fans every face (v0, vi, vi+1) into the output arrays; returns the triangles given the
- * geometric normal in place of an unusable file normal. */
-size_t write_triangles(const Parsed &p, const ObjScan &scan, const std::vector<Face> &faces, vkrt_mesh *mesh)
+/* Faces written by one task of write_triangles. */
+constexpr size_t FACES_PER_TASK = size_t(1) << 16;
+
+struct WritePass {
+    const Parsed *p;
+    const std::vector<Face> *faces;
+    std::vector<size_t> first_triangle, replaced; /* per task */
+    vkrt_mesh *mesh;
+};
+
+void write_task(void *context, size_t task)
 {
-    size_t t = 0, replaced = 0;
-    for (const Face &f : faces)
+    WritePass *w = static_cast<WritePass *>(context);
+    size_t t = w->first_triangle[task], end = std::min(w->faces->size(), (task + 1) * FACES_PER_TASK);
+    for (size_t k = task * FACES_PER_TASK; k < end; k++) {
+        const Face &f = (*w->faces)[k];
         for (uint32_t i = 1; i + 1 < f.count; i++, t++) {
-            const tinyobj::index_t *tri[3] = {&f.corners[0], &f.corners[i], &f.corners[i + 1]};
-            replaced += write_triangle(p, scan, tri, f.material, t, mesh);
+            const Corner *tri[3] = {&f.corners[0], &f.corners[i], &f.corners[i + 1]};
+            w->replaced[task] += write_triangle(*w->p, tri, f.material, t, w->mesh);
         }
+    }
+}
+
+/* Fans every face (v0, vi, vi+1) into the output arrays, on every core; returns the triangles
+ * given the geometric normal in place of an unusable file normal. */
+size_t write_triangles(const Parsed &p, const std::vector<Face> &faces, unsigned threads, vkrt_mesh *mesh)
+{
+    size_t tasks = (faces.size() + FACES_PER_TASK - 1) / FACES_PER_TASK, triangles = 0, replaced = 0;
+    WritePass w{&p, &faces, std::vector<size_t>(tasks), std::vector<size_t>(tasks), mesh};
+    for (size_t k = 0; k < faces.size(); k++) {
+        if (k % FACES_PER_TASK == 0)
+            w.first_triangle[k / FACES_PER_TASK] = triangles;
+        triangles += faces[k].count - 2;
+    }
+    obj_geometry::run_parallel(tasks, threads, write_task, &w);
+    for (size_t r : w.replaced)
+        replaced += r;
     return replaced;
 }
 
@@ -740,68 +762,116 @@ bool fail_tinyobj(const char *path, const std::string &text, size_t start, const
     return vkrt_error_set(err, "%s: %s", path, first.c_str());
 }
 
-bool parse_with_tinyobj(const char *path, const std::string &text, size_t start, Parsed *p, MtlReader *reader,
-                        std::string *warnings, vkrt_error *err)
+/* tinyobjloader writes "line N" (or "line: N") in its messages about the text it read; N becomes
+ * line_of[N - 1], the file's line. */
+void renumber_lines(std::string *message, const std::vector<uint32_t> &line_of)
 {
-    MemoryBuffer buffer(text.data() + start, text.size() - start);
+    for (const char *marker : {"line ", "line: "}) {
+        size_t at = 0, n = strlen(marker);
+        while ((at = message->find(marker, at)) != std::string::npos) {
+            at += n;
+            size_t digits = 0;
+            while (at + digits < message->size() && isdigit(static_cast<unsigned char>((*message)[at + digits])))
+                digits++;
+            unsigned long number = digits ? strtoul(message->c_str() + at, nullptr, 10) : 0;
+            if (number >= 1 && number <= line_of.size()) {
+                std::string line = std::to_string(line_of[number - 1]);
+                message->replace(at, digits, line);
+                digits = line.size();
+            }
+            at += digits;
+        }
+    }
+}
+
+/* tinyobjloader's LoadObj on the lines the geometry parse leaves to it (obj_geometry.h), in file
+ * order, with a face "f 1 1 1" after each usemtl: the material LoadObj gives that face is the one
+ * the usemtl chose (rc10 looks the name up among the materials of the mtllib records read so far),
+ * so p->usemtl_material holds one per usemtl record. Its errors (an f, l or p record it refuses)
+ * and warnings come with the file's line numbers. */
+bool read_other_lines(const char *path, const std::string &text, size_t start, Parsed *p,
+                      MtlReader *reader, std::string *warnings, vkrt_error *err)
+{
+    std::string lines;
+    std::vector<uint32_t> line_of;
+    for (const obj_scan::OtherLine &o : p->geometry.summary.other) {
+        lines.append(o.text.b, o.text.e);
+        lines += '\n';
+        line_of.push_back(o.line);
+        if (o.usemtl) {
+            lines += "f 1 1 1\n";
+            line_of.push_back(o.line);
+        }
+    }
+    MemoryBuffer buffer(lines);
     std::istream stream(&buffer);
+    tinyobj::attrib_t attrib;
+    std::vector<tinyobj::shape_t> shapes;
     std::string tiny_err;
-    bool ok = tinyobj::LoadObj(&p->attrib, &p->shapes, &p->materials, warnings, &tiny_err, &stream, reader,
+    bool ok = tinyobj::LoadObj(&attrib, &shapes, &p->materials, warnings, &tiny_err, &stream, reader,
                                /*triangulate=*/false, /*default_vcols_fallback=*/false);
+    renumber_lines(warnings, line_of);
+    renumber_lines(&tiny_err, line_of);
     if (!ok || !tiny_err.empty())
         return fail_tinyobj(path, text, start, tiny_err, err);
+    for (const tinyobj::shape_t &shape : shapes)
+        p->usemtl_material.insert(p->usemtl_material.end(), shape.mesh.material_ids.begin(),
+                                  shape.mesh.material_ids.end());
+    if (p->usemtl_material.size() != p->geometry.summary.usemtl.size())
+        return mismatch(path, "the usemtl records", err);
     return true;
 }
 
 /* Why a file has no triangles, from what the scan saw. */
-const char *why_no_triangles(const ObjScan &scan)
+const char *why_no_triangles(const obj_geometry::Geometry &g)
 {
-    if (!scan.short_faces.empty())
+    if (!g.summary.short_faces.empty())
         return " (every f record has fewer than 3 corners)";
-    if (scan.v_line.empty())
+    if (g.v_count == 0)
         return " (no v or f records)";
     return " (no f records)";
 }
 
 /* The common path of vkrt_obj_load and vkrt_obj_parse: *text_in is the whole OBJ (the caller's own
- * copy: ignored records are blanked in it), path names it in messages, and mtl_folder is where
- * mtllib files are looked up (nullptr: .mtl files are not read). */
-bool parse(const char *path, std::string *text_in, const std::string *mtl_folder, vkrt_mesh *mesh,
-           vkrt_error *err)
+ * copy: ignored records are blanked in it), path names it in messages, mtl_folder is where
+ * mtllib files are looked up (nullptr: .mtl files are not read), and split says how the geometry
+ * is read in parallel. */
+bool parse(const char *path, std::string *text_in, const std::string *mtl_folder, obj_geometry::Split split,
+           vkrt_mesh *mesh, vkrt_error *err)
 {
     const std::string &text = *text_in;
     size_t start = 0;
-    ObjScan scan;
-    if (!check_encoding(path, text, &start, err) || !prescan(path, text, start, &scan, err))
+    Parsed p;
+    if (!check_encoding(path, text, &start, err) ||
+        !obj_geometry::parse_geometry(path, &(*text_in)[0], start, text.size(), split, &p.geometry, err))
         return false;
-    blank_ignored_records(text_in, start);
+    const ObjScan &scan = p.geometry.summary;
 
     std::string obj_folder = mtl_folder ? *mtl_folder : std::string(), tiny_warnings;
     Warnings warnings;
     MtlReader reader(obj_folder, &warnings);
-    Parsed p;
     std::vector<Face> faces;
     /* Without a reader tinyobjloader skips mtllib lines, so no material (and no file) is touched. */
-    if (!parse_with_tinyobj(path, text, start, &p, mtl_folder ? &reader : nullptr, &tiny_warnings, err) ||
-        !check_parsed_values(path, p, scan, err))
+    if (!read_other_lines(path, text, start, &p, mtl_folder ? &reader : nullptr, &tiny_warnings, err) ||
+        !check_parsed_values(path, p, err))
         return false;
     obj_warnings::warn_missing_libraries(path, scan, reader.libraries, &warnings);
     obj_warnings::translate_obj_warnings(path, tiny_warnings, scan,
                                          mtl_folder ? &reader.libraries : nullptr, &warnings);
     obj_warnings::warn_short_faces(path, scan, &warnings);
     drop_references_to_absent_attributes(path, &p, &warnings);
-    if (!collect_faces(path, text, p, scan, &faces, err))
+    if (!collect_faces(path, text, p, &faces, err))
         return false;
 
     OutputPlan plan = plan_output(faces);
     if (plan.triangles == 0)
-        return vkrt_error_set(err, "%s: no triangles%s", path, why_no_triangles(scan));
+        return vkrt_error_set(err, "%s: no triangles%s", path, why_no_triangles(p.geometry));
     if (plan.triangles > UINT32_MAX / 9) /* 9 floats per triangle must stay addressable by uint32 */
         return vkrt_error_set(err, "%s: too many triangles (%zu)", path, plan.triangles);
 
     mesh->triangle_count = static_cast<uint32_t>(plan.triangles);
     allocate_output(plan, mesh);
-    size_t replaced = write_triangles(p, scan, faces, mesh);
+    size_t replaced = write_triangles(p, faces, split.threads, mesh);
     compute_bounds(mesh);
     convert_materials(p.materials, reader, obj_folder, mesh);
     obj_warnings::warn_unusable_normals(path, replaced, &warnings);
@@ -815,7 +885,7 @@ bool load(const char *path, vkrt_mesh *mesh, vkrt_error *err)
     if (!read_whole_file(path, "Wavefront OBJ file", &text, err))
         return false;
     std::string folder = folder_of(path);
-    return parse(path, &text, &folder, mesh, err);
+    return parse(path, &text, &folder, obj_geometry::Split{0, 0}, mesh, err);
 }
 
 /* Runs body (a load or parse into mesh) with every C++ exception turned into a message about name,
@@ -853,6 +923,12 @@ extern "C" bool vkrt_obj_load(const char *path, vkrt_mesh *mesh, vkrt_error *err
 extern "C" bool vkrt_obj_parse(const char *text, size_t size, const char *name, const char *base_dir,
                                vkrt_mesh *mesh, vkrt_error *err)
 {
+    return vkrt_obj_parse_split(text, size, name, base_dir, 0, 0, mesh, err);
+}
+
+extern "C" bool vkrt_obj_parse_split(const char *text, size_t size, const char *name, const char *base_dir,
+                                     size_t chunk_bytes, unsigned threads, vkrt_mesh *mesh, vkrt_error *err)
+{
     if (!name)
         name = "(obj)";
     if (!mesh)
@@ -861,10 +937,11 @@ extern "C" bool vkrt_obj_parse(const char *text, size_t size, const char *name, 
     if (!text && size > 0)
         return vkrt_error_set(err, "%s: no OBJ text given", name);
     return guarded(name, mesh, err, [&] {
-        /* One copy: the scanner and tinyobjloader's stream both work on a std::string. */
+        /* One copy: ignored records are blanked in it. */
         std::string copy(size ? text : "", size);
         std::string folder = base_dir ? base_dir : "";
-        return parse(name, &copy, base_dir ? &folder : nullptr, mesh, err);
+        return parse(name, &copy, base_dir ? &folder : nullptr, obj_geometry::Split{chunk_bytes, threads},
+                     mesh, err);
     });
 }
 

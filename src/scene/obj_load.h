@@ -1,8 +1,9 @@
 /*
  * obj_load.h: Wavefront OBJ (and its .mtl) loading, through tinyobjloader.
  *
- * The loader (obj_load.cpp, with its pre-scan in obj_scan.cpp: the project's C++ files) wraps
- * tinyobjloader behind this C interface.
+ * The loader (obj_load.cpp, with its pre-scan in obj_scan.cpp and the parallel read of the
+ * geometry in obj_geometry.cpp: the project's C++ files) wraps tinyobjloader behind this C
+ * interface; the geometry is read on every core.
  * The result is de-indexed, one record per triangle corner, which is what the kernels read:
  * polygons become triangle fans, negative indices are resolved, faces without normals get their
  * geometric normal, and non-finite coordinates or out-of-range indices are errors naming the
@@ -75,6 +76,12 @@ bool vkrt_obj_load(const char *path, vkrt_mesh *mesh, vkrt_error *err);
  * gets the default material, so the parse touches no file (what a fuzzer wants). */
 bool vkrt_obj_parse(const char *text, size_t size, const char *name, const char *base_dir,
                     vkrt_mesh *mesh, vkrt_error *err);
+
+/* vkrt_obj_parse with the geometry read in chunks of about chunk_bytes (each ends at a line end)
+ * on up to `threads` threads; 0 for either is the default vkrt_obj_load uses (a few MiB, one
+ * thread per core). The result does not depend on them: tests cut the text at every line. */
+bool vkrt_obj_parse_split(const char *text, size_t size, const char *name, const char *base_dir,
+                          size_t chunk_bytes, unsigned threads, vkrt_mesh *mesh, vkrt_error *err);
 
 /* Writes the mesh's warnings to out, each line after prefix (e.g. "vkrt: "): the folded lines of
  * warnings, or with verbose every one (warnings_all). Writes nothing when there are none. */

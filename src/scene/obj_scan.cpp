@@ -27,6 +27,7 @@
 #include <cfloat>
 #include <cmath>
 #include <cstdlib>
+#include <climits>
 #include <cstring>
 
 namespace obj_scan {
@@ -303,8 +304,89 @@ bool scan_exponents(const char *path, uint32_t line, Span rest, vkrt_error *err)
     return true;
 }
 
+/* Records vkrt has no use for, which rc10 parses unsafely: "vw" skin weights (a joint id such as
+ * 8.9e9 is cast from float to int, undefined behaviour) and "t" tags (their numbers go through
+ * the same exponent parser as above, unchecked). Blanking them in place keeps every offset and line
+ * number while tinyobjloader sees only empty lines. */
+bool is_ignored_record(const Span &line) { return has_keyword(line, "vw") || has_keyword(line, "t"); }
+
+/* What glibc's atoi reads from [p, e): strtol's value (white space skipped, a sign, digits,
+ * saturated at LONG_MAX or LONG_MIN) cast to int, so a face reads exactly as rc10 reads it. */
+int atoi_bounded(const char *p, const char *e)
+{
+    while (p < e && (*p == ' ' || *p == '\t' || *p == '\v' || *p == '\f'))
+        p++;
+    bool negative = p < e && *p == '-';
+    if (p < e && (*p == '+' || *p == '-'))
+        p++;
+    unsigned long limit = negative ? static_cast<unsigned long>(LONG_MAX) + 1 : LONG_MAX, value = 0;
+    for (; p < e && *p >= '0' && *p <= '9'; p++) {
+        unsigned long digit = static_cast<unsigned long>(*p - '0');
+        value = value > (limit - digit) / 10 ? limit : value * 10 + digit;
+    }
+    long result = negative ? (value == limit ? LONG_MIN : -static_cast<long>(value)) : static_cast<long>(value);
+    return static_cast<int>(result);
+}
+
+/* strcspn(p, "/ \t\r") within the line. */
+const char *field_end(const char *p, const char *e)
+{
+    while (p < e && *p != '/' && *p != ' ' && *p != '\t' && *p != '\r')
+        p++;
+    return p;
+}
+
+/* rc10's parseTriple on the corner at *p: false where it refuses the face (atoi reads 0 for an
+ * index that is there). Absent texture coordinates and normals are 0. */
+bool read_corner(const char **p, const char *e, Corner *c)
+{
+    *c = Corner{atoi_bounded(*p, e), 0, 0};
+    if (c->v == 0)
+        return false;
+    *p = field_end(*p, e);
+    if (*p >= e || **p != '/')
+        return true;
+    (*p)++;
+    if (*p < e && **p == '/') { /* i//k */
+        (*p)++;
+        c->vn = atoi_bounded(*p, e);
+        *p = field_end(*p, e);
+        return c->vn != 0;
+    }
+    c->vt = atoi_bounded(*p, e); /* i/j or i/j/k */
+    *p = field_end(*p, e);
+    if (c->vt == 0)
+        return false;
+    if (*p >= e || **p != '/')
+        return true;
+    (*p)++;
+    c->vn = atoi_bounded(*p, e);
+    *p = field_end(*p, e);
+    return c->vn != 0;
+}
+
+/* Reads the corners of an f record (rest: the line after "f ") as rc10's LoadObj does and
+ * appends them to *out; returns how many it read, or 0 if rc10 refuses the face. */
+uint32_t read_corners(Span rest, std::vector<Corner> *out)
+{
+    const char *p = rest.b;
+    while (p < rest.e && is_blank(*p))
+        p++;
+    uint32_t n = 0;
+    while (p < rest.e) {
+        Corner c;
+        if (!read_corner(&p, rest.e, &c))
+            return 0;
+        out->push_back(c);
+        n++;
+        while (p < rest.e && (*p == ' ' || *p == '\t' || *p == '\r'))
+            p++;
+    }
+    return n;
+}
+
 /* Classifies one line (leading blanks already skipped) and records what it is. */
-bool scan_line(const char *path, const std::string &text, uint32_t number, Span line, ObjScan *scan,
+bool scan_line(const char *path, const char *text, uint32_t number, Span line, ObjScan *scan,
                vkrt_error *err)
 {
     if (has_keyword(line, "v")) {
@@ -334,32 +416,46 @@ bool scan_line(const char *path, const std::string &text, uint32_t number, Span 
     }
     if (has_keyword(line, "f")) {
         uint32_t corners = count_tokens(Span{line.b + 2, line.e});
-        if (corners >= 3)
-            scan->faces.push_back(FaceLine{static_cast<size_t>(line.b - text.data()), number, corners,
+        size_t first = scan->corners.size();
+        if (corners >= 3 && read_corners(Span{line.b + 2, line.e}, &scan->corners) == corners) {
+            scan->faces.push_back(FaceLine{static_cast<size_t>(line.b - text), number, corners,
                                            static_cast<uint32_t>(scan->v_line.size()),
                                            static_cast<uint32_t>(scan->vt_line.size()),
-                                           static_cast<uint32_t>(scan->vn_line.size())});
-        else /* tinyobjloader drops shorter faces; the loader warns with these lines */
+                                           static_cast<uint32_t>(scan->vn_line.size()),
+                                           static_cast<uint32_t>(scan->usemtl.size()), first});
+            return true;
+        }
+        /* tinyobjloader refuses the face (an index atoi reads as 0) or drops it (fewer than 3
+         * corners, which the loader warns about with these lines): it reads the line itself. */
+        scan->corners.resize(first);
+        if (corners < 3)
             scan->short_faces.push_back(number);
+        scan->other.push_back(OtherLine{line, number, false});
         return true;
     }
+    if (line.len() == 0 || line.b[0] == '#' || is_ignored_record(line))
+        return true;
     /* rc10 matches "usemtl" without a blank after it, and reads the first word that follows. */
     if (line.len() >= 6 && memcmp(line.b, "usemtl", 6) == 0) {
         Span rest{line.b + 6, line.e}, name{rest.e, rest.e};
         next_token(&rest, &name);
         scan->usemtl.push_back(NameLine{number, std::string(name.b, name.e)});
+        scan->other.push_back(OtherLine{line, number, true});
         return true;
     }
     if (has_keyword(line, "mtllib"))
         scan->mtllib.push_back(NameLine{number, std::string(line.b + 7, line.e)});
+    scan->other.push_back(OtherLine{line, number, false});
     return true;
 }
 
 } // namespace
 
-bool prescan(const char *path, const std::string &text, size_t start, ObjScan *scan, vkrt_error *err)
+bool prescan(const char *path, const char *text, size_t begin, size_t end, uint32_t lines_before,
+             ObjScan *scan, uint32_t *lines, vkrt_error *err)
 {
-    LineWalker walker(text.data() + start, text.data() + text.size());
+    LineWalker walker(text + begin, text + end);
+    walker.number = lines_before;
     Span line;
     while (walker.next(&line)) {
         while (line.b < line.e && is_blank(*line.b))
@@ -367,29 +463,19 @@ bool prescan(const char *path, const std::string &text, size_t start, ObjScan *s
         if (!scan_line(path, text, walker.number, line, scan, err))
             return false;
     }
+    *lines = walker.number - lines_before;
     return true;
 }
 
-namespace {
-
-/* Records vkrt has no use for, which rc10 parses unsafely: "vw" skin weights (a joint id such as
- * 8.9e9 is cast from float to int, undefined behaviour) and "t" tags (their numbers go through
- * the same exponent parser as above, unchecked). Blanking them in place keeps every offset and line
- * number while tinyobjloader sees only empty lines. */
-bool is_ignored_record(const Span &line) { return has_keyword(line, "vw") || has_keyword(line, "t"); }
-
-} // namespace
-
-void blank_ignored_records(std::string *text, size_t start)
+void blank_ignored_records(char *text, size_t begin, size_t end)
 {
-    char *base = &(*text)[0];
-    LineWalker walker(base + start, base + text->size());
+    LineWalker walker(text + begin, text + end);
     Span line;
     while (walker.next(&line)) {
         while (line.b < line.e && is_blank(*line.b))
             line.b++;
         if (is_ignored_record(line))
-            memset(base + (line.b - base), ' ', line.len());
+            memset(text + (line.b - text), ' ', line.len());
     }
 }
 

@@ -55,12 +55,30 @@ bool next_token(Span *rest, Span *token);
  * the word followed by a blank. */
 bool has_keyword(const Span &line, const char *word);
 
-/* One f record that tinyobjloader keeps (3 or more corners). */
+/* One f record that tinyobjloader keeps (3 or more corners, no index it refuses). Its corners are
+ * the indices as written (tinyobj::index_t order: vertex, normal, texcoord; 0 where a texture
+ * coordinate or normal is not given), `corners` of them from ObjScan::corners[first_corner]. */
 struct FaceLine {
     size_t offset;      /* of the line in the text, to quote an index in a message */
     uint32_t line;
     uint32_t corners;
     uint32_t v_before, vt_before, vn_before; /* records seen before it: relative indices count back */
+    uint32_t usemtl_before;                  /* usemtl records before it: the last one is its material */
+    size_t first_corner;
+};
+
+/* One corner of a face as written: what rc10's parseTriple reads with atoi. */
+struct Corner {
+    int v, vn, vt;
+};
+
+/* A line the geometry parse does not take (usemtl, mtllib, g, o, s, l, p, faces of fewer than
+ * three corners or with an index rc10 refuses, anything unknown): tinyobjloader reads these
+ * afterwards, in file order, for its materials, its errors and its warnings. */
+struct OtherLine {
+    Span text;
+    uint32_t line;
+    bool usemtl; /* a usemtl record, as rc10 matches it */
 };
 
 /* A usemtl or mtllib record: its line and what it names (usemtl: the first word after it, as
@@ -75,6 +93,8 @@ struct ObjScan {
     std::vector<uint32_t> v_line, vt_line, vn_line; /* line of each record, by index */
     std::vector<char> vn_usable;                    /* the vn record holds three finite numbers */
     std::vector<FaceLine> faces;
+    std::vector<Corner> corners; /* of the faces, in order */
+    std::vector<OtherLine> other;
     std::vector<uint32_t> short_faces; /* lines of f records of 0 to 2 corners, which rc10 drops */
     std::vector<NameLine> usemtl, mtllib;
     size_t unusable_normals = 0;
@@ -87,16 +107,19 @@ struct ObjScan {
  * BOM, else 0. */
 bool check_encoding(const char *path, const std::string &text, size_t *start, vkrt_error *err);
 
-/* Walks text from byte start and fills *scan (empty on entry). Fails with "path:LINE: ..." in err
- * at the first v or vt record with a coordinate that is missing, not a plain decimal or not a
- * finite float, or a v/vt/vn number with an exponent of more than 9 digits. A vn that is not three
- * finite numbers is only marked unusable. */
-bool prescan(const char *path, const std::string &text, size_t start, ObjScan *scan,
-             vkrt_error *err);
+/* Walks the lines of text[begin, end) (begin at the start of a line, end after a line's end or
+ * at the end of the text) and fills *scan (empty on entry): line numbers count on from
+ * lines_before, record counts (v_before, ...) from 0, offsets from text. Fails with
+ * "path:LINE: ..." in err at the first v or vt record with a coordinate that is missing, not a
+ * plain decimal or not a finite float, or a v/vt/vn number with an exponent of more than 9 digits.
+ * A vn that is not three finite numbers is only marked unusable. *lines is set to the number of
+ * lines walked. */
+bool prescan(const char *path, const char *text, size_t begin, size_t end, uint32_t lines_before,
+             ObjScan *scan, uint32_t *lines, vkrt_error *err);
 
-/* Overwrites with spaces, in place from byte start, the records vkrt ignores and rc10 parses
+/* Overwrites with spaces, in place in text[begin, end), the records vkrt ignores and rc10 parses
  * unsafely ("vw" skin weights, "t" tags); every offset and line number stays as it was. */
-void blank_ignored_records(std::string *text, size_t start);
+void blank_ignored_records(char *text, size_t begin, size_t end);
 
 } // namespace obj_scan
 

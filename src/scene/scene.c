@@ -3,12 +3,17 @@
 
 #include <string.h>
 
+#include "../clock.h"
+
 bool vkrt_scene_load_geometry(const char *path, vkrt_scene *scene, vkrt_error *err)
 {
     memset(scene, 0, sizeof *scene);
     if (!vkrt_config_load(path, &scene->config, err))
         return false;
-    if (!vkrt_obj_load(scene->config.geometry, &scene->mesh, err)) {
+    double start = vkrt_clock_ms();
+    bool loaded = vkrt_obj_load(scene->config.geometry, &scene->mesh, err);
+    scene->obj_ms = vkrt_clock_ms() - start;
+    if (!loaded) {
         /* Say which scene file asked for the OBJ: the OBJ's own message follows. */
         vkrt_error_prefix(err, "%s:%d: geometry", path, scene->config.geometry_line);
         vkrt_scene_free(scene);

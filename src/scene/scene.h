@@ -18,6 +18,7 @@ typedef struct vkrt_scene {
     vkrt_mesh mesh;
     vkrt_material_file material_file;  /* empty when scene.cfg names none */
     vkrt_scene_materials materials;
+    double obj_ms; /* wall-clock time of reading the OBJ and its .mtl files (--verbose) */
 } vkrt_scene;
 
 /* Loads the scene.cfg at path, the OBJ it names, the material file and every shader and texture
