@@ -1,6 +1,6 @@
 /*
  * surface_maps.glsl: the .mtl maps that change the surface every built-in sees (glsl/shared.h,
- * VKRT_MATERIAL_*_MAP; docs/material-file.md): the shading normal from a tangent-space normal map
+ * VKRT_MATERIAL_*_MAP; docs/materials.md): the shading normal from a tangent-space normal map
  * (`norm`, or a `map_Bump` whose image is one) or from a height map (`map_Bump`, `bump`), and the
  * emission Ke times `map_Ke`. Normal and height maps are read as data (no sRGB decoding), map_Ke as
  * colour. A scene compiles the code of the kinds its materials use only (SURFACE_MAPS).
@@ -48,7 +48,7 @@ float map_height(uint tex, vec2 uv)
  * Normal map: the texel as (2 rgb - 1) in the frame (t, b, n), its x and y times -bm (Blender's
  * normal map strength). Height map: the surface displaced by -bm times the height along n, in
  * scene units (pbrt's and Mitsuba's bump map): n' = (dpdu + dh/du n) x (dpdv + dh/dv n), dh/du and
- * dh/dv by central differences half a texel either side (exact for the bilinear texture). */
+ * dh/dv by central differences half a texel either side (a ramp's slope exactly). */
 vec3 mapped_normal(uint m, vec3 n, vec3 dpdu, vec3 dpdv, vec2 uv)
 {
     Material mat = materials[m];

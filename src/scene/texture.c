@@ -623,6 +623,6 @@ bool vkrt_texture_is_normal_map(const vkrt_texture_set *set, uint32_t index)
      * blue above its red and green. A height map is grey (r = g = b), and a colour image used as
      * one (dabrovic-sponza's) is not this blue. */
     float red_green = fmaxf(mean[0], mean[1]);
-    return fabsf(mean[0] - 0.5f) < 0.25f && fabsf(mean[1] - 0.5f) < 0.25f && mean[2] > 0.7f &&
-           mean[2] > red_green + 0.15f;
+    return fabsf(mean[0] - 0.5f) < 0.25f && fabsf(mean[1] - 0.5f) < 0.25f && mean[2] > 0.8f &&
+           mean[2] > red_green + 0.2f;
 }

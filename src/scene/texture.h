@@ -88,7 +88,7 @@ void vkrt_texture_texel(const vkrt_texture_set *set, uint32_t index, int x, int 
 void vkrt_texture_mean(const vkrt_texture_set *set, uint32_t index, float rgba[4]);
 
 /* Whether the texture (stored as data) reads as a tangent-space normal map: its mean is near
- * (0.5, 0.5, 1), the unbent normal (red and green within 0.25 of 0.5, blue above 0.7 and 0.15
+ * (0.5, 0.5, 1), the unbent normal (red and green within 0.25 of 0.5, blue above 0.8 and 0.2
  * above both), where a height map is grey. Exporters write normal maps as
  * map_Bump (Blender's does), so map_Bump is told apart by its image. */
 bool vkrt_texture_is_normal_map(const vkrt_texture_set *set, uint32_t index);
