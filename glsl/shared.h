@@ -69,6 +69,7 @@ typedef uint32_t uint;
 #define VKRT_SPEC_HAS_CUTOUTS 11
 #define VKRT_SPEC_EMITTER_LIGHT 12
 #define VKRT_SPEC_CLAMP 13
+#define VKRT_SPEC_SURFACE_MAPS 14
 
 /* Integrators (VKRT_SPEC_INTEGRATOR): Whitted's (delta lights, ambient, the materials' own rays)
  * or the path tracer (next-event estimation with multiple importance sampling). */
@@ -157,11 +158,24 @@ VKRT_STRUCT(TriangleTexcoords) {
 #define VKRT_CUTOUT_ALPHA 2u
 #define VKRT_MATERIAL_USES_LIGHTS 1u   /* its shader reads light samples: the light kernel traces
                                           shadow rays for its hits (and for no others) */
+/* The .mtl maps every built-in reads (lib/surface_maps.glsl): the shading normal from a tangent-
+ * space normal map or a height map in texture slot VKRT_SLOT_DETAIL, the emission Ke times the
+ * map_Ke in slot VKRT_SLOT_EMISSION. These flags of Material.info.y, or-ed over the scene's
+ * materials, are also the specialization constant VKRT_SPEC_SURFACE_MAPS: a scene without a kind
+ * of map compiles none of its code. */
+#define VKRT_MATERIAL_NORMAL_MAP 2u
+#define VKRT_MATERIAL_BUMP_MAP 4u
+#define VKRT_MATERIAL_EMISSION_MAP 8u
+#define VKRT_SLOT_DETAIL 4u
+#define VKRT_SLOT_EMISSION 5u
 VKRT_STRUCT(Material) {
     vec4 params[5];   /* parameter i is params[i / 4][i % 4] */
     uvec4 textures[2];/* texture of slot k is textures[k / 4][k % 4], or VKRT_NO_TEXTURE */
     uvec4 info;       /* x: shader index in the generated kernel, y: VKRT_MATERIAL_* flags,
                          z: texture count, w: VKRT_CUTOUT_* */
+    vec4 maps;        /* x: the luminance light sampling weighs the emission by, luminance(Ke
+                         times the mean of map_Ke) (lib/emitters.glsl); y: the detail map's
+                         multiplier (-bm); zw: 0 */
 };
 
 /* A light in GPU form. Spot lights fall off linearly in angle from beam_angle (full intensity)

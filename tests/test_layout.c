@@ -60,7 +60,7 @@ static const field fields[] = {
     FIELD(normals, n0, VEC4), FIELD(normals, n1, VEC4), FIELD(normals, n2, VEC4),
     FIELD(material, params[0], VEC4), FIELD(material, params[4], VEC4),
     FIELD(material, textures[0], UVEC4), FIELD(material, textures[1], UVEC4),
-    FIELD(material, info, UVEC4),
+    FIELD(material, info, UVEC4), FIELD(material, maps, VEC4),
     FIELD(light, position, VEC4), FIELD(light, direction, VEC4), FIELD(light, colour, VEC4),
     FIELD(light, info, UVEC4),
     FIELD(params, eye, VEC4), FIELD(params, right, VEC4), FIELD(params, up, VEC4),
@@ -97,6 +97,7 @@ static const field fields[] = {
     {"ray_pair[1].origin", offsetof(Probe, ray_pair) + sizeof(Ray) + offsetof(Ray, origin), VEC4},
     {"ray_pair[1].payload", offsetof(Probe, ray_pair) + sizeof(Ray) + offsetof(Ray, payload), VEC4},
     {"material_pair[1].info", offsetof(Probe, material_pair) + sizeof(Material) + offsetof(Material, info), UVEC4},
+    {"material_pair[1].maps", offsetof(Probe, material_pair) + sizeof(Material) + offsetof(Material, maps), VEC4},
     {"material_pair[1].params[1]", offsetof(Probe, material_pair) + sizeof(Material) + offsetof(Material, params[1]), VEC4},
 };
 static const size_t field_count = sizeof fields / sizeof *fields;
@@ -220,7 +221,7 @@ static void test_sizes(void **state)
     assert_int_equal(sizeof(Hit), 16);
     assert_int_equal(sizeof(Triangle), 48);
     assert_int_equal(sizeof(TriangleNormals), 48);
-    assert_int_equal(sizeof(Material), 128);
+    assert_int_equal(sizeof(Material), 144);
     assert_int_equal(sizeof(TriangleTexcoords), 32);
     assert_int_equal(sizeof(WaveState), 16);
     assert_int_equal(sizeof(TextureInfo), 16);

@@ -701,6 +701,51 @@ static void mtl_pbr_fields_are_parsed(void **state)
     vkrt_mesh_free(&m);
 }
 
+/* The surface maps as exporters write them: norm and map_Bump with -bm (norm's multiplier wins
+ * where both are given, as norm is the map used), bump, map_Ke with and without Ke, their lines. */
+static void mtl_surface_maps_are_parsed(void **state)
+{
+    temp_dir *fx = *state;
+    temp_dir_write_text(fx, "m.mtl",
+                        "newmtl blender\n"                    /* 1 */
+                        "Kd 0.8 0.8 0.8\n"                    /* 2 */
+                        "map_Bump -bm 0.5 maps\\normal.png\n" /* 3 */
+                        "newmtl both\n"                       /* 4 */
+                        "bump -bm 2 height.png\n"             /* 5 */
+                        "norm -bm 0.25 n.png\n"               /* 6 */
+                        "Ke 2 2 2\n"                          /* 7 */
+                        "map_Ke glow.png\n"                   /* 8 */
+                        "newmtl glow\n"                       /* 9 */
+                        "map_Ke glow.png\n");                 /* 10 */
+    const char *text = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl blender\nf 1 2 3\n"
+                       "usemtl both\nf 1 3 2\nusemtl glow\nf 2 1 3\n";
+    vkrt_mesh m = load_ok(temp_dir_write_text(fx, "maps.obj", text));
+    const vkrt_mtl *blender = &m.materials[m.material[0]];
+    const vkrt_mtl *both = &m.materials[m.material[1]];
+    const vkrt_mtl *glow = &m.materials[m.material[2]];
+    char want[600];
+    snprintf(want, sizeof want, "%s/maps/normal.png", fx->dir);
+    assert_string_equal(blender->map_bump, want);
+    assert_int_equal(blender->map_bump_line, 3);
+    assert_close(blender->bump_multiplier, 0.5f);
+    assert_null(blender->norm);
+    assert_null(blender->map_ke);
+    snprintf(want, sizeof want, "%s/n.png", fx->dir);
+    assert_string_equal(both->norm, want);
+    assert_int_equal(both->norm_line, 6);
+    assert_int_equal(both->map_bump_line, 5);
+    assert_close(both->bump_multiplier, 0.25f);
+    snprintf(want, sizeof want, "%s/glow.png", fx->dir);
+    assert_string_equal(both->map_ke, want);
+    assert_int_equal(both->map_ke_line, 8);
+    assert_true(both->ke_given);
+    assert_vec3(both->ke, 2, 2, 2);
+    assert_string_equal(glow->map_ke, want);
+    assert_false(glow->ke_given);
+    assert_close(glow->bump_multiplier, 1);
+    vkrt_mesh_free(&m);
+}
+
 /* The fields texture errors need (which .mtl, which line), map_d and Tf, over two .mtl files. */
 static void mtl_texture_lines_and_tf(void **state)
 {
@@ -1012,6 +1057,7 @@ int main(void)
         temp_dir_test(mtl_texture_lines_and_tf),
         temp_dir_test(mtl_pbr_fields_are_parsed),
         temp_dir_test(split_parse_matches_serial),
+        temp_dir_test(mtl_surface_maps_are_parsed),
         cmocka_unit_test(tinyobjloader_suite),
         cmocka_unit_test(assimp_suite),
         cmocka_unit_test(cornell_box),

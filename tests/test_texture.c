@@ -369,6 +369,40 @@ static void bilinear_sample_and_wrap(void **state)
     vkrt_texture_set_free(&set);
 }
 
+/* The mean of a texture as the kernels read it (sRGB decoded for colour maps), and which images
+ * read as normal maps: bluish ones about (0.5, 0.5, 1), not grey or colour height maps. */
+static void mean_and_which_images_are_normal_maps(void **state)
+{
+    temp_dir *fx = *state;
+    const unsigned char flat[2][3] = {{128, 128, 255}, {128, 128, 255}};
+    const unsigned char tilted[2][3] = {{166, 107, 232}, {90, 150, 240}};
+    const unsigned char white[2][3] = {{255, 255, 255}, {200, 200, 200}};
+    const unsigned char grey_bluish[2][3] = {{150, 150, 190}, {150, 150, 190}};
+    const unsigned char half[2][3] = {{0, 0, 0}, {255, 255, 255}};
+    vkrt_texture_set set = {0};
+    uint32_t t_flat = add_ok(&set, write_png(fx, "flat.png", 2, 1, 3, &flat[0][0]),
+                             VKRT_TEXTURE_DATA);
+    uint32_t t_tilted = add_ok(&set, write_png(fx, "tilted.png", 2, 1, 3, &tilted[0][0]),
+                               VKRT_TEXTURE_DATA);
+    uint32_t t_white = add_ok(&set, write_png(fx, "white.png", 2, 1, 3, &white[0][0]),
+                              VKRT_TEXTURE_DATA);
+    uint32_t t_bluish = add_ok(&set, write_png(fx, "bluish.png", 2, 1, 3, &grey_bluish[0][0]),
+                               VKRT_TEXTURE_DATA);
+    uint32_t t_half = add_ok(&set, write_png(fx, "half.png", 2, 1, 3, &half[0][0]),
+                             VKRT_TEXTURE_COLOUR);
+    assert_true(vkrt_texture_is_normal_map(&set, t_flat));
+    assert_true(vkrt_texture_is_normal_map(&set, t_tilted));
+    assert_false(vkrt_texture_is_normal_map(&set, t_white));
+    assert_false(vkrt_texture_is_normal_map(&set, t_bluish));
+    float mean[4];
+    vkrt_texture_mean(&set, t_half, mean);
+    for (int k = 0; k < 3; k++)
+        assert_float_equal(mean[k], 0.5f, 1e-6f);
+    vkrt_texture_mean(&set, t_white, mean); /* data: (255 + 200) / 2 / 255, no decoding */
+    assert_float_equal(mean[0], (1.0f + 200.0f / 255.0f) / 2.0f, 1e-6f);
+    vkrt_texture_set_free(&set);
+}
+
 /* ALPHA: the alpha channel where the image has one that is not opaque everywhere, else its first
  * channel, in all four (an RGBA mask with alpha 255 throughout carries coverage in its colour). */
 static void alpha_usage_picks_the_channel(void **state)
@@ -656,6 +690,7 @@ int main(void)
         temp_dir_test(hdr_becomes_half_floats),
         temp_dir_test(bilinear_sample_and_wrap),
         temp_dir_test(alpha_usage_picks_the_channel),
+        temp_dir_test(mean_and_which_images_are_normal_maps),
         temp_dir_test(same_file_same_usage_is_loaded_once),
         temp_dir_test(file_name_case_and_backslashes),
         temp_dir_test(errors_name_referrer_and_path),

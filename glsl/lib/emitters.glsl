@@ -27,13 +27,13 @@
 /* The solid-angle density with which a light sample from distance `dist` finds a point of an
  * emissive triangle of material m seen at cosine cos_light: the triangle was chosen in
  * proportion to its power and the point uniformly on it, so the density per area is
- * luminance(Ke) / total power (glsl/shared.h LightInfo). */
+ * luminance(Ke) / total power (glsl/shared.h LightInfo), Ke times the mean of a map_Ke
+ * (Material.maps.x: the host weighed the table by the same number). */
 float emitter_pdf(uint m, float dist, float cos_light)
 {
     if (light_info.emitter_count == 0u || cos_light <= 0.0)
         return 0.0;
-    vec3 ke = vec3(materials[m].params[2].x, materials[m].params[2].y, materials[m].params[2].z);
-    return luminance(ke) / light_info.emitter_power * dist * dist / cos_light;
+    return materials[m].maps.x / light_info.emitter_power * dist * dist / cos_light;
 }
 
 /* A point on an emissive triangle for the vertex at s: the alias table picks the triangle, u.yz
@@ -112,9 +112,9 @@ bool whitted_light(Surface s, uint seed, uint i, out vec3 to_light, out vec3 irr
     irradiance = vec3(0.0);
     if (!sample_emitter(s, u, light, to_light, dist, pdf))
         return false;
-    /* A sample is only drawn on a front face (pdf > 0), and Ke is what the front emits
-     * (mtl_emitted; emitter_pdf reads the same parameters). */
-    irradiance = materials[light.material].params[2].xyz / pdf;
+    /* A sample is only drawn on a front face (pdf > 0), and Ke (times map_Ke) is what the front
+     * emits (mtl_emitted). */
+    irradiance = surface_emission(light.material, light.uv) / pdf;
     if (!(dot(s.normal, to_light) > 0.0 && dot(s.geometric_normal, to_light) > 0.0 &&
           any(greaterThan(irradiance, vec3(0.0)))))
         return false;

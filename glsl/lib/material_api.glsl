@@ -218,11 +218,18 @@ void set_payload(vec4 payload)
     vkrt_child_payload = payload;
 }
 
-/* Emitted radiance of the built-in materials: Ke (parameters 8-10) from the front face only (the
+/* The emission of the built-in materials at s: Ke (parameters 8-10) times the .mtl's map_Ke where
+ * there is one (lib/surface_maps.glsl). Whitted's shaders add it on either side. */
+vec3 mtl_emission(Surface s)
+{
+    return surface_emission(vkrt_material, s.uv);
+}
+
+/* Emitted radiance of the built-in materials for path: mtl_emission from the front face only (the
  * side the triangle's counter-clockwise winding faces), as Mitsuba's and pbrt's area lights. */
 vec3 mtl_emitted(Surface s)
 {
-    return s.front_face ? param3(8u) : vec3(0.0);
+    return s.front_face ? mtl_emission(s) : vec3(0.0);
 }
 
 /* A unit vector with cosine-weighted density about n (for diffuse bounces). */

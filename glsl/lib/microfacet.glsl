@@ -344,7 +344,7 @@ void rough_whitted_shade(Surface s, RoughMaterial m, float coverage)
     {                                                                                              \
         float coverage = mtl_see_through(s);                                                       \
         rough_whitted_shade(s, material(s), coverage);                                             \
-        add_radiance(coverage * param3(8u));                                                       \
+        add_radiance(coverage * mtl_emission(s));                                                  \
     }                                                                                              \
     vec3 emitted(Surface s) { return mtl_coverage(s) * mtl_emitted(s); }                           \
     vec3 bsdf_eval(Surface s, vec3 wi, out float pdf)                                              \

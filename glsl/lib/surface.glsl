@@ -7,6 +7,7 @@
 
 #include "bindings.glsl"
 #include "intersect.glsl"
+#include "surface_maps.glsl"
 
 const float PI = 3.14159265358979;
 const float FAR = 3.4e38;
@@ -15,7 +16,8 @@ const float FAR = 3.4e38;
  * surfaces are two-sided, and front_face says which side was hit. */
 struct Surface {
     vec3 position;
-    vec3 normal;            /* shading normal (interpolated when the OBJ has normals), unit */
+    vec3 normal;            /* shading normal (interpolated when the OBJ has normals, bent by a
+                               normal or bump map: lib/surface_maps.glsl), unit */
     vec3 geometric_normal;  /* the triangle's plane normal, unit */
     vec3 incoming;          /* unit direction of the arriving ray, pointing into the surface */
     vec2 uv;                /* texture coordinates, (0, 0) when the OBJ has none */
@@ -48,15 +50,26 @@ Surface surface_at(Ray ray, Hit hit)
         }
     }
     s.uv = vec2(0.0);
+    s.incoming = ray.direction.xyz;
+    s.material = triangle_material[hit.triangle];
     if (HAS_TEXCOORDS) {
         TriangleTexcoords tc = triangle_texcoords[hit.triangle];
         s.uv = w * tc.uv01.xy + hit.u * tc.uv01.zw + hit.v * tc.uv2.xy;
+        vec3 dpdu, dpdv;
+        if ((SURFACE_MAPS & (VKRT_MATERIAL_NORMAL_MAP | VKRT_MATERIAL_BUMP_MAP)) != 0u &&
+            (materials[s.material].info.y &
+             (VKRT_MATERIAL_NORMAL_MAP | VKRT_MATERIAL_BUMP_MAP)) != 0u &&
+            texture_space(tri, tc, dpdu, dpdv)) {
+            /* The map's +z is on the side of the OBJ's normal (the winding's without one): map
+             * there, then turn the result to the ray's side as the normals above. */
+            float side = s.front_face ? 1.0 : -1.0;
+            vec3 mapped = side * mapped_normal(s.material, side * s.normal, dpdu, dpdv, s.uv);
+            s.normal = guard_mapped_normal(mapped, ng, -s.incoming);
+        }
     }
-    s.incoming = ray.direction.xyz;
     s.depth = ray.info.z;
     s.importance = ray.importance.rgb;
     s.payload = ray.payload;
-    s.material = triangle_material[hit.triangle];
     s.magnitude = triangle_magnitude(tri.v0.xyz, tri.v1.xyz, tri.v2.xyz);
     return s;
 }

@@ -14,7 +14,7 @@ uint count_rays(Surface s)
 void shade(Surface s)
 {
     float coverage = mtl_see_through(s);
-    add_radiance(coverage * (diffuse_light(s, param3(0u)) + param3(8u)));
+    add_radiance(coverage * (diffuse_light(s, param3(0u)) + mtl_emission(s)));
 }
 
 /* Path: Ke from the front face; a Lambertian lobe of albedo Kd, cut out by coverage. */

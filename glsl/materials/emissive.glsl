@@ -10,7 +10,7 @@ uint count_rays(Surface s)
 
 void shade(Surface s)
 {
-    add_radiance(param3(8u));
+    add_radiance(mtl_emission(s));
 }
 
 /* Path: Ke from the front face; a black BSDF. */

@@ -22,7 +22,7 @@ void shade(Surface s)
         vec3 refracted = refract(s.incoming, s.normal, 1.0 / eta);
         cast_ray(s, normalize(refracted), (1.0 - reflectance) * mtl_transmission_filter());
     }
-    add_radiance(param3(8u));
+    add_radiance(mtl_emission(s));
 }
 
 /* Path: reflection or refraction, one chosen by the Fresnel reflectance (dielectric_sample), the

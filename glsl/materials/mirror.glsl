@@ -10,7 +10,7 @@ uint count_rays(Surface s)
 
 void shade(Surface s)
 {
-    add_radiance(diffuse_light(s, mtl_diffuse(s)) + param3(8u));
+    add_radiance(diffuse_light(s, mtl_diffuse(s)) + mtl_emission(s));
     cast_ray(s, reflect(s.incoming, s.normal), param3(4u));
 }
 

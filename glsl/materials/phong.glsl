@@ -24,7 +24,7 @@ void shade(Surface s)
         float specular = (ns + 8.0) / (8.0 * PI) * pow(max(dot(s.normal, h), 0.0), ns);
         sum += (kd / PI + ks * specular) * irradiance * dot(s.normal, to_light);
     }
-    add_radiance(coverage * (sum + param3(8u)));
+    add_radiance(coverage * (sum + mtl_emission(s)));
 }
 
 /* Path: the same BRDF, kd / pi + ks (Ns + 8) / (8 pi) cos^Ns(n.h), sampled as a mixture of the

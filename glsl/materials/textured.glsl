@@ -11,7 +11,7 @@ uint count_rays(Surface s)
 void shade(Surface s)
 {
     float coverage = mtl_see_through(s);
-    add_radiance(coverage * (diffuse_light(s, mtl_diffuse(s)) + param3(8u)));
+    add_radiance(coverage * (diffuse_light(s, mtl_diffuse(s)) + mtl_emission(s)));
 }
 
 /* Path: as diffuse, the albedo Kd times map_Kd. */

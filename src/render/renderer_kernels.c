@@ -97,6 +97,7 @@ bool renderer_create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoo
         {VKRT_SPEC_HAS_CUTOUTS, r->has_cutouts},
         {VKRT_SPEC_EMITTER_LIGHT, r->emitter_light},
         {VKRT_SPEC_CLAMP, clamp_bits},
+        {VKRT_SPEC_SURFACE_MAPS, r->surface_maps},
     };
     const uint32_t count = sizeof constants / sizeof *constants;
     const kernel_spec wave = {workgroup_size, constants, count};

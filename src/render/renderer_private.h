@@ -24,6 +24,7 @@ struct vkrt_renderer {
     char integrator_reason[256];
     uint32_t light_sampling;  /* VKRT_SAMPLING_* */
     bool has_cutouts;         /* a material is cut out by a texture (lib/cutout.glsl) */
+    uint32_t surface_maps;    /* VKRT_MATERIAL_*_MAP of any material (lib/surface_maps.glsl) */
     bool emitter_light;       /* Whitted on a scene with emissive triangles: a point on them is
                                  one more light (lib/emitters.glsl) */
     float clamp;              /* the largest channel of a contribution to a pixel; 0: no limit */
@@ -53,7 +54,8 @@ bool renderer_upload_materials(vkrt_renderer *r, const vkrt_scene_materials *mat
                                const vkrt_material_kernel *kernel, vkrt_error *err);
 bool renderer_upload_lights(vkrt_renderer *r, const vkrt_config *cfg, vkrt_error *err);
 /* The radiance material m emits as an area light (the .mtl's Ke for the built-ins that emit it,
- * else 0): what the integrator's choice and the path tracer's light sampling go by. */
+ * times the mean of its map_Ke, else 0): what the integrator's choice and the path tracer's light
+ * sampling go by. */
 void renderer_material_ke(const vkrt_scene_materials *mats, uint32_t m, float ke[3]);
 /* The area lights and the sky (binding VKRT_BINDING_EMITTERS and _ENVIRONMENT): the path
  * tracer's, and Whitted's emitter light (r->emitter_light, cleared when every emissive triangle

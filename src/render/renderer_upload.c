@@ -9,6 +9,7 @@
 
 #include "../scene/emitters.h"
 #include "../scene/envmap.h"
+#include "../scene/colour.h"
 #include "renderer_private.h"
 
 bool renderer_upload_geometry(vkrt_renderer *r, const vkrt_mesh *mesh,
@@ -124,9 +125,14 @@ bool renderer_upload_materials(vkrt_renderer *r, const vkrt_scene_materials *mat
         for (uint32_t k = 0; k < VKRT_MATERIAL_TEXTURE_SLOTS; ++k)
             (&g->textures[k / 4].x)[k % 4] = m->textures[k];
         g->info = (uvec4){m->shader,
-                          kernel->shader_uses_lights[m->shader] ? VKRT_MATERIAL_USES_LIGHTS : 0,
+                          (kernel->shader_uses_lights[m->shader] ? VKRT_MATERIAL_USES_LIGHTS : 0) |
+                              m->maps,
                           m->texture_count, material_cutout(mats, i)};
+        float ke[3];
+        renderer_material_ke(mats, i, ke);
+        g->maps = (vec4){(float)vkrt_luminance(ke), m->detail_multiplier, 0, 0};
         r->has_cutouts |= g->info.w != VKRT_CUTOUT_NONE;
+        r->surface_maps |= m->maps;
         size_t len = strlen(m->name) + strlen(m->referrer) + 8;
         r->material_names[i] = malloc(len);
         if (!r->material_names[i]) {
@@ -231,13 +237,23 @@ void renderer_material_ke(const vkrt_scene_materials *mats, uint32_t m, float ke
     static const char *const emitting[] = {
         "diffuse",  "textured",       "phong",           "mirror",       "glass",
         "emissive", "roughconductor", "roughdielectric", "roughplastic", "pbr"};
-    const char *builtin = mats->shaders[mats->list[m].shader].builtin;
+    const vkrt_scene_material *mat = &mats->list[m];
+    const char *builtin = mats->shaders[mat->shader].builtin;
     ke[0] = ke[1] = ke[2] = 0;
     if (m == mats->environment || !builtin)
         return;
     for (size_t i = 0; i < sizeof emitting / sizeof *emitting; ++i)
         if (strcmp(builtin, emitting[i]) == 0)
-            memcpy(ke, &mats->list[m].params[8], 3 * sizeof *ke);
+            memcpy(ke, &mat->params[8], 3 * sizeof *ke);
+    /* An emission map: its mean stands for it. Sampling stays unbiased whatever the weight, since
+     * the emission itself is read at the point drawn (lib/emitters.glsl); the mean makes the
+     * choice between triangles follow the light each gives on average. */
+    if (mat->maps & VKRT_MATERIAL_EMISSION_MAP) {
+        float mean[4];
+        vkrt_texture_mean(&mats->textures, mat->textures[VKRT_SLOT_EMISSION], mean);
+        for (int k = 0; k < 3; ++k)
+            ke[k] *= mean[k];
+    }
 }
 
 /* The alias table over the emissive triangles (src/scene/emitters.h) into info and *table,

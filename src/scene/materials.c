@@ -2,6 +2,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "materials.h"
 
+#include "../../glsl/shared.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -28,7 +30,14 @@ enum {
     PARAM_COAT = 18,
     PARAM_COAT_ROUGHNESS = 19,
 };
-enum { SLOT_MAP_KD = 0, SLOT_MAP_D = 1, SLOT_MAP_PR = 2, SLOT_MAP_PM = 3 };
+enum {
+    SLOT_MAP_KD = 0,
+    SLOT_MAP_D = 1,
+    SLOT_MAP_PR = 2,
+    SLOT_MAP_PM = 3,
+    SLOT_DETAIL = VKRT_SLOT_DETAIL,     /* norm, or map_Bump */
+    SLOT_MAP_KE = VKRT_SLOT_EMISSION,
+};
 
 /* Below this roughness the GGX built-ins are smooth (glsl/lib/microfacet.glsl's
  * MICROFACET_SMOOTH_ALPHA is its square): a PBR glass this smooth is the plain glass. */
@@ -132,14 +141,24 @@ static bool any_nonzero(const float *v, int n)
     return false;
 }
 
+/* The material's emission: Ke, or 1 1 1 where a map_Ke comes without a Ke (the map is then the
+ * emission itself, as a map replaces its number below). */
+static void mtl_emission(const vkrt_mtl *m, float ke[3])
+{
+    for (int i = 0; i < 3; ++i)
+        ke[i] = m->map_ke && !m->ke_given ? 1.0f : m->ke[i];
+}
+
 /* The built-in that renders an .mtl material as its illumination model says (docs/materials.md). */
 static const char *mtl_builtin(const vkrt_mtl *m)
 {
+    float ke[3];
+    mtl_emission(m, ke);
     if (m->illum == 4 || m->illum == 6 || m->illum == 7)
         return m->pbr && (m->pr < 0.0f || m->pr >= smooth_roughness) ? "roughdielectric" : "glass";
     if (m->illum == 3 || m->illum == 5)
         return "mirror";
-    if (any_nonzero(m->ke, 3) && !any_nonzero(m->kd, 3) && !any_nonzero(m->ks, 3) && !m->map_kd)
+    if (any_nonzero(ke, 3) && !any_nonzero(m->kd, 3) && !any_nonzero(m->ks, 3) && !m->map_kd)
         return "emissive";
     if (m->pbr)
         return "pbr";
@@ -160,7 +179,7 @@ static void mtl_params(const vkrt_mtl *m, float *p)
     p[PARAM_TRANSPARENCY] = 1.0f - m->d;
     memcpy(p + PARAM_KS, m->ks, sizeof m->ks);
     p[PARAM_NS] = m->ns;
-    memcpy(p + PARAM_KE, m->ke, sizeof m->ke);
+    mtl_emission(m, p + PARAM_KE);
     p[PARAM_NI] = m->ni;
     memcpy(p + PARAM_TF, m->tf, sizeof m->tf);
     p[PARAM_ILLUM] = (float)m->illum;
@@ -244,6 +263,10 @@ static bool from_mtl(vkrt_scene_materials *out, vkrt_scene_material *mat, const 
         {m->map_d, m->map_d_line, SLOT_MAP_D, VKRT_TEXTURE_ALPHA},
         {m->map_pr, m->map_pr_line, SLOT_MAP_PR, VKRT_TEXTURE_DATA},
         {m->map_pm, m->map_pm_line, SLOT_MAP_PM, VKRT_TEXTURE_DATA},
+        /* Normal and height maps are data too; norm wins over a map_Bump of the same material. */
+        {m->norm ? m->norm : m->map_bump, m->norm ? m->norm_line : m->map_bump_line, SLOT_DETAIL,
+         VKRT_TEXTURE_DATA},
+        {m->map_ke, m->map_ke_line, SLOT_MAP_KE, VKRT_TEXTURE_COLOUR},
     };
     for (size_t i = 0; i < sizeof maps / sizeof *maps; ++i) {
         char referrer[1200];
@@ -252,6 +275,17 @@ static bool from_mtl(vkrt_scene_materials *out, vkrt_scene_material *mat, const 
             !add_texture(out, mat, maps[i].slot, maps[i].path, maps[i].usage, referrer, err))
             return false;
     }
+    /* A map_Bump is a height map unless its image is a normal map (Blender writes its normal
+     * maps as map_Bump): told apart by the image (vkrt_texture_is_normal_map). */
+    uint32_t detail = mat->textures[SLOT_DETAIL];
+    if (m->norm || (detail != VKRT_SCENE_NO_TEXTURE &&
+                    vkrt_texture_is_normal_map(&out->textures, detail)))
+        mat->maps |= VKRT_MATERIAL_NORMAL_MAP;
+    else if (detail != VKRT_SCENE_NO_TEXTURE)
+        mat->maps |= VKRT_MATERIAL_BUMP_MAP;
+    if (m->map_ke)
+        mat->maps |= VKRT_MATERIAL_EMISSION_MAP;
+    mat->detail_multiplier = m->bump_multiplier;
     return true;
 }
 

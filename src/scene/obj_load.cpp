@@ -152,6 +152,7 @@ struct MtlOrigin {
     bool kd = true, ks = true, ke = true, ns = true, ni = true, d = true, illum = true, tf = true;
     bool pr = false, pm = false; /* unknown (the mirror disagreed): pbr only where maps say so */
     uint32_t map_kd_line = 0, map_d_line = 0, map_pr_line = 0, map_pm_line = 0, unrendered_line = 0;
+    uint32_t norm_line = 0, map_bump_line = 0, map_ke_line = 0;
 };
 
 /* Mirrors tinyobj::LoadMtl's line handling to see which keywords each material block has, and on
@@ -202,6 +203,10 @@ std::vector<MtlOrigin> scan_mtl_fields(const std::string &text, const std::strin
         cur.pm |= has_keyword(line, "Pm");
         cur.map_pr_line = has_keyword(line, "map_Pr") ? walker.number : cur.map_pr_line;
         cur.map_pm_line = has_keyword(line, "map_Pm") ? walker.number : cur.map_pm_line;
+        cur.norm_line = has_keyword(line, "norm") ? walker.number : cur.norm_line;
+        if (has_keyword(line, "map_Bump") || has_keyword(line, "map_bump") || has_keyword(line, "bump"))
+            cur.map_bump_line = walker.number;
+        cur.map_ke_line = has_keyword(line, "map_Ke") ? walker.number : cur.map_ke_line;
         if (!cur.unrendered_line && (has_keyword(line, "Ps") || has_keyword(line, "Pc") ||
                                      has_keyword(line, "Pcr") || has_keyword(line, "map_Ps")))
             cur.unrendered_line = walker.number;
@@ -331,6 +336,16 @@ void convert_material(const tinyobj::material_t &m, const MtlOrigin &o, const st
     out->map_d = map(m.alpha_texname);
     out->map_pr = map(m.roughness_texname);
     out->map_pm = map(m.metallic_texname);
+    out->norm_line = static_cast<int>(o.norm_line);
+    out->map_bump_line = static_cast<int>(o.map_bump_line);
+    out->map_ke_line = static_cast<int>(o.map_ke_line);
+    out->norm = map(m.normal_texname);
+    out->map_bump = map(m.bump_texname);
+    out->map_ke = map(m.emissive_texname);
+    /* -bm is read from whichever statement names the map vkrt uses (norm before map_Bump). */
+    const tinyobj::texture_option_t &bump = out->norm ? m.normal_texopt : m.bump_texopt;
+    out->bump_multiplier = finite_or(bump.bump_multiplier, 1.0f);
+    out->ke_given = o.ke;
     out->pbr = o.pr || o.pm || out->map_pr || out->map_pm;
     out->pr = o.pr ? finite_or(m.roughness, 0.0f) : -1.0f;
     out->pm = o.pm ? finite_or(m.metallic, 0.0f) : 0.0f;
@@ -959,6 +974,9 @@ extern "C" void vkrt_mesh_free(vkrt_mesh *mesh)
         free(mesh->materials[i].map_d);
         free(mesh->materials[i].map_pr);
         free(mesh->materials[i].map_pm);
+        free(mesh->materials[i].norm);
+        free(mesh->materials[i].map_bump);
+        free(mesh->materials[i].map_ke);
         free(mesh->materials[i].mtl_path);
     }
     free(mesh->materials);

@@ -43,6 +43,13 @@ typedef struct vkrt_mtl {
     float pr, pm, pc, pcr;
     char *map_pr, *map_pm;
     int map_pr_line, map_pm_line;
+    /* Surface detail and emission maps (resolved as map_Kd, or NULL) and their lines: `norm` (a
+     * tangent-space normal map), `map_Bump` or `bump` (a height map, or a normal map where the
+     * image is one: docs/material-file.md) with its -bm multiplier [1], and `map_Ke`. */
+    char *norm, *map_bump, *map_ke;
+    int norm_line, map_bump_line, map_ke_line;
+    float bump_multiplier;
+    bool ke_given; /* the block has Ke: without it a map_Ke is the emission itself (Ke 1 1 1) */
 } vkrt_mtl;
 
 typedef struct vkrt_mesh {

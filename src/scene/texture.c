@@ -595,3 +595,34 @@ void vkrt_texture_sample(const vkrt_texture_set *set, uint32_t index, float u, f
     for (int k = 0; k < 4; k++)
         rgba[k] = mix(mix(t00[k], t10[k], fx), mix(t01[k], t11[k], fx), fy);
 }
+
+void vkrt_texture_mean(const vkrt_texture_set *set, uint32_t index, float rgba[4])
+{
+    double sum[4] = {0, 0, 0, 0};
+    rgba[0] = rgba[1] = rgba[2] = rgba[3] = 0.0f;
+    if (!set || index >= set->count)
+        return;
+    const vkrt_texture_info *info = &set->info[index];
+    for (uint32_t y = 0; y < info->height; y++)
+        for (uint32_t x = 0; x < info->width; x++) {
+            float t[4];
+            vkrt_texture_texel(set, index, (int)x, (int)y, t);
+            for (int k = 0; k < 4; k++)
+                sum[k] += t[k];
+        }
+    double texels = (double)info->width * info->height;
+    for (int k = 0; k < 4; k++)
+        rgba[k] = (float)(sum[k] / texels);
+}
+
+bool vkrt_texture_is_normal_map(const vkrt_texture_set *set, uint32_t index)
+{
+    float mean[4];
+    vkrt_texture_mean(set, index, mean);
+    /* A tangent-space normal map averages to about (0.5, 0.5, 1): the normal mostly unbent, its
+     * blue above its red and green. A height map is grey (r = g = b), and a colour image used as
+     * one (dabrovic-sponza's) is not this blue. */
+    float red_green = fmaxf(mean[0], mean[1]);
+    return fabsf(mean[0] - 0.5f) < 0.25f && fabsf(mean[1] - 0.5f) < 0.25f && mean[2] > 0.8f &&
+           mean[2] > red_green + 0.2f;
+}

@@ -83,4 +83,14 @@ void vkrt_texture_sample(const vkrt_texture_set *set, uint32_t index, float u, f
  * wrapped into the image: the CPU reference of texture_texel in glsl/lib/texture.glsl. */
 void vkrt_texture_texel(const vkrt_texture_set *set, uint32_t index, int x, int y, float rgba[4]);
 
+/* The mean of the texture's texels as linear RGBA (colour maps decoded from sRGB first, as the
+ * kernels read them); 0 for an index past the set. Light sampling weighs an emission map by it. */
+void vkrt_texture_mean(const vkrt_texture_set *set, uint32_t index, float rgba[4]);
+
+/* Whether the texture (stored as data) reads as a tangent-space normal map: its mean is near
+ * (0.5, 0.5, 1), the unbent normal (red and green within 0.25 of 0.5, blue above 0.8 and 0.2
+ * above both), where a height map is grey. Exporters write normal maps as
+ * map_Bump (Blender's does), so map_Bump is told apart by its image. */
+bool vkrt_texture_is_normal_map(const vkrt_texture_set *set, uint32_t index);
+
 #endif
