@@ -130,6 +130,44 @@ static void print_progress(FILE *out, uint32_t done, uint32_t total, uint32_t re
     fflush(out);
 }
 
+/* Sampling to a target error: what frame f reached (its estimates' spread, the samples it took,
+ * its time), and with --sample-count-image each pixel's samples: EXR the counts, PNG grey
+ * count / cap. */
+static bool report_convergence(const vkrt_render_options *opts, vkrt_renderer *renderer,
+                               const vkrt_render_desc *desc, uint32_t f,
+                               const vkrt_frame_stats *stats, vkrt_error *err)
+{
+    size_t pixels = (size_t)desc->width * desc->height;
+    uint32_t *samples = opts->sample_count_image ? malloc(pixels * sizeof *samples) : NULL;
+    float *grey = opts->sample_count_image ? malloc(pixels * 3 * sizeof *grey) : NULL;
+    if (opts->sample_count_image && (!samples || !grey)) {
+        free(samples);
+        free(grey);
+        return vkrt_error_set(err, "out of memory for a %zu-pixel sample count image", pixels);
+    }
+    vkrt_convergence c;
+    bool ok = vkrt_renderer_convergence(renderer, &c, NULL, samples, err);
+    if (ok && !opts->common.quiet)
+        fprintf(stderr,
+                "vkrt: frame %u: target error %g: %.2f%% of pixels within it; estimate rms %.4f, "
+                "99th percentile %.4f, max %.4f; samples per pixel %.1f mean (%u to %u of %u); "
+                "%.3f s\n",
+                f, (double)c.target, 100.0 * c.converged / c.pixels, c.rms_error,
+                (double)c.p99_error, (double)c.max_error, c.mean_samples, c.min_samples,
+                c.max_samples, desc->samples, stats->seconds);
+    char path[4096];
+    if (ok && opts->sample_count_image) {
+        bool exr = vkrt_image_format_of(opts->sample_count_image) == VKRT_IMAGE_EXR;
+        for (size_t i = 0; i < 3 * pixels; ++i)
+            grey[i] = exr ? (float)samples[i / 3] : (float)samples[i / 3] / (float)desc->samples;
+        ok = vkrt_frame_path(path, sizeof path, opts->sample_count_image, f, err) &&
+             vkrt_image_write(path, desc->width, desc->height, grey, 0, err);
+    }
+    free(samples);
+    free(grey);
+    return ok;
+}
+
 static bool render_frames(const vkrt_render_options *opts, const vkrt_scene *scene,
                           const char *output, gpu_context *ctx, render_totals *totals,
                           vkrt_accel_stats *accel, vkrt_error *err)
@@ -190,7 +228,8 @@ static bool render_frames(const vkrt_render_options *opts, const vkrt_scene *sce
         vkrt_renderer_set_next_camera(renderer, f + 1 < cfg->camera_count ? &cfg->cameras[f + 1]
                                                                           : NULL);
         ok = ok && vkrt_renderer_render(renderer, &cfg->cameras[f], f, rgb, &stats, err) &&
-             vkrt_image_write(path, desc.width, desc.height, rgb, opts->exposure, err);
+             vkrt_image_write(path, desc.width, desc.height, rgb, opts->exposure, err) &&
+             (!desc.target_error || report_convergence(opts, renderer, &desc, f, &stats, err));
         if (ok) {
             totals->seconds += stats.seconds;
             totals->rays += stats.primary_rays + stats.shadow_rays + stats.secondary_rays;
@@ -245,7 +284,9 @@ static int run_render(const vkrt_render_options *opts)
     uint32_t frames = opts->frames_given
                           ? (opts->frame_last - opts->frame_first) / opts->frame_step + 1
                           : cameras;
-    if (!check_output(output, scene.config.camera_count, &err)) {
+    if (!check_output(output, scene.config.camera_count, &err) ||
+        (opts->sample_count_image &&
+         !check_output(opts->sample_count_image, scene.config.camera_count, &err))) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
         vkrt_scene_free(&scene);
         return 1;

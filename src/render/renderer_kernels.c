@@ -79,8 +79,9 @@ bool renderer_create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoo
 {
     uint32_t workgroup_size = r->tuning.workgroup_size;
     /* A float specialization constant travels as its 32 bits. */
-    uint32_t clamp_bits;
+    uint32_t clamp_bits, target_bits;
     memcpy(&clamp_bits, &r->clamp, sizeof clamp_bits);
+    memcpy(&target_bits, &r->target_error, sizeof target_bits);
     const gpu_spec_constant constants[] = {
         {VKRT_SPEC_HAS_NORMALS, has_normals},
         {VKRT_SPEC_ACCEL_KIND, traverse_kind(r->accel.stats.kind)},
@@ -96,6 +97,7 @@ bool renderer_create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoo
         {VKRT_SPEC_HAS_CUTOUTS, r->has_cutouts},
         {VKRT_SPEC_EMITTER_LIGHT, r->emitter_light},
         {VKRT_SPEC_CLAMP, clamp_bits},
+        {VKRT_SPEC_TARGET_ERROR, target_bits},
     };
     const uint32_t count = sizeof constants / sizeof *constants;
     const kernel_spec wave = {workgroup_size, constants, count};
@@ -111,5 +113,9 @@ bool renderer_create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoo
            create_kernel(r, &r->occlusion, "occlusion.comp", &wave, err) &&
            create_kernel(r, &r->prepare, "prepare.comp", &single, err) &&
            create_material_kernel(r, &r->count, "count.comp", kernel, mats, &wave, err) &&
-           create_material_kernel(r, &r->shade, "shade.comp", kernel, mats, &wave, err);
+           create_material_kernel(r, &r->shade, "shade.comp", kernel, mats, &wave, err) &&
+           /* Adaptive sampling's kernels only where there is a target error. */
+           (r->target_error <= 0 ||
+            (create_kernel(r, &r->adapt, "adapt.comp", &wave, err) &&
+             create_kernel(r, &r->adapt_dispatch, "adapt_dispatch.comp", &single, err)));
 }
