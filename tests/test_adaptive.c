@@ -145,8 +145,7 @@ static void samples_are_the_uniform_ones(void **state)
     static float adaptive[PIXELS * 3], uniform[PIXELS * 3];
     static uint32_t samples[PIXELS];
     vkrt_convergence c;
-    render(&(vkrt_render_desc){.samples = 40, .target_error = 1e-6f}, adaptive, NULL, samples,
-           &c);
+    render(&(vkrt_render_desc){.samples = 40, .target_error = 1e-6f}, adaptive, NULL, samples, &c);
     render(&(vkrt_render_desc){.samples = 40}, uniform, NULL, NULL, NULL);
     double worst = 0;
     for (int i = 0; i < PIXELS * 3; ++i)

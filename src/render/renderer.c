@@ -147,8 +147,9 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
     /* Whitted's jitter cells are laid out for a fixed number of samples (raygen.comp): a pixel
      * that stopped early would have sampled part of its square only. */
     if (ok && desc->target_error > 0 && r->integrator != VKRT_INTEGRATOR_PATH)
-        ok = vkrt_error_set(err, "a target error needs the path integrator (this scene renders "
-                                 "with whitted: %s); add --integrator path",
+        ok = vkrt_error_set(err,
+                            "a target error needs the path integrator (this scene renders "
+                            "with whitted: %s); add --integrator path",
                             r->integrator_reason);
     r->target_error = desc->target_error;
     /* Whitted sees the emissive triangles as one more light after the scene's, with a visibility
@@ -236,9 +237,8 @@ void vkrt_renderer_destroy(vkrt_renderer *r)
 {
     if (!r)
         return;
-    gpu_pipeline *pipelines[] = {&r->adapt_dispatch, &r->adapt, &r->shade,
-                                 &r->prepare,        &r->count, &r->occlusion,
-                                 &r->light,          &r->trace, &r->raygen};
+    gpu_pipeline *pipelines[] = {&r->adapt_dispatch, &r->adapt, &r->shade, &r->prepare, &r->count,
+                                 &r->occlusion,      &r->light, &r->trace, &r->raygen};
     for (size_t i = 0; i < sizeof pipelines / sizeof *pipelines; ++i)
         gpu_pipeline_destroy(r->ctx, pipelines[i]);
     /* The views before the buffers they look into. */

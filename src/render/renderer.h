@@ -110,13 +110,13 @@ bool vkrt_renderer_add_samples(vkrt_renderer *r, const vkrt_config_camera *camer
 /* What adaptive sampling reached in the frame rendered last (estimates as glsl/lib/adaptive.glsl
  * defines them). */
 typedef struct vkrt_convergence {
-    float target;             /* the renderer's target error */
+    float target; /* the renderer's target error */
     uint32_t pixels;
-    uint32_t converged;       /* pixels whose estimate is at most the target */
-    double rms_error;         /* root mean square of the pixels' estimates */
-    float p99_error;          /* the 99th percentile of the estimates */
-    float max_error;          /* the largest (a pixel at the cap, or dark and noisy) */
-    double mean_samples;      /* samples per pixel, mean, fewest and most */
+    uint32_t converged;  /* pixels whose estimate is at most the target */
+    double rms_error;    /* root mean square of the pixels' estimates */
+    float p99_error;     /* the 99th percentile of the estimates */
+    float max_error;     /* the largest (a pixel at the cap, or dark and noisy) */
+    double mean_samples; /* samples per pixel, mean, fewest and most */
     uint32_t min_samples, max_samples;
 } vkrt_convergence;
 

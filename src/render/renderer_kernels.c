@@ -91,8 +91,8 @@ bool renderer_create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoo
         {VKRT_SPEC_BVH_WIDTH, r->accel.stats.bvh_width},
         {VKRT_SPEC_TEXEL_LOADS, r->texel_loads},
         {VKRT_SPEC_NESTED_WALK, r->tuning.nested_walk},
-        {VKRT_SPEC_INTEGRATOR, r->integrator == VKRT_INTEGRATOR_PATH ? VKRT_INTEGRATE_PATH
-                                                                     : VKRT_INTEGRATE_WHITTED},
+        {VKRT_SPEC_INTEGRATOR,
+         r->integrator == VKRT_INTEGRATOR_PATH ? VKRT_INTEGRATE_PATH : VKRT_INTEGRATE_WHITTED},
         {VKRT_SPEC_LIGHT_SAMPLING, r->light_sampling},
         {VKRT_SPEC_HAS_CUTOUTS, r->has_cutouts},
         {VKRT_SPEC_EMITTER_LIGHT, r->emitter_light},

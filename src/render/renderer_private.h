@@ -24,7 +24,7 @@ struct vkrt_renderer {
     /* Adaptive sampling's PixelStats, ActivePixels and per-sample luminance (bindings.glsl);
      * minimal buffers without a target error. */
     gpu_buffer pixel_stats, active_pixels, sample_luminance;
-    float target_error;       /* vkrt_render_desc.target_error; 0: uniform sampling */
+    float target_error;         /* vkrt_render_desc.target_error; 0: uniform sampling */
     vkrt_integrator integrator; /* never auto */
     char integrator_reason[256];
     uint32_t light_sampling;  /* VKRT_SAMPLING_* */

@@ -63,7 +63,7 @@ typedef struct viewer {
      * changes whenever it starts again (for the log). */
     vkrt_config_camera traced;
     uint32_t passes;
-    uint32_t active_pixels;  /* with --target-error: pixels still sampling after the last pass */
+    uint32_t active_pixels; /* with --target-error: pixels still sampling after the last pass */
     uint32_t version;
     double seconds_per_pass;
 
@@ -599,7 +599,8 @@ static bool frame(viewer *v, double dt, bool log, vkrt_error *err)
                 (unsigned long long)v->frame, v->version, v->passes, v->desc.samples, traced);
     if (traced || v->redraw) {
         bool out_of_date;
-        if (!view_display_present(&v->display, vkrt_renderer_image(v->renderer), v->desc.width, v->desc.height,
+        if (!view_display_present(&v->display, vkrt_renderer_image(v->renderer), v->desc.width,
+                                  v->desc.height,
                                   vkrt_renderer_per_pixel_counts(v->renderer) ? 0 : v->passes,
                                   v->opts->exposure, &out_of_date, err))
             return false;
