@@ -17,7 +17,9 @@ layout(std430, set = 0, binding = VKRT_DISPLAY_BINDING_WINDOW) writeonly buffer 
 
 layout(push_constant) uniform Display {
     uvec4 size;   /* image width, height; window width, height */
-    vec4 scale;   /* x: 1 / passes, y: 2^exposure, z: 1 to store red in the third byte (BGRA) */
+    vec4 scale;   /* x: 1 / passes, y: 2^exposure, z: 1 to store red in the third byte (BGRA),
+                     w: 1 to divide by each pixel's own count, its w, instead of x (sampling to a
+                     target error: glsl/adapt.comp) */
 } display;
 
 float srgb_encode(float linear)
@@ -43,7 +45,9 @@ void main()
     uint x = index % width, y = index / width;
     uint ix = min(x * display.size.x / width, display.size.x - 1u);
     uint iy = min(y * display.size.y / height, display.size.y - 1u);
-    vec3 radiance = image[iy * display.size.x + ix].rgb * display.scale.x * display.scale.y;
+    vec4 sum = image[iy * display.size.x + ix];
+    float per_sample = display.scale.w != 0.0 ? (sum.w > 0.0 ? 1.0 / sum.w : 0.0) : display.scale.x;
+    vec3 radiance = sum.rgb * per_sample * display.scale.y;
     uvec3 c = uvec3(srgb8(radiance.r), srgb8(radiance.g), srgb8(radiance.b));
     if (display.scale.z != 0.0)
         c = c.bgr;

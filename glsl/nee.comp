@@ -106,7 +106,7 @@ void main()
             vkrt_rng = light_stream(ray);
             vkrt_dimension = SAMPLER_BSDF_DIMS; /* the BSDF block is shade.comp's */
             vec3 direct = direct_light(s, materials[s.material].info.x, shadow_rays);
-            add_finite_to_pixel(ray.info.x, ray.importance.rgb * direct);
+            add_finite_to_pixel(ray.info, ray.importance.rgb * direct);
         }
     }
     atomicAdd(workgroup_shadow_rays, shadow_rays);

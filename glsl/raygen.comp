@@ -1,7 +1,8 @@
 /*
  * raygen.comp: the primary rays of one sample pass, and the pass's resets. A pass holds samples
  * image.z .. image.z + K - 1 of every pixel, K = counts.z / pixels (one, or several where the
- * image is small: src/render/tuning.c), ray index = sample offset * pixels + pixel order.
+ * image is small: src/render/tuning.c), ray index = sample offset * pixels + pixel order; with
+ * --target-error, of the pixels adapt.comp listed, K = counts.z (see main).
  *
  * Sample s of N in a pixel lands in its own stratum. The path tracer takes its jitter from its
  * sampler (lib/sampler.glsl: dimensions 0-1 of depth 0, a (0,m,2)-net over the pixel's samples
@@ -22,24 +23,7 @@
 #include "lib/bindings.glsl"
 #include "lib/rng.glsl"
 #include "lib/sampler.glsl"
-
-const uint TILE = 8u;
-
-/* The pixel of primary ray `index`: the image is cut into bands of TILE rows, each band into
- * tiles of TILE columns, the tiles of a band and the pixels of a tile in raster order. The last
- * band and the last tile of each band may be narrower; the numbering stays dense. */
-uvec2 tile_pixel(uint index, uint width, uint height)
-{
-    uint band_pixels = TILE * width;
-    uint band = index / band_pixels;
-    uint in_band = index - band * band_pixels;
-    uint rows = min(TILE, height - band * TILE);
-    uint tile_pixels = TILE * rows;
-    uint tile = in_band / tile_pixels;
-    uint cols = min(TILE, width - tile * TILE);
-    uint in_tile = in_band - tile * tile_pixels;
-    return uvec2(tile * TILE + in_tile % cols, band * TILE + in_tile / cols);
-}
+#include "lib/tiles.glsl"
 
 /* Shirley and Chiu's concentric map of the unit square onto the unit disc: it keeps strata
  * (neighbouring points stay neighbours), so a stratified lens sample stays stratified. */
@@ -72,14 +56,31 @@ void reset_waves(uint rays)
 void main()
 {
     uint index = invocation_index();
-    uint width = frame.image.x, height = frame.image.y, pass_rays = frame.counts.z;
+    uint width = frame.image.x, height = frame.image.y, pixels = width * height;
+    /* Adaptive sampling (TARGET_ERROR > 0): samples image.z .. + counts.z - 1 of the pixels
+     * adapt.comp listed (in tile order), ray index = sample offset * listed + place in the list.
+     * Every listed pixel has had the same samples, image.z, so sample indices stay consecutive
+     * in each pixel and the sampler's strata hold for the samples it gets. */
+    uint listed = TARGET_ERROR > 0.0 ? active_list.count : pixels;
+    uint pass_rays = TARGET_ERROR > 0.0 ? listed * frame.counts.z : frame.counts.z;
+    /* Before the check: a pass of no listed pixels (adapt_dispatch.comp still dispatches one
+     * workgroup) must empty the wave table all the same. */
+    if (index == 0u) {
+        reset_waves(pass_rays);
+        if (TARGET_ERROR > 0.0)
+            counters.primary_rays += pass_rays;
+    }
     if (index >= pass_rays)
         return;
-    if (index == 0u)
-        reset_waves(pass_rays);
-    uint pixels = width * height;
-    uint sample_index = frame.image.z + index / pixels, samples = frame.image.w;
-    uvec2 p = tile_pixel(index % pixels, width, height);
+    uint offset_in_pass = index / listed, place = index - offset_in_pass * listed;
+    uint sample_index = frame.image.z + offset_in_pass, samples = frame.image.w;
+    uvec2 p;
+    if (TARGET_ERROR > 0.0) {
+        uint listed_pixel = active_pixels[place];
+        p = uvec2(listed_pixel % width, listed_pixel / width);
+    } else {
+        p = tile_pixel(place, width, height);
+    }
     uint pixel = p.y * width + p.x;
     if (sample_index == 0u)
         image[pixel] = vec4(0.0);

@@ -53,7 +53,7 @@ void shade_path(uint index, Ray ray, Hit hit)
         s = surface_at(ray, hit);
         vkrt_material = s.material;
     }
-    add_finite_to_pixel(ray.info.x, ray.importance.rgb * found_light(ray, hit, s));
+    add_finite_to_pixel(ray.info, ray.importance.rgb * found_light(ray, hit, s));
     uvec2 slots = ray_slots[index];
     /* count.comp reserved one slot when the path carries on (never at the last depth). */
     if (hit.triangle == VKRT_NO_HIT || frame.wave.y >= frame.wave.z || slots.y == 0u ||
@@ -117,5 +117,5 @@ void main()
             if (vkrt_cast_first + k < frame.wave.w)
                 store_child_ray(vkrt_cast_first + k, dead);
     }
-    add_finite_to_pixel(ray.info.x, ray.importance.rgb * vkrt_radiance);
+    add_finite_to_pixel(ray.info, ray.importance.rgb * vkrt_radiance);
 }

@@ -45,9 +45,12 @@ typedef uint32_t uint;
 #define VKRT_BINDING_TEXELS 18
 #define VKRT_BINDING_EMITTERS 19
 #define VKRT_BINDING_ENVIRONMENT 20
-#define VKRT_STORAGE_BINDINGS 21
-#define VKRT_BINDING_TRIANGLE_TEXELS 21
-#define VKRT_BINDING_NODE_TEXELS 22
+#define VKRT_BINDING_PIXEL_STATS 21       /* adaptive sampling only (--target-error); */
+#define VKRT_BINDING_ACTIVE_PIXELS 22     /* otherwise a minimal buffer each */
+#define VKRT_BINDING_SAMPLE_LUMINANCE 23
+#define VKRT_STORAGE_BINDINGS 24
+#define VKRT_BINDING_TRIANGLE_TEXELS 24
+#define VKRT_BINDING_NODE_TEXELS 25
 #define VKRT_TEXEL_BINDINGS 2
 
 /* The viewer's display pass (glsl/display.comp, src/view/display.c): a set of its own. */
@@ -70,6 +73,7 @@ typedef uint32_t uint;
 #define VKRT_SPEC_EMITTER_LIGHT 12
 #define VKRT_SPEC_CLAMP 13
 #define VKRT_SPEC_SURFACE_MAPS 14
+#define VKRT_SPEC_TARGET_ERROR 15
 
 /* Integrators (VKRT_SPEC_INTEGRATOR): Whitted's (delta lights, ambient, the materials' own rays)
  * or the path tracer (next-event estimation with multiple importance sampling). */
@@ -329,7 +333,47 @@ VKRT_STRUCT(Counters) {
     uint trace_busy;
     uint trace_widest;
     uint subgroup_size;
-    uint pad[3];
+    /* Adaptive sampling (--target-error) only: the pixels listed for the next pass (after the
+     * last pass of a submission: those not yet converged), and the camera rays traced. */
+    uint active_pixels;
+    uint primary_rays;
+    uint pad;
+};
+
+/* Adaptive sampling (--target-error; glsl/lib/adaptive.glsl says what it estimates). Pixels
+ * darker than VKRT_ADAPTIVE_FLOOR (linear luminance; 1 is a PNG's white at exposure 0) are held to
+ * an error of E times it, not E times themselves: a black or nearly black pixel would otherwise
+ * ask for samples without end, for an error no display shows (E x 0.01 is below an 8-bit sRGB
+ * step for any E up to 1). A pixel takes at least VKRT_ADAPTIVE_MIN_SAMPLES samples before its
+ * estimate may stop it: fewer say too little of its variance (a pixel whose first samples all
+ * missed a small light reads a variance of 0); a sample pass gives a pixel at most that many, so
+ * that pixels stop within that many samples of their target. */
+#define VKRT_ADAPTIVE_FLOOR 0.01f
+#define VKRT_ADAPTIVE_MIN_SAMPLES 16u
+/* A pixel none of whose samples found light takes at least this many: a dim face lit by rare
+ * paths (CornellBox-Original's short box, lit only indirectly) read 0 after 16 samples in 34 of
+ * its pixels, whose estimate of 0 stopped them black (true error 0.89); a pixel that is truly
+ * black (the sky past a scene's edge) costs 64 samples instead of 16. */
+#define VKRT_ADAPTIVE_MIN_DARK_SAMPLES 64u
+
+/* A pixel's luminance statistics, from
+ * which glsl/lib/adaptive.glsl estimates its error. */
+VKRT_STRUCT(PixelStats) {
+    float mean;       /* mean luminance of the pixel's samples */
+    float m2;         /* their sum of squared deviations from it (Welford) */
+    uint samples;     /* samples taken */
+    uint listed;      /* 1 while the pixel takes samples; once 0, it stays 0 for the frame */
+};
+
+/* The pixels the next sample pass traces (binding VKRT_BINDING_ACTIVE_PIXELS: this header, then
+ * the pixel indices, in raygen's tile order). */
+VKRT_STRUCT(ActivePixels) {
+    uint groups_x;    /* raygen's indirect dispatch: count x the pass's samples per pixel */
+    uint groups_y;
+    uint groups_z;
+    uint count;       /* pixels in the list */
+    uint appended;    /* pixels adapt.comp has listed so far for the pass after */
+    uint pad0, pad1, pad2;
 };
 
 #endif

@@ -29,6 +29,12 @@ const char *vkrt_usage(void)
            "  --clamp L         scale each contribution a path adds to a pixel down so that\n"
            "                    its largest channel is at most L: fewer fireflies, but biased\n"
            "                    (light is lost); off by default\n"
+           "  --target-error E  sample each pixel until the estimated relative standard error\n"
+           "                    of its luminance is at most E (e.g. 0.05), --spp the most\n"
+           "                    (docs/scene-format.md, \"Sampling to a target error\"); path\n"
+           "                    integrator; prints the error reached\n"
+           "  --sample-count-image PATH  with --target-error: each pixel's samples, EXR (the\n"
+           "                    counts) or PNG (grey: count / --spp), numbered like -o\n"
            "  --verbose         say which acceleration structure and integrator were chosen\n"
            "                    and why, the structure's build statistics, and every loader\n"
            "                    warning (folded by kind without it)\n"
@@ -70,9 +76,10 @@ const char *vkrt_usage(void)
            "  --bvh-cost C  --kd-cost C  --loads storage|texel  --walk one-loop|nested\n"
            "\n"
            "view options: --width, --height, --spp, --accel, --integrator, --clamp, --exposure,\n"
-           "  --device, --validation, --quiet, --no-cache as for render; the window opens at the\n"
-           "  scene's resolution, from its first camera, and a still picture gathers samples\n"
-           "  until it has --spp of them (default: the scene's `samples`, at least 16)\n"
+           "  --target-error, --device, --validation, --quiet, --no-cache as for render; the\n"
+           "  window opens at the scene's resolution, from its first camera, and a still picture\n"
+           "  gathers samples until it has --spp of them (default: the scene's `samples`, at\n"
+           "  least 16), or with --target-error until every pixel is within it (--spp the cap)\n"
            "  --record FILE     K appends the camera to FILE as a scene.cfg `camera` line\n"
            "  --script FILE     play key and mouse events from FILE (a testing aid; see\n"
            "                    docs/viewer.md)\n"
@@ -151,6 +158,7 @@ static const struct known_option {
     {"--bvh-leaf", BENCH},   {"--bvh-cost", BENCH},     {"--kd-cost", BENCH},
     {"--loads", BENCH},
     {"--walk", BENCH},       {"--integrator", RENDER | VIEW}, {"--clamp", RENDER | VIEW},
+    {"--target-error", RENDER | VIEW},                  {"--sample-count-image", RENDER},
 };
 
 static const char *command_name(vkrt_command command)
@@ -212,6 +220,12 @@ static bool parse_common(const char *arg, const char *value, vkrt_common_options
             return false;
         if (!(c->clamp > 0))
             return vkrt_error_set(err, "--clamp: '%s' is not a positive number", value);
+    } else if (strcmp(arg, "--target-error") == 0) {
+        *consumed = 1;
+        if (!parse_float(arg, value, &c->target_error, err))
+            return false;
+        if (!(c->target_error > 0))
+            return vkrt_error_set(err, "--target-error: '%s' is not a positive number", value);
     } else if (strcmp(arg, "--validation") == 0) {
         c->validation = true;
     } else if (strcmp(arg, "--quiet") == 0) {
@@ -279,6 +293,10 @@ static bool parse_render(const char *arg, const char *value, vkrt_render_options
                                   "--devices needs a value: all, or device numbers such as 0,2");
         o->devices = value;
         return vkrt_devices_spec_check(value, err);
+    } else if (strcmp(arg, "--sample-count-image") == 0) {
+        if (!value)
+            return vkrt_error_set(err, "--sample-count-image needs a path");
+        o->sample_count_image = value;
     } else {
         *consumed = 0;
         if (strcmp(arg, "--profile") == 0)
@@ -440,6 +458,9 @@ bool vkrt_command_line_parse(int argc, char **argv, vkrt_command_line *cl, vkrt_
     if (cl->render.devices && cl->render.common.device >= 0)
         return vkrt_error_set(err, "--device and --devices: give one (--devices %d for that device "
                               "alone)", cl->render.common.device);
+    if (cl->render.sample_count_image && !cl->render.common.target_error)
+        return vkrt_error_set(err, "--sample-count-image needs --target-error (without it every "
+                                   "pixel has --spp samples)");
     cl->render.scene_path = scene;
     cl->view.scene_path = scene;
     return true;
@@ -455,5 +476,6 @@ vkrt_render_desc vkrt_render_desc_for(const vkrt_config *cfg, const vkrt_common_
         .accel = common->accel_given ? common->accel : cfg->accel,
         .integrator = common->integrator,
         .clamp = common->clamp,
+        .target_error = common->target_error,
     };
 }

@@ -31,6 +31,9 @@ typedef struct vkrt_common_options {
     vkrt_integrator integrator; /* --integrator (render, view); auto (0) when not given */
     float clamp;              /* --clamp (render, view): the largest channel one path may add
                                  to a pixel, > 0; 0 when not given (no clamp) */
+    float target_error;       /* --target-error (render, view): sample each pixel until its
+                                 estimated relative error is at most this (--spp the cap); 0
+                                 when not given (uniform sampling) */
     int device;               /* --device; -1 picks the default */
     bool validation;          /* --validation, or VKRT_VALIDATION=1 in the environment */
     bool quiet;
@@ -52,6 +55,8 @@ typedef struct vkrt_render_options {
     uint32_t frame_first, frame_last, frame_step;
     const char *devices;      /* --devices all|N,M,...: a worker process per device listed
                                  (device_pool.h); NULL when not given */
+    const char *sample_count_image; /* --sample-count-image: each pixel's samples (with
+                                       --target-error), a pattern like -o's; NULL: none */
 } vkrt_render_options;
 
 typedef struct vkrt_view_options {

@@ -178,6 +178,44 @@ static void print_startup(FILE *out, const startup_clock *t, const vkrt_scene *s
             t->image - t->main);
 }
 
+/* Sampling to a target error: what frame f reached (its estimates' spread, the samples it took,
+ * its time), and with --sample-count-image each pixel's samples: EXR the counts, PNG grey
+ * count / cap. */
+static bool report_convergence(const vkrt_render_options *opts, vkrt_renderer *renderer,
+                               const vkrt_render_desc *desc, uint32_t f,
+                               const vkrt_frame_stats *stats, vkrt_error *err)
+{
+    size_t pixels = (size_t)desc->width * desc->height;
+    uint32_t *samples = opts->sample_count_image ? malloc(pixels * sizeof *samples) : NULL;
+    float *grey = opts->sample_count_image ? malloc(pixels * 3 * sizeof *grey) : NULL;
+    if (opts->sample_count_image && (!samples || !grey)) {
+        free(samples);
+        free(grey);
+        return vkrt_error_set(err, "out of memory for a %zu-pixel sample count image", pixels);
+    }
+    vkrt_convergence c;
+    bool ok = vkrt_renderer_convergence(renderer, &c, NULL, samples, err);
+    if (ok && !opts->common.quiet)
+        fprintf(stderr,
+                "vkrt: frame %u: target error %g: %.2f%% of pixels within it; estimate rms %.4f, "
+                "99th percentile %.4f, max %.4f; samples per pixel %.1f mean (%u to %u of %u); "
+                "%.3f s\n",
+                f, (double)c.target, 100.0 * c.converged / c.pixels, c.rms_error,
+                (double)c.p99_error, (double)c.max_error, c.mean_samples, c.min_samples,
+                c.max_samples, desc->samples, stats->seconds);
+    char path[4096];
+    if (ok && opts->sample_count_image) {
+        bool exr = vkrt_image_format_of(opts->sample_count_image) == VKRT_IMAGE_EXR;
+        for (size_t i = 0; i < 3 * pixels; ++i)
+            grey[i] = exr ? (float)samples[i / 3] : (float)samples[i / 3] / (float)desc->samples;
+        ok = vkrt_frame_path(path, sizeof path, opts->sample_count_image, f, err) &&
+             vkrt_image_write(path, desc->width, desc->height, grey, 0, err);
+    }
+    free(samples);
+    free(grey);
+    return ok;
+}
+
 /* One device rendering a scene's frames into their files: the single-device loop and each
  * worker of --devices (device_pool.h) use it. */
 typedef struct frame_writer {
@@ -266,7 +304,9 @@ static bool frame_writer_write(frame_writer *w, uint32_t f, vkrt_frame_stats *st
         return false;
     if (w->clock && !w->clock->frame)
         w->clock->frame = vkrt_clock_ms();
-    if (!vkrt_image_write(path, w->desc.width, w->desc.height, w->rgb, opts->exposure, err))
+    if (!vkrt_image_write(path, w->desc.width, w->desc.height, w->rgb, opts->exposure, err) ||
+        (w->desc.target_error &&
+         !report_convergence(opts, w->renderer, &w->desc, f, stats, err)))
         return false;
     if (w->clock && !w->clock->image)
         w->clock->image = vkrt_clock_ms();
@@ -578,6 +618,8 @@ static int run_render(const vkrt_render_options *opts, double main_ms)
     }
     frame_list list;
     if (!check_output(output, scene.config.camera_count, &err) ||
+        (opts->sample_count_image &&
+         !check_output(opts->sample_count_image, scene.config.camera_count, &err)) ||
         !frame_list_make(opts, &scene, output, &list, &err)) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
         vkrt_scene_free(&scene);

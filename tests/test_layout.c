@@ -40,6 +40,8 @@ typedef struct Probe {
     LightInfo light_info;
     Emitter emitter_pair[2];
     KdNode kd_pair[2];
+    PixelStats pixel_stats_pair[2];
+    ActivePixels active_pixels;
 } Probe;
 
 typedef enum { F32, U32, VEC4, UVEC4 } field_type;
@@ -72,7 +74,13 @@ static const field fields[] = {
     FIELD(counters, overcount, U32), FIELD(counters, trace_rays, U32),
     FIELD(counters, trace_steps, U32), FIELD(counters, trace_tests, U32),
     FIELD(counters, trace_busy, U32), FIELD(counters, trace_widest, U32),
-    FIELD(counters, subgroup_size, U32), FIELD(counters, pad[2], U32),
+    FIELD(counters, subgroup_size, U32), FIELD(counters, active_pixels, U32),
+    FIELD(counters, primary_rays, U32), FIELD(counters, pad, U32),
+    FIELD(pixel_stats_pair[0], mean, F32), FIELD(pixel_stats_pair[0], m2, F32),
+    FIELD(pixel_stats_pair[1], samples, U32), FIELD(pixel_stats_pair[1], listed, U32),
+    FIELD(active_pixels, groups_x, U32), FIELD(active_pixels, groups_y, U32),
+    FIELD(active_pixels, groups_z, U32), FIELD(active_pixels, count, U32),
+    FIELD(active_pixels, appended, U32), FIELD(active_pixels, pad2, U32),
     FIELD(texcoords, uv01, VEC4), FIELD(texcoords, uv2, VEC4),
     FIELD(wave, groups_x, U32), FIELD(wave, groups_y, U32), FIELD(wave, groups_z, U32),
     FIELD(wave, ray_count, U32),
@@ -118,6 +126,7 @@ static char *probe_kernel(void)
                              "  Hit hit_pair[2]; Ray ray_pair[2]; Material material_pair[2];\n"
                              "  LightInfo light_info; Emitter emitter_pair[2];\n"
                              "  KdNode kd_pair[2];\n"
+                             "  PixelStats pixel_stats_pair[2]; ActivePixels active_pixels;\n"
                              "};\n"
                              "void main() {\n"
                              "  if (gl_GlobalInvocationID.x != 0u) return;\n");

@@ -170,5 +170,24 @@ check "path: 16 passes are nearer convergence than 1" awk -v a="$first" -v b="$a
 check "path: the converged window after the move matches the render of its camera" test $? -eq 0
 cat "$tmp/compared"
 
+# Sampling to a target error: a still picture is done when every pixel's estimate is within it
+# (the same as vkrt render's), before the --spp cap: the screenshot after `wait converged` holds
+# fewer samples than the cap.
+cat >"$tmp/target-events.txt" <<'EVENTS'
+wait converged
+key p
+key escape
+EVENTS
+(cd "$tmp" && xvfb-run -a -s "-screen 0 1280x1024x24" "$vkrt" view "$tmp/lamp.cfg" --width 32 \
+    --height 32 --spp 1024 --target-error 0.3 --clamp 1 --script "$tmp/target-events.txt" \
+    >/dev/null 2>"$tmp/target-log")
+status=$?
+check "target: scripted view exits 0" test $status -eq 0
+[ $status -eq 0 ] || cat "$tmp/target-log"
+check "target: no validation message" sh -c "! grep -q validation '$tmp/target-log'"
+grep "screenshot" "$tmp/target-log"
+check "target: done within the target before the 1024-sample cap" \
+    grep -Eq "lamp-view-[0-9]+.exr \(([0-9]|[0-9][0-9]|[0-9][0-9][0-9]|10[01][0-9]|102[0-3]) of 1024 samples\)" "$tmp/target-log"
+
 echo "$passed passed, $failures failed"
 [ $failures -eq 0 ]

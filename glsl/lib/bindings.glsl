@@ -99,6 +99,21 @@ layout(constant_id = VKRT_SPEC_SURFACE_MAPS) const uint SURFACE_MAPS = 0u;
  * off (the default). */
 layout(constant_id = VKRT_SPEC_CLAMP) const float CLAMP = 0.0;
 
+/* `--target-error E` (adaptive sampling, glsl/adapt.comp): each pixel takes samples until its
+ * estimated relative error (lib/adaptive.glsl) is at most TARGET_ERROR; 0 is off (the default,
+ * and then none of the code below or in adapt.comp runs). Its buffers: per pixel its luminance
+ * statistics; the pixels the next pass traces; and the luminance each sample of the pass adds
+ * to its pixel (sample k of the pass at k * pixels + pixel), which adapt.comp folds into the
+ * statistics and clears. */
+layout(constant_id = VKRT_SPEC_TARGET_ERROR) const float TARGET_ERROR = 0.0;
+layout(std430, set = 0, binding = VKRT_BINDING_PIXEL_STATS) buffer PixelStatsBuffer { PixelStats pixel_stats[]; };
+layout(std430, set = 0, binding = VKRT_BINDING_ACTIVE_PIXELS) buffer ActivePixelBuffer {
+    ActivePixels active_list;
+    uint active_pixels[];
+};
+layout(std430, set = 0, binding = VKRT_BINDING_SAMPLE_LUMINANCE) buffer SampleLuminanceBuffer { float sample_luminance[]; };
+layout(std430, set = 0, binding = VKRT_BINDING_SAMPLE_LUMINANCE) buffer SampleLuminanceWords { uint sample_luminance_words[]; };
+
 /* Which structure trace_closest and trace_any walk (VKRT_TRAVERSE_*). */
 layout(constant_id = VKRT_SPEC_ACCEL_KIND) const uint ACCEL_KIND = VKRT_TRAVERSE_BRUTE;
 

@@ -7,6 +7,7 @@
 #define VKRT_PIXEL_GLSL
 
 #include "bindings.glsl"
+#include "colour.glsl"
 
 /* Adds c to pixel p. Float atomics where the device has them (VK_EXT_shader_atomic_float), else a
  * compare-and-swap loop on the float's bits. */
@@ -31,13 +32,34 @@ void add_to_pixel(uint p, vec3 c)
 #endif
 }
 
-/* Adds c to pixel p unless it is zero, or NaN or infinite: one of those would spread through
- * every sample of its pixel, so it is dropped and counted (the host warns). With `--clamp L`
+/* Adaptive sampling: adds luminance x to the slot of sample `sample_index` of pixel p in this pass
+ * (lib/bindings.glsl), which adapt.comp reads after the pass. Float atomics where the device has
+ * them, else a compare-and-swap loop, as add_to_pixel. */
+void add_to_sample_luminance(uint p, uint sample_index, float x)
+{
+    uint slot = (sample_index - frame.image.z) * frame.image.x * frame.image.y + p;
+#ifdef VKRT_FLOAT_ATOMICS
+    atomicAdd(sample_luminance[slot], x);
+#else
+    uint seen = sample_luminance_words[slot];
+    for (;;) {
+        uint wanted = floatBitsToUint(uintBitsToFloat(seen) + x);
+        uint before = atomicCompSwap(sample_luminance_words[slot], seen, wanted);
+        if (before == seen)
+            break;
+        seen = before;
+    }
+#endif
+}
+
+/* Adds c to the pixel of the ray with this info (x: the pixel, w: its sample) unless it is zero,
+ * or NaN or infinite: one of those would spread through every sample of its pixel, so it is dropped and counted (the host warns). With `--clamp L`
  * (CLAMP > 0) c is first scaled so that its largest channel is at most L: each call adds one
  * path's contribution (a light sample, or the light a ray found), so this is Cycles' sample
  * clamp, hue kept. Biased: the light of rare bright paths is lost, and fireflies with it. */
-void add_finite_to_pixel(uint p, vec3 c)
+void add_finite_to_pixel(uvec4 info, vec3 c)
 {
+    uint p = info.x;
     if (any(isnan(c)) || any(isinf(c))) {
         atomicAdd(counters.nonfinite, 1u);
         return;
@@ -47,8 +69,12 @@ void add_finite_to_pixel(uint p, vec3 c)
         if (largest > CLAMP)
             c *= CLAMP / largest;
     }
-    if (any(notEqual(c, vec3(0.0))))
+    if (any(notEqual(c, vec3(0.0)))) {
         add_to_pixel(p, c);
+        /* With --target-error, the sample's luminance too, for its pixel's error estimate. */
+        if (TARGET_ERROR > 0.0)
+            add_to_sample_luminance(p, info.w >> VKRT_RAY_SAMPLE_SHIFT, luminance(c));
+    }
 }
 
 #endif

@@ -94,6 +94,10 @@ static bool size_ray_buffers(vkrt_renderer *r, const vkrt_render_desc *desc, vkr
     batch = batch < 1 ? 1 : batch > r->samples ? r->samples : batch;
     while (batch > 1 && pixels * batch > r->max_capacity)
         --batch;
+    /* Sampling to a target error decides after each pass which pixels take more: a pass gives
+     * at most VKRT_ADAPTIVE_MIN_SAMPLES, so a pixel stops within that many of its target. */
+    if (r->target_error > 0 && batch > VKRT_ADAPTIVE_MIN_SAMPLES)
+        batch = VKRT_ADAPTIVE_MIN_SAMPLES;
     /* Motion blur gives each pass its own time (renderer_frame.c): one sample a pass. */
     if (r->shutter > 0)
         batch = 1;
@@ -112,6 +116,9 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
     if (!(desc->clamp >= 0 && isfinite(desc->clamp)))
         return vkrt_error_set(err, "clamp %g is not a positive number (0: no clamp)",
                               (double)desc->clamp);
+    if (!(desc->target_error >= 0 && isfinite(desc->target_error)))
+        return vkrt_error_set(err, "target error %g is not a positive number (0: none)",
+                              (double)desc->target_error);
     vkrt_renderer *r = calloc(1, sizeof *r);
     if (!r)
         return vkrt_error_set(err, "out of memory");
@@ -137,6 +144,14 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
     }
     if (ok)
         choose_integrator(r, desc, scene, mats);
+    /* Whitted's jitter cells are laid out for a fixed number of samples (raygen.comp): a pixel
+     * that stopped early would have sampled part of its square only. */
+    if (ok && desc->target_error > 0 && r->integrator != VKRT_INTEGRATOR_PATH)
+        ok = vkrt_error_set(err,
+                            "a target error needs the path integrator (this scene renders "
+                            "with whitted: %s); add --integrator path",
+                            r->integrator_reason);
+    r->target_error = desc->target_error;
     /* Whitted sees the emissive triangles as one more light after the scene's, with a visibility
      * bit of its own (lib/emitters.glsl). */
     r->emitter_light = ok && r->integrator == VKRT_INTEGRATOR_WHITTED && first_emitter(mats);
@@ -194,6 +209,11 @@ vkrt_integrator vkrt_renderer_integrator(const vkrt_renderer *r, const char **re
     return r->integrator;
 }
 
+bool vkrt_renderer_per_pixel_counts(const vkrt_renderer *r)
+{
+    return r->target_error > 0;
+}
+
 const gpu_buffer *vkrt_renderer_image(const vkrt_renderer *r)
 {
     return &r->image;
@@ -236,14 +256,15 @@ void vkrt_renderer_destroy(vkrt_renderer *r)
 {
     if (!r)
         return;
-    gpu_pipeline *pipelines[] = {&r->shade, &r->prepare, &r->count, &r->occlusion,
-                                 &r->light, &r->trace,   &r->raygen};
+    gpu_pipeline *pipelines[] = {&r->adapt_dispatch, &r->adapt, &r->shade, &r->prepare, &r->count,
+                                 &r->occlusion,      &r->light, &r->trace, &r->raygen};
     for (size_t i = 0; i < sizeof pipelines / sizeof *pipelines; ++i)
         gpu_pipeline_destroy(r->ctx, pipelines[i]);
     /* The views before the buffers they look into. */
     gpu_buffer_view_destroy(r->ctx, &r->triangle_view);
     gpu_buffer_view_destroy(r->ctx, &r->node_view);
     renderer_destroy_ray_buffers(r);
+    renderer_adaptive_destroy_buffers(r);
     gpu_buffer *buffers[] = {&r->counters,      &r->image,    &r->waves,
                              &r->lights,        &r->materials, &r->triangle_material,
                              &r->normals,       &r->texcoords, &r->triangles,

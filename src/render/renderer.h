@@ -57,6 +57,10 @@ typedef struct vkrt_render_desc {
     float shutter;            /* motion blur: the share of the interval to the next camera
                                  (vkrt_renderer_set_next_camera) each frame's samples are spread
                                  over; 0: none (scene.cfg `shutter`) */
+    float target_error;       /* > 0: sample each pixel until its estimated relative error
+                                 (glsl/lib/adaptive.glsl) is at most this, or it has `samples`
+                                 (the cap); path integrator only. 0: every pixel gets
+                                 `samples` (--target-error; vkrt_renderer_convergence) */
     uint32_t seed;            /* the random numbers' seed: frame f of seed s draws other numbers than
                                  of seed s' (--seed; 0: the default) */
     vkrt_tuning_overrides tuning; /* zero: the device's defaults (tuning.h) */
@@ -71,6 +75,8 @@ typedef struct vkrt_frame_stats {
     uint32_t ray_capacity;    /* rays per buffer after the frame */
     uint64_t dropped_rays;    /* rays past the largest buffers the device allows (then 0 < ...) */
     uint32_t nonfinite;       /* NaN or infinite shading results dropped */
+    uint32_t active_pixels;   /* with a target error: pixels that will take more samples (0: the
+                                 frame is done before its `samples`) */
     vkrt_frame_profile profile; /* with desc.profile: GPU ms per depth and kernel (profile.h) */
 } vkrt_frame_stats;
 
@@ -93,15 +99,40 @@ bool vkrt_renderer_render(vkrt_renderer *r, const vkrt_config_camera *camera, ui
 /* Progressive rendering (the viewer): adds sample passes [first, first + count) of the
  * renderer's `samples` (the stratification of raygen.comp is over all of them) to the frame's
  * image on the GPU (vkrt_renderer_image), which holds the sum of the passes (vec4 per pixel, w
- * unused); first == 0 clears it first. One submission, one wait. When the ray buffers must
+ * unused; with a target error, w is the pixel's sample count, vkrt_renderer_per_pixel_counts);
+ * first == 0 clears it first. One submission, one wait. When the ray buffers must
  * grow, every pass from 0 is rendered again. vkrt_renderer_render is add_samples(0, samples) +
  * read_image. */
 bool vkrt_renderer_add_samples(vkrt_renderer *r, const vkrt_config_camera *camera,
                                uint32_t frame_index, uint32_t first, uint32_t count,
                                vkrt_frame_stats *stats, vkrt_error *err);
 
-/* Reads the image back as its sum divided by passes: width * height * 3 floats, top row first. */
+/* What adaptive sampling reached in the frame rendered last (estimates as glsl/lib/adaptive.glsl
+ * defines them). */
+typedef struct vkrt_convergence {
+    float target; /* the renderer's target error */
+    uint32_t pixels;
+    uint32_t converged;  /* pixels whose estimate is at most the target */
+    double rms_error;    /* root mean square of the pixels' estimates */
+    float p99_error;     /* the 99th percentile of the estimates */
+    float max_error;     /* the largest (a pixel at the cap, or dark and noisy) */
+    double mean_samples; /* samples per pixel, mean, fewest and most */
+    uint32_t min_samples, max_samples;
+} vkrt_convergence;
+
+/* Reads the pixels' statistics back (once: width * height * 16 bytes) into out, and when not
+ * NULL each pixel's estimate and sample count (width * height, top row first). False with err set
+ * for a renderer without a target error. */
+bool vkrt_renderer_convergence(vkrt_renderer *r, vkrt_convergence *out, float *estimates,
+                               uint32_t *samples, vkrt_error *err);
+
+/* Reads the image back as its sum divided by passes (with a target error: by each pixel's own
+ * sample count): width * height * 3 floats, top row first. */
 bool vkrt_renderer_read_image(vkrt_renderer *r, uint32_t passes, float *rgb, vkrt_error *err);
+
+/* Whether the image's w holds each pixel's sample count (a target error), by which it is divided,
+ * rather than every pixel having the passes added. */
+bool vkrt_renderer_per_pixel_counts(const vkrt_renderer *r);
 
 /* The GPU buffer of the image add_samples accumulates into (the viewer's display pass reads it). */
 const gpu_buffer *vkrt_renderer_image(const vkrt_renderer *r);

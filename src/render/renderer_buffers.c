@@ -62,7 +62,8 @@ bool renderer_create_frame_buffers(vkrt_renderer *r, vkrt_error *err)
            gpu_buffer_create(r->ctx, &r->image, pixels * sizeof(vec4), "image", err) &&
            gpu_buffer_create(r->ctx, &r->counters, sizeof(Counters), "counters", err) &&
            gpu_buffer_create(r->ctx, &r->waves, (r->max_depth + 2) * sizeof(WaveState),
-                             "wave buffer", err);
+                             "wave buffer", err) &&
+           renderer_adaptive_create_buffers(r, err);
 }
 
 void renderer_bind_all(vkrt_renderer *r)
@@ -89,6 +90,9 @@ void renderer_bind_all(vkrt_renderer *r)
         [VKRT_BINDING_TEXELS] = &r->texels,
         [VKRT_BINDING_EMITTERS] = &r->emitters,
         [VKRT_BINDING_ENVIRONMENT] = &r->environment,
+        [VKRT_BINDING_PIXEL_STATS] = &r->pixel_stats,
+        [VKRT_BINDING_ACTIVE_PIXELS] = &r->active_pixels,
+        [VKRT_BINDING_SAMPLE_LUMINANCE] = &r->sample_luminance,
     };
     for (uint32_t i = 0; i < VKRT_STORAGE_BINDINGS; ++i)
         gpu_storage_set_bind(r->ctx, &r->set, i, bound[i]);

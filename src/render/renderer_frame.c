@@ -102,15 +102,24 @@ static void record_passes(vkrt_renderer *r, VkCommandBuffer cmd, FrameParams par
                           uint32_t first, uint32_t end, profile_recorder *p)
 {
     uint32_t pixels = r->width * r->height;
+    bool adaptive = r->target_error > 0;
+    /* Adaptive sampling: the frame starts with every pixel listed (renderer_adaptive.c). */
+    if (adaptive && first == 0)
+        renderer_adaptive_record_adapt(r, cmd, params, 0, r->batch);
     for (uint32_t s = first; s < end; s += r->batch) {
-        /* Samples [s, s + batch) of every pixel in one pass (raygen.comp). */
-        uint32_t rays = pixels * (end - s < r->batch ? end - s : r->batch);
+        /* Samples [s, s + batch) of every pixel (or of the listed ones) in one pass
+         * (raygen.comp). */
+        uint32_t taken = end - s < r->batch ? end - s : r->batch;
         params.image.z = s;
-        params.counts.z = rays;
         if (r->has_next && r->shutter > 0)
             moving_camera(r, s, params.counts.w, &params);
         params.wave = (uvec4){0, 0, r->max_depth, r->capacity};
-        gpu_dispatch(cmd, &r->raygen, &r->set, &params, rays);
+        if (adaptive) {
+            renderer_adaptive_record_raygen(r, cmd, &params, taken);
+        } else {
+            params.counts.z = pixels * taken;
+            gpu_dispatch(cmd, &r->raygen, &r->set, &params, pixels * taken);
+        }
         profile_recorder_mark(cmd, p, 0, VKRT_KERNEL_RAYGEN);
         params.counts.z = VKRT_RAYS_OF_WAVE;
         for (uint32_t depth = 0; depth <= r->max_depth; ++depth) {
@@ -130,6 +139,8 @@ static void record_passes(vkrt_renderer *r, VkCommandBuffer cmd, FrameParams par
             gpu_dispatch_indirect(cmd, &r->shade, &r->set, &params, &r->waves, wave);
             profile_recorder_mark(cmd, p, depth, VKRT_KERNEL_SHADE);
         }
+        if (adaptive)
+            renderer_adaptive_record_adapt(r, cmd, params, s + taken, taken);
     }
 }
 
@@ -267,7 +278,9 @@ bool vkrt_renderer_add_samples(vkrt_renderer *r, const vkrt_config_camera *camer
     }
     if (stats) {
         stats->seconds = seconds;
-        stats->primary_rays = (uint64_t)pixels * (first + count - start);
+        stats->primary_rays = r->target_error > 0 ? counters.primary_rays
+                                                  : (uint64_t)pixels * (first + count - start);
+        stats->active_pixels = counters.active_pixels;
         stats->shadow_rays = counters.shadow_rays;
         stats->secondary_rays = counters.secondary_rays;
         stats->attempts = attempts;
@@ -289,6 +302,9 @@ bool vkrt_renderer_read_image(vkrt_renderer *r, uint32_t passes, float *rgb, vkr
     if (ok) {
         float scale = 1.0f / (float)(passes ? passes : 1);
         for (uint32_t i = 0; i < pixels; ++i) {
+            /* Adaptive sampling: each pixel's own count, in w (adapt.comp). */
+            if (r->target_error > 0)
+                scale = image[i].w > 0 ? 1.0f / image[i].w : 0.0f;
             rgb[3 * (size_t)i + 0] = image[i].x * scale;
             rgb[3 * (size_t)i + 1] = image[i].y * scale;
             rgb[3 * (size_t)i + 2] = image[i].z * scale;
@@ -308,6 +324,9 @@ void vkrt_renderer_set_next_camera(vkrt_renderer *r, const vkrt_config_camera *n
 bool vkrt_renderer_render(vkrt_renderer *r, const vkrt_config_camera *camera, uint32_t frame_index,
                           float *rgb, vkrt_frame_stats *stats, vkrt_error *err)
 {
+    if (r->target_error > 0)
+        return renderer_adaptive_render(r, camera, frame_index, stats, err) &&
+               vkrt_renderer_read_image(r, r->samples, rgb, err);
     return vkrt_renderer_add_samples(r, camera, frame_index, 0, r->samples, stats, err) &&
            vkrt_renderer_read_image(r, r->samples, rgb, err);
 }

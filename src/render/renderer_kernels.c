@@ -80,8 +80,9 @@ bool renderer_create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoo
 {
     uint32_t workgroup_size = r->tuning.workgroup_size;
     /* A float specialization constant travels as its 32 bits. */
-    uint32_t clamp_bits;
+    uint32_t clamp_bits, target_bits;
     memcpy(&clamp_bits, &r->clamp, sizeof clamp_bits);
+    memcpy(&target_bits, &r->target_error, sizeof target_bits);
     const gpu_spec_constant constants[] = {
         {VKRT_SPEC_HAS_NORMALS, has_normals},
         {VKRT_SPEC_ACCEL_KIND, traverse_kind(r->accel.stats.kind)},
@@ -91,13 +92,14 @@ bool renderer_create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoo
         {VKRT_SPEC_BVH_WIDTH, r->accel.stats.bvh_width},
         {VKRT_SPEC_TEXEL_LOADS, r->texel_loads},
         {VKRT_SPEC_NESTED_WALK, r->tuning.nested_walk},
-        {VKRT_SPEC_INTEGRATOR, r->integrator == VKRT_INTEGRATOR_PATH ? VKRT_INTEGRATE_PATH
-                                                                     : VKRT_INTEGRATE_WHITTED},
+        {VKRT_SPEC_INTEGRATOR,
+         r->integrator == VKRT_INTEGRATOR_PATH ? VKRT_INTEGRATE_PATH : VKRT_INTEGRATE_WHITTED},
         {VKRT_SPEC_LIGHT_SAMPLING, r->light_sampling},
         {VKRT_SPEC_HAS_CUTOUTS, r->has_cutouts},
         {VKRT_SPEC_EMITTER_LIGHT, r->emitter_light},
         {VKRT_SPEC_CLAMP, clamp_bits},
         {VKRT_SPEC_SURFACE_MAPS, r->surface_maps},
+        {VKRT_SPEC_TARGET_ERROR, target_bits},
     };
     const uint32_t count = sizeof constants / sizeof *constants;
     const kernel_spec wave = {workgroup_size, constants, count};
@@ -113,5 +115,9 @@ bool renderer_create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoo
            create_kernel(r, &r->occlusion, "occlusion.comp", &wave, err) &&
            create_kernel(r, &r->prepare, "prepare.comp", &single, err) &&
            create_material_kernel(r, &r->count, "count.comp", kernel, mats, &wave, err) &&
-           create_material_kernel(r, &r->shade, "shade.comp", kernel, mats, &wave, err);
+           create_material_kernel(r, &r->shade, "shade.comp", kernel, mats, &wave, err) &&
+           /* Adaptive sampling's kernels only where there is a target error. */
+           (r->target_error <= 0 ||
+            (create_kernel(r, &r->adapt, "adapt.comp", &wave, err) &&
+             create_kernel(r, &r->adapt_dispatch, "adapt_dispatch.comp", &single, err)));
 }

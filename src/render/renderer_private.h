@@ -16,10 +16,15 @@ struct vkrt_renderer {
     gpu_storage_set set;
     vkrt_accel_gpu accel;     /* the structure, its statistics and the triangle order */
     gpu_pipeline raygen, trace, light, occlusion, count, prepare, shade;
+    gpu_pipeline adapt, adapt_dispatch; /* with a target error only (renderer_adaptive.c) */
     gpu_buffer rays, rays_b, hits, triangles, normals, texcoords, triangle_material, materials,
         lights, image, counters, waves, visibility, slots, texture_infos, texels;
     gpu_buffer emitters;      /* LightInfo, then the alias table over emissive triangles */
     gpu_buffer environment;   /* the environment map's sampling distribution */
+    /* Adaptive sampling's PixelStats, ActivePixels and per-sample luminance (bindings.glsl);
+     * minimal buffers without a target error. */
+    gpu_buffer pixel_stats, active_pixels, sample_luminance;
+    float target_error;         /* vkrt_render_desc.target_error; 0: uniform sampling */
     vkrt_integrator integrator; /* never auto */
     char integrator_reason[256];
     uint32_t light_sampling;  /* VKRT_SAMPLING_* */
@@ -74,6 +79,24 @@ void renderer_destroy_ray_buffers(vkrt_renderer *r);
 bool renderer_grow_ray_buffers(vkrt_renderer *r, uint64_t needed, vkrt_error *err);
 /* Points every binding of the set at its buffer (after creation, and after growth). */
 void renderer_bind_all(vkrt_renderer *r);
+
+/* renderer_adaptive.c: the buffers of adaptive sampling (minimal ones without a target error). */
+bool renderer_adaptive_create_buffers(vkrt_renderer *r, vkrt_error *err);
+void renderer_adaptive_destroy_buffers(vkrt_renderer *r);
+/* Records adapt.comp and adapt_dispatch.comp: done is the samples each listed pixel has after the
+ * pass just recorded (0: before the first pass of a frame, which lists every pixel), taken the
+ * samples that pass gave each (at the start: r->batch, the slots to clear). */
+void renderer_adaptive_record_adapt(vkrt_renderer *r, VkCommandBuffer cmd, FrameParams params,
+                                    uint32_t done, uint32_t taken);
+/* Records raygen over the listed pixels, `taken` samples each (indirect: adapt_dispatch.comp
+ * wrote the workgroup counts). */
+void renderer_adaptive_record_raygen(vkrt_renderer *r, VkCommandBuffer cmd, FrameParams *params,
+                                     uint32_t taken);
+
+/* Renders a frame to the target error, or to the cap: vkrt_renderer_render's work before it
+ * reads the image. */
+bool renderer_adaptive_render(vkrt_renderer *r, const vkrt_config_camera *camera,
+                              uint32_t frame_index, vkrt_frame_stats *stats, vkrt_error *err);
 
 /* renderer_kernels.c: compiles the wave kernels, the material ones from the scene's materials. */
 bool renderer_create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoords,

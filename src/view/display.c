@@ -196,7 +196,7 @@ bool view_display_present(view_display *d, const gpu_buffer *image, uint32_t ima
     display_push push = {
         .size = {image_width, image_height, e.width, e.height},
         .scale = {1.0f / (float)(passes ? passes : 1), exp2f(exposure), d->swapchain.bgra ? 1 : 0,
-                  0},
+                  passes ? 0 : 1},
     };
     gpu_storage_set_bind(d->ctx, &f->set, VKRT_DISPLAY_BINDING_IMAGE, image);
     gpu_storage_set_bind(d->ctx, &f->set, VKRT_DISPLAY_BINDING_WINDOW, &f->pixels);

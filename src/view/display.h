@@ -48,8 +48,9 @@ bool view_display_create(view_display *d, gpu_context *ctx, uint32_t width, uint
  * and the pixel buffers to match. */
 bool view_display_resize(view_display *d, uint32_t width, uint32_t height, vkrt_error *err);
 
-/* Shows image (image_width x image_height vec4 sums of `passes` passes, scaled to the window when
- * the sizes differ), times 2^exposure. Waits for this slot's previous frame, not for this one.
+/* Shows image (image_width x image_height vec4 sums of `passes` passes, or with passes 0 of the
+ * count in each pixel's w: sampling to a target error; scaled to the window when the sizes
+ * differ), times 2^exposure. Waits for this slot's previous frame, not for this one.
  * Sets *out_of_date when the swapchain no longer matches the window (nothing was shown, or it
  * was shown but should be recreated): the caller resizes and shows again. */
 bool view_display_present(view_display *d, const gpu_buffer *image, uint32_t image_width,

@@ -63,6 +63,7 @@ typedef struct viewer {
      * changes whenever it starts again (for the log). */
     vkrt_config_camera traced;
     uint32_t passes;
+    uint32_t active_pixels; /* with --target-error: pixels still sampling after the last pass */
     uint32_t version;
     double seconds_per_pass;
 
@@ -341,9 +342,12 @@ static void error_callback(int code, const char *description)
  * The script
  * ------------------------------------------------------------------------------------------- */
 
+/* A still view is done at --spp, or with --target-error once no pixel is above it (the estimate
+ * of glsl/lib/adaptive.glsl decides, as in vkrt render). */
 static bool converged(const viewer *v)
 {
-    return v->passes >= v->desc.samples;
+    bool within = v->desc.target_error > 0 && v->passes > 0 && v->active_pixels == 0;
+    return v->passes >= v->desc.samples || within;
 }
 
 static bool script_running(const viewer *v)
@@ -585,6 +589,7 @@ static bool frame(viewer *v, double dt, bool log, vkrt_error *err)
         if (!vkrt_renderer_add_samples(v->renderer, &v->traced, 0, v->passes, traced, &stats, err))
             return false;
         v->passes += traced;
+        v->active_pixels = stats.active_pixels;
         v->seconds_per_pass = stats.seconds / traced;
         v->title_trace_seconds += stats.seconds;
         v->title_rays += stats.primary_rays + stats.shadow_rays + stats.secondary_rays;
@@ -594,8 +599,10 @@ static bool frame(viewer *v, double dt, bool log, vkrt_error *err)
                 (unsigned long long)v->frame, v->version, v->passes, v->desc.samples, traced);
     if (traced || v->redraw) {
         bool out_of_date;
-        if (!view_display_present(&v->display, vkrt_renderer_image(v->renderer), v->desc.width, v->desc.height,
-                                  v->passes, v->opts->exposure, &out_of_date, err))
+        if (!view_display_present(&v->display, vkrt_renderer_image(v->renderer), v->desc.width,
+                                  v->desc.height,
+                                  vkrt_renderer_per_pixel_counts(v->renderer) ? 0 : v->passes,
+                                  v->opts->exposure, &out_of_date, err))
             return false;
         v->redraw = out_of_date;
         v->swapchain_stale |= out_of_date;
