@@ -9,6 +9,10 @@
  */
 #include "obj_geometry.h"
 
+/* The fuzz build compiles tinyobjloader's implementation into its sources
+ * (-DTINYOBJLOADER_IMPLEMENTATION, fuzz/meson.build) to put it under coverage: obj_load.cpp holds
+ * it, this file only its declarations. */
+#undef TINYOBJLOADER_IMPLEMENTATION
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
