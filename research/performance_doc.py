@@ -489,6 +489,12 @@ lens costs 0.7%.
 | the plastic's Fdr by 8-point Gauss-Legendre (vkrt-fresnel: main now) | 219.7 | 272.9 | 274.8 | 1.25x |
 | that, and shadow rays traced apart from the BSDFs (research/variants/nee-split.patch) | 219.6 | 278.0 | 279.7 | 1.27x |
 
+**Since Sponza's bump maps are read** (its .mtl's `bump` lines, issue 19's surface maps, merged
+after the table above), the same two frames take 195.3 and 270.4 ms (`research/gpu-run
+glossy-dof`, `research/results/h200-1202/glossy-dof-bump-log.txt`, two rounds within 0.1 ms):
+**1.38x**, over the 1.3x. The diffuse frame got 11% cheaper with the bumps and the glossy one
+did not; why is not yet measured.
+
 What the glossy floor cost was arithmetic, not rays: the frames trace the same rays (the trace
 column of `--profile` agrees to 1% at every depth), and the driver's statistics that `--profile`
 now prints showed the kernels' registers unchanged by the glossy material (72 in nee.comp,
