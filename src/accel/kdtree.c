@@ -398,7 +398,10 @@ static uint32_t append_subtree(builder *b, builder *s)
         }
         b->nodes[b->node_count++] = nd;
     }
-    memcpy(b->refs + b->ref_count, s->refs, s->ref_count * sizeof *s->refs);
+    /* A subtree of empty leaves has no reference array at all (and memcpy's pointers must not be
+     * null even for zero bytes). */
+    if (s->ref_count)
+        memcpy(b->refs + b->ref_count, s->refs, s->ref_count * sizeof *s->refs);
     b->ref_count += s->ref_count;
     b->leaf_count += s->leaf_count;
     b->empty_leaves += s->empty_leaves;
