@@ -362,8 +362,20 @@ VKRT_STRUCT(PixelStats) {
     float mean;       /* mean luminance of the pixel's samples */
     float m2;         /* their sum of squared deviations from it (Welford) */
     uint samples;     /* samples taken */
-    uint listed;      /* 1 while the pixel takes samples; once 0, it stays 0 for the frame */
+    uint listed;      /* VKRT_PIXEL_* flags (glsl/adapt.comp) */
 };
+
+/* PixelStats.listed: the pixel takes samples (set when the frame starts; once cleared, it stays
+ * cleared for the frame); its own estimate (or its count, under the fewest) asks for more and it
+ * is below the cap. */
+#define VKRT_PIXEL_LISTED 1u
+#define VKRT_PIXEL_UNCONVERGED 2u
+
+/* FrameParams.range.x of adapt.comp: fold the pass's samples and judge each listed pixel by its
+ * own estimate, or keep listed each listed pixel with an unconverged pixel in its 3x3
+ * neighbourhood. */
+#define VKRT_ADAPT_FOLD 0u
+#define VKRT_ADAPT_SELECT 1u
 
 /* The pixels the next sample pass traces (binding VKRT_BINDING_ACTIVE_PIXELS: this header, then
  * the pixel indices, in raygen's tile order). */
