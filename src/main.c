@@ -148,6 +148,10 @@ static void print_memory(FILE *out, const vkrt_renderer *renderer, const gpu_con
             "%.1f MiB, image %.1f MiB, other %.1f MiB: %.1f MiB of the device's %.1f MiB\n",
             m.triangles / MiB, m.nodes / MiB, m.textures / MiB, m.rays / MiB, m.image / MiB,
             m.other / MiB, m.total / MiB, ctx->memory_limit / MiB);
+    char split[256];
+    vkrt_renderer_split_text(renderer, split, sizeof split);
+    fprintf(out, "vkrt: buffers of at most %.1f MiB (%s): %s\n", ctx->max_buffer_bytes / MiB,
+            gpu_buffer_limit_name(ctx), *split ? split : "every array fits one");
     const vkrt_mesh *mesh = &scene->mesh;
     size_t per_triangle = 9 * sizeof(float) * (1 + (mesh->normals != NULL)) +
                           6 * sizeof(float) * (mesh->texcoords != NULL) + sizeof(int32_t);
