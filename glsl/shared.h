@@ -66,7 +66,7 @@ typedef uint32_t uint;
 #define VKRT_SPLIT_REFS 5u
 #define VKRT_SPLIT_TEXELS 6u
 #define VKRT_SPLIT_ARRAY_COUNT 7u
-#define VKRT_MAX_CHUNKS 16u
+#define VKRT_MAX_CHUNKS 64u
 
 /* The viewer's display pass (glsl/display.comp, src/view/display.c): a set of its own. */
 #define VKRT_DISPLAY_BINDING_IMAGE 0

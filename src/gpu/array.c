@@ -4,16 +4,24 @@
 #include <stdio.h>
 #include <string.h>
 
-static double mib(double bytes)
+/* bytes for a message: in bytes, MiB or GiB, whichever reads best. */
+static const char *size_text(char *text, size_t size, double bytes)
 {
-    return bytes / 1048576.0;
+    if (bytes < 1048576.0)
+        snprintf(text, size, "%.0f bytes", bytes);
+    else if (bytes < 1073741824.0)
+        snprintf(text, size, "%.1f MiB", bytes / 1048576.0);
+    else
+        snprintf(text, size, "%.2f GiB", bytes / 1073741824.0);
+    return text;
 }
 
-/* The largest power of two of elements whose bytes fit limit (0 when not even one does). */
+/* The log2 of the largest power of two of elements whose bytes fit limit; at least 1 (shift 0
+ * means "one buffer" to the kernels), and *fits false when not even two elements fit. */
 static uint32_t chunk_shift(size_t element_size, VkDeviceSize limit, bool *fits)
 {
-    uint32_t shift = 0;
-    *fits = element_size <= limit;
+    uint32_t shift = 1;
+    *fits = 2 * (VkDeviceSize)element_size <= limit;
     while (*fits && shift < 62 && ((VkDeviceSize)element_size << (shift + 1)) <= limit)
         ++shift;
     return shift;
@@ -30,27 +38,30 @@ bool gpu_array_create(gpu_context *ctx, gpu_array *a, size_t element_size, size_
     if (count != 0 && bytes / count != element_size)
         return vkrt_error_set(err, "%s: %zu elements of %zu bytes overflow the address space",
                               what, count, element_size);
-    if (bytes <= ctx->max_buffer_bytes)
+    if (bytes <= ctx->split_bytes)
         return gpu_buffer_create(ctx, &a->chunks[0], bytes, what, err);
     const char *device = ctx->properties.deviceName;
+    const char *limit = gpu_buffer_limit_name(ctx, ctx->split_bytes);
     bool fits;
-    uint32_t shift = chunk_shift(element_size, ctx->max_buffer_bytes, &fits);
+    uint32_t shift = chunk_shift(element_size, ctx->split_bytes, &fits);
     size_t per_chunk = (size_t)1 << shift;
     size_t chunks = fits ? (count + per_chunk - 1) / per_chunk : 0;
+    char need[32], most[32], chunk[32];
+    size_text(need, sizeof need, (double)bytes);
+    size_text(most, sizeof most, (double)ctx->split_bytes);
+    size_text(chunk, sizeof chunk, (double)per_chunk * (double)element_size);
     if (!ctx->device_addresses)
         return vkrt_error_set(err,
-                              "the scene does not fit %s: its %s take %.1f MiB (%zu x %zu "
-                              "bytes), more than one buffer holds (%s %.1f MiB), and the device "
-                              "has no buffer device addresses to reach several",
-                              device, what, mib((double)bytes), count, element_size,
-                              gpu_buffer_limit_name(ctx), mib((double)ctx->max_buffer_bytes));
+                              "the scene does not fit %s: its %s take %s (%zu x %zu bytes), more "
+                              "than one buffer holds (%s: %s), and the device has no buffer "
+                              "device addresses to reach several",
+                              device, what, need, count, element_size, limit, most);
     if (!fits || chunks > GPU_ARRAY_MAX_CHUNKS)
         return vkrt_error_set(err,
-                              "the scene does not fit %s: its %s take %.1f MiB (%zu x %zu "
-                              "bytes), more than %u buffers of %.1f MiB hold (%s %.1f MiB)",
-                              device, what, mib((double)bytes), count, element_size,
-                              GPU_ARRAY_MAX_CHUNKS, mib((double)(per_chunk * element_size)),
-                              gpu_buffer_limit_name(ctx), mib((double)ctx->max_buffer_bytes));
+                              "the scene does not fit %s: its %s take %s (%zu x %zu bytes), more "
+                              "than %u buffers of %s hold (%s: %s)",
+                              device, what, need, count, element_size, GPU_ARRAY_MAX_CHUNKS,
+                              fits ? chunk : "two elements", limit, most);
     a->shift = shift;
     a->chunk_count = (uint32_t)chunks;
     for (uint32_t c = 0; c < a->chunk_count; ++c) {

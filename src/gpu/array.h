@@ -15,7 +15,7 @@
 #include "buffer.h"
 
 /* The most chunks an array may have (glsl/shared.h VKRT_MAX_CHUNKS is the same number). */
-#define GPU_ARRAY_MAX_CHUNKS 16u
+#define GPU_ARRAY_MAX_CHUNKS 64u
 
 typedef struct gpu_array {
     gpu_buffer chunks[GPU_ARRAY_MAX_CHUNKS]; /* chunk c holds elements c << shift on */
@@ -29,7 +29,7 @@ typedef struct gpu_array {
 typedef void gpu_array_fill_fn(void *user, size_t first, size_t count, void *dst);
 
 /* Creates an array of count elements of element_size bytes (count 0: a minimal buffer that keeps
- * a binding valid): one buffer where ctx->max_buffer_bytes allows, else chunks of the largest
+ * a binding valid): one buffer where ctx->split_bytes allows, else chunks of the largest
  * power of two of elements that fits one buffer. An array that needs more than
  * GPU_ARRAY_MAX_CHUNKS chunks, or any chunks on a device without buffer device addresses, is
  * refused with its size and the limit ("the scene does not fit ..."); so is one the device's

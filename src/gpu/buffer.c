@@ -108,7 +108,7 @@ bool gpu_buffer_create_addressed(gpu_context *ctx, gpu_buffer *buf, size_t size,
         return vkrt_error_set(err, "%s needs %zu bytes (%.1f MiB), more than one buffer on %s "
                                    "holds (%s %llu bytes)",
                               what, size, size / 1048576.0, ctx->properties.deviceName,
-                              gpu_buffer_limit_name(ctx),
+                              gpu_buffer_limit_name(ctx, ctx->max_buffer_bytes),
                               (unsigned long long)ctx->max_buffer_bytes);
     }
     if (addressed && !ctx->device_addresses) {
@@ -127,13 +127,12 @@ bool gpu_buffer_create_addressed(gpu_context *ctx, gpu_buffer *buf, size_t size,
     return true;
 }
 
-const char *gpu_buffer_limit_name(const gpu_context *ctx)
+const char *gpu_buffer_limit_name(const gpu_context *ctx, VkDeviceSize limit)
 {
-    if (ctx->buffer_limit_forced)
+    if (limit < ctx->max_buffer_bytes)
         return "VKRT_MAX_BUFFER_BYTES";
-    return ctx->max_buffer_bytes < ctx->properties.limits.maxStorageBufferRange
-               ? "maxMemoryAllocationSize"
-               : "maxStorageBufferRange";
+    return limit < ctx->properties.limits.maxStorageBufferRange ? "maxMemoryAllocationSize"
+                                                                : "maxStorageBufferRange";
 }
 
 VkDeviceAddress gpu_buffer_address(const gpu_context *ctx, const gpu_buffer *buf)

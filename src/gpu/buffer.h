@@ -36,8 +36,9 @@ bool gpu_buffer_create(gpu_context *ctx, gpu_buffer *buf, size_t size, const cha
 bool gpu_buffer_create_addressed(gpu_context *ctx, gpu_buffer *buf, size_t size, bool addressed,
                                  const char *what, vkrt_error *err);
 
-/* The name of the limit ctx->max_buffer_bytes comes from, for messages. */
-const char *gpu_buffer_limit_name(const gpu_context *ctx);
+/* The name of the limit that limit (ctx->max_buffer_bytes or ctx->split_bytes) comes from, for
+ * messages. */
+const char *gpu_buffer_limit_name(const gpu_context *ctx, VkDeviceSize limit);
 
 /* The device address of a buffer made with addressed set. */
 VkDeviceAddress gpu_buffer_address(const gpu_context *ctx, const gpu_buffer *buf);

@@ -259,16 +259,16 @@ static void set_memory_limit(gpu_context *ctx)
     if (bytes > 0 && *end == '\0' && bytes < ctx->memory_limit)
         ctx->memory_limit = bytes;
     /* One buffer holds what a storage binding reaches and one allocation holds; arrays past it
-     * are split (gpu/array.h). VKRT_MAX_BUFFER_BYTES lowers it, so that tests split small scenes;
-     * at least 256 bytes, so that every kernel record fits a buffer. */
+     * are split (gpu/array.h). VKRT_MAX_BUFFER_BYTES lowers where arrays split, so that tests
+     * split small scenes (at least 128 bytes: two elements of every array). */
     ctx->max_buffer_bytes = ctx->properties.limits.maxStorageBufferRange;
     if (ctx->max_allocation < ctx->max_buffer_bytes)
         ctx->max_buffer_bytes = ctx->max_allocation;
-    const char *buffer_limit = getenv("VKRT_MAX_BUFFER_BYTES");
-    bytes = buffer_limit && *buffer_limit ? strtoull(buffer_limit, &end, 10) : 0;
-    ctx->buffer_limit_forced = bytes >= 256 && *end == '\0' && bytes < ctx->max_buffer_bytes;
-    if (ctx->buffer_limit_forced)
-        ctx->max_buffer_bytes = bytes;
+    ctx->split_bytes = ctx->max_buffer_bytes;
+    const char *split_limit = getenv("VKRT_MAX_BUFFER_BYTES");
+    bytes = split_limit && *split_limit ? strtoull(split_limit, &end, 10) : 0;
+    if (bytes >= 128 && *end == '\0' && bytes < ctx->split_bytes)
+        ctx->split_bytes = bytes;
 }
 
 /* Whether the pNext chain holds a struct of type sType. */

@@ -74,10 +74,11 @@ typedef struct gpu_context {
                                       (bytes; to test the message) where that is smaller */
     VkDeviceSize memory_used;      /* device-local memory allocated by gpu_buffer_* now */
     /* The largest buffer vkrt makes: maxStorageBufferRange, or maxMemoryAllocationSize where
-     * smaller, or VKRT_MAX_BUFFER_BYTES (bytes, at least 256; buffer_limit_forced) where that is
-     * smaller still, so that tests split small scenes' arrays (gpu/array.h). */
+     * smaller. Arrays larger than split_bytes are split over several buffers (gpu/array.h):
+     * max_buffer_bytes, or VKRT_MAX_BUFFER_BYTES (bytes, at least 128) where that is smaller, so
+     * that tests split small scenes. */
     VkDeviceSize max_buffer_bytes;
-    bool buffer_limit_forced;
+    VkDeviceSize split_bytes;
     /* Buffer device addresses are on (VK_KHR_buffer_device_address): kernels can reach an array
      * split over several buffers. buffer_address is vkGetBufferDeviceAddressKHR. */
     bool device_addresses;
