@@ -191,77 +191,74 @@ uint split_index(uint i, uint s)
 
 /* The per-triangle arrays, the structure's and the textures' elements, wherever they are: at
  * their bindings, or in the chunks of a split array. Traversal reads triangles and nodes through
- * load_triangle and the node loads below, which add the texel path. */
+ * load_triangle and the node loads below, which add the texel path. Without a split array they
+ * are the plain loads, as macros: the SPIR-V is then what it was before arrays could split. */
+#ifdef VKRT_SPLIT_ARRAYS
 Triangle triangle_at(uint i)
 {
-#ifdef VKRT_SPLIT_ARRAYS
     if (SPLIT_TRIANGLES != 0u)
         return TriangleChunk(split_chunk(VKRT_SPLIT_TRIANGLES, i, SPLIT_TRIANGLES))
             .v[split_index(i, SPLIT_TRIANGLES)];
-#endif
     return triangles[i];
 }
 
 TriangleNormals normals_at(uint i)
 {
-#ifdef VKRT_SPLIT_ARRAYS
     if (SPLIT_NORMALS != 0u)
         return NormalChunk(split_chunk(VKRT_SPLIT_NORMALS, i, SPLIT_NORMALS))
             .v[split_index(i, SPLIT_NORMALS)];
-#endif
     return triangle_normals[i];
 }
 
 TriangleTexcoords texcoords_at(uint i)
 {
-#ifdef VKRT_SPLIT_ARRAYS
     if (SPLIT_TEXCOORDS != 0u)
         return TexcoordChunk(split_chunk(VKRT_SPLIT_TEXCOORDS, i, SPLIT_TEXCOORDS))
             .v[split_index(i, SPLIT_TEXCOORDS)];
-#endif
     return triangle_texcoords[i];
 }
 
 /* The material of triangle i. */
 uint material_of(uint i)
 {
-#ifdef VKRT_SPLIT_ARRAYS
     if (SPLIT_TRIANGLE_MATERIAL != 0u)
         return WordChunk(split_chunk(VKRT_SPLIT_TRIANGLE_MATERIAL, i, SPLIT_TRIANGLE_MATERIAL))
             .v[split_index(i, SPLIT_TRIANGLE_MATERIAL)];
-#endif
     return triangle_material[i];
 }
 
 /* Entry i of the grid's or the kd-tree's triangle references. */
 uint ref_at(uint i)
 {
-#ifdef VKRT_SPLIT_ARRAYS
     if (SPLIT_REFS != 0u)
         return WordChunk(split_chunk(VKRT_SPLIT_REFS, i, SPLIT_REFS)).v[split_index(i, SPLIT_REFS)];
-#endif
     return grid_refs[i];
 }
 
 /* Where grid cell i's references start (cell i + 1's start is where they end). */
 uint cell_start_at(uint i)
 {
-#ifdef VKRT_SPLIT_ARRAYS
     if (SPLIT_NODES != 0u)
         return WordChunk(split_chunk(VKRT_SPLIT_NODES, i, SPLIT_NODES)).v[split_index(i, SPLIT_NODES)];
-#endif
     return grid_cell_start[i];
 }
 
 /* Word i of the texel buffer (lib/texture.glsl). */
 uint texel_word(uint i)
 {
-#ifdef VKRT_SPLIT_ARRAYS
     if (SPLIT_TEXELS != 0u)
         return WordChunk(split_chunk(VKRT_SPLIT_TEXELS, i, SPLIT_TEXELS)).v[split_index(i, SPLIT_TEXELS)];
-#endif
     return texels[i];
 }
+#else
+#define triangle_at(i) triangles[i]
+#define normals_at(i) triangle_normals[i]
+#define texcoords_at(i) triangle_texcoords[i]
+#define material_of(i) triangle_material[i]
+#define ref_at(i) grid_refs[i]
+#define cell_start_at(i) grid_cell_start[i]
+#define texel_word(i) texels[i]
+#endif
 
 /* Triangle i and BVH pair record i, through whichever of the two bindings TEXEL_LOADS chooses (a
  * specialization constant: the other load is dead code; the host never sets it for a split
