@@ -36,8 +36,8 @@ bool gpu_array_create(gpu_context *ctx, gpu_array *a, size_t element_size, size_
     a->chunk_count = 1;
     size_t bytes = element_size * count;
     if (count != 0 && bytes / count != element_size)
-        return vkrt_error_set(err, "%s: %zu elements of %zu bytes overflow the address space",
-                              what, count, element_size);
+        return vkrt_error_set(err, "%s: %zu elements of %zu bytes overflow the address space", what,
+                              count, element_size);
     if (bytes <= ctx->split_bytes)
         return gpu_buffer_create(ctx, &a->chunks[0], bytes, what, err);
     const char *device = ctx->properties.deviceName;
@@ -81,7 +81,7 @@ bool gpu_array_create(gpu_context *ctx, gpu_array *a, size_t element_size, size_
 typedef struct chunk_writer {
     gpu_array_fill_fn *fill;
     void *user;
-    size_t first;        /* the chunk's first element */
+    size_t first; /* the chunk's first element */
     size_t element_size;
 } chunk_writer;
 
@@ -102,9 +102,9 @@ bool gpu_array_fill(gpu_context *ctx, gpu_array *a, gpu_array_fill_fn *fill, voi
         piece = a->element_size;
     for (uint32_t c = 0; c < a->chunk_count; ++c) {
         chunk_writer w = {fill, user, a->shift ? (size_t)c << a->shift : 0, a->element_size};
-        size_t n = a->chunk_count == 1 ? a->count
+        size_t n = a->chunk_count == 1      ? a->count
                    : c + 1 < a->chunk_count ? (size_t)1 << a->shift
-                                           : a->count - w.first;
+                                            : a->count - w.first;
         if (!gpu_buffer_write(ctx, &a->chunks[c], 0, n * a->element_size, piece, write_chunk, &w,
                               err))
             return false;

@@ -105,8 +105,9 @@ bool gpu_buffer_create_addressed(gpu_context *ctx, gpu_buffer *buf, size_t size,
 {
     if (size > ctx->max_buffer_bytes) {
         memset(buf, 0, sizeof *buf);
-        return vkrt_error_set(err, "%s needs %zu bytes (%.1f MiB), more than one buffer on %s "
-                                   "holds (%s %llu bytes)",
+        return vkrt_error_set(err,
+                              "%s needs %zu bytes (%.1f MiB), more than one buffer on %s "
+                              "holds (%s %llu bytes)",
                               what, size, size / 1048576.0, ctx->properties.deviceName,
                               gpu_buffer_limit_name(ctx, ctx->max_buffer_bytes),
                               (unsigned long long)ctx->max_buffer_bytes);
@@ -116,12 +117,12 @@ bool gpu_buffer_create_addressed(gpu_context *ctx, gpu_buffer *buf, size_t size,
         return vkrt_error_set(err, "%s: %s has no buffer device addresses", what,
                               ctx->properties.deviceName);
     }
-    VkBufferUsageFlags usage =
-        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
-        VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
-        /* the wave buffer holds indirect dispatch arguments */
-        VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
-        (addressed ? VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT : 0);
+    VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                               VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                               VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+                               /* the wave buffer holds indirect dispatch arguments */
+                               VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                               (addressed ? VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT : 0);
     if (!create_with_memory(ctx, buf, size, usage, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, err))
         return vkrt_error_prefix(err, "%s (%zu bytes)", what, size);
     return true;

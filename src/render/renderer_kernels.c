@@ -15,16 +15,16 @@
 /* What every wave kernel may use beyond core GLSL on this device: subgroup operations (count.comp
  * reserves ray slots with one atomic per subgroup with them, one per ray without; the trace
  * kernels' statistics need them, and are not built without). */
-#define SUBGROUPS                                                                          \
-    "#extension GL_KHR_shader_subgroup_arithmetic : require\n"                              \
-    "#extension GL_KHR_shader_subgroup_ballot : require\n"                                  \
-    "#extension GL_KHR_shader_subgroup_vote : require\n"                                    \
+#define SUBGROUPS                                                                                  \
+    "#extension GL_KHR_shader_subgroup_arithmetic : require\n"                                     \
+    "#extension GL_KHR_shader_subgroup_ballot : require\n"                                         \
+    "#extension GL_KHR_shader_subgroup_vote : require\n"                                           \
     "#define VKRT_SUBGROUPS 1\n"
 /* A scene with an array split over several buffers reads it through device addresses
  * (lib/bindings.glsl); every other scene's kernels go without, as they were. */
-#define SPLIT_ARRAYS                                                                       \
-    "#extension GL_EXT_buffer_reference : require\n"                                        \
-    "#extension GL_EXT_buffer_reference_uvec2 : require\n"                                  \
+#define SPLIT_ARRAYS                                                                               \
+    "#extension GL_EXT_buffer_reference : require\n"                                               \
+    "#extension GL_EXT_buffer_reference_uvec2 : require\n"                                         \
     "#define VKRT_SPLIT_ARRAYS 1\n"
 
 static const char *kernel_preamble(const vkrt_renderer *r)
@@ -67,8 +67,7 @@ static bool create_material_kernel(vkrt_renderer *r, gpu_pipeline *pipe, const c
 {
     uint32_t *spirv;
     size_t words;
-    if (!vkrt_material_kernel_compile(kernel, mats, path, kernel_preamble(r), &spirv, &words,
-                                      err))
+    if (!vkrt_material_kernel_compile(kernel, mats, path, kernel_preamble(r), &spirv, &words, err))
         return false;
     bool ok = gpu_pipeline_create(r->ctx, pipe, &r->set, spirv, words, spec->workgroup_size,
                                   spec->constants, spec->count, path, err);
