@@ -150,7 +150,7 @@ struct MtlOrigin {
     std::string folder; /* of the .mtl that defined it */
     std::string path;   /* the .mtl itself */
     bool kd = true, ks = true, ke = true, ns = true, ni = true, d = true, illum = true, tf = true;
-    bool pr = false, pm = false; /* unknown (the mirror disagreed): pbr only where maps say so */
+    bool pr = false, pm = false, pc = false; /* unknown (the mirror disagreed): pbr only where maps say so */
     uint32_t map_kd_line = 0, map_d_line = 0, map_pr_line = 0, map_pm_line = 0, unrendered_line = 0;
     uint32_t norm_line = 0, map_bump_line = 0, map_ke_line = 0;
 };
@@ -201,14 +201,14 @@ std::vector<MtlOrigin> scan_mtl_fields(const std::string &text, const std::strin
             cur.map_d_line = walker.number;
         cur.pr |= has_keyword(line, "Pr");
         cur.pm |= has_keyword(line, "Pm");
+        cur.pc |= has_keyword(line, "Pc");
         cur.map_pr_line = has_keyword(line, "map_Pr") ? walker.number : cur.map_pr_line;
         cur.map_pm_line = has_keyword(line, "map_Pm") ? walker.number : cur.map_pm_line;
         cur.norm_line = has_keyword(line, "norm") ? walker.number : cur.norm_line;
         if (has_keyword(line, "map_Bump") || has_keyword(line, "map_bump") || has_keyword(line, "bump"))
             cur.map_bump_line = walker.number;
         cur.map_ke_line = has_keyword(line, "map_Ke") ? walker.number : cur.map_ke_line;
-        if (!cur.unrendered_line && (has_keyword(line, "Ps") || has_keyword(line, "Pc") ||
-                                     has_keyword(line, "Pcr") || has_keyword(line, "map_Ps")))
+        if (!cur.unrendered_line && (has_keyword(line, "Ps") || has_keyword(line, "map_Ps")))
             cur.unrendered_line = walker.number;
     }
     out.push_back(cur);
@@ -346,7 +346,9 @@ void convert_material(const tinyobj::material_t &m, const MtlOrigin &o, const st
     const tinyobj::texture_option_t &bump = out->norm ? m.normal_texopt : m.bump_texopt;
     out->bump_multiplier = finite_or(bump.bump_multiplier, 1.0f);
     out->ke_given = o.ke;
-    out->pbr = o.pr || o.pm || out->map_pr || out->map_pm;
+    /* A clear coat (Pc above 0) is the PBR extension's too: the GGX built-ins render it. */
+    bool coated = o.pc && finite_or(m.clearcoat_thickness, 0.0f) > 0.0f;
+    out->pbr = o.pr || o.pm || coated || out->map_pr || out->map_pm;
     out->pr = o.pr ? finite_or(m.roughness, 0.0f) : -1.0f;
     out->pm = o.pm ? finite_or(m.metallic, 0.0f) : 0.0f;
     out->pc = finite_or(m.clearcoat_thickness, 0.0f);

@@ -286,10 +286,10 @@ void warn_unrendered_pbr(const std::string &path, uint32_t line, const std::stri
         return;
     out->add(folding_warning(path, line,
                              "material '" + quoted(name) +
-                                 "' has sheen or clearcoat (Ps, Pc, Pcr), "
+                                 "' has sheen (Ps, map_Ps), "
                                  "which vkrt does not render: the pbr built-in leaves it out",
                              "unrendered-pbr", name,
-                             "{n} materials have sheen or clearcoat (Ps, Pc, Pcr), which vkrt "
+                             "{n} materials have sheen (Ps, map_Ps), which vkrt "
                              "does not render"));
 }
 

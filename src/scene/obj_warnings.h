@@ -109,9 +109,8 @@ void warn_dropped_references(const char *path, size_t normals, size_t texcoords,
  * the file's normal for them was not usable (not finite or zero). */
 void warn_unusable_normals(const char *path, size_t triangles, Warnings *out);
 
-/* Adds to *out that material `name` of the .mtl at path, from `line` on, has sheen or clearcoat
- * (Ps, Pc, Pcr, map_Ps), which vkrt reads but does not render; folds per file. Nothing when
- * line is 0. */
+/* Adds to *out that material `name` of the .mtl at path, from `line` on, has sheen (Ps,
+ * map_Ps), which vkrt reads but does not render; folds per file. Nothing when line is 0. */
 void warn_unrendered_pbr(const std::string &path, uint32_t line, const std::string &name,
                          Warnings *out);
 
