@@ -677,7 +677,8 @@ static void mtl_pbr_fields_are_parsed(void **state)
                         "newmtl metal\nKd 0.9 0.6 0.2\nPr 0.25\nPm 1\nmap_Pr rough.png\n"
                         "newmtl coated\nKd 0.5 0.5 0.5\nPm 0.5\nPc 1\nPcr 0.1\nPs 0.3\n"
                         "newmtl old\nKs 0.5 0.5 0.5\nNs 30\nPc 0\n"
-                        "newmtl varnish\nKd 0.5 0.5 0.5\nPc 2\nPcr 0.3\n");
+                        "newmtl varnish\nKd 0.5 0.5 0.5\nPc 2\nPcr 0.3\n"
+                        "newmtl chrome\nKs 1 1 1\nillum 3\nPc 1\n");
     const char *text = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl metal\nf 1 2 3\n"
                        "usemtl coated\nf 1 3 2\nusemtl old\nf 2 1 3\nusemtl varnish\nf 3 2 1\n";
     vkrt_mesh m = load_ok(temp_dir_write_text(fx, "pbr.obj", text));
@@ -704,6 +705,8 @@ static void mtl_pbr_fields_are_parsed(void **state)
     assert_close(varnish->pcr, 0.3f);
     assert_non_null(strstr(m.warnings, "m.mtl:11: warning: material 'coated' has sheen (Ps"));
     assert_null(strstr(m.warnings, "'varnish'"));
+    assert_non_null(strstr(m.warnings, "m.mtl:23: warning: material 'chrome' has a clear coat (Pc) "
+                                       "but illum 3 or 5"));
     vkrt_mesh_free(&m);
 }
 

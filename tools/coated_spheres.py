@@ -42,6 +42,23 @@ output      coated-spheres.png
 camera eye 0 0 11  look 0 0 0  up 0 1 0  fov 50
 """
 
+WHITTED_CFG = """\
+# The coated spheres in Whitted's model: a point light and ambient light instead of the lamp; the
+# coat adds the light's highlight through the BSDF, and each hit casts one glossy ray from the
+# coat or the base.
+geometry    coated-spheres.obj
+materials   coated.mat
+integrator  whitted
+resolution  256 256
+samples     64
+max-depth   8
+environment 0.2 0.2 0.2
+light ambient 0.05 0.05 0.05
+light point 0 6.5 3   60 60 60
+output      coated-spheres-whitted.png
+camera eye 0 0 11  look 0 0 0  up 0 1 0  fov 50
+"""
+
 
 def material_file():
     lines = ["# The spheres' materials: numbers in the .mtl layout (docs/materials.md); the last "
@@ -65,7 +82,7 @@ def main():
                            COAT_ROUGHNESS)
     for file, text in (("coated-spheres.obj", obj),
                        ("coated-spheres.mtl", mtl), ("coated.mat", material_file()),
-                       ("scene.cfg", CFG)):
+                       ("scene.cfg", CFG), ("whitted.cfg", WHITTED_CFG)):
         with open(os.path.join(out, file), "w") as f:
             f.write(text)
 

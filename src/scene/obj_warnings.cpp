@@ -293,6 +293,20 @@ void warn_unrendered_pbr(const std::string &path, uint32_t line, const std::stri
                              "does not render"));
 }
 
+void warn_uncoated_mirror(const std::string &path, uint32_t line, const std::string &name,
+                          Warnings *out)
+{
+    if (!line)
+        return;
+    out->add(folding_warning(path, line,
+                             "material '" + quoted(name) +
+                                 "' has a clear coat (Pc) but illum 3 or 5, which vkrt renders "
+                                 "as a mirror, without the coat",
+                             "uncoated-mirror", name,
+                             "{n} materials have a clear coat (Pc) but illum 3 or 5, which vkrt "
+                             "renders as mirrors, without the coat"));
+}
+
 void warn_unusable_normals(const char *path, size_t triangles, Warnings *out)
 {
     if (triangles)
