@@ -16,7 +16,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from rough_spheres import sphere_grid, sphere_table  # noqa: E402
+from rough_spheres import scene_cfg, sphere_grid, sphere_table  # noqa: E402
 
 COAT_ROUGHNESS = (0.05, 0.2, 0.5)
 # name prefix, built-in, numbers 0-17 (the .mtl layout of docs/materials.md; 16 the base's
@@ -27,37 +27,17 @@ ROWS = (
     ("glass", "@roughdielectric", "0 0 0 0  0 0 0 0  0 0 0  1.5  0 0 0  0  0.4  0"),
 )
 
-CFG = """\
+CFG = scene_cfg("""\
 # Coated spheres: a clear coat (weight 1, index 1.5) over a white rough conductor, a red
 # Lambertian and a rough glass (top to bottom), coat roughness 0.05, 0.2, 0.5 (left to right);
 # made by tools/coated_spheres.py.
-geometry    coated-spheres.obj
-materials   coated.mat
-integrator  path
-resolution  256 256
-samples     64
-max-depth   8
-environment 0.2 0.2 0.2
-output      coated-spheres.png
-camera eye 0 0 11  look 0 0 0  up 0 1 0  fov 50
-"""
+""", "coated-spheres.obj", "coated.mat", "coated-spheres.png")
 
-WHITTED_CFG = """\
+WHITTED_CFG = scene_cfg("""\
 # The coated spheres in Whitted's model: a point light and ambient light instead of the lamp; the
 # coat adds the light's highlight through the BSDF, and each hit casts one glossy ray from the
 # coat or the base.
-geometry    coated-spheres.obj
-materials   coated.mat
-integrator  whitted
-resolution  256 256
-samples     64
-max-depth   8
-environment 0.2 0.2 0.2
-light ambient 0.05 0.05 0.05
-light point 0 6.5 3   60 60 60
-output      coated-spheres-whitted.png
-camera eye 0 0 11  look 0 0 0  up 0 1 0  fov 50
-"""
+""", "coated-spheres.obj", "coated.mat", "coated-spheres-whitted.png", whitted=True)
 
 
 def material_file():

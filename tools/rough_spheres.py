@@ -72,35 +72,25 @@ usemtl lamp
 f -4 -3 -2 -1
 """
 
-CFG = """\
+def scene_cfg(comment, obj, mat, output, whitted=False):
+    """A scene.cfg of a sphere grid (sphere_grid): path traced under the lamp and a dim
+    environment, or in Whitted's model with a point light and ambient light instead of the lamp."""
+    lights = "light ambient 0.05 0.05 0.05\nlight point 0 6.5 3   60 60 60\n" if whitted else ""
+    return (f"{comment}geometry    {obj}\nmaterials   {mat}\n"
+            f"integrator  {'whitted' if whitted else 'path'}\nresolution  256 256\nsamples     64\n"
+            f"max-depth   8\nenvironment 0.2 0.2 0.2\n{lights}output      {output}\n"
+            "camera eye 0 0 11  look 0 0 0  up 0 1 0  fov 50\n")
+
+
+CFG = scene_cfg("""\
 # Rough spheres: rows of @roughconductor, @roughplastic, @roughdielectric (top to bottom) at
 # roughness 0.05, 0.2, 0.5 (left to right); made by tools/rough_spheres.py.
-geometry    rough-spheres.obj
-materials   rough.mat
-integrator  path
-resolution  256 256
-samples     64
-max-depth   8
-environment 0.2 0.2 0.2
-output      rough-spheres.png
-camera eye 0 0 11  look 0 0 0  up 0 1 0  fov 50
-"""
+""", "rough-spheres.obj", "rough.mat", "rough-spheres.png")
 
-WHITTED_CFG = """\
+WHITTED_CFG = scene_cfg("""\
 # The rough spheres in Whitted's model: a point light and ambient light instead of the lamp; the
 # rough built-ins add the light's highlight through their BSDF and cast one glossy ray per hit.
-geometry    rough-spheres.obj
-materials   rough.mat
-integrator  whitted
-resolution  256 256
-samples     64
-max-depth   8
-environment 0.2 0.2 0.2
-light ambient 0.05 0.05 0.05
-light point 0 6.5 3   60 60 60
-output      rough-spheres-whitted.png
-camera eye 0 0 11  look 0 0 0  up 0 1 0  fov 50
-"""
+""", "rough-spheres.obj", "rough.mat", "rough-spheres-whitted.png", whitted=True)
 
 
 def material_file():
