@@ -379,8 +379,8 @@ bool rough_sample(Surface s, RoughMaterial m, Coat c, out BsdfSample b)
     b.direction = reflect(s.incoming, s.normal);
     mat3 frame = microfacet_frame(s.normal);
     vec3 o = to_local(frame, -s.incoming);
-    /* The share of the base's delta lobes that comes out through the coat, over the probability
-     * of sampling the base: 1 without a coat. */
+    /* With a coat, first the coat (probability pc) or the base; the base's delta lobes then
+     * weigh what comes out through the coat over the probability of sampling the base. */
     bool coated = coat_present(c);
     bool front = !m.dielectric || s.front_face;
     float pc = 0.0;
