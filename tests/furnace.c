@@ -37,8 +37,7 @@ double smith_g1(v3 w, v3 m, double alpha)
 }
 
 double furnace_integrate(v3 o, double alpha, double eta, int n,
-                         double (*term)(const furnace_facet *f, double alpha, void *ctx),
-                         void *ctx)
+                         double (*term)(const furnace_facet *f, double alpha, void *ctx), void *ctx)
 {
     const double pi = 3.14159265358979323846;
     double sum = 0;

@@ -66,7 +66,8 @@ void furnace_tile_mean(const float *rgb, int columns, int tile, int margin, int 
 
 /* Whether tile (row, column)'s picture mean agrees with what the integral expects: within 4
  * standard errors of its pixels and 0.003 (the perspective's spread of the viewing angle over a
- * tile, which the integral at the tile's centre does not see). Prints how far off it is when not. */
+ * tile, which the integral at the tile's centre does not see). Prints how far off it is where
+ * it is not. */
 bool furnace_tile_agrees(double mean, double se, double expected, int row, int column);
 
 #endif

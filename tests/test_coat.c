@@ -96,8 +96,8 @@ static double coat_term(const furnace_facet *f, double alpha, void *ctx)
         term = fresnel(f->om, base_eta) * g_r * x->to * transmission(x->c, f->r.z);
     x->seen += term;
     if (x->pass == 1 && x->kind == GLASS && f->t.z < 0) {
-        double through = (1 - fresnel(f->om, base_eta)) * smith_g1(f->t, f->m, alpha) *
-                         f->common * x->to;
+        double through =
+            (1 - fresnel(f->om, base_eta)) * smith_g1(f->t, f->m, alpha) * f->common * x->to;
         term += through;
         x->seen += through / (base_eta * base_eta);
     }
@@ -145,8 +145,8 @@ static double coated_albedo(enum base kind, coat c, double mu, double *seen)
 enum { ROWS = 6, TILE = 16, MARGIN = 2, SPP = 64 };
 static const double view_cos = 0.5;
 /* Rows 0-4: (weight, roughness) of the coat over the four bases. */
-static const coat row_coat[5] = {{1, 0.05 * 0.05}, {1, 0.2 * 0.2}, {1, 0.5 * 0.5}, {0.5, 0.2 * 0.2},
-                                 {1, 0}};
+static const coat row_coat[5] = {
+    {1, 0.05 * 0.05}, {1, 0.2 * 0.2}, {1, 0.5 * 0.5}, {0.5, 0.2 * 0.2}, {1, 0}};
 static const double row_roughness[5] = {0.05, 0.2, 0.5, 0.2, 0};
 static const char *const base_line[COLUMNS] = {
     "@roughconductor 0 0 0 0  1 1 1 0  0 0 0  0    0 0 0  0  0.5  0",
@@ -170,7 +170,8 @@ static const char *const mtl_row[COLUMNS] = {
 static const char *const mtl_names[COLUMNS] = {"metal, Pc 2 Pcr 0.2", "plastic, Pc 4 Pcr 0.2",
                                                "Pc alone, Pc 4 Pcr 0.5", "glass, Pc 4 Pcr 0.2",
                                                "black, Pc 1 Pcr 0.05"};
-static const coat mtl_coat[COLUMNS] = {{0.5, 0.04}, {1, 0.04}, {1, 0.25}, {1, 0.04}, {0.25, 0.0025}};
+static const coat mtl_coat[COLUMNS] = {
+    {0.5, 0.04}, {1, 0.04}, {1, 0.25}, {1, 0.04}, {0.25, 0.0025}};
 static const enum base mtl_base[COLUMNS] = {CONDUCTOR, PLASTIC, PLASTIC, GLASS, BLACK};
 
 static void write_tiles(void)
@@ -184,8 +185,8 @@ static void write_tiles(void)
             furnace_write_tile(obj, COLUMNS, ROWS, row, column);
             fprintf(mtl, "newmtl t%d%d\n%s", row, column, row == 5 ? mtl_row[column] : "");
             if (row < 5)
-                fprintf(mat, "t%d%d 0 %s  %g %g\n", row, column, base_line[column],
-                        row_coat[row].w, row_roughness[row]);
+                fprintf(mat, "t%d%d 0 %s  %g %g\n", row, column, base_line[column], row_coat[row].w,
+                        row_roughness[row]);
         }
     fclose(obj);
     fclose(mtl);
@@ -224,8 +225,8 @@ static bool furnace_agrees(vkrt_integrator integrator, uint32_t mode)
             furnace_tile_mean(rgb, COLUMNS, TILE, MARGIN, row, column, &mean, &se);
             coated_albedo(kind, c, view_cos, &seen);
             print_message("%-15s under %-22s: picture %.5f, integral %.5f (+- %.5f)\n",
-                          row < 5 ? names[column] : ".mtl", row < 5 ? row_name(row) : mtl_names[column],
-                          mean, seen, 4 * se);
+                          row < 5 ? names[column] : ".mtl",
+                          row < 5 ? row_name(row) : mtl_names[column], mean, seen, 4 * se);
             all &= furnace_tile_agrees(mean, se, seen, row, column);
         }
     }

@@ -150,7 +150,8 @@ struct MtlOrigin {
     std::string folder; /* of the .mtl that defined it */
     std::string path;   /* the .mtl itself */
     bool kd = true, ks = true, ke = true, ns = true, ni = true, d = true, illum = true, tf = true;
-    bool pr = false, pm = false, pc = false; /* unknown (the mirror disagreed): pbr only where maps say so */
+    /* Unknown (the mirror disagreed): pbr only where maps say so. */
+    bool pr = false, pm = false, pc = false;
     uint32_t pc_line = 0; /* the first Pc statement's */
     uint32_t map_kd_line = 0, map_d_line = 0, map_pr_line = 0, map_pm_line = 0, unrendered_line = 0;
     uint32_t norm_line = 0, map_bump_line = 0, map_ke_line = 0;
