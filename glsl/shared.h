@@ -193,6 +193,9 @@ VKRT_STRUCT(TriangleTexcoords) {
 #define VKRT_MATERIAL_NORMAL_MAP 2u
 #define VKRT_MATERIAL_BUMP_MAP 4u
 #define VKRT_MATERIAL_EMISSION_MAP 8u
+/* Not a map, but compiled away the same way: the material has a clear coat (numbers 18-19, the
+ * .mtl's Pc and Pcr; lib/microfacet.glsl). A scene without a coated material compiles no coat. */
+#define VKRT_MATERIAL_COAT 16u
 #define VKRT_SLOT_DETAIL 4u
 #define VKRT_SLOT_EMISSION 5u
 VKRT_STRUCT(Material) {

@@ -668,20 +668,24 @@ static void mtl_fields_are_parsed(void **state)
 }
 
 /* The PBR extension as Blender's exporter writes it: Pr, Pm and their maps (a map resolved as
- * map_Kd, with its line), and Ps/Pc/Pcr read but warned about as not rendered, at their line. */
+ * map_Kd, with its line), the clear coat Pc/Pcr (a Pc above 0 alone makes a material pbr; Pc 0
+ * does not), and Ps read but warned about as not rendered, at its line. */
 static void mtl_pbr_fields_are_parsed(void **state)
 {
     temp_dir *fx = *state;
     temp_dir_write_text(fx, "m.mtl",
                         "newmtl metal\nKd 0.9 0.6 0.2\nPr 0.25\nPm 1\nmap_Pr rough.png\n"
                         "newmtl coated\nKd 0.5 0.5 0.5\nPm 0.5\nPc 1\nPcr 0.1\nPs 0.3\n"
-                        "newmtl old\nKs 0.5 0.5 0.5\nNs 30\n");
+                        "newmtl old\nKs 0.5 0.5 0.5\nNs 30\nPc 0\n"
+                        "newmtl varnish\nKd 0.5 0.5 0.5\nPc 2\nPcr 0.3\n"
+                        "newmtl chrome\nKs 1 1 1\nillum 3\nPc 1\n");
     const char *text = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl metal\nf 1 2 3\n"
-                       "usemtl coated\nf 1 3 2\nusemtl old\nf 2 1 3\n";
+                       "usemtl coated\nf 1 3 2\nusemtl old\nf 2 1 3\nusemtl varnish\nf 3 2 1\n";
     vkrt_mesh m = load_ok(temp_dir_write_text(fx, "pbr.obj", text));
     const vkrt_mtl *metal = &m.materials[m.material[0]];
     const vkrt_mtl *coated = &m.materials[m.material[1]];
     const vkrt_mtl *old = &m.materials[m.material[2]];
+    const vkrt_mtl *varnish = &m.materials[m.material[3]];
     assert_true(metal->pbr);
     assert_close(metal->pr, 0.25f);
     assert_close(metal->pm, 1);
@@ -696,8 +700,13 @@ static void mtl_pbr_fields_are_parsed(void **state)
     assert_close(coated->pc, 1);
     assert_close(coated->pcr, 0.1f);
     assert_false(old->pbr);
-    assert_non_null(
-        strstr(m.warnings, "m.mtl:9: warning: material 'coated' has sheen or clearcoat"));
+    assert_true(varnish->pbr);
+    assert_close(varnish->pc, 2);
+    assert_close(varnish->pcr, 0.3f);
+    assert_non_null(strstr(m.warnings, "m.mtl:11: warning: material 'coated' has sheen (Ps"));
+    assert_null(strstr(m.warnings, "'varnish'"));
+    assert_non_null(strstr(m.warnings, "m.mtl:23: warning: material 'chrome' has a clear coat (Pc) "
+                                       "but illum 3 or 5"));
     vkrt_mesh_free(&m);
 }
 

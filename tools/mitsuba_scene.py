@@ -133,6 +133,7 @@ class Material:
         self.d_given = False  # `d` wins over `Tr` when a material has both (tinyobjloader)
         self.map_kd = self.map_d = None
         self.roughness = 0.0  # a material file's number 16 (the rough built-ins)
+        self.coat, self.coat_roughness = 0.0, 0.0  # numbers 18 and 19: the clear coat
 
     def builtin(self):
         """The built-in shader vkrt maps this material to (docs/materials.md's table)."""
@@ -221,6 +222,7 @@ def read_material_file(path):
             m.kd, m.d, m.ks, m.ns, m.ke = p[0:3], 1.0 - p[3], p[4:7], p[7], p[8:11]
             m.ni, m.tf = p[11], p[12:15]
             m.roughness = p[16]
+            m.coat, m.coat_roughness = min(max(p[18], 0.0), 1.0), p[19]
             m.map_kd = textures[0] if textures else None
             m.map_d = textures[1] if len(textures) > 1 else None
             out[name] = m
@@ -344,6 +346,10 @@ def rough_bsdf(m, kind, albedo, notes):
     distribution, separable Smith masking and visible-normal sampling, alpha = roughness^2 (vkrt's
     number is Blender's perceptual roughness, Mitsuba's `alpha` the GGX parameter). Where the
     models differ, a note says so."""
+    if kind == "roughplastic" and m.ni == 1.0 and not any(m.ks):
+        # A plastic of index 1 has no coat of its own (Fresnel 0 both ways) and, with Ks 0, no
+        # specular lobe: vkrt's plastic is then exactly Lambertian.
+        return two_sided(coated(m, {"type": "diffuse", "reflectance": albedo}))
     r = min(max(m.roughness, 0.0), 1.0)
     ggx = {"distribution": "ggx", "alpha": max(r * r, 1e-4), "sample_visible": True}
     if r < 0.02:
@@ -355,17 +361,27 @@ def rough_bsdf(m, kind, albedo, notes):
         if min(m.ks) < 1.0:
             notes.append(f"material '{m.name}': vkrt's Schlick Fresnel of Ks {m.ks} rises to 1 at "
                          "grazing angles; Mitsuba's conductor `none` stays at Ks")
-        return two_sided({"type": "roughconductor", "material": "none",
-                          "specular_reflectance": reflectance(m.ks), **ggx})
+        return two_sided(coated(m, {"type": "roughconductor", "material": "none",
+                                    "specular_reflectance": reflectance(m.ks), **ggx}))
     if kind == "roughdielectric":
         tint = m.tf if any(m.tf) else [1.0, 1.0, 1.0]
-        return {"type": "roughdielectric", "int_ior": m.ni if m.ni > 0 else 1.5, "ext_ior": 1.0,
-                "specular_transmittance": reflectance(tint), **ggx}
+        return coated(m, {"type": "roughdielectric", "int_ior": m.ni if m.ni > 0 else 1.5,
+                          "ext_ior": 1.0, "specular_transmittance": reflectance(tint), **ggx})
     # vkrt's base sees the coat's smooth Fresnel transmission, 1 - F(cos); Mitsuba's
     # roughplastic a table of the rough coat's: the same as the roughness goes to 0.
-    return two_sided({"type": "roughplastic", "int_ior": m.ni if m.ni > 0 else 1.5,
-                      "ext_ior": 1.0, "diffuse_reflectance": albedo, "nonlinear": False,
-                      "specular_reflectance": reflectance(m.ks), **ggx})
+    return two_sided(coated(m, {"type": "roughplastic", "int_ior": m.ni if m.ni > 0 else 1.5,
+                                "ext_ior": 1.0, "diffuse_reflectance": albedo,
+                                "nonlinear": False, "specular_reflectance": reflectance(m.ks),
+                                **ggx}))
+
+
+def coated(m, base):
+    """The base under the material's clear coat (numbers 18, 19; ClearCoat, below), or the base
+    alone where it has none."""
+    if m.coat <= 0.0:
+        return base
+    r = min(max(m.coat_roughness, 0.0), 1.0)
+    return {"type": "vkrt_coat", "base": base, "weight": m.coat, "alpha": max(r * r, 1e-4)}
 
 
 def bsdf_for(m, notes):
@@ -722,6 +738,102 @@ class BlinnPhong(mi.BSDF):
         return f"BlinnPhong[ns={self.ns}]"
 
 
+class ClearCoat(mi.BSDF):
+    """vkrt's clear coat (docs/materials.md, "The clear coat"), one-sided over a nested Mitsuba
+    BSDF, written from the documentation: the coat reflects weight x F(wo.h) D G / (4 cos_i)
+    (GGX of index 1.5, Mitsuba's distribution and Fresnel); the base beneath is scaled by
+    T(cos_i) T(cos_o) / (1 - w Fdr), T = 1 - w F (the smooth coat's Fresnel), or for a glass base
+    (one that transmits) by T on each side where the light crosses the coat: both for its
+    reflection on the front, one for its transmission, nothing for its reflection inside, and the
+    coat reflects only on the front. (Mitsuba's wi is the viewer's direction, vkrt's o.) Sampled
+    otherwise than vkrt: the coat with probability 1/2, the base's own sampling else, so that the
+    two renders share the model but not the estimator."""
+
+    ETA = 1.5
+
+    def __init__(self, props):
+        mi.BSDF.__init__(self, props)
+        self.base = props["base"]
+        self.weight = float(props["weight"])
+        self.distr = mi.MicrofacetDistribution(mi.MicrofacetType.GGX, float(props["alpha"]),
+                                               True)
+        # Fdr = 2 int_0^1 F(mu) mu dmu, by the midpoint rule (the unpolarised Fresnel of a
+        # dielectric, written out: np arrays rather than Mitsuba's Float).
+        mu = (np.arange(20000) + 0.5) / 20000
+        ct = np.sqrt(1.0 - (1.0 - mu * mu) / self.ETA ** 2)
+        rs = (mu - self.ETA * ct) / (mu + self.ETA * ct)
+        rp = (self.ETA * mu - ct) / (self.ETA * mu + ct)
+        self.fdr = float(2.0 * np.mean(0.5 * (rs * rs + rp * rp) * mu))
+        self.glass = mi.has_flag(self.base.flags(), mi.BSDFFlags.Transmission)
+        self.m_components = [self.base.flags(i) for i in range(self.base.component_count())] + [
+            mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide]
+        self.m_flags = self.base.flags() | mi.BSDFFlags.GlossyReflection
+
+    def _t(self, cos):
+        return 1.0 - self.weight * mi.fresnel(dr.abs(cos), mi.Float(self.ETA))[0]
+
+    def _scale(self, si, wo):
+        ci, co = mi.Frame3f.cos_theta(si.wi), mi.Frame3f.cos_theta(wo)
+        if not self.glass:
+            return self._t(ci) * self._t(co) / (1.0 - self.weight * self.fdr)
+        front = ci > 0
+        reflected = ci * co > 0
+        return dr.select(front, dr.select(reflected, self._t(ci) * self._t(co), self._t(ci)),
+                         dr.select(reflected, 1.0, self._t(co)))
+
+    def _coat(self, si, wo, active):
+        """f cos of the coat's reflection (front side only), and the density of drawing wo by
+        reflecting wi about a visible normal, which counts directions below the surface too (a
+        glass base lets light through there)."""
+        ci, co = mi.Frame3f.cos_theta(si.wi), mi.Frame3f.cos_theta(wo)
+        ok = active & (ci > 0)
+        h = dr.normalize(si.wi + wo)
+        f = (self.weight * mi.fresnel(dr.dot(wo, h), mi.Float(self.ETA))[0] *
+             self.distr.eval(h) * self.distr.G(si.wi, wo, h) / (4.0 * dr.maximum(ci, 1e-8)))
+        pdf = self.distr.pdf(si.wi, h) / (4.0 * dr.maximum(dr.dot(wo, h), 1e-8))
+        return dr.select(ok & (co > 0), f, 0.0), dr.select(ok, pdf, 0.0)
+
+    def _pc(self, si):
+        return dr.select(mi.Frame3f.cos_theta(si.wi) > 0, 0.5, 0.0)
+
+    def eval_pdf(self, ctx, si, wo, active=True):
+        fb, pb = self.base.eval_pdf(ctx, si, wo, active)
+        fc, pcoat = self._coat(si, wo, active)
+        pc = self._pc(si)
+        return fb * self._scale(si, wo) + fc, (1.0 - pc) * pb + pc * pcoat
+
+    def eval(self, ctx, si, wo, active=True):
+        return self.eval_pdf(ctx, si, wo, active)[0]
+
+    def pdf(self, ctx, si, wo, active=True):
+        return self.eval_pdf(ctx, si, wo, active)[1]
+
+    def sample(self, ctx, si, sample1, sample2, active=True):
+        pc = self._pc(si)
+        take_coat = sample1 < pc
+        u1 = dr.select(take_coat, 0.0, (sample1 - pc) / dr.maximum(1.0 - pc, 1e-8))
+        bs, _ = self.base.sample(ctx, si, u1, sample2, active)
+        m, _ = self.distr.sample(si.wi, sample2)
+        coat_wo = 2.0 * dr.dot(si.wi, m) * m - si.wi
+        bs.wo = dr.select(take_coat, coat_wo, bs.wo)
+        bs.eta = dr.select(take_coat, 1.0, bs.eta)
+        bs.sampled_type = dr.select(take_coat, mi.UInt32(+mi.BSDFFlags.GlossyReflection),
+                                    bs.sampled_type)
+        f, bs.pdf = self.eval_pdf(ctx, si, bs.wo, active)
+        ok = active & (bs.pdf > 0)
+        return bs, dr.select(ok, f / dr.maximum(bs.pdf, 1e-20), 0.0)
+
+    def eval_diffuse_reflectance(self, si, active=True):
+        return self.base.eval_diffuse_reflectance(si, active) * self._t(
+            mi.Frame3f.cos_theta(si.wi))
+
+    def traverse(self, callback):
+        pass
+
+    def to_string(self):
+        return f"ClearCoat[weight={self.weight}, {self.base}]"
+
+
 class Whitted(mi.SamplingIntegrator):
     """vkrt's light transport with Mitsuba's parts. At every hit: the emission of the surface,
     the direct light of every delta light (point, spot, directional) and of every area emitter
@@ -786,4 +898,5 @@ class Whitted(mi.SamplingIntegrator):
 
 mi.register_bsdf("vkrt_blinn_phong", lambda props: BlinnPhong(props))
 mi.register_bsdf("vkrt_twosided", lambda props: VkrtTwoSided(props))
+mi.register_bsdf("vkrt_coat", lambda props: ClearCoat(props))
 mi.register_integrator("vkrt_whitted", lambda props: Whitted(props))

@@ -72,35 +72,25 @@ usemtl lamp
 f -4 -3 -2 -1
 """
 
-CFG = """\
+def scene_cfg(comment, obj, mat, output, whitted=False):
+    """A scene.cfg of a sphere grid (sphere_grid): path traced under the lamp and a dim
+    environment, or in Whitted's model with a point light and ambient light instead of the lamp."""
+    lights = "light ambient 0.05 0.05 0.05\nlight point 0 6.5 3   60 60 60\n" if whitted else ""
+    return (f"{comment}geometry    {obj}\nmaterials   {mat}\n"
+            f"integrator  {'whitted' if whitted else 'path'}\nresolution  256 256\nsamples     64\n"
+            f"max-depth   8\nenvironment 0.2 0.2 0.2\n{lights}output      {output}\n"
+            "camera eye 0 0 11  look 0 0 0  up 0 1 0  fov 50\n")
+
+
+CFG = scene_cfg("""\
 # Rough spheres: rows of @roughconductor, @roughplastic, @roughdielectric (top to bottom) at
 # roughness 0.05, 0.2, 0.5 (left to right); made by tools/rough_spheres.py.
-geometry    rough-spheres.obj
-materials   rough.mat
-integrator  path
-resolution  256 256
-samples     64
-max-depth   8
-environment 0.2 0.2 0.2
-output      rough-spheres.png
-camera eye 0 0 11  look 0 0 0  up 0 1 0  fov 50
-"""
+""", "rough-spheres.obj", "rough.mat", "rough-spheres.png")
 
-WHITTED_CFG = """\
+WHITTED_CFG = scene_cfg("""\
 # The rough spheres in Whitted's model: a point light and ambient light instead of the lamp; the
 # rough built-ins add the light's highlight through their BSDF and cast one glossy ray per hit.
-geometry    rough-spheres.obj
-materials   rough.mat
-integrator  whitted
-resolution  256 256
-samples     64
-max-depth   8
-environment 0.2 0.2 0.2
-light ambient 0.05 0.05 0.05
-light point 0 6.5 3   60 60 60
-output      rough-spheres-whitted.png
-camera eye 0 0 11  look 0 0 0  up 0 1 0  fov 50
-"""
+""", "rough-spheres.obj", "rough.mat", "rough-spheres-whitted.png", whitted=True)
 
 
 def material_file():
@@ -112,9 +102,12 @@ def material_file():
     return "\n".join(lines) + "\n"
 
 
-def sphere_table(vkrt_exr, mitsuba_exr, converged_exr):
+def sphere_table(vkrt_exr, mitsuba_exr, converged_exr, names=None, values=ROUGHNESS,
+                 value_name="roughness"):
     """Per sphere: image means against the converged one, and per-pixel relative errors, over
-    a disc of 0.6 of the sphere's radius about its centre in the picture (the camera of CFG)."""
+    a disc of 0.6 of the sphere's radius about its centre in the picture (the camera of CFG);
+    the rows are names (default: ROWS'), the columns values."""
+    names = names or [r[0] for r in ROWS]
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
     import toolenv
     toolenv.enter_venv()
@@ -125,11 +118,11 @@ def sphere_table(vkrt_exr, mitsuba_exr, converged_exr):
     half = 11 * math.tan(math.radians(25))  # fov 50 at distance 11: half the picture's height
     ys, xs = np.mgrid[0:h, 0:w]
     floor = imagediff.RELATIVE_FLOOR * float(ref.mean())
-    print("| sphere | roughness | mean: converged | vkrt | Mitsuba | per-pixel error: vkrt "
+    print(f"| sphere | {value_name} | mean: converged | vkrt | Mitsuba | per-pixel error: vkrt "
           "| Mitsuba |")
     print("|---|---:|---:|---:|---:|---:|---:|")
-    for row, (name, _, _) in enumerate(ROWS):
-        for column, r in enumerate(ROUGHNESS):
+    for row, name in enumerate(names):
+        for column, r in enumerate(values):
             cx = (0.5 + 2.4 * (column - 1) / (2 * half * w / h)) * w
             cy = (0.5 - 2.4 * (1 - row) / (2 * half)) * h
             disc = (xs + 0.5 - cx) ** 2 + (ys + 0.5 - cy) ** 2 < (0.6 * h / (2 * half)) ** 2
@@ -163,6 +156,26 @@ def plastic_albedo():
         print(f"roughplastic, roughness {r}: albedo at cos 0.5 {dr.mean(weight.x)[0]:.4f}")
 
 
+def sphere_grid(title, mtllib, material_file_name, names, values):
+    """The OBJ and .mtl text of a 3 x 3 grid of unit spheres in ROOM: row k (top to bottom) of
+    names[k], column j (left to right) of values[j], each sphere's material f"{name}_{value}",
+    an .mtl entry that the material file (material_file_name) replaces."""
+    obj = [f"# {title}", f"mtllib {mtllib}"]
+    first_vertex = first_normal = 1
+    for row, name in enumerate(names):
+        for column, value in enumerate(values):
+            centre = (2.4 * (column - 1), 2.4 * (1 - row), 0.0)
+            lines, n = sphere(centre, 1.0, f"{name}_{value}", first_vertex, first_normal, 16, 32)
+            obj += lines
+            first_vertex += n
+            first_normal += n
+    obj.append(ROOM.rstrip("\n"))
+    # The OBJ's usemtl names must be .mtl materials for the material file's entries to replace.
+    mtl = MTL + f"# Replaced by {material_file_name}'s entries of the same names.\n" + "".join(
+        f"newmtl {name}_{value}\n" for name in names for value in values)
+    return "\n".join(obj) + "\n", mtl
+
+
 def main():
     if sys.argv[1:2] == ["--plastic-albedo"]:
         plastic_albedo()
@@ -172,21 +185,9 @@ def main():
         return
     out = sys.argv[1]
     os.makedirs(out, exist_ok=True)
-    obj = ["# Nine rough spheres in a room; made by tools/rough_spheres.py.",
-           "mtllib rough-spheres.mtl"]
-    first_vertex = first_normal = 1
-    for row, (name, _, _) in enumerate(ROWS):
-        for column, r in enumerate(ROUGHNESS):
-            centre = (2.4 * (column - 1), 2.4 * (1 - row), 0.0)
-            lines, n = sphere(centre, 1.0, f"{name}_{r}", first_vertex, first_normal, 16, 32)
-            obj += lines
-            first_vertex += n
-            first_normal += n
-    obj.append(ROOM.rstrip("\n"))
-    # The OBJ's usemtl names must be .mtl materials for the material file's entries to replace.
-    mtl = MTL + "# Replaced by rough.mat's entries of the same names.\n" + "".join(
-        f"newmtl {name}_{r}\n" for name, _, _ in ROWS for r in ROUGHNESS)
-    for file, text in (("rough-spheres.obj", "\n".join(obj) + "\n"), ("rough-spheres.mtl", mtl),
+    obj, mtl = sphere_grid("Nine rough spheres in a room; made by tools/rough_spheres.py.",
+                           "rough-spheres.mtl", "rough.mat", [r[0] for r in ROWS], ROUGHNESS)
+    for file, text in (("rough-spheres.obj", obj), ("rough-spheres.mtl", mtl),
                        ("rough.mat", material_file()), ("scene.cfg", CFG),
                        ("whitted.cfg", WHITTED_CFG)):
         with open(os.path.join(out, file), "w") as f:

@@ -92,7 +92,8 @@ layout(constant_id = VKRT_SPEC_HAS_CUTOUTS) const bool HAS_CUTOUTS = false;
 layout(constant_id = VKRT_SPEC_EMITTER_LIGHT) const bool EMITTER_LIGHT = false;
 
 /* The kinds of .mtl surface maps the scene's materials have: VKRT_MATERIAL_NORMAL_MAP,
- * _BUMP_MAP, _EMISSION_MAP (lib/surface_maps.glsl). */
+ * _BUMP_MAP, _EMISSION_MAP (lib/surface_maps.glsl), and VKRT_MATERIAL_COAT where one has a clear
+ * coat (lib/microfacet.glsl). */
 layout(constant_id = VKRT_SPEC_SURFACE_MAPS) const uint SURFACE_MAPS = 0u;
 
 /* `--clamp L`: no contribution added to a pixel has a channel above CLAMP (lib/pixel.glsl); 0 is

@@ -227,19 +227,108 @@ vec3 rough_reflection_lobes(RoughMaterial m, vec3 o, vec3 i, out float pdf)
     return f + rough_specular_fresnel(m, dot(i, h)) * (d * g / (4.0 * o.z));
 }
 
-/* ---- What the built-ins call ----------------------------------------------------------------- */
+/* ---- The clear coat ------------------------------------------------------------------------ */
 
-/* bsdf_eval of a rough material: f cos for the world direction wi, and the pdf of rough_sample
- * choosing it. Delta lobes (roughness below 0.02) are left out, as bsdf_eval must. */
-vec3 rough_eval(Surface s, RoughMaterial m, vec3 wi, out float pdf)
+/* A clear coat over any of the above: Blender's Principled BSDF's coat (the .mtl's Pc and Pcr,
+ * docs/materials.md), a GGX dielectric of index COAT_ETA whose reflection is `weight` times
+ * F(i.h) D G / (4 cos_o), with its own roughness, sampled by visible normals as the other lobes.
+ * The base beneath sees the coat's smooth-surface Fresnel transmission both ways,
+ * (1 - w F(cos_o)) (1 - w F(cos_i)), and for the opaque bases the 1 / (1 - w Fdr) that counts the
+ * light the coat reflects back down until it comes out: Kulla and Conty's reciprocal albedo
+ * scaling (2017, "Revisiting Physically Based Shading at Imageworks") with the smooth coat's
+ * Fresnel for the coat's albedo, the plastic's own layering (plastic_diffuse) again. Over a white
+ * Lambertian base it conserves energy exactly but for the rough coat's single-scattering loss;
+ * over other bases it loses or gains a few percent (tests/test_coat.c prints how much).
+ * Over glass (a dielectric base) the coat is on the front face, the side the winding faces: light
+ * the glass reflects there crosses the coat twice, light it lets through once, and nothing comes
+ * back down (there is no base under a see-through solid to return it); from inside, light
+ * leaving through the surface crosses the coat once, and the coat reflects nothing.
+ * A scene whose materials have no coat compiles none of this (VKRT_MATERIAL_COAT in
+ * SURFACE_MAPS). */
+const float COAT_ETA = 1.5;
+/* fresnel_diffuse_reflectance(COAT_ETA), 2 int_0^1 F(mu) mu dmu, precomputed. */
+const float COAT_FDR = 0.09177796;
+
+struct Coat {
+    float weight; /* in [0, 1]: Blender's Coat Weight (number 18); 0: no coat */
+    float alpha;  /* GGX alpha of its roughness (number 19) */
+};
+
+/* The coat of a rough built-in: numbers 18 and 19 of its material. */
+Coat rough_coat()
+{
+    if ((SURFACE_MAPS & VKRT_MATERIAL_COAT) == 0u)
+        return Coat(0.0, 0.0);
+    return Coat(clamp(param(18u), 0.0, 1.0), ggx_alpha(param(19u)));
+}
+
+/* Whether the coat is there; constant false in a scene without one. */
+bool coat_present(Coat c)
+{
+    return (SURFACE_MAPS & VKRT_MATERIAL_COAT) != 0u && c.weight > 0.0;
+}
+
+/* What the coat lets through at the cosine c to its normal: 1 - w F(c). */
+float coat_transmission(Coat c, float cos_t)
+{
+    return 1.0 - c.weight * fresnel_dielectric(abs(cos_t), COAT_ETA);
+}
+
+/* The factor on the base's f cos for o (o.z > 0) and i, on the given side of the surface. */
+float coat_base_scale(RoughMaterial m, Coat c, vec3 o, vec3 i, bool front)
+{
+    if (!m.dielectric)
+        return coat_transmission(c, o.z) * coat_transmission(c, i.z) / (1.0 - c.weight * COAT_FDR);
+    if (!front)
+        return i.z < 0.0 ? coat_transmission(c, i.z) : 1.0;
+    return i.z > 0.0 ? coat_transmission(c, o.z) * coat_transmission(c, i.z)
+                     : coat_transmission(c, o.z);
+}
+
+/* Probability of sampling the coat rather than the base: the coat's reflectance at o against
+ * what it lets through times a guess of the base's albedo (the reflecting mixture's Fresnel
+ * shares by luminance; glass reflects or transmits everything). */
+float coat_probability(RoughMaterial m, Coat c, vec3 o)
+{
+    float r = c.weight * fresnel_dielectric(o.z, COAT_ETA);
+    float fb = fresnel_dielectric(o.z, m.eta);
+    float base = m.dielectric ? 1.0
+                              : m.metallic * luminance(fresnel_schlick(m.f0, o.z)) +
+                                    (1.0 - m.metallic) * (luminance(m.specular) * fb +
+                                                          luminance(m.diffuse) * (1.0 - fb));
+    float t = (1.0 - r) * base;
+    return r + t > 0.0 ? r / (r + t) : 1.0;
+}
+
+/* f cos of the coat's GGX reflection for o and i (nothing below the surface, or where the coat
+ * is smooth: a delta lobe, which rough_sample draws), and the density with which rough_sample's
+ * coat branch draws i: reflected about a visible normal, it may point below the surface, where a
+ * glass base lets light through, so the density is counted there too (a balance of the
+ * strategies that left it out would weigh those directions too much). */
+vec3 coat_lobe(Coat c, vec3 o, vec3 i, bool above, out float pdf)
 {
     pdf = 0.0;
-    mat3 frame = microfacet_frame(s.normal);
-    vec3 o = to_local(frame, -s.incoming), i = to_local(frame, wi);
-    if (o.z <= 0.0)
+    vec3 h = o + i;
+    if (c.alpha < MICROFACET_SMOOTH_ALPHA || dot(h, h) == 0.0)
         return vec3(0.0);
-    /* The geometric surface decides the side: no light through it by a bent shading normal. */
-    bool above = dot(wi, s.geometric_normal) > 0.0;
+    h = normalize(h);
+    float oh = dot(o, h);
+    if (oh <= 0.0)
+        return vec3(0.0);
+    pdf = ggx_visible_pdf(o, h, c.alpha) / (4.0 * oh);
+    if (i.z <= 0.0 || !above)
+        return vec3(0.0);
+    float d = ggx_d(h, c.alpha), g = ggx_g1(o, h, c.alpha) * ggx_g1(i, h, c.alpha);
+    return vec3(c.weight * fresnel_dielectric(dot(i, h), COAT_ETA) * d * g / (4.0 * o.z));
+}
+
+/* ---- What the built-ins call ----------------------------------------------------------------- */
+
+/* The base's f cos and pdf (rough_eval without the coat) for the local o (o.z > 0) and i; above
+ * says on which side of the geometric surface i leaves. */
+vec3 rough_base_eval(RoughMaterial m, vec3 o, vec3 i, bool above, out float pdf)
+{
+    pdf = 0.0;
     if (m.dielectric) {
         if (rough_is_smooth(m) || above != (i.z > 0.0))
             return vec3(0.0);
@@ -250,52 +339,103 @@ vec3 rough_eval(Surface s, RoughMaterial m, vec3 wi, out float pdf)
     return rough_reflection_lobes(m, o, i, pdf);
 }
 
-/* bsdf_sample of a rough material: a visible normal, then reflection or (dielectric) refraction
- * chosen by its Fresnel reflectance; for the reflecting mixture first one of the conductor, the
- * coat and the diffuse base. The weight is rough_eval's value over its pdf, so that sampling and
- * evaluation cannot disagree. */
-bool rough_sample(Surface s, RoughMaterial m, out BsdfSample b)
+/* bsdf_eval of a rough material under its coat: f cos for the world direction wi, and the pdf
+ * of rough_sample choosing it. Delta lobes (roughness below 0.02) are left out, as bsdf_eval
+ * must. */
+vec3 rough_eval(Surface s, RoughMaterial m, Coat c, vec3 wi, out float pdf)
+{
+    pdf = 0.0;
+    mat3 frame = microfacet_frame(s.normal);
+    vec3 o = to_local(frame, -s.incoming), i = to_local(frame, wi);
+    if (o.z <= 0.0)
+        return vec3(0.0);
+    /* The geometric surface decides the side: no light through it by a bent shading normal. */
+    bool above = dot(wi, s.geometric_normal) > 0.0;
+    vec3 f = rough_base_eval(m, o, i, above, pdf);
+    if (!coat_present(c))
+        return f;
+    bool front = !m.dielectric || s.front_face;
+    float pc = front ? coat_probability(m, c, o) : 0.0;
+    f *= coat_base_scale(m, c, o, i, front);
+    pdf *= 1.0 - pc;
+    if (pc > 0.0) {
+        float pdf_coat;
+        f += coat_lobe(c, o, i, above, pdf_coat);
+        pdf += pc * pdf_coat;
+    }
+    return f;
+}
+
+/* bsdf_sample of a rough material: the coat's visible normal with coat_probability, or else the
+ * base's: a visible normal, then reflection or (dielectric) refraction chosen by its Fresnel
+ * reflectance; for the reflecting mixture first one of the conductor, the plastic's coat and the
+ * diffuse base. The weight is rough_eval's value over its pdf, so that sampling and evaluation
+ * cannot disagree; delta lobes weigh their value over the probability of choosing them. */
+bool rough_sample(Surface s, RoughMaterial m, Coat c, out BsdfSample b)
 {
     b.delta = false;
     b.pdf = 0.0;
     b.weight = vec3(0.0);
     b.direction = reflect(s.incoming, s.normal);
-    if (m.dielectric && rough_is_smooth(m)) {
-        if (!dielectric_sample(s, m.eta, b))
-            b.weight *= m.tint;
-        return true;
-    }
     mat3 frame = microfacet_frame(s.normal);
     vec3 o = to_local(frame, -s.incoming);
-    if (o.z <= 0.0)
-        return false;
-    vec3 i;
-    if (m.dielectric) {
-        vec3 h = ggx_sample_visible(o, m.alpha, random(), random());
-        float oh = dot(o, h);
-        if (random() < fresnel_dielectric(oh, m.eta))
-            i = reflect(-o, h);
-        else
-            i = refract(-o, h, 1.0 / m.eta);
-    } else {
-        float p_specular = m.metallic + (1.0 - m.metallic) * plastic_coat_probability(m, o);
-        float u = random();
-        if (u >= p_specular) {
-            b.direction = cosine_direction(s.normal, random(), random());
-            i = to_local(frame, b.direction);
-        } else if (rough_is_smooth(m)) {
-            /* The delta mirror of the smooth coat or metal, Fresnel at the normal. */
+    /* With a coat, first the coat (probability pc) or the base; the base's delta lobes then
+     * weigh what comes out through the coat over the probability of sampling the base. */
+    bool coated = coat_present(c);
+    bool front = !m.dielectric || s.front_face;
+    float pc = 0.0;
+    if (coated) {
+        if (o.z <= 0.0)
+            return false;
+        pc = front ? coat_probability(m, c, o) : 0.0;
+    }
+    vec3 i = vec3(0.0);
+    if (coated && random() < pc) {
+        if (c.alpha < MICROFACET_SMOOTH_ALPHA) {
+            /* The smooth coat's delta mirror, Fresnel at the normal. */
             b.delta = true;
-            b.weight = rough_specular_fresnel(m, o.z) / p_specular;
+            b.weight = vec3(c.weight * fresnel_dielectric(o.z, COAT_ETA) / pc);
             return dot(b.direction, s.geometric_normal) > 0.0;
+        }
+        i = reflect(-o, ggx_sample_visible(o, c.alpha, random(), random()));
+    } else if (m.dielectric && rough_is_smooth(m)) {
+        if (!dielectric_sample(s, m.eta, b))
+            b.weight *= m.tint;
+        if (coated)
+            b.weight *= coat_base_scale(m, c, o, to_local(frame, b.direction), front) / (1.0 - pc);
+        return true;
+    } else {
+        if (o.z <= 0.0)
+            return false;
+        if (m.dielectric) {
+            vec3 h = ggx_sample_visible(o, m.alpha, random(), random());
+            float oh = dot(o, h);
+            if (random() < fresnel_dielectric(oh, m.eta))
+                i = reflect(-o, h);
+            else
+                i = refract(-o, h, 1.0 / m.eta);
         } else {
-            i = reflect(-o, ggx_sample_visible(o, m.alpha, random(), random()));
+            float p_specular = m.metallic + (1.0 - m.metallic) * plastic_coat_probability(m, o);
+            float u = random();
+            if (u >= p_specular) {
+                b.direction = cosine_direction(s.normal, random(), random());
+                i = to_local(frame, b.direction);
+            } else if (rough_is_smooth(m)) {
+                /* The delta mirror of the smooth coat or metal, Fresnel at the normal. */
+                b.delta = true;
+                b.weight = rough_specular_fresnel(m, o.z) / p_specular;
+                if (coated)
+                    b.weight *= coat_base_scale(m, c, o, vec3(-o.xy, o.z), front) / (1.0 - pc);
+                return dot(b.direction, s.geometric_normal) > 0.0;
+            } else {
+                i = reflect(-o, ggx_sample_visible(o, m.alpha, random(), random()));
+            }
         }
     }
     if (dot(i, i) == 0.0)
         return false;
     b.direction = normalize(frame * i);
-    vec3 f = rough_eval(s, m, b.direction, b.pdf);
+    vec3 f = rough_eval(s, m, c, b.direction, b.pdf);
     if (!(b.pdf > 0.0))
         return false;
     b.weight = f / b.pdf;
@@ -305,52 +445,56 @@ bool rough_sample(Surface s, RoughMaterial m, out BsdfSample b)
 /* Whitted's shading of a rough material (Cook's distributed ray tracing: the glossy reflection is
  * one ray sampled from the BSDF per hit, converging with the pixel's samples): the scene's lights
  * through the whole BSDF (highlights and diffuse; point lights are never hit by a ray, so nothing
- * is counted twice), the ambient light on the diffuse base, and one ray from the specular lobes
- * (a glossy reflection, or reflection or refraction through the glass). The diffuse base casts no
- * ray, as diffuse surfaces do not in Whitted's model. Everything is scaled by coverage (the
- * covered part of a cut-out; 1 for a solid surface). */
-void rough_whitted_shade(Surface s, RoughMaterial m, float coverage)
+ * is counted twice), the ambient light on the diffuse base (through the coat), and one ray from
+ * the specular lobes (a glossy reflection from the coat or the base, or reflection or refraction
+ * through the glass). The diffuse base casts no ray, as diffuse surfaces do not in Whitted's
+ * model. Everything is scaled by coverage (the covered part of a cut-out; 1 for a solid
+ * surface). */
+void rough_whitted_shade(Surface s, RoughMaterial m, Coat c, float coverage)
 {
     vec3 sum = (1.0 - m.metallic) * m.diffuse * ambient_light();
+    if (coat_present(c))
+        sum *= coat_transmission(c, dot(-s.incoming, s.normal));
     if (m.dielectric)
         sum = vec3(0.0);
     for (uint k = 0u; k < light_count(); ++k) {
         vec3 to_light, irradiance;
         float pdf;
         if (light_sample(s, k, to_light, irradiance))
-            sum += rough_eval(s, m, to_light, pdf) * irradiance;
+            sum += rough_eval(s, m, c, to_light, pdf) * irradiance;
     }
     add_radiance(coverage * sum);
     BsdfSample b;
     if (m.dielectric) {
-        if (rough_sample(s, m, b))
+        if (rough_sample(s, m, c, b))
             cast_ray(s, b.direction, coverage * b.weight);
         return;
     }
     RoughMaterial specular_only = m;
     specular_only.diffuse = vec3(0.0);
-    if (rough_sample(s, specular_only, b))
+    if (rough_sample(s, specular_only, c, b))
         cast_ray(s, b.direction, coverage * b.weight);
 }
 
-/* The five entry points of a rough built-in whose RoughMaterial comes from material(s): one
- * glossy ray per hit and the lights for Whitted (rough_whitted_shade), Ke from the front face and
- * the GGX lobes for path, all cut out by coverage (d, map_d: mtl.glsl) as the .mtl built-ins are.
- * A macro, so that the names it defines are the ones the generated module renames for the shader
- * that expands it (count_rays is #defined to vkrt_count_rays_N there). */
+/* The five entry points of a rough built-in whose RoughMaterial comes from material(s), under the
+ * coat of numbers 18 and 19 (rough_coat): one glossy ray per hit and the lights for Whitted
+ * (rough_whitted_shade), Ke from the front face and the GGX lobes for path, all cut out by
+ * coverage (d, map_d: mtl.glsl) as the .mtl built-ins are. A macro, so that the names it defines
+ * are the ones the generated module renames for the shader that expands it (count_rays is
+ * #defined to vkrt_count_rays_N there). */
 #define ROUGH_BUILTIN(material)                                                                   \
     uint count_rays(Surface s) { return 1u + mtl_see_through_count(s); }                           \
     void shade(Surface s)                                                                          \
     {                                                                                              \
         float coverage = mtl_see_through(s);                                                       \
-        rough_whitted_shade(s, material(s), coverage);                                             \
+        rough_whitted_shade(s, material(s), rough_coat(), coverage);                               \
         add_radiance(coverage * mtl_emission(s));                                                  \
     }                                                                                              \
     vec3 emitted(Surface s) { return mtl_coverage(s) * mtl_emitted(s); }                           \
     vec3 bsdf_eval(Surface s, vec3 wi, out float pdf)                                              \
     {                                                                                              \
         float coverage = mtl_coverage(s);                                                          \
-        vec3 f = rough_eval(s, material(s), wi, pdf);                                              \
+        vec3 f = rough_eval(s, material(s), rough_coat(), wi, pdf);                                \
         pdf *= coverage;                                                                           \
         return coverage * f;                                                                       \
     }                                                                                              \
@@ -358,7 +502,7 @@ void rough_whitted_shade(Surface s, RoughMaterial m, float coverage)
     {                                                                                              \
         if (mtl_pass_through(s, b))                                                                \
             return true;                                                                           \
-        bool ok = rough_sample(s, material(s), b);                                                 \
+        bool ok = rough_sample(s, material(s), rough_coat(), b);                                   \
         b.pdf *= mtl_coverage(s);                                                                  \
         return ok;                                                                                 \
     }

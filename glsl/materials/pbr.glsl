@@ -5,7 +5,8 @@
  * Schlick reflectance is the base colour, the rest a rough plastic (the base colour under a
  * clear GGX coat of index Ni, 11; 1 or less means 1.5). One roughness for both, GGX
  * alpha = roughness^2.
- * d and map_d cut it out as they do the other built-ins.
+ * d and map_d cut it out as they do the other built-ins. A clear coat over it: weight 18 (the .mtl
+ * Pc / 4), roughness 19 (Pcr) (lib/microfacet.glsl, rough_coat).
  * Whitted: the lights through the BSDF by light_sample, ambient light on the diffuse share, one
  * glossy reflection ray. The entry points are ROUGH_BUILTIN's.
  */

@@ -4,6 +4,8 @@
  * (4-6; 1 1 1 is a plain coat), roughness in 16 (GGX alpha = roughness^2; below 0.02 a smooth
  * coat). The base sees the coat's smooth-surface Fresnel transmission in and out, normalised
  * for the light the coat reflects back down (lib/microfacet.glsl, plastic_diffuse).
+ * Numbers 18 and 19 put a clear coat over it (weight, roughness; lib/microfacet.glsl): with Ks 0
+ * and Ni 1 (no Fresnel of its own) the base is exactly Lambertian, so that is a coated diffuse.
  * Whitted: the lights through the whole BSDF by light_sample, the ambient light on the base, and
  * one glossy reflection ray from the coat.
  * The entry points (count_rays, shade, emitted, bsdf_eval, bsdf_sample) are ROUGH_BUILTIN's.

@@ -187,8 +187,19 @@ static void mtl_params(const vkrt_mtl *m, float *p)
      * number where a map is linked): the shader multiplies them, so the number becomes 1. */
     p[PARAM_ROUGHNESS] = m->map_pr ? 1.0f : m->pr >= 0.0f ? m->pr : vkrt_ns_roughness(m->ns);
     p[PARAM_METALLIC] = m->map_pm ? 1.0f : m->pm;
-    p[PARAM_COAT] = m->pc;
+    /* Blender's importer reads Pc as Coat Weight Pc / 4 ("Clearcoat used to include an implicit
+     * 0.25 factor": Principled v1's clearcoat lobe was a quarter of its number), Pcr as the coat's
+     * roughness; number 18 is the weight. */
+    p[PARAM_COAT] = fminf(fmaxf(0.25f * m->pc, 0.0f), 1.0f);
     p[PARAM_COAT_ROUGHNESS] = m->pcr;
+}
+
+/* VKRT_MATERIAL_COAT where the material's coat weight (number 18) is above 0: the scene's shaders
+ * then compile the coat (glsl/lib/microfacet.glsl). */
+static void mark_coat(vkrt_scene_material *mat)
+{
+    if (mat->params[PARAM_COAT] > 0.0f)
+        mat->maps |= VKRT_MATERIAL_COAT;
 }
 
 static bool add_texture(vkrt_scene_materials *out, vkrt_scene_material *mat, uint32_t slot,
@@ -228,6 +239,7 @@ static bool from_definition(vkrt_scene_materials *out, vkrt_scene_material *mat,
     if (!init_material(mat, def->name, referrer, err))
         return false;
     memcpy(mat->params, def->params, sizeof mat->params);
+    mark_coat(mat);
     char shader_referrer[1400];
     snprintf(shader_referrer, sizeof shader_referrer, "%s: material '%s'", referrer, def->name);
     bool builtin = def->shader[0] == '@';
@@ -247,6 +259,7 @@ static bool from_mtl(vkrt_scene_materials *out, vkrt_scene_material *mat, const 
     if (!init_material(mat, m->name, mtl, err))
         return false;
     mtl_params(m, mat->params);
+    mark_coat(mat);
     char shader_referrer[1200];
     snprintf(shader_referrer, sizeof shader_referrer, "%s: material '%s'", mtl, m->name);
     if (!find_or_add_shader(out, mtl_builtin(m), NULL, shader_referrer, &mat->shader, err))

@@ -41,7 +41,8 @@ typedef struct vkrt_scene_material {
     float params[VKRT_MATERIAL_PARAM_COUNT];
     uint32_t textures[VKRT_MATERIAL_TEXTURE_SLOTS]; /* texture set indices or VKRT_SCENE_NO_TEXTURE */
     uint32_t texture_count;
-    uint32_t maps;           /* VKRT_MATERIAL_NORMAL_MAP, _BUMP_MAP, _EMISSION_MAP (glsl/shared.h) */
+    uint32_t maps;           /* VKRT_MATERIAL_NORMAL_MAP, _BUMP_MAP, _EMISSION_MAP, _COAT
+                                (glsl/shared.h) */
     float detail_multiplier; /* the normal or bump map's -bm, 1 by default */
 } vkrt_scene_material;
 

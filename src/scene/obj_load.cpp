@@ -150,7 +150,9 @@ struct MtlOrigin {
     std::string folder; /* of the .mtl that defined it */
     std::string path;   /* the .mtl itself */
     bool kd = true, ks = true, ke = true, ns = true, ni = true, d = true, illum = true, tf = true;
-    bool pr = false, pm = false; /* unknown (the mirror disagreed): pbr only where maps say so */
+    /* Unknown (the mirror disagreed): pbr only where maps say so. */
+    bool pr = false, pm = false, pc = false;
+    uint32_t pc_line = 0; /* the first Pc statement's */
     uint32_t map_kd_line = 0, map_d_line = 0, map_pr_line = 0, map_pm_line = 0, unrendered_line = 0;
     uint32_t norm_line = 0, map_bump_line = 0, map_ke_line = 0;
 };
@@ -201,14 +203,16 @@ std::vector<MtlOrigin> scan_mtl_fields(const std::string &text, const std::strin
             cur.map_d_line = walker.number;
         cur.pr |= has_keyword(line, "Pr");
         cur.pm |= has_keyword(line, "Pm");
+        cur.pc |= has_keyword(line, "Pc");
+        if (!cur.pc_line && has_keyword(line, "Pc"))
+            cur.pc_line = walker.number;
         cur.map_pr_line = has_keyword(line, "map_Pr") ? walker.number : cur.map_pr_line;
         cur.map_pm_line = has_keyword(line, "map_Pm") ? walker.number : cur.map_pm_line;
         cur.norm_line = has_keyword(line, "norm") ? walker.number : cur.norm_line;
         if (has_keyword(line, "map_Bump") || has_keyword(line, "map_bump") || has_keyword(line, "bump"))
             cur.map_bump_line = walker.number;
         cur.map_ke_line = has_keyword(line, "map_Ke") ? walker.number : cur.map_ke_line;
-        if (!cur.unrendered_line && (has_keyword(line, "Ps") || has_keyword(line, "Pc") ||
-                                     has_keyword(line, "Pcr") || has_keyword(line, "map_Ps")))
+        if (!cur.unrendered_line && (has_keyword(line, "Ps") || has_keyword(line, "map_Ps")))
             cur.unrendered_line = walker.number;
     }
     out.push_back(cur);
@@ -270,9 +274,14 @@ public:
         if (fields.size() != added) /* our mirror disagreed: trust all of tinyobjloader's values */
             fields.assign(added, MtlOrigin{folder_of(path), path});
         origins.insert(origins.end(), fields.begin(), fields.end());
-        for (size_t k = 0; k < added; k++) /* the line is 0 where there is nothing to say */
-            obj_warnings::warn_unrendered_pbr(path, fields[k].unrendered_line,
-                                              (*materials)[before + k].name, warnings_);
+        for (size_t k = 0; k < added; k++) { /* the line is 0 where there is nothing to say */
+            const tinyobj::material_t &m = (*materials)[before + k];
+            obj_warnings::warn_unrendered_pbr(path, fields[k].unrendered_line, m.name, warnings_);
+            /* illum 3 and 5 are the mirror built-in, which has no coat (materials.c). */
+            bool mirror = m.illum == 3 || m.illum == 5;
+            if (mirror && m.clearcoat_thickness > 0.0f)
+                obj_warnings::warn_uncoated_mirror(path, fields[k].pc_line, m.name, warnings_);
+        }
         return true;
     }
 
@@ -346,7 +355,9 @@ void convert_material(const tinyobj::material_t &m, const MtlOrigin &o, const st
     const tinyobj::texture_option_t &bump = out->norm ? m.normal_texopt : m.bump_texopt;
     out->bump_multiplier = finite_or(bump.bump_multiplier, 1.0f);
     out->ke_given = o.ke;
-    out->pbr = o.pr || o.pm || out->map_pr || out->map_pm;
+    /* A clear coat (Pc above 0) is the PBR extension's too: the GGX built-ins render it. */
+    bool coated = o.pc && finite_or(m.clearcoat_thickness, 0.0f) > 0.0f;
+    out->pbr = o.pr || o.pm || coated || out->map_pr || out->map_pm;
     out->pr = o.pr ? finite_or(m.roughness, 0.0f) : -1.0f;
     out->pm = o.pm ? finite_or(m.metallic, 0.0f) : 0.0f;
     out->pc = finite_or(m.clearcoat_thickness, 0.0f);

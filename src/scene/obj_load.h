@@ -38,8 +38,9 @@ typedef struct vkrt_mtl {
                                     which wins), 0 if unknown: texture errors name it */
     /* The PBR extension (Blender's exporter): roughness Pr [-1: not given] and metallic Pm [0],
      * their maps (resolved as map_Kd, or NULL) and lines; clearcoat Pc and its roughness Pcr [0]
-     * are read but not rendered, nor is sheen Ps (the loader warns about all three). */
-    bool pbr;      /* the block has Pr, Pm, map_Pr or map_Pm */
+     * (materials.c makes them the coat's weight and roughness); sheen Ps is read but not rendered
+     * (the loader warns). */
+    bool pbr;      /* the block has Pr, Pm, map_Pr or map_Pm, or a Pc above 0 */
     float pr, pm, pc, pcr;
     char *map_pr, *map_pm;
     int map_pr_line, map_pm_line;

@@ -279,18 +279,36 @@ void warn_dropped_references(const char *path, size_t normals, size_t texcoords,
             path, 0, "faces name texture coordinates but the file has no vt records; ignored"));
 }
 
-void warn_unrendered_pbr(const std::string &path, uint32_t line, const std::string &name,
-                         Warnings *out)
+namespace {
+
+/* "material 'NAME' has WHAT, which ..." at line, folded per file as "{n} materials have WHAT,
+ * which ..."; nothing when line is 0. */
+void warn_material_has(const std::string &path, uint32_t line, const std::string &name,
+                       const std::string &what, const std::string &single,
+                       const std::string &plural, const char *kind, Warnings *out)
 {
     if (!line)
         return;
-    out->add(folding_warning(path, line,
-                             "material '" + quoted(name) +
-                                 "' has sheen or clearcoat (Ps, Pc, Pcr), "
-                                 "which vkrt does not render: the pbr built-in leaves it out",
-                             "unrendered-pbr", name,
-                             "{n} materials have sheen or clearcoat (Ps, Pc, Pcr), which vkrt "
-                             "does not render"));
+    out->add(folding_warning(path, line, "material '" + quoted(name) + "' has " + what + single,
+                             kind, name, "{n} materials have " + what + plural));
+}
+
+} // namespace
+
+void warn_unrendered_pbr(const std::string &path, uint32_t line, const std::string &name,
+                         Warnings *out)
+{
+    warn_material_has(path, line, name, "sheen (Ps, map_Ps), which vkrt does not render",
+                      ": the pbr built-in leaves it out", "", "unrendered-pbr", out);
+}
+
+void warn_uncoated_mirror(const std::string &path, uint32_t line, const std::string &name,
+                          Warnings *out)
+{
+    warn_material_has(path, line, name,
+                      "a clear coat (Pc) but illum 3 or 5, which vkrt renders as ",
+                      "a mirror, without the coat", "mirrors, without the coat", "uncoated-mirror",
+                      out);
 }
 
 void warn_unusable_normals(const char *path, size_t triangles, Warnings *out)

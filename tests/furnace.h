@@ -1,0 +1,73 @@
+/*
+ * furnace.h: what the white-furnace tests of the GGX built-ins share (test_microfacet.c,
+ * test_coat.c): the microfacet model's Fresnel and Smith masking written again from the papers
+ * (on purpose: not the shader's code), and the mean of a tile of their rendered pictures.
+ */
+#ifndef VKRT_TEST_FURNACE_H
+#define VKRT_TEST_FURNACE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "render/renderer.h"
+
+typedef struct {
+    double x, y, z;
+} v3;
+
+double dot3(v3 a, v3 b);
+
+/* Fresnel reflectance of an unpolarised ray meeting a dielectric of relative index eta at
+ * cos_i; 1 under total internal reflection. */
+double fresnel(double cos_i, double eta);
+
+/* Smith's G1 for GGX (Heitz 2014, "Understanding the Masking-Shadowing Function", eq. 72 with
+ * 86): 2 / (1 + sqrt(1 + alpha^2 tan^2)); 0 where w sees the back of m. */
+double smith_g1(v3 w, v3 m, double alpha);
+
+/* A microfacet normal m of the integration grid, seen from o: o.m, the mirror direction r and
+ * the direction t refracted into index eta (t.z = 0 under total internal reflection), and
+ * `common` = G1(o) (o.m) / (o.z m.z). Times G1 of the outgoing direction and the Fresnel share,
+ * common is f cos of a GGX lobe, with the Jacobian from m to that direction (Walter et al. 2007,
+ * eq. 14 and 17: the (o.m) and eta terms cancel), over the grid's density D(m) cos(theta_m). */
+typedef struct {
+    v3 m, r, t;
+    double om, common;
+} furnace_facet;
+
+/* The mean of term(facet, ctx) over an n x n midpoint grid of microfacet normals warped by GGX's
+ * distribution of alpha (density D(m) cos(theta_m), so that the grid follows the lobe at any
+ * roughness), the normals facing away from o left out: the integral of what term returns. */
+double furnace_integrate(v3 o, double alpha, double eta, int n,
+                         double (*term)(const furnace_facet *f, double alpha, void *ctx),
+                         void *ctx);
+
+/* Writes to obj the quad of tile (row, column) of a columns x rows layout, 1 wide (x) and 2 deep
+ * (z) in the plane y = 0, facing +y (counter-clockwise seen from there), row 0 the farthest, with
+ * `usemtl t<row><column>`. */
+void furnace_write_tile(FILE *obj, int columns, int rows, int row, int column);
+
+/* Writes the scene folder's scene.cfg: tiles.obj with tiles.mat, path traced to depth 8 under an
+ * environment of radiance 1, the camera 500 away at cos view_cos to the tiles' normal, its field
+ * of view just the rows' depth, so that each tile is a square of pixels. */
+void furnace_write_cfg(int rows, double view_cos);
+
+/* Renders the scene folder's scene.cfg (scene_dir.h) at columns x rows tiles of tile pixels,
+ * spp samples per pixel, with the integrator and light sampling mode given; fails the test where
+ * it cannot, or where a pixel is not finite. The RGB floats, malloc'd. */
+float *furnace_render(int columns, int rows, int tile, uint32_t spp, vkrt_integrator integrator,
+                      uint32_t mode);
+
+/* Mean and standard error of the channel average of tile (row, column), tile pixels square, of
+ * an RGB image `columns` tiles wide, leaving out `margin` pixels at each edge. */
+void furnace_tile_mean(const float *rgb, int columns, int tile, int margin, int row, int column,
+                       double *mean, double *se);
+
+/* Whether tile (row, column)'s picture mean agrees with what the integral expects: within 4
+ * standard errors of its pixels and 0.003 (the perspective's spread of the viewing angle over a
+ * tile, which the integral at the tile's centre does not see). Prints how far off it is where
+ * it is not. */
+bool furnace_tile_agrees(double mean, double se, double expected, int row, int column);
+
+#endif
