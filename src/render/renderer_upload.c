@@ -15,7 +15,9 @@
 bool renderer_upload_geometry(vkrt_renderer *r, const vkrt_mesh *mesh,
                               const vkrt_scene_materials *mats, vkrt_error *err)
 {
-    uint32_t n = mesh->triangle_count;
+    /* The structure's triangle count: with spatial splits a triangle is uploaded once per leaf. */
+    uint32_t n = r->accel.triangle_count;
+    r->triangle_count = n;
     bool want_texcoords = mats->reads_texcoords && mesh->texcoords;
     Triangle *tris = calloc(n, sizeof *tris);
     uint32_t *material = calloc(n, sizeof *material);
@@ -272,7 +274,8 @@ static bool build_emitter_table(vkrt_renderer *r, const vkrt_scene *scene,
     }
     for (uint32_t m = 0; m < mats->count; ++m)
         renderer_material_ke(mats, m, &ke[3 * m]);
-    for (uint32_t i = 0; i < n; ++i)
+    /* A triangle uploaded more than once (spatial splits) is sampled through any one copy. */
+    for (uint32_t i = 0; i < r->accel.triangle_count; ++i)
         uploaded[vkrt_accel_original_triangle(&r->accel, i)] = i;
     vkrt_emitters e;
     bool ok = vkrt_emitters_build(scene->mesh.positions, n, mats->triangle_material, ke,

@@ -27,17 +27,36 @@
 #include "render/renderer.h"
 #include "scene/scene.h"
 
-static const vkrt_accel_kind all_kinds[] = {VKRT_ACCEL_BRUTE, VKRT_ACCEL_GRID, VKRT_ACCEL_BVH,
-                                            VKRT_ACCEL_KDTREE};
+/* A structure to render with: a kind and, for the BVH, whether it splits triangles. */
+typedef struct structure {
+    vkrt_accel_kind kind;
+    vkrt_bvh_splits splits;
+    const char *name;
+} structure;
+
+static const structure all_kinds[] = {
+    {VKRT_ACCEL_BRUTE, VKRT_BVH_SPLITS_AUTO, "brute"},
+    {VKRT_ACCEL_GRID, VKRT_BVH_SPLITS_AUTO, "grid"},
+    {VKRT_ACCEL_BVH, VKRT_BVH_SPLITS_OFF, "bvh"},
+    {VKRT_ACCEL_BVH, VKRT_BVH_SPLITS_ON, "bvh with spatial splits"},
+    {VKRT_ACCEL_KDTREE, VKRT_BVH_SPLITS_AUTO, "kdtree"},
+};
 enum { KINDS = sizeof all_kinds / sizeof *all_kinds };
 
 /* Renders the folder's scene.cfg at w x h with the given structure; fails the test on error. */
-static void render(vkrt_accel_kind kind, uint32_t w, uint32_t h, float *rgb, vkrt_frame_stats *stats)
+static void render_as(const structure *s, uint32_t w, uint32_t h, float *rgb,
+                      vkrt_frame_stats *stats)
 {
     vkrt_error err = {{0}};
-    vkrt_render_desc desc = {.accel = kind};
+    vkrt_render_desc desc = {.accel = s->kind, .bvh_splits = s->splits};
     if (!scene_dir_render(w, h, &desc, rgb, stats, &err))
-        fail_msg("%s: %s", vkrt_accel_name(kind), err.msg);
+        fail_msg("%s: %s", s->name, err.msg);
+}
+
+/* Renders with the structure of that kind (the BVH with its default splits). */
+static void render(vkrt_accel_kind kind, uint32_t w, uint32_t h, float *rgb, vkrt_frame_stats *stats)
+{
+    render_as(&(structure){kind, VKRT_BVH_SPLITS_AUTO, vkrt_accel_name(kind)}, w, h, rgb, stats);
 }
 
 static void assert_all_finite(const float *rgb, size_t n, const char *what)
@@ -122,11 +141,11 @@ static void test_light_inside_a_closed_box_does_not_leak(void **state)
     enum { N = 32 };
     static float rgb[N * N * 3];
     for (size_t k = 0; k < sizeof all_kinds / sizeof *all_kinds; ++k) {
-        render(all_kinds[k], N, N, rgb, NULL);
+        render_as(&all_kinds[k], N, N, rgb, NULL);
         for (int i = 0; i < N * N * 3; ++i)
             if (rgb[i] != 0.0f)
                 fail_msg("%s: value %d is %g: light leaked out of the box",
-                         vkrt_accel_name(all_kinds[k]), i, rgb[i]);
+                         all_kinds[k].name, i, rgb[i]);
     }
     /* The control: without its lid the same box lets light out, so the black above was the
      * box's doing, not a black renderer. */
@@ -248,13 +267,13 @@ static void render_all_alike(float rgb[][5 * 5 * 3])
 {
     enum { N = 5 };
     for (size_t k = 0; k < KINDS; ++k) {
-        render(all_kinds[k], N, N, rgb[k], NULL);
-        assert_all_finite(rgb[k], N * N * 3, vkrt_accel_name(all_kinds[k]));
+        render_as(&all_kinds[k], N, N, rgb[k], NULL);
+        assert_all_finite(rgb[k], N * N * 3, all_kinds[k].name);
     }
     for (int i = 0; i < N * N * 3; ++i)
         for (size_t k = 1; k < KINDS; ++k)
             if (rgb[k][i] != rgb[0][i])
-                fail_msg("value %d: brute %g, %s %g", i, rgb[0][i], vkrt_accel_name(all_kinds[k]),
+                fail_msg("value %d: brute %g, %s %g", i, rgb[0][i], all_kinds[k].name,
                          rgb[k][i]);
 }
 
@@ -327,13 +346,13 @@ static void test_degenerate_triangles_change_nothing(void **state)
           f);
     fclose(f);
     for (size_t k = 0; k < KINDS; ++k) {
-        render(all_kinds[k], N, N, got, NULL);
-        assert_all_finite(got, N * N * 3, vkrt_accel_name(all_kinds[k]));
+        render_as(&all_kinds[k], N, N, got, NULL);
+        assert_all_finite(got, N * N * 3, all_kinds[k].name);
         int differ = 0;
         for (int i = 0; i < N * N * 3; ++i)
             differ += fabs(got[i] - want[i]) > 1e-6 * want[i] + 1e-9;
         if (differ)
-            fail_msg("%s: %d values changed by degenerate triangles", vkrt_accel_name(all_kinds[k]),
+            fail_msg("%s: %d values changed by degenerate triangles", all_kinds[k].name,
                      differ);
     }
 }
