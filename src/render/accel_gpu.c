@@ -93,7 +93,7 @@ static bool build_tree(const vkrt_accel_desc *desc, const bvh_build_desc *build,
                        vkrt_error *err)
 {
     bvh_build_desc spatial = *build;
-    spatial.spatial_budget = spatial_budget;
+    spatial.spatial_budget = desc->bvh_spatial_budget > 0 ? desc->bvh_spatial_budget : spatial_budget;
     if (desc->bvh_splits == VKRT_BVH_SPLITS_OFF) {
         snprintf(why, why_size, "no spatial splits (asked for)");
         return bvh_build(out, positions, n, build, err);
@@ -250,6 +250,7 @@ bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel
     memset(a, 0, sizeof *a);
     a->triangle_count = triangle_count;
     vkrt_accel_stats *s = &a->stats;
+    s->triangles = triangle_count;
     grid g = {0};
     bool have_grid = false;
     snprintf(s->reason, sizeof s->reason, "asked for");

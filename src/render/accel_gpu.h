@@ -23,6 +23,7 @@
 typedef struct vkrt_accel_stats {
     vkrt_accel_kind kind;       /* what was built (never auto) */
     char reason[256];           /* why: the auto rule's sentence, or "asked for" */
+    uint32_t triangles;         /* the scene's triangles it was built over */
     double build_ms;            /* CPU build time */
     double choose_ms;           /* time to decide (the grid built for auto's statistics) */
     size_t bytes;               /* GPU memory of the structure, triangles not counted */
@@ -61,6 +62,8 @@ typedef struct vkrt_accel_desc {
     uint32_t bvh_max_leaf;    /* bvh_build_desc.max_leaf_size, at most 16 (the GPU's leaf
                                  references); 0: bvh.h's default */
     float bvh_traversal_cost; /* bvh_build_desc.traversal_cost; 0: bvh.h's default */
+    float bvh_spatial_budget; /* bvh_build_desc.spatial_budget of a tree with spatial splits;
+                                 0: accel_gpu.c's default */
     float kd_traversal_cost;  /* the kd-tree's K_T / K_I; 0: kdtree.h's default */
     bool grid_competes;       /* auto weighs the grid against the BVH (vkrt_tuning) */
     vkrt_bvh_splits bvh_splits; /* auto (0): both trees built (up to a size), the spatial
