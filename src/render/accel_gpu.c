@@ -78,13 +78,16 @@ static bool lay_out(const bvh *b, uint32_t width, gpu_layout *out, vkrt_error *e
 static const float spatial_budget = 0.3f;
 
 /* bvh-splits auto keeps the spatial splits' tree when its SAH cost is at least this share below
- * the plain tree's. Duplicates cost memory (132 bytes a reference with normals and texture
- * coordinates) and a deeper tree, and the SAH predicts GPU traversal only roughly; research/
- * journal.md has the measurements behind the figure. */
-static const float spatial_margin = 0.10f;
+ * the plain tree's. The traversal work of a primary, a shadow and a diffuse ray together (`vkrt
+ * bench --stats`, node cost x nodes + triangles, research/results/cpu-1202-sbvh/work.txt) followed
+ * the SAH's change in sign, and in size within 3.2 points: Sponza -14.7% SAH, -14.6% work;
+ * Sibenik -5.8%, -8.7%; the bunny -0.2%, -0.1%; the Mori knob +1.4%, +4.6% (the GPUs' trees
+ * alike). A gain under that spread does not say which tree traces faster; 5% clears it, and
+ * Sibenik's 5.8% is the smallest gain measured that cut every kind of ray's node visits. */
+static const float spatial_margin = 0.05f;
 
-/* Above this many triangles auto builds the plain tree alone: building both costs 3 to 4 times
- * one plain build, seconds at this size. */
+/* Above this many triangles auto builds the plain tree alone: building both costs about 3 times
+ * one plain build (research/results/cpu-1202-sbvh), seconds at this size. */
 static const uint32_t spatial_auto_limit = 2000000;
 
 /* Builds the binary tree as desc->bvh_splits says and says why in why. */
