@@ -12,23 +12,31 @@
  *     and the record range is partitioned in place. Boxes and centroids are 4-lane vectors
  *     (bvh_lanes.h: SSE2 on x86-64), which halved the build: written as float arrays, every box
  *     update went through memory lane by lane.
+ *     With spatial splits (desc->spatial_budget > 0) bvh_spatial.c decides instead: a node may
+ *     also be cut by a plane, its triangles that cross it going to both children clipped. Every
+ *     range of refs then has room past its end for duplicates (refs[end, cap)), shared out
+ *     between the children in proportion to their refs, and a leaf's refs move down to follow
+ *     the previous leaf's, so prim_order has no gaps.
  *  3. With more than one thread, the top levels (nodes over top_min triangles: a share of one
  *     thread's work, see TOP_JOBS_PER_THREAD) are split by all threads together, a level at a
  *     time (bvh_top.c: binning and partitioning in parallel, into the order the serial partition
- *     leaves). Their children below top_min become the first jobs of the pool.
+ *     leaves; with spatial splits a node at a time, its bins filled by all threads,
+ *     bvh_spatial_split_shared). Their children below top_min become the first jobs of the pool.
  *     The pool is desc->threads threads (the caller's thread included) sharing a
  *     stack of jobs. A job over more than SPAWN_MIN_PRIMS triangles splits its node and pushes
  *     its two children as new jobs; a smaller job builds its whole subtree alone, depth first,
  *     into its own slice of a scratch node array (the slice of a range [b, e) is nodes
- *     [2b, 2e), which never overlaps another job's, so no locking is needed).
+ *     [2b, 2e), with spatial splits [2b, 2 cap), which never overlaps another job's, so no
+ *     locking is needed).
  *  4. One serial pass over the jobs stitches them together in depth-first order, and the threads
  *     then copy the local jobs' nodes to where it put them. Every node's sibling pair
  *     is allocated when the node splits and the left subtree is laid out before the right one,
  *     both inside a job and across jobs, so the output is the same for any thread count and any
  *     scheduling: the build is deterministic.
  *
- * Node bounds are the exact unions of the triangles' float vertex coordinates (no padding): the
- * kernels must treat a ray that touches a box face as entering it.
+ * Node bounds are the exact unions of the triangles' float vertex coordinates (no padding; with
+ * spatial splits, of their clipped parts' boxes, rounded outwards): the kernels must treat a ray
+ * that touches a box face as entering it.
  */
 #define _POSIX_C_SOURCE 200809L
 
