@@ -95,6 +95,7 @@ typedef struct build_job {
     uint32_t local_nodes;  /* JOB_LOCAL: node count in scratch_nodes[2 * root.begin ...] */
     uint32_t ref_count;    /* JOB_LOCAL: its leaves' refs, packed from refs[root.begin] on */
     uint32_t max_depth;    /* JOB_LOCAL: of its deepest leaf */
+    uint32_t spatial_splits; /* JOB_LOCAL: in its subtree; JOB_SPLIT: 1 if its node's split was */
 } build_job;
 
 /* Read-only parameters and shared arrays of one build. */
@@ -240,7 +241,7 @@ static void child_pending(const build_ctx *ctx, const pending_node *parent,
 static void build_local(const build_ctx *ctx, thread_scratch *s, build_job *job)
 {
     bvh_node *nodes = ctx->scratch_nodes + 2 * (size_t)job->root.begin;
-    uint32_t used = 1, top = 0, max_depth = 0, packed = job->root.begin;
+    uint32_t used = 1, top = 0, max_depth = 0, packed = job->root.begin, spatial = 0;
     s->stack[top] = job->root;
     s->stack[top++].node = 0;
     while (top > 0) {
@@ -261,6 +262,7 @@ static void build_local(const build_ctx *ctx, thread_scratch *s, build_job *job)
         }
         node->left_first = used;
         node->count = INNER_NODE_COUNT;
+        spatial += sr.spatial;
         pending_node child[2];
         child_pending(ctx, &n, &sr, child);
         child[0].node = used;
@@ -273,6 +275,7 @@ static void build_local(const build_ctx *ctx, thread_scratch *s, build_job *job)
     job->local_nodes = used;
     job->max_depth = max_depth;
     job->ref_count = packed - job->root.begin;
+    job->spatial_splits = spatial;
 }
 
 /* A new job over root's range, not yet queued; the caller holds pool->lock or runs alone. */
@@ -308,6 +311,7 @@ static void run_job(job_pool *pool, thread_scratch *s, uint32_t j)
             pending_node child[2];
             child_pending(ctx, &job->root, &sr, child);
             job->kind = JOB_SPLIT;
+            job->spatial_splits = sr.spatial;
             pthread_mutex_lock(&pool->lock);
             job->child[0] = push_job(pool, &child[0]);
             job->child[1] = push_job(pool, &child[1]);
@@ -378,6 +382,7 @@ static void split_top(job_pool *pool, thread_scratch **scratch, uint32_t root_jo
                 continue;
             }
             pool->jobs[level[i]].kind = JOB_SPLIT;
+            pool->jobs[level[i]].spatial_splits = split[i].spatial;
             pending_node child[2];
             child_pending(ctx, &pool->jobs[level[i]].root, &split[i], child);
             for (int side = 0; side < 2; side++) {
@@ -750,6 +755,8 @@ bool bvh_build(bvh *out, const float *positions, uint32_t triangle_count,
     out->node_count = stitch(&pool, out->nodes, m.stitch_stack, m.places, &place_count,
                              &out->prim_count, &out->max_depth);
     out->triangle_count = triangle_count;
+    for (uint32_t j = 0; j < pool.job_count; j++) /* every job is a node or a subtree of the tree */
+        out->spatial_splits += pool.jobs[j].spatial_splits;
     copy_all_places(&ctx, &pool, m.places, place_count, out->prim_count, threads, out);
     end_stage(out, BVH_STAGE_STITCH, &mark);
     out->sah_cost = tree_sah(out->nodes, out->node_count, ctx.sah.traversal_cost, threads,

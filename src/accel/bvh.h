@@ -67,6 +67,8 @@ typedef struct bvh {
     uint32_t triangle_count;  /* the triangles the tree was built over */
     uint32_t leaf_count;
     uint32_t max_depth;       /* of the deepest leaf; the root has depth 0 */
+    uint32_t spatial_splits;  /* nodes cut by a plane (spatial splits); with none the tree is the
+                                 one a build without a spatial budget makes, byte for byte */
     float sah_cost;           /* SAH cost of the whole tree, relative to the root's area */
     double build_ms;          /* wall-clock build time */
     bvh_stage_time stages[BVH_STAGE_COUNT];

@@ -350,6 +350,7 @@ static bool apply_spatial(const bvh_spatial_params *sp, prim_ref *refs, uint32_t
     for (uint32_t i = begin; i < right_end; i++)
         refs[i].pad = TAG_NONE;
     out->split = true;
+    out->spatial = true;
     out->mid = hi;
     out->right_end = right_end;
     bvh_split_range_bounds(refs, begin, hi, &out->bounds[0], &out->cbounds[0]);
@@ -412,6 +413,7 @@ void bvh_spatial_split_node(const bvh_split_params *p, const bvh_spatial_params 
 {
     uint32_t count = end - begin;
     out->split = false;
+    out->spatial = false;
     out->right_end = end;
     if (count <= BVH_SPLIT_ALWAYS_LEAF)
         return;
@@ -536,6 +538,8 @@ bool bvh_spatial_split_shared(const bvh_split_params *p, const bvh_spatial_param
     bool ok = sb.bins && sb.counts && sb.exits && sum;
     if (ok) {
         out->split = false;
+        out->spatial = false;
+    out->spatial = false;
         out->right_end = end;
         bvh_bin_split o;
         bvh_split_bins_init(p, count, cbounds, &o);

@@ -208,6 +208,7 @@ void bvh_split_range_bounds(const prim_ref *refs, uint32_t begin, uint32_t end, 
 void bvh_split_median(const prim_ref *refs, uint32_t begin, uint32_t end, bvh_split_result *out)
 {
     out->split = true;
+    out->spatial = false;
     out->mid = begin + (end - begin) / 2;
     out->right_end = end;
     bvh_split_range_bounds(refs, begin, out->mid, &out->bounds[0], &out->cbounds[0]);
@@ -220,6 +221,7 @@ void bvh_split_node(const bvh_split_params *p, bvh_split_scratch *s, prim_ref *r
 {
     uint32_t count = end - begin;
     out->split = false;
+    out->spatial = false;
     if (count <= ALWAYS_LEAF_PRIMS)
         return;
     bvh_bin_split b;
@@ -232,6 +234,7 @@ void bvh_split_apply(const bvh_split_params *p, prim_ref *refs, uint32_t begin, 
                      bvh_split_kind kind, const bvh_bin_split *b, bvh_split_result *out)
 {
     out->split = false;
+    out->spatial = false;
     out->right_end = end;
     if (kind == BVH_SPLIT_BINNED) {
         out->mid = partition_refs(refs, begin, end, b, out);

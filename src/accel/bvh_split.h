@@ -45,6 +45,7 @@ typedef struct bvh_split_result {
     bool split;
     uint32_t mid;          /* left child: [begin, mid), right child: [mid, right_end) */
     uint32_t right_end;    /* the node's end, or past it when a spatial split duplicated refs */
+    bool spatial;          /* split by a plane (bvh_spatial.h), not by grouping whole refs */
     aabb bounds[2];        /* exact bounds of the children */
     aabb cbounds[2];       /* centroid bounds of the children */
 } bvh_split_result;

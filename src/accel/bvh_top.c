@@ -319,6 +319,7 @@ bool bvh_top_split(const bvh_split_params *p, prim_ref *refs, const bvh_top_node
     bvh_split_scratch *sum = &m.scratch[threads];
     for (uint32_t i = 0; i < count; i++) {
         out[i].split = false;
+        out[i].spatial = false;
         choose_split(&ctx, sum, i, &out[i]);
     }
     run_pass(&ctx, workers, threads, classify_chunk);

@@ -112,11 +112,17 @@ static bool build_tree(const vkrt_accel_desc *desc, const bvh_build_desc *build,
         snprintf(why, why_size, "no spatial splits: over %u triangles", spatial_auto_limit);
         return bvh_build(out, positions, n, build, err);
     }
-    bvh plain;
-    if (!bvh_build(&plain, positions, n, build, err))
+    /* The split tree first: where no node took a spatial split it is the plain tree itself
+     * (bvh.h), and the plain build is not needed. */
+    if (!bvh_build(out, positions, n, &spatial, err))
         return false;
-    if (!bvh_build(out, positions, n, &spatial, err)) {
-        bvh_free(&plain);
+    if (out->spatial_splits == 0) {
+        snprintf(why, why_size, "no spatial splits: none pays");
+        return true;
+    }
+    bvh plain;
+    if (!bvh_build(&plain, positions, n, build, err)) {
+        bvh_free(out);
         return false;
     }
     bool keep = out->sah_cost < (1.0f - spatial_margin) * plain.sah_cost;

@@ -31,7 +31,7 @@ typedef enum vkrt_integrator {
 
 /* Whether the BVH splits triangles between nodes (docs/scene-format.md, `bvh-splits`). */
 typedef enum vkrt_bvh_splits {
-    VKRT_BVH_SPLITS_AUTO = 0, /* both trees built, spatial splits kept when they pay (accel_gpu.c) */
+    VKRT_BVH_SPLITS_AUTO = 0, /* spatial splits kept where they pay (accel_gpu.c) */
     VKRT_BVH_SPLITS_ON,       /* spatial splits (an SBVH) */
     VKRT_BVH_SPLITS_OFF,      /* object splits only: every triangle in one leaf */
 } vkrt_bvh_splits;
