@@ -23,9 +23,9 @@
 enum { TAG_NONE = 0, TAG_LEFT = 1, TAG_RIGHT = 2, TAG_BOTH = 3 };
 
 typedef struct spatial_split {
-    int axis;              /* -1: none */
-    float pos;             /* the plane */
-    float cost;            /* A_left N_left + A_right N_right */
+    int axis;   /* -1: none */
+    float pos;  /* the plane */
+    float cost; /* A_left N_left + A_right N_right */
 } spatial_split;
 
 static bool box_valid(const aabb *b)
@@ -38,7 +38,7 @@ static bool box_valid(const aabb *b)
 
 static aabb box_intersect(const aabb *a, const aabb *b)
 {
-    return (aabb){ .lo = v4_max(a->lo, b->lo), .hi = v4_min(a->hi, b->hi) };
+    return (aabb){.lo = v4_max(a->lo, b->lo), .hi = v4_min(a->hi, b->hi)};
 }
 
 static void grow3(float lo[3], float hi[3], const float plo[3], const float phi[3])
@@ -74,8 +74,8 @@ static void edge_crossing(const float *p, const float *q, int axis, float pos, b
 static void clip_triangle(const float *v, const aabb *box, int axis, float pos, bool exact,
                           aabb *below, aabb *above)
 {
-    float blo[3] = { INFINITY, INFINITY, INFINITY }, bhi[3] = { -INFINITY, -INFINITY, -INFINITY };
-    float alo[3] = { INFINITY, INFINITY, INFINITY }, ahi[3] = { -INFINITY, -INFINITY, -INFINITY };
+    float blo[3] = {INFINITY, INFINITY, INFINITY}, bhi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    float alo[3] = {INFINITY, INFINITY, INFINITY}, ahi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (int i = 0; i < 3; i++) {
         const float *p = v + 3 * i, *q = v + 3 * ((i + 1) % 3);
         if (p[axis] <= pos)
@@ -92,10 +92,10 @@ static void clip_triangle(const float *v, const aabb *box, int axis, float pos, 
     /* + 0: -0 becomes +0, as in the builder's records (bvh.c), so that no union of clipped
      * boxes depends on the order it takes them in. */
     const vec4 zero = v4_set1(0.0f);
-    aabb b = { v4_add(v4_set3(blo[0], blo[1], blo[2]), zero),
-               v4_add(v4_set3(bhi[0], bhi[1], bhi[2]), zero) };
-    aabb a = { v4_add(v4_set3(alo[0], alo[1], alo[2]), zero),
-               v4_add(v4_set3(ahi[0], ahi[1], ahi[2]), zero) };
+    aabb b = {v4_add(v4_set3(blo[0], blo[1], blo[2]), zero),
+              v4_add(v4_set3(bhi[0], bhi[1], bhi[2]), zero)};
+    aabb a = {v4_add(v4_set3(alo[0], alo[1], alo[2]), zero),
+              v4_add(v4_set3(ahi[0], ahi[1], ahi[2]), zero)};
     *below = box_intersect(&b, box);
     *above = box_intersect(&a, box);
 }
@@ -109,7 +109,7 @@ void bvh_clip_triangle(const float *v, const aabb *box, int axis, float pos, aab
 static aabb ref_box(const prim_ref *r)
 {
     ref_lanes l = ref_load(r);
-    return (aabb){ l.lo, l.hi };
+    return (aabb){l.lo, l.hi};
 }
 
 static void set_ref_box(prim_ref *r, const aabb *b)
@@ -185,9 +185,10 @@ static void sweep_spatial(bvh_split_scratch *s, int a, float lo, float extent, u
         cnt += s->counts[a][k - 1];
         if (cnt == 0 || s->right_count[k] == 0 || !box_valid(&acc))
             continue;
-        float cost = aabb_half_area(&acc) * (float)cnt + s->right_area[k] * (float)s->right_count[k];
+        float cost =
+            aabb_half_area(&acc) * (float)cnt + s->right_area[k] * (float)s->right_count[k];
         if (cost < best->cost)
-            *best = (spatial_split){ .axis = a, .pos = slab_plane(lo, extent, k, nb), .cost = cost };
+            *best = (spatial_split){.axis = a, .pos = slab_plane(lo, extent, k, nb), .cost = cost};
     }
 }
 
@@ -200,15 +201,15 @@ typedef struct slabs {
 
 static slabs make_slabs(const aabb *bounds, uint32_t nb)
 {
-    slabs sl = { .nb = nb };
+    slabs sl = {.nb = nb};
     float lo[4], hi[4];
     v4_store(lo, bounds->lo);
     v4_store(hi, bounds->hi);
     for (int a = 0; a < 3; a++) {
         sl.lo[a] = lo[a];
         sl.extent[a] = hi[a] - lo[a];
-        sl.active[a] = sl.extent[a] > 0.0f && isfinite(sl.extent[a]) &&
-                       isfinite((float)nb / sl.extent[a]);
+        sl.active[a] =
+            sl.extent[a] > 0.0f && isfinite(sl.extent[a]) && isfinite((float)nb / sl.extent[a]);
     }
     return sl;
 }
@@ -224,7 +225,7 @@ static void fill_slabs(const bvh_spatial_params *sp, bvh_split_scratch *s, const
 
 static spatial_split sweep_slabs(bvh_split_scratch *s, const slabs *sl)
 {
-    spatial_split best = { .axis = -1, .cost = INFINITY };
+    spatial_split best = {.axis = -1, .cost = INFINITY};
     for (int a = 0; a < 3; a++)
         if (sl->active[a])
             sweep_spatial(s, a, sl->lo[a], sl->extent[a], sl->nb, &best);
@@ -242,9 +243,9 @@ static void swap_refs(prim_ref *refs, uint32_t i, uint32_t j)
 
 /* What tagging the references for a spatial split found. */
 typedef struct spatial_tags {
-    uint32_t left, right;  /* references of each child, those in both counted twice */
-    uint32_t both;         /* references in both children */
-    float cost;            /* A_left N_left + A_right N_right of the children as tagged */
+    uint32_t left, right; /* references of each child, those in both counted twice */
+    uint32_t both;        /* references in both children */
+    float cost;           /* A_left N_left + A_right N_right of the children as tagged */
 } spatial_tags;
 
 /* Tags each ref of [begin, end) left, right or both for the plane, then unsplits (Stich et al.,
@@ -308,16 +309,18 @@ static spatial_tags tag_refs(const bvh_spatial_params *sp, prim_ref *refs, uint3
             both++;
         }
     }
-    return (spatial_tags){ .left = nl, .right = nr, .both = both,
-                           .cost = aabb_half_area(&lb) * nl + aabb_half_area(&rb) * nr };
+    return (spatial_tags){.left = nl,
+                          .right = nr,
+                          .both = both,
+                          .cost = aabb_half_area(&lb) * nl + aabb_half_area(&rb) * nr};
 }
 
 /* Applies a spatial split; false (refs as they were) when a side would be empty, the duplicates
  * do not fit in [end, cap), or the children as unsplitting left them cost no less than
  * cost_limit (the binned estimate counted every crossing reference in both). */
 static bool apply_spatial(const bvh_spatial_params *sp, prim_ref *refs, uint32_t begin,
-                          uint32_t end, uint32_t cap, const spatial_split *split,
-                          float cost_limit, bvh_split_result *out)
+                          uint32_t end, uint32_t cap, const spatial_split *split, float cost_limit,
+                          bvh_split_result *out)
 {
     spatial_tags tags = tag_refs(sp, refs, begin, end, split);
     uint32_t both = tags.both;
@@ -362,9 +365,8 @@ static bool apply_spatial(const bvh_spatial_params *sp, prim_ref *refs, uint32_t
 
 /* Chooses the object split from filled object bins s as bvh_split_node would, and reads its
  * children's boxes from the bins before the spatial search reuses them. */
-static bvh_split_kind choose_object(const bvh_split_params *p, bvh_split_scratch *s,
-                                    uint32_t count, const aabb *bounds, bvh_bin_split *o,
-                                    aabb child[2])
+static bvh_split_kind choose_object(const bvh_split_params *p, bvh_split_scratch *s, uint32_t count,
+                                    const aabb *bounds, bvh_bin_split *o, aabb child[2])
 {
     bvh_split_kind kind = bvh_split_choose(p, s, count, bounds, o);
     if (o->axis >= 0) {
@@ -398,8 +400,8 @@ static void decide(const bvh_split_params *p, const bvh_spatial_params *sp, prim
 {
     uint32_t count = end - begin;
     float area = aabb_half_area(bounds), leaf_cost = (float)count * area;
-    float limit = count > p->max_leaf ? o->cost
-                                      : MINF(o->cost, leaf_cost - p->traversal_cost * area);
+    float limit =
+        count > p->max_leaf ? o->cost : MINF(o->cost, leaf_cost - p->traversal_cost * area);
     if (spatial->axis >= 0 && spatial->cost < limit &&
         apply_spatial(sp, refs, begin, end, cap, spatial, limit, out))
         return;
@@ -422,7 +424,7 @@ void bvh_spatial_split_node(const bvh_split_params *p, const bvh_spatial_params 
     bvh_split_bins_fill(s, refs, begin, end, &o);
     aabb child[2];
     bvh_split_kind kind = choose_object(p, s, count, bounds, &o, child);
-    spatial_split spatial = { .axis = -1, .cost = INFINITY };
+    spatial_split spatial = {.axis = -1, .cost = INFINITY};
     if (worth_spatial(sp, end, cap, &o, child)) {
         slabs sl = make_slabs(bounds, o.bins);
         fill_slabs(sp, s, refs, begin, end, &sl);
@@ -444,8 +446,8 @@ typedef struct shared_bins {
     uint32_t begin, end, chunks;
     const bvh_bin_split *object; /* the object pass: these bins */
     const slabs *slabs;          /* the spatial pass: these */
-    aabb *bins;                  /* chunk c, axis a, bin k: [(c * 3 + a) * BVH_SPLIT_MAX_BINS + k] */
-    uint32_t *counts, *exits;    /* the same layout */
+    aabb *bins;               /* chunk c, axis a, bin k: [(c * 3 + a) * BVH_SPLIT_MAX_BINS + k] */
+    uint32_t *counts, *exits; /* the same layout */
     atomic_uint next;
 } shared_bins;
 
@@ -497,7 +499,7 @@ static void bin_shared(shared_bins *sb, bvh_split_scratch *const *scratch, uint3
 {
     shared_worker workers[BVH_MAX_THREADS];
     for (uint32_t t = 0; t < threads; t++)
-        workers[t] = (shared_worker){ .sb = sb, .s = scratch[t] };
+        workers[t] = (shared_worker){.sb = sb, .s = scratch[t]};
     atomic_store(&sb->next, 0);
     bvh_threads_run(threads, bin_chunks, workers, sizeof workers[0]);
     for (int a = 0; a < 3; a++) {
@@ -530,16 +532,20 @@ bool bvh_spatial_split_shared(const bvh_split_params *p, const bvh_spatial_param
     }
     uint32_t chunks = (count + CHUNK_REFS - 1) / CHUNK_REFS;
     size_t slots = (size_t)chunks * 3 * BVH_SPLIT_MAX_BINS;
-    shared_bins sb = { .sp = sp, .refs = refs, .begin = begin, .end = end, .chunks = chunks,
-                       .bins = malloc(slots * sizeof *sb.bins),
-                       .counts = calloc(slots, sizeof *sb.counts),
-                       .exits = calloc(slots, sizeof *sb.exits) };
+    shared_bins sb = {.sp = sp,
+                      .refs = refs,
+                      .begin = begin,
+                      .end = end,
+                      .chunks = chunks,
+                      .bins = malloc(slots * sizeof *sb.bins),
+                      .counts = calloc(slots, sizeof *sb.counts),
+                      .exits = calloc(slots, sizeof *sb.exits)};
     bvh_split_scratch *sum = malloc(sizeof *sum);
     bool ok = sb.bins && sb.counts && sb.exits && sum;
     if (ok) {
         out->split = false;
         out->spatial = false;
-    out->spatial = false;
+        out->spatial = false;
         out->right_end = end;
         bvh_bin_split o;
         bvh_split_bins_init(p, count, cbounds, &o);
@@ -547,7 +553,7 @@ bool bvh_spatial_split_shared(const bvh_split_params *p, const bvh_spatial_param
         bin_shared(&sb, scratch, threads, o.bins, sum);
         aabb child[2];
         bvh_split_kind kind = choose_object(p, sum, count, bounds, &o, child);
-        spatial_split spatial = { .axis = -1, .cost = INFINITY };
+        spatial_split spatial = {.axis = -1, .cost = INFINITY};
         if (worth_spatial(sp, end, cap, &o, child)) {
             slabs sl = make_slabs(bounds, o.bins);
             sb.object = NULL;

@@ -24,9 +24,9 @@
 
 /* What a spatial-split build knows beyond the SAH settings. */
 typedef struct bvh_spatial_params {
-    const float *positions;  /* the triangles, 9 floats each, indexed by prim_ref.index */
-    float root_half_area;    /* of the whole tree's box */
-    float alpha;             /* try spatial splits where overlap / root area exceeds this */
+    const float *positions; /* the triangles, 9 floats each, indexed by prim_ref.index */
+    float root_half_area;   /* of the whole tree's box */
+    float alpha;            /* try spatial splits where overlap / root area exceeds this */
 } bvh_spatial_params;
 
 /* Spatial splits are looked for only where the object split's children overlap by more than

@@ -120,14 +120,13 @@ void bvh_split_apply(const bvh_split_params *p, prim_ref *refs, uint32_t begin, 
                      bvh_split_kind kind, const bvh_bin_split *b, bvh_split_result *out);
 
 /* The exact bounds and centroid bounds of refs[begin, end). */
-void bvh_split_range_bounds(const prim_ref *refs, uint32_t begin, uint32_t end, aabb *b,
-                            aabb *cb);
+void bvh_split_range_bounds(const prim_ref *refs, uint32_t begin, uint32_t end, aabb *b, aabb *cb);
 
 /* Decides whether the node over refs[begin, end), with exact bounds `bounds` and centroid bounds
  * `cbounds`, is a leaf or splits, and on a split reorders refs[begin, end) so that its children
- * are [begin, out->mid) and [out->mid, end) (out->right_end = end), both non-empty, with their bounds in *out. A node of
- * more than p->max_leaf triangles always splits (in the middle of its order when no binned split
- * separates it); a leaf leaves the order of refs as it was. */
+ * are [begin, out->mid) and [out->mid, end) (out->right_end = end), both non-empty, with their
+ * bounds in *out. A node of more than p->max_leaf triangles always splits (in the middle of its
+ * order when no binned split separates it); a leaf leaves the order of refs as it was. */
 void bvh_split_node(const bvh_split_params *p, bvh_split_scratch *s, prim_ref *refs,
                     uint32_t begin, uint32_t end, const aabb *bounds, const aabb *cbounds,
                     bvh_split_result *out);

@@ -96,7 +96,8 @@ static bool build_tree(const vkrt_accel_desc *desc, const bvh_build_desc *build,
                        vkrt_error *err)
 {
     bvh_build_desc spatial = *build;
-    spatial.spatial_budget = desc->bvh_spatial_budget > 0 ? desc->bvh_spatial_budget : spatial_budget;
+    spatial.spatial_budget =
+        desc->bvh_spatial_budget > 0 ? desc->bvh_spatial_budget : spatial_budget;
     if (desc->bvh_splits == VKRT_BVH_SPLITS_OFF) {
         snprintf(why, why_size, "no spatial splits (asked for)");
         return bvh_build(out, positions, n, build, err);
@@ -126,9 +127,10 @@ static bool build_tree(const vkrt_accel_desc *desc, const bvh_build_desc *build,
         return false;
     }
     bool keep = out->sah_cost < (1.0f - spatial_margin) * plain.sah_cost;
-    int used = snprintf(why, why_size, "%sspatial splits: SAH cost %.1f -> %.1f, +%.1f%% references",
-                        keep ? "" : "no ", (double)plain.sah_cost, (double)out->sah_cost,
-                        100.0 * (out->prim_count - n) / n);
+    int used =
+        snprintf(why, why_size, "%sspatial splits: SAH cost %.1f -> %.1f, +%.1f%% references",
+                 keep ? "" : "no ", (double)plain.sah_cost, (double)out->sah_cost,
+                 100.0 * (out->prim_count - n) / n);
     if (!keep && used > 0 && (size_t)used < why_size)
         snprintf(why + used, why_size - used, ", not %.0f%% lower", 100.0 * spatial_margin);
     double both_ms = plain.build_ms + out->build_ms;
