@@ -1,12 +1,22 @@
 /*
  * adapt.comp: adaptive sampling (--target-error), after each sample pass: one invocation per
- * pixel, in raygen's tile order. A pixel the pass sampled folds its samples' luminance (what the
- * pass's kernels added to its slots, lib/pixel.glsl) into its statistics, one sample at a time
- * (lib/adaptive.glsl), clears the slots, and stores its sample count in image[pixel].w, by which
- * the image is divided (each pixel has its own count). It stays in the list for the next pass
- * while it has fewer than VKRT_ADAPTIVE_MIN_SAMPLES samples (VKRT_ADAPTIVE_MIN_DARK_SAMPLES while
- * none found light), or its estimated relative error is above TARGET_ERROR, and it has fewer than image.w (--spp, the cap). A pixel dropped from the list is
- * never sampled again in the frame: its statistics, and so its estimate, no longer change.
+ * pixel, in raygen's tile order, twice (frame.range.x says which):
+ *   VKRT_ADAPT_FOLD: a listed pixel folds its samples' luminance (what the pass's kernels added to
+ *     its slots, lib/pixel.glsl) into its statistics, one sample at a time (lib/adaptive.glsl),
+ *     clears the slots, and stores its sample count in image[pixel].w, by which the image is
+ *     divided (each pixel has its own count). It is unconverged while below image.w (--spp, the
+ *     cap) and with fewer than VKRT_ADAPTIVE_MIN_SAMPLES samples (VKRT_ADAPTIVE_MIN_DARK_SAMPLES
+ *     while none found light), or an estimated relative error above TARGET_ERROR.
+ *   VKRT_ADAPT_SELECT: a listed pixel stays listed for the next pass while it or one of its eight
+ *     neighbours is unconverged. A pixel's variance, estimated from its first samples, misses the
+ *     rare bright paths that light a dim face: on CornellBox-Original's short box such pixels
+ *     stopped at 16 samples with most of their light unseen while a neighbour that had caught one
+ *     such path sampled on. Keeping the neighbours of an unconverged pixel (Cycles dilates its
+ *     unconverged pixels the same way, by one in x and in y) pools that evidence. A pixel
+ *     dropped is not listed again, so every listed pixel has had the same samples (image.z) and
+ *     raygen's sample indices stay consecutive in each pixel.
+ * A neighbour reads a pixel's flags in the second pass while the pixel may clear its own, so
+ * both go through atomics.
  *
  * Push constants: image.z is the samples each listed pixel has after the pass (0: the frame
  * starts, every pixel is listed with fresh statistics and cleared slots), counts.z the samples
@@ -20,19 +30,19 @@
 #include "lib/adaptive.glsl"
 #include "lib/tiles.glsl"
 
-/* Whether pixel takes samples in the next pass; folds the last pass's samples first. */
-bool next_pass_samples(uint pixel, uint pixels)
+/* Folds the last pass's samples of a listed pixel and judges it by its own estimate. */
+void fold(uint pixel, uint pixels)
 {
-    uint done = frame.image.z, taken = frame.counts.z;
-    if (done == 0u) {
-        pixel_stats[pixel] = PixelStats(0.0, 0.0, 0u, 1u);
+    uint taken = frame.counts.z;
+    if (frame.image.z == 0u) {
+        pixel_stats[pixel] = PixelStats(0.0, 0.0, 0u, VKRT_PIXEL_LISTED | VKRT_PIXEL_UNCONVERGED);
         for (uint k = 0u; k < taken; ++k)
             sample_luminance[k * pixels + pixel] = 0.0;
-        return true;
+        return;
     }
     PixelStats st = pixel_stats[pixel];
-    if (st.listed == 0u)
-        return false;
+    if ((st.listed & VKRT_PIXEL_LISTED) == 0u)
+        return;
     for (uint k = 0u; k < taken; ++k) {
         uint slot = k * pixels + pixel;
         st.samples += 1u;
@@ -44,8 +54,23 @@ bool next_pass_samples(uint pixel, uint pixels)
     bool more = st.samples < frame.image.w &&
                 (st.samples < fewest ||
                  adaptive_relative_error(st.mean, st.m2, st.samples) > TARGET_ERROR);
-    st.listed = more ? 1u : 0u;
+    st.listed = VKRT_PIXEL_LISTED | (more ? VKRT_PIXEL_UNCONVERGED : 0u);
     pixel_stats[pixel] = st;
+}
+
+/* Whether listed pixel (x, y) stays listed for the next pass (above); unlists it if not. */
+bool select_pixel(uint pixel, uvec2 p, uint width, uint height)
+{
+    if ((atomicOr(pixel_stats[pixel].listed, 0u) & VKRT_PIXEL_LISTED) == 0u)
+        return false;
+    bool more = false;
+    if (pixel_stats[pixel].samples < frame.image.w)
+        for (uint y = p.y > 0u ? p.y - 1u : 0u; y <= min(p.y + 1u, height - 1u); ++y)
+            for (uint x = p.x > 0u ? p.x - 1u : 0u; x <= min(p.x + 1u, width - 1u); ++x)
+                more = more || (atomicOr(pixel_stats[y * width + x].listed, 0u) &
+                                VKRT_PIXEL_UNCONVERGED) != 0u;
+    if (!more)
+        atomicAnd(pixel_stats[pixel].listed, ~VKRT_PIXEL_LISTED);
     return more;
 }
 
@@ -59,8 +84,14 @@ void main()
     if (index < pixels) {
         uvec2 p = tile_pixel(index, width, height);
         pixel = p.y * width + p.x;
-        listed = next_pass_samples(pixel, pixels);
+        if (frame.range.x == VKRT_ADAPT_FOLD)
+            fold(pixel, pixels);
+        else
+            listed = select_pixel(pixel, p, width, height);
     }
+    /* Only the second pass lists pixels (uniform control flow for the subgroup operations). */
+    if (frame.range.x == VKRT_ADAPT_FOLD)
+        return;
 #ifdef VKRT_SUBGROUPS
     uint one = listed ? 1u : 0u;
     uint offset = subgroupExclusiveAdd(one);

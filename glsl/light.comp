@@ -24,7 +24,7 @@ void main()
         Hit hit = hits[index];
         uint words = frame.range.w;
         bool lit = (ray.info.w & VKRT_RAY_DEAD) == 0u && hit.triangle != VKRT_NO_HIT &&
-                   (materials[triangle_material[hit.triangle]].info.y & VKRT_MATERIAL_USES_LIGHTS) != 0u;
+                   (materials[material_of(hit.triangle)].info.y & VKRT_MATERIAL_USES_LIGHTS) != 0u;
         Surface s;
         if (lit)
             s = surface_at(ray, hit);

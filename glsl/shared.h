@@ -48,10 +48,25 @@ typedef uint32_t uint;
 #define VKRT_BINDING_PIXEL_STATS 21       /* adaptive sampling only (--target-error); */
 #define VKRT_BINDING_ACTIVE_PIXELS 22     /* otherwise a minimal buffer each */
 #define VKRT_BINDING_SAMPLE_LUMINANCE 23
-#define VKRT_STORAGE_BINDINGS 24
-#define VKRT_BINDING_TRIANGLE_TEXELS 24
-#define VKRT_BINDING_NODE_TEXELS 25
+#define VKRT_BINDING_SPLIT_ADDRESSES 24   /* the chunks of split arrays (below) */
+#define VKRT_STORAGE_BINDINGS 25
+#define VKRT_BINDING_TRIANGLE_TEXELS 25
+#define VKRT_BINDING_NODE_TEXELS 26
 #define VKRT_TEXEL_BINDINGS 2
+
+/* Arrays larger than one buffer holds (issue 20; src/gpu/array.h): each is split into chunks of
+ * 2^s elements, s its VKRT_SPEC_SPLIT_* constant (0: one buffer, at its binding above), and the
+ * kernels reach chunk c of array k at the device address split_addresses[k * VKRT_MAX_CHUNKS + c]
+ * (binding VKRT_BINDING_SPLIT_ADDRESSES, an address as two words, low first). */
+#define VKRT_SPLIT_TRIANGLES 0u
+#define VKRT_SPLIT_NORMALS 1u
+#define VKRT_SPLIT_TEXCOORDS 2u
+#define VKRT_SPLIT_TRIANGLE_MATERIAL 3u
+#define VKRT_SPLIT_NODES 4u
+#define VKRT_SPLIT_REFS 5u
+#define VKRT_SPLIT_TEXELS 6u
+#define VKRT_SPLIT_ARRAY_COUNT 7u
+#define VKRT_MAX_CHUNKS 64u
 
 /* The viewer's display pass (glsl/display.comp, src/view/display.c): a set of its own. */
 #define VKRT_DISPLAY_BINDING_IMAGE 0
@@ -74,6 +89,14 @@ typedef uint32_t uint;
 #define VKRT_SPEC_CLAMP 13
 #define VKRT_SPEC_SURFACE_MAPS 14
 #define VKRT_SPEC_TARGET_ERROR 15
+/* One per split array, in VKRT_SPLIT_* order: log2 of its chunks' elements, 0 for one buffer. */
+#define VKRT_SPEC_SPLIT_TRIANGLES 16
+#define VKRT_SPEC_SPLIT_NORMALS 17
+#define VKRT_SPEC_SPLIT_TEXCOORDS 18
+#define VKRT_SPEC_SPLIT_TRIANGLE_MATERIAL 19
+#define VKRT_SPEC_SPLIT_NODES 20
+#define VKRT_SPEC_SPLIT_REFS 21
+#define VKRT_SPEC_SPLIT_TEXELS 22
 
 /* Integrators (VKRT_SPEC_INTEGRATOR): Whitted's (delta lights, ambient, the materials' own rays)
  * or the path tracer (next-event estimation with multiple importance sampling). */
@@ -362,8 +385,20 @@ VKRT_STRUCT(PixelStats) {
     float mean;       /* mean luminance of the pixel's samples */
     float m2;         /* their sum of squared deviations from it (Welford) */
     uint samples;     /* samples taken */
-    uint listed;      /* 1 while the pixel takes samples; once 0, it stays 0 for the frame */
+    uint listed;      /* VKRT_PIXEL_* flags (glsl/adapt.comp) */
 };
+
+/* PixelStats.listed: the pixel takes samples (set when the frame starts; once cleared, it stays
+ * cleared for the frame); its own estimate (or its count, under the fewest) asks for more and it
+ * is below the cap. */
+#define VKRT_PIXEL_LISTED 1u
+#define VKRT_PIXEL_UNCONVERGED 2u
+
+/* FrameParams.range.x of adapt.comp: fold the pass's samples and judge each listed pixel by its
+ * own estimate, or keep listed each listed pixel with an unconverged pixel in its 3x3
+ * neighbourhood. */
+#define VKRT_ADAPT_FOLD 0u
+#define VKRT_ADAPT_SELECT 1u
 
 /* The pixels the next sample pass traces (binding VKRT_BINDING_ACTIVE_PIXELS: this header, then
  * the pixel indices, in raygen's tile order). */

@@ -148,6 +148,11 @@ static void print_memory(FILE *out, const vkrt_renderer *renderer, const gpu_con
             "%.1f MiB, image %.1f MiB, other %.1f MiB: %.1f MiB of the device's %.1f MiB\n",
             m.triangles / MiB, m.nodes / MiB, m.textures / MiB, m.rays / MiB, m.image / MiB,
             m.other / MiB, m.total / MiB, ctx->memory_limit / MiB);
+    char split[256];
+    vkrt_renderer_split_text(renderer, split, sizeof split);
+    fprintf(out, "vkrt: arrays split past %llu bytes (%s): %s\n",
+            (unsigned long long)ctx->split_bytes, gpu_buffer_limit_name(ctx, ctx->split_bytes),
+            *split ? split : "none");
     const vkrt_mesh *mesh = &scene->mesh;
     size_t per_triangle = 9 * sizeof(float) * (1 + (mesh->normals != NULL)) +
                           6 * sizeof(float) * (mesh->texcoords != NULL) + sizeof(int32_t);

@@ -8,14 +8,18 @@
  *      of 1024 samples with another seed (its own error about a third of E), has a root mean
  *      square of at most 1.5 E, and the image's estimates (vkrt_renderer_convergence) are
  *      within E where a pixel stopped before the cap. The estimate assumes independent samples;
- *      the stratified sampler does better on this smooth light (the true error is about a
- *      third of E here), so from below it is only held to E / 6: an estimate that sent every
- *      pixel to the cap would fall under that.
+ *      the stratified sampler does better on this smooth light, and the neighbours of noisy
+ *      pixels sample on (glsl/adapt.comp), so the true error is about an eighth of E here and
+ *      from below it is only held to E / 10; an estimate that sent every pixel to the cap would
+ *      fall under that (0.08 E), and the floor's pixels are held to half the cap.
  *   2. The samples go where the noise is: sky pixels take the fewest a pixel may
- *      (VKRT_ADAPTIVE_MIN_SAMPLES), floor pixels several times more.
+ *      (VKRT_ADAPTIVE_MIN_SAMPLES), floor pixels several times more, and the row of sky above the
+ *      horizon, flat itself, over twice the fewest, since the floor's pixels beside it are not
+ *      done (the neighbourhood rule).
  *   3. A pixel's samples are the uniform render's first ones (the sampler's indices stay
  *      consecutive): with every noisy pixel at the cap, the image is the uniform one.
- * Breaking the estimate (variance ignored, or not divided by the samples) fails 1 or 2.
+ * Breaking the estimate (variance ignored, or not divided by the samples) fails 1 or 2; judging
+ * each pixel by its own estimate alone (no neighbourhood) fails 2.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -99,7 +103,7 @@ static void estimate_is_honest_and_samples_go_to_noise(void **state)
            &c);
     render(&(vkrt_render_desc){.samples = 1024, .seed = 1}, reference, NULL, NULL, NULL);
     /* True error, as the estimate is defined: |luminance - reference| / max(reference, floor). */
-    double squares = 0, sky_samples = 0, floor_samples = 0;
+    double squares = 0, sky_samples = 0, floor_samples = 0, border_samples = 0;
     int sky = 0, ground = 0, within = 0, stopped = 0;
     for (int i = 0; i < PIXELS; ++i) {
         double ref = luminance_of(reference, i);
@@ -109,9 +113,13 @@ static void estimate_is_honest_and_samples_go_to_noise(void **state)
             ++stopped;
             within += estimates[i] <= target;
         }
-        /* The horizon is the middle row; the rows next to it mix sky and floor. */
+        /* The horizon is the middle row, and the floor's noise begins there; the sky row above
+         * it is as flat as the rest of the sky, but borders on unconverged pixels, which keep
+         * it listed (glsl/adapt.comp). */
         int y = i / W;
-        if (y < H / 2 - 1) {
+        if (y == H / 2 - 1) {
+            border_samples += samples[i];
+        } else if (y < H / 2 - 1) {
             ++sky;
             sky_samples += samples[i];
         } else if (y > H / 2) {
@@ -122,15 +130,19 @@ static void estimate_is_honest_and_samples_go_to_noise(void **state)
     double true_rms = sqrt(squares / PIXELS);
     sky_samples /= sky;
     floor_samples /= ground;
+    border_samples /= W;
     print_message("target %.3f: estimate rms %.4f (max %.4f), true rms %.4f (%.2fx); samples: "
-                  "sky %.1f, floor %.1f, mean %.1f; %d of %d stopped before the cap, %d within\n",
+                  "sky %.1f, sky beside the horizon %.1f, floor %.1f, mean %.1f; %d of %d stopped "
+                  "before the cap, %d within\n",
                   (double)target, c.rms_error, (double)c.max_error, true_rms, true_rms / target,
-                  sky_samples, floor_samples, c.mean_samples, stopped, PIXELS, within);
-    assert_true(true_rms <= 1.5 * target && true_rms >= target / 6);
+                  sky_samples, border_samples, floor_samples, c.mean_samples, stopped, PIXELS,
+                  within);
+    assert_true(true_rms <= 1.5 * target && true_rms >= target / 10);
     assert_int_equal(within, stopped);
     assert_true(c.rms_error <= target);
     assert_true(sky_samples == VKRT_ADAPTIVE_MIN_SAMPLES);
-    assert_true(floor_samples > 4 * sky_samples && floor_samples < cap);
+    assert_true(border_samples > 2 * VKRT_ADAPTIVE_MIN_SAMPLES);
+    assert_true(floor_samples > 4 * sky_samples && floor_samples < cap / 2);
 }
 
 /* With a target no noisy pixel reaches, every such pixel takes the cap's samples, the uniform

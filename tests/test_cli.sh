@@ -7,13 +7,7 @@ vkrt=${VKRT_BINARY:?}
 src=${VKRT_SOURCE_DIR:?}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-failures=0
-passed=0
-
-check() { # check NAME CONDITION...: counts a pass or prints the failure
-    name=$1; shift
-    if "$@"; then passed=$((passed + 1)); else echo "FAIL: $name"; failures=$((failures + 1)); fi
-}
+. "$src/tests/lib.sh"
 
 "$vkrt" --help >"$tmp/help" 2>&1
 check "--help exits 0" test $? -eq 0
@@ -355,5 +349,4 @@ check "render --seed exits 0" test $? -eq 0
 "$vkrt" render "$src/scenes/cornell-spheres/lamp.cfg" --seed x -o "$tmp/seedx.png" 2>"$tmp/err"
 check "--seed x is refused" test $? -eq 2
 
-echo "$passed passed, $failures failed"
-[ $failures -eq 0 ]
+summary

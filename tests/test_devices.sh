@@ -9,13 +9,7 @@ vkrt=${VKRT_BINARY:?}
 src=${VKRT_SOURCE_DIR:?}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-failures=0
-passed=0
-
-check() { # check NAME CONDITION...: counts a pass or prints the failure
-    name=$1; shift
-    if "$@"; then passed=$((passed + 1)); else echo "FAIL: $name"; failures=$((failures + 1)); fi
-}
+. "$src/tests/lib.sh"
 
 # fly FILE FRAMES SIZE: a flythrough of the Cornell box, FRAMES cameras sliding sideways, with
 # motion blur (each frame reads the next frame's camera) under the path tracer's sampler.
@@ -135,5 +129,4 @@ check "--device with --devices is refused" grep -q "^vkrt: --device and --device
 check "view --devices is refused" grep -q "vkrt view does not take --devices (an option of vkrt render)" "$tmp/err"
 check "and nothing was written" sh -c "! ls '$tmp' | grep -q '^bad'"
 
-echo "$passed passed, $failures failed"
-[ $failures -eq 0 ]
+summary

@@ -16,13 +16,7 @@ set -u
 vkrt=${VKRT_BINARY:?}
 src=${VKRT_SOURCE_DIR:?}
 farm="$src/tools/farm"
-failures=0
-passed=0
-
-check() { # check NAME CONDITION...: counts a pass or prints the failure
-    name=$1; shift
-    if "$@"; then passed=$((passed + 1)); else echo "FAIL: $name"; failures=$((failures + 1)); fi
-}
+. "$src/tests/lib.sh"
 
 # Short, because munged's socket path must fit a sockaddr_un (108 bytes).
 tmp=$(mktemp -d /tmp/vkrt-farm.XXXXXX)
@@ -96,8 +90,7 @@ check "and says that the scene has 12 cameras" grep -q "has 12 cameras" "$tmp/er
 check "and leaves no job behind" test ! -e "$tmp/bad/job.json"
 
 finish() { # finish: the summary, and exit 77 if the cluster part could not run
-    echo "$passed passed, $failures failed"
-    [ $failures -eq 0 ] || exit 1
+    summary || exit 1
     [ -n "${1:-}" ] || exit 0
     echo "SKIP: $1"
     exit 77

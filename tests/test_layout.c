@@ -17,6 +17,7 @@
 #include <cmocka.h>
 
 #include "../glsl/shared.h"
+#include "gpu/array.h"
 #include "gpu_fixture.h"
 
 typedef struct Probe {
@@ -264,11 +265,55 @@ static void test_buffer_over_the_limit(void **state)
     fixture_context_destroy(&ctx);
 }
 
+/* An array past ctx->split_bytes is split into chunks of a power of two of elements, each holding
+ * its elements in order (read back chunk by chunk against the data); one past 64 chunks is
+ * refused with its size; one that fits is one buffer, shift 0. */
+static void test_split_array(void **state)
+{
+    (void)state;
+    gpu_context ctx;
+    fixture_context_create(&ctx);
+    vkrt_error err = {{0}};
+    enum { count = 1000 };
+    uint32_t data[count], back[count];
+    for (uint32_t i = 0; i < count; ++i)
+        data[i] = i * 2654435761u;
+    gpu_array a;
+    assert_true(gpu_array_create_from(&ctx, &a, data, sizeof *data, count, "words", &err));
+    assert_int_equal(a.chunk_count, 1);
+    assert_int_equal(a.shift, 0);
+    gpu_array_destroy(&ctx, &a);
+    if (!ctx.device_addresses) {
+        fixture_context_destroy(&ctx);
+        skip();
+    }
+    ctx.split_bytes = 1000; /* 250 words: chunks of 128 */
+    assert_true(gpu_array_create_from(&ctx, &a, data, sizeof *data, count, "words", &err));
+    assert_int_equal(a.shift, 7);
+    assert_int_equal(a.chunk_count, 8);
+    for (uint32_t c = 0; c < a.chunk_count; ++c) {
+        size_t first = (size_t)c << a.shift, n = count - first < 128 ? count - first : 128;
+        assert_int_equal(a.chunks[c].size, n * sizeof *data);
+        assert_true(gpu_buffer_download(&ctx, &a.chunks[c], back + first, n * sizeof *data, &err));
+    }
+    assert_memory_equal(back, data, sizeof data);
+    gpu_array_destroy(&ctx, &a);
+    assert_int_equal(ctx.memory_used, 0);
+    ctx.split_bytes = 40; /* chunks of 8 words: 125 of them */
+    assert_false(gpu_array_create_from(&ctx, &a, data, sizeof *data, count, "words", &err));
+    print_message("%s\n", err.msg);
+    assert_non_null(strstr(err.msg, "its words take 4000 bytes (1000 x 4 bytes), more than 64 "
+                                    "buffers of 32 bytes hold"));
+    assert_int_equal(ctx.memory_used, 0);
+    fixture_context_destroy(&ctx);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sizes),
         cmocka_unit_test(test_buffer_over_the_limit),
+        cmocka_unit_test(test_split_array),
         cmocka_unit_test(test_buffer_layout),
         cmocka_unit_test(test_push_constant_layout),
     };

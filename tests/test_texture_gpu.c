@@ -30,6 +30,7 @@ static const char KERNEL[] =
     "layout(local_size_x_id = 0) in;\n"
     "layout(std430, binding = 0) readonly buffer Infos { TextureInfo texture_infos[]; };\n"
     "layout(std430, binding = 1) readonly buffer Texels { uint texels[]; };\n"
+    "uint texel_word(uint i) { return texels[i]; }\n"
     "layout(std430, binding = 2) readonly buffer Queries { uvec4 queries[]; };\n"
     "layout(std430, binding = 3) buffer Results { vec4 results[]; };\n"
     "layout(push_constant) uniform Push { uint count; };\n"

@@ -25,13 +25,7 @@ if ! command -v xvfb-run >/dev/null 2>&1; then
 fi
 tmp=$(mktemp -d)
 trap '[ -n "${VKRT_KEEP_VIEW:-}" ] && cp "$tmp"/lamp* "$VKRT_KEEP_VIEW"; rm -rf "$tmp"' EXIT
-failures=0
-passed=0
-
-check() { # check NAME CONDITION...: counts a pass or prints the failure
-    name=$1; shift
-    if "$@"; then passed=$((passed + 1)); else echo "FAIL: $name"; failures=$((failures + 1)); fi
-}
+. "$src/tests/lib.sh"
 
 if DISPLAY= WAYLAND_DISPLAY= "$vkrt" view "$src/scenes/cornell/scene.cfg" 2>"$tmp/err"; then
     status=0
@@ -189,5 +183,4 @@ grep "screenshot" "$tmp/target-log"
 check "target: done within the target before the 1024-sample cap" \
     grep -Eq "lamp-view-[0-9]+.exr \(([0-9]|[0-9][0-9]|[0-9][0-9][0-9]|10[01][0-9]|102[0-3]) of 1024 samples\)" "$tmp/target-log"
 
-echo "$passed passed, $failures failed"
-[ $failures -eq 0 ]
+summary

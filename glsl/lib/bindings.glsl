@@ -153,9 +153,116 @@ void store_child_ray(uint i, Ray ray)
         rays[i] = ray;
 }
 
+/* Arrays larger than one buffer holds (glsl/shared.h VKRT_SPLIT_*, src/gpu/array.h): compiled
+ * only for a scene that has one (the host defines VKRT_SPLIT_ARRAYS and turns on
+ * GL_EXT_buffer_reference), so every other scene's kernels are what they were. Each split array
+ * is read through the device addresses of its chunks; the rest through their bindings. */
+#ifdef VKRT_SPLIT_ARRAYS
+layout(constant_id = VKRT_SPEC_SPLIT_TRIANGLES) const uint SPLIT_TRIANGLES = 0u;
+layout(constant_id = VKRT_SPEC_SPLIT_NORMALS) const uint SPLIT_NORMALS = 0u;
+layout(constant_id = VKRT_SPEC_SPLIT_TEXCOORDS) const uint SPLIT_TEXCOORDS = 0u;
+layout(constant_id = VKRT_SPEC_SPLIT_TRIANGLE_MATERIAL) const uint SPLIT_TRIANGLE_MATERIAL = 0u;
+layout(constant_id = VKRT_SPEC_SPLIT_NODES) const uint SPLIT_NODES = 0u;
+layout(constant_id = VKRT_SPEC_SPLIT_REFS) const uint SPLIT_REFS = 0u;
+layout(constant_id = VKRT_SPEC_SPLIT_TEXELS) const uint SPLIT_TEXELS = 0u;
+layout(std430, set = 0, binding = VKRT_BINDING_SPLIT_ADDRESSES) readonly buffer SplitAddressBuffer {
+    uvec2 split_addresses[];
+};
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TriangleChunk { Triangle v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer NormalChunk { TriangleNormals v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TexcoordChunk { TriangleTexcoords v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer QuadChunk { BvhQuad v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer PairChunk { BvhPair v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer KdChunk { KdNode v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer WordChunk { uint v[]; };
+
+/* The address of the chunk that holds element i of split array k, of chunks of 2^s elements. */
+uvec2 split_chunk(uint k, uint i, uint s)
+{
+    return split_addresses[k * VKRT_MAX_CHUNKS + (i >> s)];
+}
+
+/* Element i's index within its chunk. */
+uint split_index(uint i, uint s)
+{
+    return i & ((1u << s) - 1u);
+}
+#endif
+
+/* The per-triangle arrays, the structure's and the textures' elements, wherever they are: at
+ * their bindings, or in the chunks of a split array. Traversal reads triangles and nodes through
+ * load_triangle and the node loads below, which add the texel path. Without a split array they
+ * are the plain loads, as macros: the SPIR-V is then what it was before arrays could split. */
+#ifdef VKRT_SPLIT_ARRAYS
+Triangle triangle_at(uint i)
+{
+    if (SPLIT_TRIANGLES != 0u)
+        return TriangleChunk(split_chunk(VKRT_SPLIT_TRIANGLES, i, SPLIT_TRIANGLES))
+            .v[split_index(i, SPLIT_TRIANGLES)];
+    return triangles[i];
+}
+
+TriangleNormals normals_at(uint i)
+{
+    if (SPLIT_NORMALS != 0u)
+        return NormalChunk(split_chunk(VKRT_SPLIT_NORMALS, i, SPLIT_NORMALS))
+            .v[split_index(i, SPLIT_NORMALS)];
+    return triangle_normals[i];
+}
+
+TriangleTexcoords texcoords_at(uint i)
+{
+    if (SPLIT_TEXCOORDS != 0u)
+        return TexcoordChunk(split_chunk(VKRT_SPLIT_TEXCOORDS, i, SPLIT_TEXCOORDS))
+            .v[split_index(i, SPLIT_TEXCOORDS)];
+    return triangle_texcoords[i];
+}
+
+/* The material of triangle i. */
+uint material_of(uint i)
+{
+    if (SPLIT_TRIANGLE_MATERIAL != 0u)
+        return WordChunk(split_chunk(VKRT_SPLIT_TRIANGLE_MATERIAL, i, SPLIT_TRIANGLE_MATERIAL))
+            .v[split_index(i, SPLIT_TRIANGLE_MATERIAL)];
+    return triangle_material[i];
+}
+
+/* Entry i of the grid's or the kd-tree's triangle references. */
+uint ref_at(uint i)
+{
+    if (SPLIT_REFS != 0u)
+        return WordChunk(split_chunk(VKRT_SPLIT_REFS, i, SPLIT_REFS)).v[split_index(i, SPLIT_REFS)];
+    return grid_refs[i];
+}
+
+/* Where grid cell i's references start (cell i + 1's start is where they end). */
+uint cell_start_at(uint i)
+{
+    if (SPLIT_NODES != 0u)
+        return WordChunk(split_chunk(VKRT_SPLIT_NODES, i, SPLIT_NODES)).v[split_index(i, SPLIT_NODES)];
+    return grid_cell_start[i];
+}
+
+/* Word i of the texel buffer (lib/texture.glsl). */
+uint texel_word(uint i)
+{
+    if (SPLIT_TEXELS != 0u)
+        return WordChunk(split_chunk(VKRT_SPLIT_TEXELS, i, SPLIT_TEXELS)).v[split_index(i, SPLIT_TEXELS)];
+    return texels[i];
+}
+#else
+#define triangle_at(i) triangles[i]
+#define normals_at(i) triangle_normals[i]
+#define texcoords_at(i) triangle_texcoords[i]
+#define material_of(i) triangle_material[i]
+#define ref_at(i) grid_refs[i]
+#define cell_start_at(i) grid_cell_start[i]
+#define texel_word(i) texels[i]
+#endif
+
 /* Triangle i and BVH pair record i, through whichever of the two bindings TEXEL_LOADS chooses (a
- * specialization constant: the other load is dead code). The 4-wide walk loads its nodes itself
- * (lib/traverse_bvh.glsl). */
+ * specialization constant: the other load is dead code; the host never sets it for a split
+ * array). The 4-wide walk loads its nodes itself (lib/traverse_bvh.glsl). */
 Triangle load_triangle(uint i)
 {
     if (TEXEL_LOADS) {
@@ -164,7 +271,7 @@ Triangle load_triangle(uint i)
                         uintBitsToFloat(texelFetch(triangle_texels, t + 1)),
                         uintBitsToFloat(texelFetch(triangle_texels, t + 2)));
     }
-    return triangles[i];
+    return triangle_at(i);
 }
 
 BvhPair load_pair(uint i)
@@ -176,6 +283,10 @@ BvhPair load_pair(uint i)
                        uintBitsToFloat(texelFetch(node_texels, t + 2)),
                        texelFetch(node_texels, t + 3));
     }
+#ifdef VKRT_SPLIT_ARRAYS
+    if (SPLIT_NODES != 0u)
+        return PairChunk(split_chunk(VKRT_SPLIT_NODES, i, SPLIT_NODES)).v[split_index(i, SPLIT_NODES)];
+#endif
     return bvh_pairs[i];
 }
 

@@ -31,12 +31,12 @@ bool cutout_keeps(uint tri, float u, float v)
 {
     if (!HAS_CUTOUTS)
         return true;
-    Material m = materials[triangle_material[tri]];
+    Material m = materials[material_of(tri)];
     if (m.info.w == VKRT_CUTOUT_NONE)
         return true;
     vec2 uv = vec2(0.0);
     if (HAS_TEXCOORDS) {
-        TriangleTexcoords tc = triangle_texcoords[tri];
+        TriangleTexcoords tc = texcoords_at(tri);
         uv = (1.0 - u - v) * tc.uv01.xy + u * tc.uv01.zw + v * tc.uv2.xy;
     }
     float coverage = m.info.w == VKRT_CUTOUT_MAP_D ? texture_sample(m.textures[0].y, uv).r

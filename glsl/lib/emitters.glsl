@@ -49,7 +49,7 @@ bool sample_emitter(Surface s, vec3 u, out Surface light, out vec3 wi, out float
     if (x - float(i) >= emitters[i].keep)
         i = emitters[i].alias;
     uint tri = emitters[i].triangle;
-    Triangle t = triangles[tri];
+    Triangle t = triangle_at(tri);
     /* Uniform on the triangle (pbrt's square-root mapping): barycentrics of v1 and v2. */
     float r = sqrt(u.y);
     float b1 = r * (1.0 - u.z), b2 = r * u.z;

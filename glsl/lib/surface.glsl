@@ -31,7 +31,7 @@ struct Surface {
 
 Surface surface_at(Ray ray, Hit hit)
 {
-    Triangle tri = triangles[hit.triangle];
+    Triangle tri = triangle_at(hit.triangle);
     float w = 1.0 - hit.u - hit.v;
     Surface s;
     s.position = w * tri.v0.xyz + hit.u * tri.v1.xyz + hit.v * tri.v2.xyz;
@@ -42,7 +42,7 @@ Surface surface_at(Ray ray, Hit hit)
     s.geometric_normal = ng;
     s.normal = ng;
     if (HAS_NORMALS) {
-        TriangleNormals tn = triangle_normals[hit.triangle];
+        TriangleNormals tn = normals_at(hit.triangle);
         vec3 ns = w * tn.n0.xyz + hit.u * tn.n1.xyz + hit.v * tn.n2.xyz;
         if (dot(ns, ns) > 0.0) {
             ns = normalize(ns);
@@ -51,9 +51,9 @@ Surface surface_at(Ray ray, Hit hit)
     }
     s.uv = vec2(0.0);
     s.incoming = ray.direction.xyz;
-    s.material = triangle_material[hit.triangle];
+    s.material = material_of(hit.triangle);
     if (HAS_TEXCOORDS) {
-        TriangleTexcoords tc = triangle_texcoords[hit.triangle];
+        TriangleTexcoords tc = texcoords_at(hit.triangle);
         s.uv = w * tc.uv01.xy + hit.u * tc.uv01.zw + hit.v * tc.uv2.xy;
         vec3 dpdu, dpdv;
         if ((SURFACE_MAPS & (VKRT_MATERIAL_NORMAL_MAP | VKRT_MATERIAL_BUMP_MAP)) != 0u &&

@@ -1,8 +1,9 @@
 /*
  * texture.glsl: reading the scene's textures from the texel buffer.
  *
- * All textures live in one storage buffer of uints (texels[]) described by texture_infos[], both
- * declared in bindings.glsl before this file is included: Debian's lavapipe has no descriptor
+ * All textures live in one array of uints described by texture_infos[]: bindings.glsl declares
+ * both, and texel_word(i), word i of the array (which reaches its chunks when the array is split
+ * over several buffers), before this file is included. Debian's lavapipe has no descriptor
  * indexing, so an array of sampled images is not an option, and the filtering is done here.
  * src/scene/texture.h fills the buffers (layout: TextureInfo in shared.h); vkrt_texture_sample
  * and vkrt_texture_texel in src/scene/texture.c repeat these steps on the CPU for the tests, so a
@@ -38,9 +39,9 @@ vec4 texture_texel(uint tex, int x, int y)
     uint i = texture_wrap(y, info.height) * info.width + texture_wrap(x, info.width);
     if ((info.flags & VKRT_TEXTURE_HALF) != 0u) {
         uint at = info.offset + 2u * i;
-        return vec4(unpackHalf2x16(texels[at]), unpackHalf2x16(texels[at + 1u]));
+        return vec4(unpackHalf2x16(texel_word(at)), unpackHalf2x16(texel_word(at + 1u)));
     }
-    vec4 c = unpackUnorm4x8(texels[info.offset + i]);
+    vec4 c = unpackUnorm4x8(texel_word(info.offset + i));
     if ((info.flags & VKRT_TEXTURE_SRGB) != 0u)
         c.rgb = texture_srgb_to_linear(c.rgb);
     return c;

@@ -188,7 +188,13 @@ uint bvh_quad_step(SlabRay b, float tmin, float hit_t, uint node, out uint push_
         n.planes_z = texelFetch(node_texels, t + 2);
         n.refs = texelFetch(node_texels, t + 3);
     } else {
-        n = bvh_nodes[node];
+#ifdef VKRT_SPLIT_ARRAYS
+        if (SPLIT_NODES != 0u)
+            n = QuadChunk(split_chunk(VKRT_SPLIT_NODES, node, SPLIT_NODES))
+                    .v[split_index(node, SPLIT_NODES)];
+        else
+#endif
+            n = bvh_nodes[node];
     }
     if (TRAVERSAL_STATS)
         ++traversal_steps;

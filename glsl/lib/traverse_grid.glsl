@@ -18,7 +18,7 @@
 bool test_references(RayShear s, uint first, uint end, float tmin, bool any_hit, inout Hit hit)
 {
     for (uint r = first; r < end; ++r) {
-        uint i = grid_refs[r];
+        uint i = ref_at(r);
         Triangle tri = load_triangle(i);
         float t, u, v;
         if (intersect_triangle(s, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tmin, hit.t, t, u, v) &&
@@ -57,7 +57,7 @@ Hit grid_traverse(RayShear s, vec3 dir, float tmin, float tmax, bool any_hit)
 
     while (true) {
         uint index = uint(cell.x) + grid.dims.x * (uint(cell.y) + grid.dims.y * uint(cell.z));
-        if (test_references(s, grid_cell_start[index], grid_cell_start[index + 1u], tmin, any_hit,
+        if (test_references(s, cell_start_at(index), cell_start_at(index + 1u), tmin, any_hit,
                             hit))
             return hit;
         float cell_exit = min(t_next.x, min(t_next.y, t_next.z));

@@ -43,6 +43,10 @@ KdNode load_kd_node(uint i)
         uvec4 t = texelFetch(node_texels, int(i));
         return KdNode(uintBitsToFloat(t.x), t.y, t.z, t.w);
     }
+#ifdef VKRT_SPLIT_ARRAYS
+    if (SPLIT_NODES != 0u)
+        return KdChunk(split_chunk(VKRT_SPLIT_NODES, i, SPLIT_NODES)).v[split_index(i, SPLIT_NODES)];
+#endif
     return kd_nodes[i];
 }
 

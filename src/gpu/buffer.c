@@ -97,23 +97,52 @@ fail:
 bool gpu_buffer_create(gpu_context *ctx, gpu_buffer *buf, size_t size, const char *what,
                        vkrt_error *err)
 {
-    const VkPhysicalDeviceLimits *limits = &ctx->properties.limits;
-    if (size > limits->maxStorageBufferRange) {
+    return gpu_buffer_create_addressed(ctx, buf, size, false, what, err);
+}
+
+bool gpu_buffer_create_addressed(gpu_context *ctx, gpu_buffer *buf, size_t size, bool addressed,
+                                 const char *what, vkrt_error *err)
+{
+    if (size > ctx->max_buffer_bytes) {
         memset(buf, 0, sizeof *buf);
-        return vkrt_error_set(err, "%s needs %zu bytes (%.1f MiB), more than one storage buffer on "
-                                   "%s allows (maxStorageBufferRange %u bytes)",
+        return vkrt_error_set(err,
+                              "%s needs %zu bytes (%.1f MiB), more than one buffer on %s "
+                              "holds (%s %llu bytes)",
                               what, size, size / 1048576.0, ctx->properties.deviceName,
-                              limits->maxStorageBufferRange);
+                              gpu_buffer_limit_name(ctx, ctx->max_buffer_bytes),
+                              (unsigned long long)ctx->max_buffer_bytes);
     }
-    if (!create_with_memory(ctx, buf, size,
-                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                                VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
-                                VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
-                                /* the wave buffer holds indirect dispatch arguments */
-                                VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
-                            VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, err))
+    if (addressed && !ctx->device_addresses) {
+        memset(buf, 0, sizeof *buf);
+        return vkrt_error_set(err, "%s: %s has no buffer device addresses", what,
+                              ctx->properties.deviceName);
+    }
+    VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                               VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                               VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+                               /* the wave buffer holds indirect dispatch arguments */
+                               VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                               (addressed ? VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT : 0);
+    if (!create_with_memory(ctx, buf, size, usage, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, err))
         return vkrt_error_prefix(err, "%s (%zu bytes)", what, size);
     return true;
+}
+
+const char *gpu_buffer_limit_name(const gpu_context *ctx, VkDeviceSize limit)
+{
+    if (limit < ctx->max_buffer_bytes)
+        return "VKRT_MAX_BUFFER_BYTES";
+    return limit < ctx->properties.limits.maxStorageBufferRange ? "maxMemoryAllocationSize"
+                                                                : "maxStorageBufferRange";
+}
+
+VkDeviceAddress gpu_buffer_address(const gpu_context *ctx, const gpu_buffer *buf)
+{
+    VkBufferDeviceAddressInfo info = {
+        .sType = VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO,
+        .buffer = buf->buffer,
+    };
+    return ctx->buffer_address(ctx->device, &info);
 }
 
 bool gpu_buffer_create_usage(gpu_context *ctx, gpu_buffer *buf, size_t size,
@@ -181,13 +210,13 @@ void gpu_buffer_destroy(gpu_context *ctx, gpu_buffer *buf)
     memset(buf, 0, sizeof *buf);
 }
 
-static bool copy_buffer(gpu_context *ctx, VkBuffer src, VkBuffer dst, size_t size,
-                        vkrt_error *err)
+static bool copy_buffer(gpu_context *ctx, VkBuffer src, size_t src_offset, VkBuffer dst,
+                        size_t dst_offset, size_t size, vkrt_error *err)
 {
     VkCommandBuffer cmd;
     if (!gpu_commands_begin(ctx, &cmd, err))
         return false;
-    VkBufferCopy region = {.size = size};
+    VkBufferCopy region = {.srcOffset = src_offset, .dstOffset = dst_offset, .size = size};
     vkCmdCopyBuffer(cmd, src, dst, 1, &region);
     return gpu_commands_submit(ctx, err);
 }
@@ -206,16 +235,42 @@ bool gpu_buffer_create_from(gpu_context *ctx, gpu_buffer *buf, const void *data,
 bool gpu_buffer_upload(gpu_context *ctx, gpu_buffer *buf, const void *data, size_t size,
                        vkrt_error *err)
 {
+    return gpu_buffer_upload_at(ctx, buf, 0, data, size, err);
+}
+
+static void copy_bytes(void *user, size_t at, size_t size, void *dst)
+{
+    memcpy(dst, (const unsigned char *)user + at, size);
+}
+
+bool gpu_buffer_upload_at(gpu_context *ctx, gpu_buffer *buf, size_t offset, const void *data,
+                          size_t size, vkrt_error *err)
+{
+    return gpu_buffer_write(ctx, buf, offset, size, GPU_STAGING_BYTES, copy_bytes, (void *)data,
+                            err);
+}
+
+bool gpu_buffer_write(gpu_context *ctx, gpu_buffer *buf, size_t offset, size_t size, size_t piece,
+                      gpu_write_fn *write, void *user, vkrt_error *err)
+{
     if (size == 0)
         return true;
-    if (size > buf->size)
-        return vkrt_error_set(err, "upload of %zu bytes into a buffer of %zu", size,
+    if (offset > buf->size || size > buf->size - offset)
+        return vkrt_error_set(err, "upload of %zu bytes at %zu into a buffer of %zu", size, offset,
                               (size_t)buf->size);
+    /* In pieces through one staging buffer: a scene's arrays take gigabytes, which would
+     * otherwise be as much pinned host memory again. */
+    if (piece == 0 || piece > size)
+        piece = size;
     gpu_buffer staging;
-    if (!gpu_staging_create(ctx, &staging, size, err))
+    if (!gpu_staging_create(ctx, &staging, piece, err))
         return false;
-    memcpy(staging.mapped, data, size);
-    bool ok = copy_buffer(ctx, staging.buffer, buf->buffer, size, err);
+    bool ok = true;
+    for (size_t done = 0; ok && done < size; done += piece) {
+        size_t n = size - done < piece ? size - done : piece;
+        write(user, done, n, staging.mapped);
+        ok = copy_buffer(ctx, staging.buffer, 0, buf->buffer, offset + done, n, err);
+    }
     gpu_buffer_destroy(ctx, &staging);
     return ok;
 }
@@ -231,7 +286,7 @@ bool gpu_buffer_download(gpu_context *ctx, const gpu_buffer *buf, void *data, si
     gpu_buffer staging;
     if (!gpu_staging_create(ctx, &staging, size, err))
         return false;
-    bool ok = copy_buffer(ctx, buf->buffer, staging.buffer, size, err);
+    bool ok = copy_buffer(ctx, buf->buffer, 0, staging.buffer, 0, size, err);
     if (ok)
         memcpy(data, staging.mapped, size);
     gpu_buffer_destroy(ctx, &staging);

@@ -18,15 +18,30 @@ typedef struct gpu_buffer {
     VkDeviceSize device_bytes; /* device-local memory it holds (counted in ctx->memory_used) */
 } gpu_buffer;
 
+/* Staging buffers hold at most this many bytes: larger transfers go in pieces. */
+#define GPU_STAGING_BYTES ((size_t)64 << 20)
+
 /* Creates a device-local storage buffer of size bytes (at least 16, since Vulkan has no empty
  * buffers), usable as a transfer source and destination and as a uniform texel buffer
  * (gpu_buffer_view_create). what names the buffer in messages:
- * a buffer larger than the device's maxStorageBufferRange or maxMemoryAllocationSize, or than
- * the device memory left (ctx->memory_limit less ctx->memory_used), is refused with its size and
- * the limit ("... does not fit ..."), before the driver is asked. On failure nothing is left
- * allocated. */
+ * a buffer larger than ctx->max_buffer_bytes (maxStorageBufferRange, maxMemoryAllocationSize or
+ * VKRT_MAX_BUFFER_BYTES), or than the device memory left (ctx->memory_limit less
+ * ctx->memory_used), is refused with its size and the limit ("... does not fit ..."), before the
+ * driver is asked. On failure nothing is left allocated. */
 bool gpu_buffer_create(gpu_context *ctx, gpu_buffer *buf, size_t size, const char *what,
                        vkrt_error *err);
+
+/* gpu_buffer_create; with addressed, the buffer also has a device address (gpu_buffer_address),
+ * which needs ctx->device_addresses. */
+bool gpu_buffer_create_addressed(gpu_context *ctx, gpu_buffer *buf, size_t size, bool addressed,
+                                 const char *what, vkrt_error *err);
+
+/* The name of the limit that limit (ctx->max_buffer_bytes or ctx->split_bytes) comes from, for
+ * messages. */
+const char *gpu_buffer_limit_name(const gpu_context *ctx, VkDeviceSize limit);
+
+/* The device address of a buffer made with addressed set. */
+VkDeviceAddress gpu_buffer_address(const gpu_context *ctx, const gpu_buffer *buf);
 
 /* gpu_buffer_create, then gpu_buffer_upload of size bytes from data. On failure nothing is left
  * allocated. */
@@ -56,9 +71,22 @@ bool gpu_staging_create(gpu_context *ctx, gpu_buffer *buf, size_t size, vkrt_err
 /* Frees the buffer and zeroes it. Safe on a zeroed buffer. */
 void gpu_buffer_destroy(gpu_context *ctx, gpu_buffer *buf);
 
-/* Copies size bytes from data into the start of buf and waits until done. */
+/* Copies size bytes from data into the start of buf and waits until done, through a staging
+ * buffer of at most GPU_STAGING_BYTES. */
 bool gpu_buffer_upload(gpu_context *ctx, gpu_buffer *buf, const void *data, size_t size,
                        vkrt_error *err);
+
+/* The same into buf from byte offset on. */
+bool gpu_buffer_upload_at(gpu_context *ctx, gpu_buffer *buf, size_t offset, const void *data,
+                          size_t size, vkrt_error *err);
+
+/* Writes size bytes at (from the start of the write) into dst. */
+typedef void gpu_write_fn(void *user, size_t at, size_t size, void *dst);
+
+/* Copies size bytes into buf from byte offset on, which write puts into a staging buffer piece by
+ * piece, piece bytes at a time (at most; 0: all at once), and waits until done. */
+bool gpu_buffer_write(gpu_context *ctx, gpu_buffer *buf, size_t offset, size_t size, size_t piece,
+                      gpu_write_fn *write, void *user, vkrt_error *err);
 
 /* Copies size bytes from the start of buf into data and waits until done. */
 bool gpu_buffer_download(gpu_context *ctx, const gpu_buffer *buf, void *data, size_t size,

@@ -258,6 +258,26 @@ static void set_memory_limit(gpu_context *ctx)
     unsigned long long bytes = limit && *limit ? strtoull(limit, &end, 10) : 0;
     if (bytes > 0 && *end == '\0' && bytes < ctx->memory_limit)
         ctx->memory_limit = bytes;
+    /* One buffer holds what a storage binding reaches and one allocation holds; arrays past it
+     * are split (gpu/array.h). VKRT_MAX_BUFFER_BYTES lowers where arrays split, so that tests
+     * split small scenes (at least 128 bytes: two elements of every array). */
+    ctx->max_buffer_bytes = ctx->properties.limits.maxStorageBufferRange;
+    if (ctx->max_allocation < ctx->max_buffer_bytes)
+        ctx->max_buffer_bytes = ctx->max_allocation;
+    ctx->split_bytes = ctx->max_buffer_bytes;
+    const char *split_limit = getenv("VKRT_MAX_BUFFER_BYTES");
+    bytes = split_limit && *split_limit ? strtoull(split_limit, &end, 10) : 0;
+    if (bytes >= 128 && *end == '\0' && bytes < ctx->split_bytes)
+        ctx->split_bytes = bytes;
+}
+
+/* Whether the pNext chain holds a struct of type sType. */
+static const VkBaseInStructure *chain_find(const void *chain, VkStructureType type)
+{
+    for (const VkBaseInStructure *s = chain; s; s = s->pNext)
+        if (s->sType == type)
+            return s;
+    return NULL;
 }
 
 static bool create_device(gpu_context *ctx, const gpu_context_desc *desc, vkrt_error *err)
@@ -300,6 +320,8 @@ static bool create_device(gpu_context *ctx, const gpu_context_desc *desc, vkrt_e
     bool enable_wanted = wanted > 0 && !ctx->missing_extension;
     bool has_executable_properties =
         has_extension(extensions, extension_count, VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME);
+    bool has_device_address =
+        has_extension(extensions, extension_count, VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME);
     free(extensions);
     VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomic_float = {
         .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT,
@@ -331,6 +353,42 @@ static bool create_device(gpu_context *ctx, const gpu_context_desc *desc, vkrt_e
     if (ctx->pipeline_statistics) {
         executable_info.pNext = wanted_features;
         wanted_features = &executable_info;
+    }
+    /* Buffer device addresses let the kernels reach an array split over several buffers
+     * (gpu/array.h): on wherever the device has them, unless the caller's features already
+     * turn them on (a ray tracing pipeline's). VKRT_NO_DEVICE_ADDRESSES=1 leaves them off, to
+     * test the message a split scene then gets. */
+    VkPhysicalDeviceBufferDeviceAddressFeatures address_info = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES,
+    };
+    const VkPhysicalDeviceBufferDeviceAddressFeatures *asked =
+        (const void *)chain_find(wanted_features,
+                                 VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES);
+    bool address_extension_asked = false;
+    for (uint32_t i = 0; enable_wanted && i < wanted; ++i)
+        address_extension_asked |=
+            strcmp(desc->device_extensions[i], VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME) == 0;
+    const char *no_addresses = getenv("VKRT_NO_DEVICE_ADDRESSES");
+    bool addresses_off = no_addresses && *no_addresses && strcmp(no_addresses, "0") != 0;
+    bool add_address_extension = false;
+    if (asked) {
+        ctx->device_addresses = asked->bufferDeviceAddress && !addresses_off;
+    } else if (has_device_address && !addresses_off) {
+        VkPhysicalDeviceFeatures2 features2 = {
+            .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2,
+            .pNext = &address_info,
+        };
+        vkGetPhysicalDeviceFeatures2(ctx->physical, &features2);
+        ctx->device_addresses = address_info.bufferDeviceAddress;
+        if (ctx->device_addresses) {
+            address_info = (VkPhysicalDeviceBufferDeviceAddressFeatures){
+                .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES,
+                .pNext = wanted_features,
+                .bufferDeviceAddress = VK_TRUE,
+            };
+            wanted_features = &address_info;
+            add_address_extension = !address_extension_asked;
+        }
     }
     /* Subgroup sums let the wave kernels reserve ray slots with one atomic per subgroup instead
      * of one per ray (glsl/count.comp); Vulkan 1.1 devices report which operations they have. */
@@ -365,8 +423,10 @@ static bool create_device(gpu_context *ctx, const gpu_context_desc *desc, vkrt_e
         .pNext = wanted_features,
         .shaderBufferFloat32AtomicAdd = VK_TRUE,
     };
-    const char *device_extensions[3 + max_wanted];
+    const char *device_extensions[4 + max_wanted];
     uint32_t device_extension_count = 0;
+    if (add_address_extension)
+        device_extensions[device_extension_count++] = VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME;
     if (ctx->float_atomics)
         device_extensions[device_extension_count++] = VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME;
     if (ctx->surface)
@@ -394,6 +454,11 @@ static bool create_device(gpu_context *ctx, const gpu_context_desc *desc, vkrt_e
     };
     GPU_CHECK(vkCreateDevice(ctx->physical, &info, NULL, &ctx->device));
     vkGetDeviceQueue(ctx->device, ctx->queue_family, 0, &ctx->queue);
+    if (ctx->device_addresses) {
+        ctx->buffer_address = (PFN_vkGetBufferDeviceAddressKHR)vkGetDeviceProcAddr(
+            ctx->device, "vkGetBufferDeviceAddressKHR");
+        ctx->device_addresses = ctx->buffer_address != NULL;
+    }
 
     VkCommandPoolCreateInfo pool_info = {
         .sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,

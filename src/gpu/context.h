@@ -73,6 +73,16 @@ typedef struct gpu_context {
     VkDeviceSize memory_limit;     /* the device-local heap's size, or VKRT_DEVICE_MEMORY_LIMIT
                                       (bytes; to test the message) where that is smaller */
     VkDeviceSize memory_used;      /* device-local memory allocated by gpu_buffer_* now */
+    /* The largest buffer vkrt makes: maxStorageBufferRange, or maxMemoryAllocationSize where
+     * smaller. Arrays larger than split_bytes are split over several buffers (gpu/array.h):
+     * max_buffer_bytes, or VKRT_MAX_BUFFER_BYTES (bytes, at least 128) where that is smaller, so
+     * that tests split small scenes. */
+    VkDeviceSize max_buffer_bytes;
+    VkDeviceSize split_bytes;
+    /* Buffer device addresses are on (VK_KHR_buffer_device_address): kernels can reach an array
+     * split over several buffers. buffer_address is vkGetBufferDeviceAddressKHR. */
+    bool device_addresses;
+    PFN_vkGetBufferDeviceAddressKHR buffer_address;
     uint32_t validation_messages;   /* messages the validation layers reported so far */
     bool messenger_quiet;
     char first_validation_message[512];

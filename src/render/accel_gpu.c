@@ -31,8 +31,10 @@ static bool upload_grid(vkrt_accel_gpu *a, gpu_context *ctx, const grid *g, vkrt
     size_t starts = ((size_t)g->cell_count + 1) * sizeof(uint32_t);
     size_t refs = (size_t)g->ref_count * sizeof(uint32_t);
     if (!gpu_buffer_create_from(ctx, &a->info, &info, sizeof info, "grid frame", err) ||
-        !gpu_buffer_create_from(ctx, &a->nodes, g->cell_start, starts, "grid cells", err) ||
-        !gpu_buffer_create_from(ctx, &a->refs, g->refs, refs, "grid references", err))
+        !gpu_array_create_from(ctx, &a->nodes, g->cell_start, sizeof(uint32_t),
+                               (size_t)g->cell_count + 1, "grid cells", err) ||
+        !gpu_array_create_from(ctx, &a->refs, g->refs, sizeof(uint32_t), g->ref_count,
+                               "grid references", err))
         return false;
     vkrt_accel_stats *s = &a->stats;
     s->bytes = sizeof info + starts + refs;
@@ -50,7 +52,7 @@ static bool upload_grid(vkrt_accel_gpu *a, gpu_context *ctx, const grid *g, vkrt
 typedef struct gpu_layout {
     void *nodes;
     uint32_t count, depth, stack;
-    size_t bytes;
+    size_t bytes, node_size;
 } gpu_layout;
 
 static bool lay_out(const bvh *b, uint32_t width, gpu_layout *out, vkrt_error *err)
@@ -61,14 +63,14 @@ static bool lay_out(const bvh *b, uint32_t width, gpu_layout *out, vkrt_error *e
             return false;
         /* One push per level at most: the far child of a node whose two children were hit. */
         *out = (gpu_layout){p.nodes, p.node_count, b->max_depth, b->max_depth,
-                            p.node_count * sizeof *p.nodes};
+                            p.node_count * sizeof *p.nodes, sizeof *p.nodes};
         return true;
     }
     bvh_quads q;
     if (!bvh_quads_build(b, &q, err))
         return false;
     *out = (gpu_layout){q.nodes, q.node_count, q.max_depth, q.max_stack,
-                        q.node_count * sizeof *q.nodes};
+                        q.node_count * sizeof *q.nodes, sizeof *q.nodes};
     return true;
 }
 
@@ -173,8 +175,8 @@ static bool build_bvh(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc
                             g.stack, VKRT_BVH_STACK_SIZE);
     GridInfo unused = {0};
     ok = ok && gpu_buffer_create_from(ctx, &a->info, &unused, sizeof unused, "grid frame", err) &&
-         gpu_buffer_create_from(ctx, &a->nodes, g.nodes, g.bytes, "BVH nodes", err) &&
-         gpu_buffer_create(ctx, &a->refs, 0, "grid references", err);
+         gpu_array_create_from(ctx, &a->nodes, g.nodes, g.node_size, g.count, "BVH nodes", err) &&
+         gpu_array_create(ctx, &a->refs, sizeof(uint32_t), 0, "grid references", err);
     if (ok) {
         vkrt_accel_stats *s = &a->stats;
         s->bytes = g.bytes;
@@ -222,10 +224,10 @@ static bool build_kdtree(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_d
     size_t node_bytes = (size_t)t.node_count * sizeof *t.nodes;
     size_t ref_bytes = (size_t)t.ref_count * sizeof *t.refs;
     bool ok = gpu_buffer_create_from(ctx, &a->info, &box, sizeof box, "kd-tree box", err) &&
-              gpu_buffer_create_from(ctx, &a->nodes, t.nodes, node_bytes, "kd-tree nodes", err) &&
-              (ref_bytes ? gpu_buffer_create_from(ctx, &a->refs, t.refs, ref_bytes,
-                                                  "kd-tree references", err)
-                         : gpu_buffer_create(ctx, &a->refs, 0, "kd-tree references", err));
+              gpu_array_create_from(ctx, &a->nodes, t.nodes, sizeof *t.nodes, t.node_count,
+                                    "kd-tree nodes", err) &&
+              gpu_array_create_from(ctx, &a->refs, t.refs, sizeof *t.refs, t.ref_count,
+                                    "kd-tree references", err);
     if (ok) {
         vkrt_accel_stats *s = &a->stats;
         s->bytes = sizeof box + node_bytes + ref_bytes;
@@ -248,8 +250,8 @@ static bool build_brute(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_error *err)
 {
     GridInfo unused = {0};
     return gpu_buffer_create_from(ctx, &a->info, &unused, sizeof unused, "grid frame", err) &&
-           gpu_buffer_create(ctx, &a->nodes, 0, "BVH nodes", err) &&
-           gpu_buffer_create(ctx, &a->refs, 0, "grid references", err);
+           gpu_array_create(ctx, &a->nodes, sizeof(BvhPair), 0, "BVH nodes", err) &&
+           gpu_array_create(ctx, &a->refs, sizeof(uint32_t), 0, "grid references", err);
 }
 
 bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc *desc,
@@ -307,8 +309,8 @@ bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel
 
 void vkrt_accel_gpu_destroy(vkrt_accel_gpu *a, gpu_context *ctx)
 {
-    gpu_buffer_destroy(ctx, &a->refs);
-    gpu_buffer_destroy(ctx, &a->nodes);
+    gpu_array_destroy(ctx, &a->refs);
+    gpu_array_destroy(ctx, &a->nodes);
     gpu_buffer_destroy(ctx, &a->info);
     free(a->prim_order);
     memset(a, 0, sizeof *a);

@@ -2,7 +2,8 @@
  * accel_gpu.h: the chosen acceleration structure, built on the CPU and uploaded for the kernels.
  *
  * Owns the three buffers of bindings 9-11 (grid frame or kd-tree box, BVH or kd-tree nodes or
- * grid cell starts, grid or kd-tree references) and the triangle order: a BVH stores its triangles
+ * grid cell starts, grid or kd-tree references; the last two split where one buffer cannot hold
+ * them, gpu/array.h) and the triangle order: a BVH stores its triangles
  * in leaf order, so every per-triangle array the kernels read is uploaded in that order, and
  * prim_order maps back. With spatial splits a triangle sits in several leaves: it is uploaded
  * once per leaf (its record, material and attributes copied), so the kernels read leaves as
@@ -17,6 +18,7 @@
 
 #include "../accel/choose.h"
 #include "../error.h"
+#include "../gpu/array.h"
 #include "../gpu/buffer.h"
 #include "../gpu/context.h"
 
@@ -47,8 +49,9 @@ typedef struct vkrt_accel_stats {
 
 typedef struct vkrt_accel_gpu {
     gpu_buffer info;            /* GridInfo; for other kinds a zeroed one keeps the binding valid */
-    gpu_buffer nodes;           /* BvhPair[] or BvhQuad[], or grid cell starts */
-    gpu_buffer refs;            /* grid references; for other kinds a minimal buffer, unread */
+    gpu_array nodes;            /* BvhPair[] or BvhQuad[], KdNode[], or grid cell starts */
+    gpu_array refs;             /* grid or kd-tree references; for other kinds a minimal buffer,
+                                   unread */
     uint32_t *prim_order;       /* NULL for identity order; else prim_order[i] = original index */
     uint32_t triangle_count;    /* triangles uploaded: the scene's, or more with spatial splits */
     vkrt_accel_stats stats;

@@ -190,6 +190,7 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
          renderer_create_texel_views(r, err) && renderer_upload_materials(r, mats, &kernel, err) &&
          renderer_upload_lights(r, &scene->config, err) &&
          renderer_upload_light_sampling(r, scene, mats, err) &&
+         renderer_upload_split_addresses(r, err) &&
          renderer_create_frame_buffers(r, err) &&
          renderer_create_kernels(r, scene->mesh.normals != NULL, has_texcoords,
                                  desc->traversal_stats, &kernel, mats, err);
@@ -229,16 +230,18 @@ const vkrt_accel_stats *vkrt_renderer_accel_stats(const vkrt_renderer *r)
 vkrt_renderer_memory vkrt_renderer_memory_use(const vkrt_renderer *r)
 {
     vkrt_renderer_memory m = {
-        .triangles = r->triangles.device_bytes + r->normals.device_bytes +
-                     r->texcoords.device_bytes + r->triangle_material.device_bytes,
-        .nodes =
-            r->accel.info.device_bytes + r->accel.nodes.device_bytes + r->accel.refs.device_bytes,
-        .textures = r->texture_infos.device_bytes + r->texels.device_bytes,
+        .triangles = gpu_array_device_bytes(&r->triangles) + gpu_array_device_bytes(&r->normals) +
+                     gpu_array_device_bytes(&r->texcoords) +
+                     gpu_array_device_bytes(&r->triangle_material),
+        .nodes = r->accel.info.device_bytes + gpu_array_device_bytes(&r->accel.nodes) +
+                 gpu_array_device_bytes(&r->accel.refs),
+        .textures = r->texture_infos.device_bytes + gpu_array_device_bytes(&r->texels),
         .rays = r->rays.device_bytes + r->rays_b.device_bytes + r->hits.device_bytes +
                 r->visibility.device_bytes + r->slots.device_bytes,
         .image = r->image.device_bytes,
         .other = r->materials.device_bytes + r->lights.device_bytes + r->counters.device_bytes +
-                 r->waves.device_bytes + r->emitters.device_bytes + r->environment.device_bytes,
+                 r->waves.device_bytes + r->emitters.device_bytes + r->environment.device_bytes +
+                 r->split_addresses.device_bytes,
     };
     m.total = m.triangles + m.nodes + m.textures + m.rays + m.image + m.other;
     return m;
@@ -267,13 +270,15 @@ void vkrt_renderer_destroy(vkrt_renderer *r)
     gpu_buffer_view_destroy(r->ctx, &r->node_view);
     renderer_destroy_ray_buffers(r);
     renderer_adaptive_destroy_buffers(r);
-    gpu_buffer *buffers[] = {&r->counters,      &r->image,    &r->waves,
-                             &r->lights,        &r->materials, &r->triangle_material,
-                             &r->normals,       &r->texcoords, &r->triangles,
-                             &r->texture_infos, &r->texels,  &r->emitters,
-                             &r->environment};
+    gpu_buffer *buffers[] = {&r->split_addresses, &r->counters,      &r->image,
+                             &r->waves,           &r->lights,        &r->materials,
+                             &r->texture_infos,   &r->emitters,      &r->environment};
     for (size_t i = 0; i < sizeof buffers / sizeof *buffers; ++i)
         gpu_buffer_destroy(r->ctx, buffers[i]);
+    gpu_array *arrays[] = {&r->triangle_material, &r->normals, &r->texcoords, &r->triangles,
+                           &r->texels};
+    for (size_t i = 0; i < sizeof arrays / sizeof *arrays; ++i)
+        gpu_array_destroy(r->ctx, arrays[i]);
     vkrt_accel_gpu_destroy(&r->accel, r->ctx);
     free(r->light_kinds);
     for (uint32_t i = 0; r->material_names && i < r->material_count; ++i)

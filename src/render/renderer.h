@@ -159,6 +159,10 @@ typedef struct vkrt_renderer_memory {
 /* What vkrt_renderer_memory says the renderer holds now. */
 vkrt_renderer_memory vkrt_renderer_memory_use(const vkrt_renderer *r);
 
+/* Which arrays are split over several buffers, and into how many ("triangles in 2 buffers,
+ * normals in 2"), into text; "" when every array fits one buffer (--verbose). */
+void vkrt_renderer_split_text(const vkrt_renderer *r, char *text, size_t size);
+
 /* The settings the renderer resolved for its device (tuning.h), and whether traversal reads
  * through texel views (the setting, where the views could hold the buffers). */
 const vkrt_tuning *vkrt_renderer_tuning(const vkrt_renderer *r);

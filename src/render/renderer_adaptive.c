@@ -1,8 +1,8 @@
 /*
  * renderer_adaptive.c: sampling to a target error (vkrt_render_desc.target_error, renderer.h).
- * Its buffers, its two kernels' place in a frame (glsl/adapt.comp after every sample pass, then
- * glsl/adapt_dispatch.comp, which writes raygen's indirect dispatch), and the error reached, read
- * back once a frame. Without a target none of it runs: the buffers are the minimal ones that keep
+ * Its buffers, its two kernels' place in a frame (glsl/adapt.comp, twice, after every sample pass,
+ * then glsl/adapt_dispatch.comp, which writes raygen's indirect dispatch), and the error reached,
+ * read back once a frame. Without a target none of it runs: the buffers are the minimal ones that keep
  * the bindings valid, and the kernels are neither compiled nor recorded.
  */
 #include <math.h>
@@ -42,6 +42,11 @@ void renderer_adaptive_record_adapt(vkrt_renderer *r, VkCommandBuffer cmd, Frame
 {
     params.image.z = done;
     params.counts.z = taken;
+    /* Each pixel's samples folded and judged, then the list kept from the judgements of its
+     * neighbours (glsl/adapt.comp): two dispatches, since a pixel reads its neighbours'. */
+    params.range.x = VKRT_ADAPT_FOLD;
+    gpu_dispatch(cmd, &r->adapt, &r->set, &params, r->width * r->height);
+    params.range.x = VKRT_ADAPT_SELECT;
     gpu_dispatch(cmd, &r->adapt, &r->set, &params, r->width * r->height);
     params.counts.z = r->batch;
     gpu_dispatch(cmd, &r->adapt_dispatch, &r->set, &params, 1);

@@ -10,14 +10,13 @@
 /* The ray buffers may take at most this share of the device's largest memory heap. */
 static const uint32_t ray_memory_share = 4;
 
-/* The most rays a ray buffer may hold: each buffer within maxStorageBufferRange, all the
+/* The most rays a ray buffer may hold: each buffer within one buffer's limit, all the
  * per-ray buffers together within a share of the largest device-local heap. */
 uint32_t renderer_max_ray_capacity(const vkrt_renderer *r)
 {
-    const VkPhysicalDeviceLimits *limits = &r->ctx->properties.limits;
-    uint64_t by_range = limits->maxStorageBufferRange / sizeof(Ray);
+    uint64_t by_range = r->ctx->max_buffer_bytes / sizeof(Ray);
     uint64_t words = r->light_words ? r->light_words : 1;
-    uint64_t by_visibility = limits->maxStorageBufferRange / (4 * words);
+    uint64_t by_visibility = r->ctx->max_buffer_bytes / (4 * words);
     VkDeviceSize heap = 0;
     for (uint32_t i = 0; i < r->ctx->memory.memoryHeapCount; ++i)
         if ((r->ctx->memory.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT) &&
@@ -71,28 +70,30 @@ void renderer_bind_all(vkrt_renderer *r)
     const gpu_buffer *bound[VKRT_STORAGE_BINDINGS] = {
         [VKRT_BINDING_RAYS] = &r->rays,
         [VKRT_BINDING_HITS] = &r->hits,
-        [VKRT_BINDING_TRIANGLES] = &r->triangles,
-        [VKRT_BINDING_NORMALS] = &r->normals,
-        [VKRT_BINDING_TRIANGLE_MATERIAL] = &r->triangle_material,
+        /* A split array's first chunk: its binding stays valid, unread. */
+        [VKRT_BINDING_TRIANGLES] = &r->triangles.chunks[0],
+        [VKRT_BINDING_NORMALS] = &r->normals.chunks[0],
+        [VKRT_BINDING_TRIANGLE_MATERIAL] = &r->triangle_material.chunks[0],
         [VKRT_BINDING_MATERIALS] = &r->materials,
         [VKRT_BINDING_LIGHTS] = &r->lights,
         [VKRT_BINDING_IMAGE] = &r->image,
         [VKRT_BINDING_COUNTERS] = &r->counters,
         [VKRT_BINDING_GRID_INFO] = &r->accel.info,
-        [VKRT_BINDING_ACCEL_NODES] = &r->accel.nodes,
-        [VKRT_BINDING_GRID_REFS] = &r->accel.refs,
+        [VKRT_BINDING_ACCEL_NODES] = &r->accel.nodes.chunks[0],
+        [VKRT_BINDING_GRID_REFS] = &r->accel.refs.chunks[0],
         [VKRT_BINDING_RAYS_B] = &r->rays_b,
         [VKRT_BINDING_WAVES] = &r->waves,
         [VKRT_BINDING_VISIBILITY] = &r->visibility,
         [VKRT_BINDING_SLOTS] = &r->slots,
-        [VKRT_BINDING_TEXCOORDS] = &r->texcoords,
+        [VKRT_BINDING_TEXCOORDS] = &r->texcoords.chunks[0],
         [VKRT_BINDING_TEXTURE_INFOS] = &r->texture_infos,
-        [VKRT_BINDING_TEXELS] = &r->texels,
+        [VKRT_BINDING_TEXELS] = &r->texels.chunks[0],
         [VKRT_BINDING_EMITTERS] = &r->emitters,
         [VKRT_BINDING_ENVIRONMENT] = &r->environment,
         [VKRT_BINDING_PIXEL_STATS] = &r->pixel_stats,
         [VKRT_BINDING_ACTIVE_PIXELS] = &r->active_pixels,
         [VKRT_BINDING_SAMPLE_LUMINANCE] = &r->sample_luminance,
+        [VKRT_BINDING_SPLIT_ADDRESSES] = &r->split_addresses,
     };
     for (uint32_t i = 0; i < VKRT_STORAGE_BINDINGS; ++i)
         gpu_storage_set_bind(r->ctx, &r->set, i, bound[i]);

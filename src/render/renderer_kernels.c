@@ -15,13 +15,23 @@
 /* What every wave kernel may use beyond core GLSL on this device: subgroup operations (count.comp
  * reserves ray slots with one atomic per subgroup with them, one per ray without; the trace
  * kernels' statistics need them, and are not built without). */
-static const char *kernel_preamble(const gpu_context *ctx)
+#define SUBGROUPS                                                                                  \
+    "#extension GL_KHR_shader_subgroup_arithmetic : require\n"                                     \
+    "#extension GL_KHR_shader_subgroup_ballot : require\n"                                         \
+    "#extension GL_KHR_shader_subgroup_vote : require\n"                                           \
+    "#define VKRT_SUBGROUPS 1\n"
+/* A scene with an array split over several buffers reads it through device addresses
+ * (lib/bindings.glsl); every other scene's kernels go without, as they were. */
+#define SPLIT_ARRAYS                                                                               \
+    "#extension GL_EXT_buffer_reference : require\n"                                               \
+    "#extension GL_EXT_buffer_reference_uvec2 : require\n"                                         \
+    "#define VKRT_SPLIT_ARRAYS 1\n"
+
+static const char *kernel_preamble(const vkrt_renderer *r)
 {
-    return ctx->subgroup_arithmetic ? "#extension GL_KHR_shader_subgroup_arithmetic : require\n"
-                                      "#extension GL_KHR_shader_subgroup_ballot : require\n"
-                                      "#extension GL_KHR_shader_subgroup_vote : require\n"
-                                      "#define VKRT_SUBGROUPS 1\n"
-                                    : "";
+    if (r->split)
+        return r->ctx->subgroup_arithmetic ? SUBGROUPS SPLIT_ARRAYS : SPLIT_ARRAYS;
+    return r->ctx->subgroup_arithmetic ? SUBGROUPS : "";
 }
 
 typedef struct kernel_spec {
@@ -37,7 +47,7 @@ static bool create_kernel(vkrt_renderer *r, gpu_pipeline *pipe, const char *path
     gpu_shader_sources sources = {
         .lookup = vkrt_kernel_source_lookup,
         .display_prefix = "glsl/",
-        .preamble = kernel_preamble(r->ctx),
+        .preamble = kernel_preamble(r),
     };
     uint32_t *spirv;
     size_t words;
@@ -57,8 +67,7 @@ static bool create_material_kernel(vkrt_renderer *r, gpu_pipeline *pipe, const c
 {
     uint32_t *spirv;
     size_t words;
-    if (!vkrt_material_kernel_compile(kernel, mats, path, kernel_preamble(r->ctx), &spirv, &words,
-                                      err))
+    if (!vkrt_material_kernel_compile(kernel, mats, path, kernel_preamble(r), &spirv, &words, err))
         return false;
     bool ok = gpu_pipeline_create(r->ctx, pipe, &r->set, spirv, words, spec->workgroup_size,
                                   spec->constants, spec->count, path, err);
@@ -100,6 +109,14 @@ bool renderer_create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoo
         {VKRT_SPEC_CLAMP, clamp_bits},
         {VKRT_SPEC_SURFACE_MAPS, r->surface_maps},
         {VKRT_SPEC_TARGET_ERROR, target_bits},
+        /* How each array is split (0: one buffer); read only where r->split. */
+        {VKRT_SPEC_SPLIT_TRIANGLES, renderer_split_shift(r, VKRT_SPLIT_TRIANGLES)},
+        {VKRT_SPEC_SPLIT_NORMALS, renderer_split_shift(r, VKRT_SPLIT_NORMALS)},
+        {VKRT_SPEC_SPLIT_TEXCOORDS, renderer_split_shift(r, VKRT_SPLIT_TEXCOORDS)},
+        {VKRT_SPEC_SPLIT_TRIANGLE_MATERIAL, renderer_split_shift(r, VKRT_SPLIT_TRIANGLE_MATERIAL)},
+        {VKRT_SPEC_SPLIT_NODES, renderer_split_shift(r, VKRT_SPLIT_NODES)},
+        {VKRT_SPEC_SPLIT_REFS, renderer_split_shift(r, VKRT_SPLIT_REFS)},
+        {VKRT_SPEC_SPLIT_TEXELS, renderer_split_shift(r, VKRT_SPLIT_TEXELS)},
     };
     const uint32_t count = sizeof constants / sizeof *constants;
     const kernel_spec wave = {workgroup_size, constants, count};

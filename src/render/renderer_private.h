@@ -17,8 +17,14 @@ struct vkrt_renderer {
     vkrt_accel_gpu accel;     /* the structure, its statistics and the triangle order */
     gpu_pipeline raygen, trace, light, occlusion, count, prepare, shade;
     gpu_pipeline adapt, adapt_dispatch; /* with a target error only (renderer_adaptive.c) */
-    gpu_buffer rays, rays_b, hits, triangles, normals, texcoords, triangle_material, materials,
-        lights, image, counters, waves, visibility, slots, texture_infos, texels;
+    gpu_buffer rays, rays_b, hits, materials, lights, image, counters, waves, visibility, slots,
+        texture_infos;
+    /* The per-triangle arrays and the textures' texels, each split over several buffers where
+     * one cannot hold it (gpu/array.h); the addresses of split arrays' chunks, as the kernels
+     * read them (glsl/shared.h VKRT_SPLIT_*; a minimal buffer when none is split). */
+    gpu_array triangles, normals, texcoords, triangle_material, texels;
+    gpu_buffer split_addresses;
+    bool split;               /* an array is split: the kernels are compiled to read chunks */
     gpu_buffer emitters;      /* LightInfo, then the alias table over emissive triangles */
     gpu_buffer environment;   /* the environment map's sampling distribution */
     /* Adaptive sampling's PixelStats, ActivePixels and per-sample luminance (bindings.glsl);
@@ -68,8 +74,13 @@ void renderer_material_ke(const vkrt_scene_materials *mats, uint32_t m, float ke
 bool renderer_upload_light_sampling(vkrt_renderer *r, const vkrt_scene *scene,
                                     const vkrt_scene_materials *mats, vkrt_error *err);
 /* The texel views of the triangles and the nodes, always made (every trace kernel declares
- * them), and r->texel_loads: the tuning's choice where the views hold the whole buffers. */
+ * them), and r->texel_loads: the tuning's choice where the views hold the whole arrays (never a
+ * split one). */
 bool renderer_create_texel_views(vkrt_renderer *r, vkrt_error *err);
+/* The split arrays' chunk addresses (binding VKRT_BINDING_SPLIT_ADDRESSES) and r->split. */
+bool renderer_upload_split_addresses(vkrt_renderer *r, vkrt_error *err);
+/* The shift of array k's chunks (VKRT_SPLIT_*): the kernels' VKRT_SPEC_SPLIT_* constant. */
+uint32_t renderer_split_shift(const vkrt_renderer *r, uint32_t k);
 
 /* renderer_buffers.c: the buffers sized by the image and by the rays of a depth. */
 uint32_t renderer_max_ray_capacity(const vkrt_renderer *r);

@@ -12,59 +12,88 @@
 #include "../scene/colour.h"
 #include "renderer_private.h"
 
+/* What the per-triangle arrays are made from: each written straight into the staging buffers,
+ * piece by piece, in the structure's triangle order (a BVH's leaf order), so that the host never
+ * holds a second copy of the mesh (4.8 GB of triangles alone at 100 million). */
+typedef struct geometry_source {
+    const vkrt_renderer *r;
+    const vkrt_mesh *mesh;
+    const vkrt_scene_materials *mats;
+} geometry_source;
+
+static void fill_triangles(void *user, size_t first, size_t count, void *dst)
+{
+    const geometry_source *g = user;
+    Triangle *out = dst;
+    for (size_t i = 0; i < count; ++i) {
+        uint32_t from = vkrt_accel_original_triangle(&g->r->accel, (uint32_t)(first + i));
+        const float *p = g->mesh->positions + 9 * (size_t)from;
+        out[i].v0 = (vec4){p[0], p[1], p[2], 0};
+        out[i].v1 = (vec4){p[3], p[4], p[5], 0};
+        out[i].v2 = (vec4){p[6], p[7], p[8], 0};
+    }
+}
+
+static void fill_normals(void *user, size_t first, size_t count, void *dst)
+{
+    const geometry_source *g = user;
+    TriangleNormals *out = dst;
+    for (size_t i = 0; i < count; ++i) {
+        uint32_t from = vkrt_accel_original_triangle(&g->r->accel, (uint32_t)(first + i));
+        const float *q = g->mesh->normals + 9 * (size_t)from;
+        out[i].n0 = (vec4){q[0], q[1], q[2], 0};
+        out[i].n1 = (vec4){q[3], q[4], q[5], 0};
+        out[i].n2 = (vec4){q[6], q[7], q[8], 0};
+    }
+}
+
+static void fill_texcoords(void *user, size_t first, size_t count, void *dst)
+{
+    const geometry_source *g = user;
+    TriangleTexcoords *out = dst;
+    for (size_t i = 0; i < count; ++i) {
+        uint32_t from = vkrt_accel_original_triangle(&g->r->accel, (uint32_t)(first + i));
+        const float *t = g->mesh->texcoords + 6 * (size_t)from;
+        out[i].uv01 = (vec4){t[0], t[1], t[2], t[3]};
+        out[i].uv2 = (vec4){t[4], t[5], 0, 0};
+    }
+}
+
+static void fill_materials(void *user, size_t first, size_t count, void *dst)
+{
+    const geometry_source *g = user;
+    uint32_t *out = dst;
+    for (size_t i = 0; i < count; ++i)
+        out[i] = g->mats->triangle_material[vkrt_accel_original_triangle(&g->r->accel,
+                                                                         (uint32_t)(first + i))];
+}
+
+/* Creates array a of count elements and fills it; an attribute no kernel reads (count 0) gets a
+ * minimal buffer that keeps its binding valid. */
+static bool upload_array(vkrt_renderer *r, gpu_array *a, size_t element_size, size_t count,
+                         gpu_array_fill_fn *fill, geometry_source *source, const char *what,
+                         vkrt_error *err)
+{
+    return gpu_array_create(r->ctx, a, element_size, count, what, err) &&
+           gpu_array_fill(r->ctx, a, fill, source, err);
+}
+
 bool renderer_upload_geometry(vkrt_renderer *r, const vkrt_mesh *mesh,
                               const vkrt_scene_materials *mats, vkrt_error *err)
 {
     /* The structure's triangle count: with spatial splits a triangle is uploaded once per leaf. */
-    uint32_t n = r->accel.triangle_count;
-    r->triangle_count = n;
+    size_t n = r->accel.triangle_count;
+    r->triangle_count = r->accel.triangle_count;
     bool want_texcoords = mats->reads_texcoords && mesh->texcoords;
-    Triangle *tris = calloc(n, sizeof *tris);
-    uint32_t *material = calloc(n, sizeof *material);
-    TriangleNormals *normals = mesh->normals ? calloc(n, sizeof *normals) : NULL;
-    TriangleTexcoords *texcoords = want_texcoords ? calloc(n, sizeof *texcoords) : NULL;
-    bool ok = tris && material && (normals || !mesh->normals) && (texcoords || !want_texcoords);
-    if (!ok) {
-        vkrt_error_set(err, "out of memory for %u triangles", n);
-        goto done;
-    }
-    for (uint32_t i = 0; i < n; ++i) {
-        /* Triangles go up in the structure's order (a BVH's leaf order), attributes with them. */
-        uint32_t from = vkrt_accel_original_triangle(&r->accel, i);
-        const float *p = mesh->positions + 9 * (size_t)from;
-        tris[i].v0 = (vec4){p[0], p[1], p[2], 0};
-        tris[i].v1 = (vec4){p[3], p[4], p[5], 0};
-        tris[i].v2 = (vec4){p[6], p[7], p[8], 0};
-        material[i] = mats->triangle_material[from];
-        if (normals) {
-            const float *q = mesh->normals + 9 * (size_t)from;
-            normals[i].n0 = (vec4){q[0], q[1], q[2], 0};
-            normals[i].n1 = (vec4){q[3], q[4], q[5], 0};
-            normals[i].n2 = (vec4){q[6], q[7], q[8], 0};
-        }
-        if (texcoords) {
-            const float *t = mesh->texcoords + 6 * (size_t)from;
-            texcoords[i].uv01 = (vec4){t[0], t[1], t[2], t[3]};
-            texcoords[i].uv2 = (vec4){t[4], t[5], 0, 0};
-        }
-    }
-    ok = gpu_buffer_create_from(r->ctx, &r->triangles, tris, n * sizeof *tris, "triangles", err) &&
-         gpu_buffer_create_from(r->ctx, &r->triangle_material, material, n * sizeof *material, "triangle materials",
-                err);
-    /* Attributes no kernel will read get a minimal buffer that keeps their binding valid. */
-    if (ok)
-        ok = normals ? gpu_buffer_create_from(r->ctx, &r->normals, normals, n * sizeof *normals, "normals", err)
-                     : gpu_buffer_create(r->ctx, &r->normals, 0, "normals", err);
-    if (ok)
-        ok = texcoords ? gpu_buffer_create_from(r->ctx, &r->texcoords, texcoords, n * sizeof *texcoords,
-                                "texture coordinates", err)
-                       : gpu_buffer_create(r->ctx, &r->texcoords, 0, "texture coordinates", err);
-done:
-    free(tris);
-    free(material);
-    free(normals);
-    free(texcoords);
-    return ok;
+    geometry_source source = {r, mesh, mats};
+    return upload_array(r, &r->triangles, sizeof(Triangle), n, fill_triangles, &source,
+                        "triangles", err) &&
+           upload_array(r, &r->triangle_material, sizeof(uint32_t), n, fill_materials, &source,
+                        "triangle materials", err) &&
+           upload_array(r, &r->normals, sizeof(TriangleNormals), mesh->normals ? n : 0,
+                        fill_normals, &source, "normals", err) &&
+           upload_array(r, &r->texcoords, sizeof(TriangleTexcoords), want_texcoords ? n : 0,
+                        fill_texcoords, &source, "texture coordinates", err);
 }
 
 /* Whether texture tex of the set has a texel whose alpha is below 1: a colour map whose alpha
@@ -150,11 +179,11 @@ bool renderer_upload_materials(vkrt_renderer *r, const vkrt_scene_materials *mat
     if (ok && tex->count) {
         ok = gpu_buffer_create_from(r->ctx, &r->texture_infos, tex->info, tex->count * sizeof *tex->info,
                     "texture table", err) &&
-             gpu_buffer_create_from(r->ctx, &r->texels, tex->texels, tex->texel_words * sizeof *tex->texels,
-                    "texels (all textures together)", err);
+             gpu_array_create_from(r->ctx, &r->texels, tex->texels, sizeof *tex->texels,
+                                   tex->texel_words, "texels (all textures together)", err);
     } else if (ok) {
         ok = gpu_buffer_create(r->ctx, &r->texture_infos, 0, "texture table", err) &&
-             gpu_buffer_create(r->ctx, &r->texels, 0, "texels", err);
+             gpu_array_create(r->ctx, &r->texels, sizeof(uint32_t), 0, "texels", err);
     }
     return ok;
 }
@@ -204,21 +233,92 @@ bool renderer_upload_lights(vkrt_renderer *r, const vkrt_config *cfg, vkrt_error
 bool renderer_create_texel_views(vkrt_renderer *r, vkrt_error *err)
 {
     bool whole_triangles, whole_nodes;
-    if (!gpu_buffer_view_create(r->ctx, &r->triangles, &r->triangle_view, &whole_triangles, err) ||
-        !gpu_buffer_view_create(r->ctx, &r->accel.nodes, &r->node_view, &whole_nodes, err))
+    if (!gpu_buffer_view_create(r->ctx, &r->triangles.chunks[0], &r->triangle_view,
+                                &whole_triangles, err) ||
+        !gpu_buffer_view_create(r->ctx, &r->accel.nodes.chunks[0], &r->node_view, &whole_nodes,
+                                err))
         return false;
+    /* A split array's first view holds its first chunk only. */
+    whole_triangles = whole_triangles && r->triangles.chunk_count == 1;
+    whole_nodes = whole_nodes && r->accel.nodes.chunk_count == 1;
     /* Only the BVH's and the kd-tree's walks read nodes through a view (the grid's cells stay
      * storage buffers). */
     if (r->accel.stats.kind != VKRT_ACCEL_BVH && r->accel.stats.kind != VKRT_ACCEL_KDTREE)
         whole_nodes = true;
     if (r->tuning.texel_loads_required && !(whole_triangles && whole_nodes))
         return vkrt_error_set(err, "texel loads: the triangles (%zu bytes) or the structure's "
-                                   "nodes (%zu) exceed %s's %u texels of a texel buffer",
-                              (size_t)r->triangles.size, (size_t)r->accel.nodes.size,
+                                   "nodes (%zu) exceed one buffer, or %s's %u texels of a "
+                                   "texel buffer",
+                              r->triangles.count * r->triangles.element_size,
+                              r->accel.nodes.count * r->accel.nodes.element_size,
                               r->ctx->properties.deviceName,
                               r->ctx->properties.limits.maxTexelBufferElements);
     r->texel_loads = r->tuning.texel_loads && whole_triangles && whole_nodes;
     return true;
+}
+
+_Static_assert(GPU_ARRAY_MAX_CHUNKS == VKRT_MAX_CHUNKS, "one most chunks of a split array");
+
+/* The arrays that may be split, in VKRT_SPLIT_* order. */
+static const gpu_array *split_array(const vkrt_renderer *r, uint32_t k)
+{
+    const gpu_array *arrays[VKRT_SPLIT_ARRAY_COUNT] = {
+        [VKRT_SPLIT_TRIANGLES] = &r->triangles,
+        [VKRT_SPLIT_NORMALS] = &r->normals,
+        [VKRT_SPLIT_TEXCOORDS] = &r->texcoords,
+        [VKRT_SPLIT_TRIANGLE_MATERIAL] = &r->triangle_material,
+        [VKRT_SPLIT_NODES] = &r->accel.nodes,
+        [VKRT_SPLIT_REFS] = &r->accel.refs,
+        [VKRT_SPLIT_TEXELS] = &r->texels,
+    };
+    return arrays[k];
+}
+
+uint32_t renderer_split_shift(const vkrt_renderer *r, uint32_t k)
+{
+    return split_array(r, k)->shift;
+}
+
+void vkrt_renderer_split_text(const vkrt_renderer *r, char *text, size_t size)
+{
+    static const char *const names[VKRT_SPLIT_ARRAY_COUNT] = {
+        [VKRT_SPLIT_TRIANGLES] = "triangles",
+        [VKRT_SPLIT_NORMALS] = "normals",
+        [VKRT_SPLIT_TEXCOORDS] = "texture coordinates",
+        [VKRT_SPLIT_TRIANGLE_MATERIAL] = "triangle materials",
+        [VKRT_SPLIT_NODES] = "nodes",
+        [VKRT_SPLIT_REFS] = "references",
+        [VKRT_SPLIT_TEXELS] = "texels",
+    };
+    size_t at = 0;
+    text[0] = '\0';
+    for (uint32_t k = 0; k < VKRT_SPLIT_ARRAY_COUNT; ++k) {
+        const gpu_array *a = split_array(r, k);
+        if (a->chunk_count > 1 && at < size)
+            at += (size_t)snprintf(text + at, size - at, "%s%s in %u buffers", at ? ", " : "",
+                                   names[k], a->chunk_count);
+    }
+}
+
+bool renderer_upload_split_addresses(vkrt_renderer *r, vkrt_error *err)
+{
+    uint32_t table[VKRT_SPLIT_ARRAY_COUNT * VKRT_MAX_CHUNKS * 2] = {0};
+    r->split = false;
+    for (uint32_t k = 0; k < VKRT_SPLIT_ARRAY_COUNT; ++k) {
+        const gpu_array *a = split_array(r, k);
+        if (a->shift == 0)
+            continue;
+        r->split = true;
+        for (uint32_t c = 0; c < a->chunk_count; ++c) {
+            VkDeviceAddress address = gpu_buffer_address(r->ctx, &a->chunks[c]);
+            table[2 * (k * VKRT_MAX_CHUNKS + c)] = (uint32_t)address;
+            table[2 * (k * VKRT_MAX_CHUNKS + c) + 1] = (uint32_t)(address >> 32);
+        }
+    }
+    return r->split ? gpu_buffer_create_from(r->ctx, &r->split_addresses, table, sizeof table,
+                                             "split array addresses", err)
+                    : gpu_buffer_create(r->ctx, &r->split_addresses, 0, "split array addresses",
+                                        err);
 }
 
 /* The environment is sampled for light when it can give any: a user's environment shader, or the
