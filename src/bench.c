@@ -226,10 +226,11 @@ static bool write_json(const char *path, const gpu_context *ctx, const bench_row
         fprintf(f,
                 "    {\"workgroup_size\": %u, \"bvh_max_leaf\": %u, "
                 "\"bvh_traversal_cost\": %g, \"kd_traversal_cost\": %g, \"sah_cost\": %.3f, "
-                "\"stats\": %s, "
+                "\"references\": %u, \"stats\": %s, "
                 "\"loads\": \"%s\", \"walk\": \"%s\", ",
                 b->workgroup_size, b->accel.bvh_max_leaf, (double)b->accel.bvh_traversal_cost,
-                (double)b->accel.kd_traversal_cost, b->accel.sah_cost, b->stats ? "true" : "false",
+                (double)b->accel.kd_traversal_cost, b->accel.sah_cost, b->accel.references,
+                b->stats ? "true" : "false",
                 b->texel_loads ? "texel" : "storage", b->nested_walk ? "nested" : "one-loop");
         if (b->kernel_stats)
             fprintf(f, "\"trace_kernel\": {%s}, \"occlusion_kernel\": {%s}, ", b->trace_kernel,
@@ -309,6 +310,9 @@ int vkrt_bench_run(const vkrt_bench_options *opts)
             ok = bench_one(&ctx, &scene, &desc, row, &err);
             if (ok) {
                 print_row(stdout, row);
+                if (opts->common.verbose && row->accel.kind == VKRT_ACCEL_BVH)
+                    printf("  %s; SAH cost %.2f, %u references\n", row->accel.reason,
+                           (double)row->accel.sah_cost, row->accel.references);
                 fflush(stdout);
                 ++row_count;
             }

@@ -24,6 +24,8 @@ const char *vkrt_usage(void)
            "  --height H        image height in pixels\n"
            "  --spp N           samples per pixel (overrides `samples`)\n"
            "  --accel A         auto | brute | grid | bvh | kdtree (overrides `accel`)\n"
+           "  --bvh-splits S    auto | on | off: spatial splits in the BVH, which put a\n"
+           "                    triangle in several leaves (overrides `bvh-splits`)\n"
            "  --integrator I    auto | whitted | path (overrides `integrator`): Whitted's\n"
            "                    delta lights and perfect mirrors, or the path tracer\n"
            "  --clamp L         scale each contribution a path adds to a pixel down so that\n"
@@ -64,9 +66,9 @@ const char *vkrt_usage(void)
            "  --list-devices    list Vulkan devices and exit\n"
            "  --help, --version\n"
            "\n"
-           "bench options: --width, --height, --accel, --device, --validation, --quiet,\n"
-           "  --verbose, --no-cache as for render (without --accel: brute, grid, bvh and kdtree\n"
-           "  in turn)\n"
+           "bench options: --width, --height, --accel, --bvh-splits, --device, --validation,\n"
+           "  --quiet, --verbose, --no-cache as for render (without --accel: brute, grid, bvh and\n"
+           "  kdtree in turn)\n"
            "  --json PATH       write the results as JSON too\n"
            "  --stats           count nodes, triangles and SIMD use per ray instead of timing\n"
            "  --kernel-stats    print the driver's statistics of the trace kernels\n"
@@ -75,11 +77,12 @@ const char *vkrt_usage(void)
            "  --workgroup N  --grid-density CELLS_PER_TRIANGLE  --bvh-width 2|4  --bvh-leaf N\n"
            "  --bvh-cost C  --kd-cost C  --loads storage|texel  --walk one-loop|nested\n"
            "\n"
-           "view options: --width, --height, --spp, --accel, --integrator, --clamp, --exposure,\n"
-           "  --target-error, --device, --validation, --quiet, --no-cache as for render; the\n"
-           "  window opens at the scene's resolution, from its first camera, and a still picture\n"
-           "  gathers samples until it has --spp of them (default: the scene's `samples`, at\n"
-           "  least 16), or with --target-error until every pixel is within it (--spp the cap)\n"
+           "view options: --width, --height, --spp, --accel, --bvh-splits, --integrator, --clamp,\n"
+           "  --exposure, --target-error, --device, --validation, --quiet, --no-cache as for\n"
+           "  render; the window opens at the scene's resolution, from its first camera, and a\n"
+           "  still picture gathers samples until it has --spp of them (default: the scene's\n"
+           "  `samples`, at least 16), or with --target-error until every pixel is within it (--spp\n"
+           "  the cap)\n"
            "  --record FILE     K appends the camera to FILE as a scene.cfg `camera` line\n"
            "  --script FILE     play key and mouse events from FILE (a testing aid; see\n"
            "                    docs/viewer.md)\n"
@@ -159,6 +162,7 @@ static const struct known_option {
     {"--loads", BENCH},
     {"--walk", BENCH},       {"--integrator", RENDER | VIEW}, {"--clamp", RENDER | VIEW},
     {"--target-error", RENDER | VIEW},                  {"--sample-count-image", RENDER},
+    {"--bvh-splits", ALL},
 };
 
 static const char *command_name(vkrt_command command)
@@ -209,6 +213,12 @@ static bool parse_common(const char *arg, const char *value, vkrt_common_options
             return vkrt_error_set(err, "--accel: '%s' is not one of auto, brute, grid, bvh, kdtree",
                                   value ? value : "");
         c->accel_given = true;
+    } else if (strcmp(arg, "--bvh-splits") == 0) {
+        *consumed = 1;
+        if (!value || !vkrt_bvh_splits_parse(value, &c->bvh_splits))
+            return vkrt_error_set(err, "--bvh-splits: '%s' is not one of auto, on, off",
+                                  value ? value : "");
+        c->bvh_splits_given = true;
     } else if (strcmp(arg, "--integrator") == 0) {
         *consumed = 1;
         if (!value || !vkrt_integrator_parse(value, &c->integrator))
@@ -474,6 +484,7 @@ vkrt_render_desc vkrt_render_desc_for(const vkrt_config *cfg, const vkrt_common_
         .height = common->height ? common->height : cfg->height,
         .samples = samples ? samples : cfg->samples,
         .accel = common->accel_given ? common->accel : cfg->accel,
+        .bvh_splits = common->bvh_splits_given ? common->bvh_splits : cfg->bvh_splits,
         .integrator = common->integrator,
         .clamp = common->clamp,
         .target_error = common->target_error,

@@ -83,10 +83,10 @@ static void print_accel_stats(FILE *out, const vkrt_accel_stats *s)
     fprintf(out, "vkrt: accel %s: %s\n", vkrt_accel_name(s->kind), s->reason);
     if (s->kind == VKRT_ACCEL_BVH)
         fprintf(out,
-                "vkrt: BVH: %u nodes, %u leaves, %.2f triangles per leaf, depth %u, SAH cost %.1f, "
-                "%.2f MiB, built in %.1f ms\n",
-                s->nodes, s->leaves, s->triangles_per_leaf, s->max_depth, s->sah_cost,
-                s->bytes / 1048576.0, s->build_ms);
+                "vkrt: BVH: %u nodes, %u leaves, %u references, %.2f per leaf, depth %u, SAH cost "
+                "%.1f, %.2f MiB, built in %.1f ms\n",
+                s->nodes, s->leaves, s->references, s->triangles_per_leaf, s->max_depth,
+                s->sah_cost, s->bytes / 1048576.0, s->build_ms);
     else if (s->kind == VKRT_ACCEL_KDTREE)
         fprintf(out,
                 "vkrt: kd-tree: %u nodes, %u leaves (%u empty), %.2f triangles per non-empty "

@@ -48,6 +48,12 @@ void scene_dir_write(const char *name, const char *text)
 bool scene_dir_render(uint32_t w, uint32_t h, const vkrt_render_desc *desc, float *rgb,
                       vkrt_frame_stats *stats, vkrt_error *err)
 {
+    return scene_dir_render_accel(w, h, desc, rgb, stats, NULL, err);
+}
+
+bool scene_dir_render_accel(uint32_t w, uint32_t h, const vkrt_render_desc *desc, float *rgb,
+                            vkrt_frame_stats *stats, vkrt_accel_stats *accel, vkrt_error *err)
+{
     char path[256];
     snprintf(path, sizeof path, "%s/scene.cfg", scene_dir);
     vkrt_scene scene;
@@ -67,6 +73,8 @@ bool scene_dir_render(uint32_t w, uint32_t h, const vkrt_render_desc *desc, floa
     if (ok && scene.config.camera_count > 1)
         vkrt_renderer_set_next_camera(r, &scene.config.cameras[1]);
     ok = ok && vkrt_renderer_render(r, &scene.config.cameras[0], 0, rgb, stats, err);
+    if (ok && accel)
+        *accel = *vkrt_renderer_accel_stats(r);
     vkrt_renderer_destroy(r);
     fixture_context_destroy(&ctx);
     vkrt_scene_free(&scene);

@@ -31,4 +31,9 @@ void scene_dir_write(const char *name, const char *text);
 bool scene_dir_render(uint32_t w, uint32_t h, const vkrt_render_desc *desc, float *rgb,
                       vkrt_frame_stats *stats, vkrt_error *err);
 
+/* scene_dir_render that also copies the structure's statistics (the BVH's references, say) into
+ * *accel when accel is not NULL. */
+bool scene_dir_render_accel(uint32_t w, uint32_t h, const vkrt_render_desc *desc, float *rgb,
+                            vkrt_frame_stats *stats, vkrt_accel_stats *accel, vkrt_error *err);
+
 #endif

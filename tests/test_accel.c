@@ -88,6 +88,7 @@ typedef struct tracer {
     vkrt_accel_kind kind;
     uint32_t bvh_width; /* 0: the default */
     vkrt_walk walk;     /* VKRT_WALK_DEFAULT: the device's default */
+    vkrt_bvh_splits splits; /* auto (0): the renderer's choice */
 } tracer;
 
 /* Brute force first: the reference the others are held to. */
@@ -99,6 +100,7 @@ static const tracer tracers[] = {
     {"bvh quads, one loop", VKRT_ACCEL_BVH, 4, VKRT_WALK_ONE_LOOP},
     {"bvh quads, nested", VKRT_ACCEL_BVH, 4, VKRT_WALK_NESTED},
     {"kdtree", VKRT_ACCEL_KDTREE, 0, VKRT_WALK_DEFAULT},
+    {"bvh pairs, spatial splits", VKRT_ACCEL_BVH, 2, VKRT_WALK_DEFAULT, VKRT_BVH_SPLITS_ON},
 };
 enum { TRACERS = sizeof tracers / sizeof *tracers };
 static const tracer *const brute = &tracers[0];
@@ -109,6 +111,7 @@ static void trace_as(gpu_context *ctx, const vkrt_scene *scene, const tracer *t,
     vkrt_error err = {{0}};
     vkrt_renderer *r = NULL;
     vkrt_render_desc desc = {.width = count, .height = 1, .accel = t->kind,
+                             .bvh_splits = t->splits,
                              .tuning = {.bvh_width = t->bvh_width, .walk = t->walk}};
     if (!vkrt_renderer_create(&r, ctx, scene, &desc, &err))
         fail_msg("renderer (%s): %s", t->name, err.msg);

@@ -7,7 +7,7 @@
  * links the same source twice: once as the library has it, once compiled with
  * BVH_SCALAR_LANES (meson renames that copy's functions to *_scalar), and compares the trees over
  * inputs that stress rounding: random soups over many scales, points, slivers, flat planes, and
- * the Stanford bunny when $VKRT_SCENES_DIR has it.
+ * the Stanford bunny when $VKRT_SCENES_DIR has it; plain builds and builds with spatial splits.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
@@ -79,16 +79,19 @@ static float *make_mixed(uint32_t n, uint64_t seed)
     return p;
 }
 
-static void assert_same_builds(const float *pos, uint32_t n, uint32_t threads)
+/* Builds with both lanes, with a spatial splits' budget (0: none; bvh_spatial.c clips triangles
+ * in lanes too), and compares the trees. */
+static void assert_same_builds(const float *pos, uint32_t n, uint32_t threads, float budget)
 {
-    const bvh_build_desc d = { .threads = threads };
+    const bvh_build_desc d = { .threads = threads, .spatial_budget = budget };
     vkrt_error err = { "" };
     bvh simd, plain;
     if (!bvh_build(&simd, pos, n, &d, &err) || !bvh_build_scalar(&plain, pos, n, &d, &err))
         fail_msg("%s", err.msg);
     assert_int_equal(simd.node_count, plain.node_count);
     assert_memory_equal(simd.nodes, plain.nodes, simd.node_count * sizeof *simd.nodes);
-    assert_memory_equal(simd.prim_order, plain.prim_order, n * sizeof *simd.prim_order);
+    assert_int_equal(simd.prim_count, plain.prim_count);
+    assert_memory_equal(simd.prim_order, plain.prim_order, simd.prim_count * sizeof *simd.prim_order);
     assert_true(simd.sah_cost == plain.sah_cost);
     /* A tree of one leaf would make the comparison vacuous. */
     assert_true(n < 2 || simd.node_count > 1);
@@ -102,8 +105,9 @@ static void test_mixed_soups(void **state)
     const uint32_t sizes[] = { 1, 2, 3, 17, 1000, 40000 };
     for (size_t i = 0; i < sizeof sizes / sizeof sizes[0]; i++) {
         float *pos = make_mixed(sizes[i], 1000 + i);
-        assert_same_builds(pos, sizes[i], 1);
-        assert_same_builds(pos, sizes[i], 2);
+        assert_same_builds(pos, sizes[i], 1, 0.0f);
+        assert_same_builds(pos, sizes[i], 2, 0.0f);
+        assert_same_builds(pos, sizes[i], 2, 0.3f);
         free(pos);
     }
 }
@@ -124,7 +128,8 @@ static void test_bunny(void **state)
     vkrt_error err = { "" };
     if (!vkrt_obj_load(path, &mesh, &err))
         fail_msg("%s", err.msg);
-    assert_same_builds(mesh.positions, mesh.triangle_count, 2);
+    assert_same_builds(mesh.positions, mesh.triangle_count, 2, 0.0f);
+    assert_same_builds(mesh.positions, mesh.triangle_count, 2, 0.3f);
     vkrt_mesh_free(&mesh);
 }
 

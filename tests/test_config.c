@@ -95,6 +95,7 @@ static void test_every_keyword(void **state)
                        "light spot         4 5 6  0 0 -3  30  7 8 9\n"
                        "camera eye 1 2 3 look 4 5 6 up 0 1 0 fov 60\n"
                        "integrator  path\n"
+                       "bvh-splits  off\n"
                        "environment-map sky/noon.exr scale 2.5 rotate -90\n";
     vkrt_config cfg;
     parse_ok(text, "scenes/demo", &cfg);
@@ -109,11 +110,12 @@ static void test_every_keyword(void **state)
     assert_int_equal(cfg.max_depth, 3);
     assert_int_equal(cfg.accel, VKRT_ACCEL_BVH);
     assert_int_equal(cfg.integrator, VKRT_INTEGRATOR_PATH);
+    assert_int_equal(cfg.bvh_splits, VKRT_BVH_SPLITS_OFF);
     assert_vec3(cfg.environment, 0.05f, 0.25f, 0.5f);
     assert_string_equal(cfg.environment_map, "scenes/demo/sky/noon.exr");
     assert_float_equal(cfg.environment_scale, 2.5f, 0);
     assert_float_equal(cfg.environment_rotate, -90.0f, 0);
-    assert_int_equal(cfg.environment_map_line, 16);
+    assert_int_equal(cfg.environment_map_line, 17);
 
     assert_int_equal(cfg.light_count, 4);
     const vkrt_config_light *l = cfg.lights;
@@ -162,6 +164,7 @@ static void test_defaults(void **state)
     assert_int_equal(cfg.max_depth, 6);
     assert_int_equal(cfg.accel, VKRT_ACCEL_AUTO);
     assert_int_equal(cfg.integrator, VKRT_INTEGRATOR_AUTO);
+    assert_int_equal(cfg.bvh_splits, VKRT_BVH_SPLITS_AUTO);
     assert_vec3(cfg.environment, 0, 0, 0);
     assert_null(cfg.environment_map);
     assert_float_equal(cfg.environment_scale, 1.0f, 0);
@@ -417,6 +420,9 @@ static const bad_case bad_cases[] = {
     {G "environment-map a.hdr\nenvironment-map b.hdr\n", "t.cfg:3: ", "environment-map given twice (first on line 2)"},
     /* integrator */
     {G "integrator bidir\n", "t.cfg:2: ", "unknown integrator 'bidir' (expected auto, whitted or path)"},
+    {G "bvh-splits yes\n", "t.cfg:2: ", "unknown bvh-splits 'yes' (expected auto, on or off)"},
+    {G "bvh-splits\n", "t.cfg:2: ", "bvh-splits needs one name (auto, on or off), got 0"},
+    {G "bvh-splits on\nbvh-splits off\n", "t.cfg:3: ", "bvh-splits given twice (first on line 2)"},
     {G "integrator\n", "t.cfg:2: ", "integrator needs one name (auto, whitted or path), got 0"},
     {G "integrator path whitted\n", "t.cfg:2: ", "integrator needs one name (auto, whitted or path), got 2"},
     /* environment-map */

@@ -3,7 +3,7 @@
  * RGBA map_Kd given without map_d, as exporters and game assets make them. The test is part of
  * traversal, so every ray, camera, shadow, light sample or bounce, of either integrator, sees the
  * same holes. A hit where the coverage c is below 1 counts with probability c (pbrt-v4's
- * stochastic alpha test), decided by a hash of the ray and the triangle, so the same ray always
+ * stochastic alpha test), decided by a hash of the ray and the hit's barycentrics, so the same ray always
  * gets the same answer and a pixel's samples average to the fractional coverage. Scenes without
  * cut-outs compile none of it (HAS_CUTOUTS).
  */
@@ -43,7 +43,12 @@ bool cutout_keeps(uint tri, float u, float v)
                                                     : texture_sample(m.textures[0].x, uv).a;
     if (coverage >= 1.0)
         return true;
-    return rng_float(pcg_hash(cutout_ray_seed ^ tri)) < coverage;
+    /* Keyed by the hit's barycentrics, not the triangle's index: with spatial splits a
+     * triangle is stored once per leaf it reaches, and a ray that tests two copies must get one
+     * answer (the copies give the same bits), or the triangle would look more opaque. */
+    return rng_float(pcg_hash(cutout_ray_seed ^ pcg_hash(floatBitsToUint(u) ^
+                                                         pcg_hash(floatBitsToUint(v))))) <
+           coverage;
 }
 
 #endif

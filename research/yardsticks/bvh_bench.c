@@ -2,9 +2,11 @@
  * bvh_bench.c: times the BVH build (src/accel/bvh.c) and its layout into the GPU's pairs
  * (bvh_pairs.c) on one OBJ, as vkrt bench's build_ms counts them, without a GPU. A benchmark:
  * it prints numbers and decides nothing.
- *   usage: bvh-bench FILE.obj [RUNS [THREADS [LEAF COST]]]
+ *   usage: bvh-bench FILE.obj [RUNS [THREADS [LEAF COST [BUDGET]]]]
  * RUNS default 5; THREADS 0: one per core; LEAF and COST the build's largest leaf and SAH node
- * cost (bvh_build_desc; 0: bvh.h's defaults; vkrt uses 2 and 0.5 on GPUs, src/render/accel_gpu.c).
+ * cost (bvh_build_desc; 0: bvh.h's defaults; vkrt uses 2 and 0.5 on GPUs, src/render/tuning.c);
+ * BUDGET the spatial splits' budget (bvh_build_desc.spatial_budget; 0, the default: none, and
+ * `bvh-splits on` is 0.3).
  * Prints each run's milliseconds (the first builds into memory the process never touched, as a
  * render's one build does), split into the build and the layout, with the processor time all
  * threads spent (what the build costs in work: over wall time, how many cores it kept busy), and
@@ -41,13 +43,14 @@ static int compare_doubles(const void *a, const void *b)
 
 int main(int argc, char **argv)
 {
-    if (argc < 2 || argc > 6 || argc == 5) {
-        fprintf(stderr, "usage: bvh-bench FILE.obj [RUNS [THREADS [LEAF COST]]]\n");
+    if (argc < 2 || argc > 7 || argc == 5) {
+        fprintf(stderr, "usage: bvh-bench FILE.obj [RUNS [THREADS [LEAF COST [BUDGET]]]]\n");
         return 2;
     }
     int runs = argc > 2 ? atoi(argv[2]) : 5, threads = argc > 3 ? atoi(argv[3]) : 0;
     int leaf = argc > 5 ? atoi(argv[4]) : 0;
     float cost = argc > 5 ? (float)atof(argv[5]) : 0.0f;
+    float budget = argc > 6 ? (float)atof(argv[6]) : 0.0f;
     if (runs < 1 || runs > max_runs || threads < 0 || threads > 64 || leaf < 0 || leaf > 16 ||
         !(cost >= 0.0f && cost <= 100.0f)) {
         fprintf(stderr, "bvh-bench: RUNS 1..%d, THREADS 0..64, LEAF 0..16, COST 0..100\n",
@@ -62,7 +65,7 @@ int main(int argc, char **argv)
     }
     double ms[max_runs];
     bvh_build_desc desc = {.threads = (uint32_t)threads, .max_leaf_size = (uint32_t)leaf,
-                           .traversal_cost = cost};
+                           .traversal_cost = cost, .spatial_budget = budget};
     bvh b = {0};
     for (int r = 0; r < runs; ++r) {
         double start = now_ms(), cpu_start = clock_ms(CLOCK_PROCESS_CPUTIME_ID);
@@ -86,7 +89,9 @@ int main(int argc, char **argv)
         if (r + 1 < runs)
             bvh_free(&b);
     }
-    printf("%s: %u triangles, %u nodes, SAH %.3f\n", argv[1], mesh.triangle_count, b.node_count,
+    printf("%s: %u triangles, %u references (%+.1f%%), %u nodes, SAH %.3f\n", argv[1],
+           mesh.triangle_count, b.prim_count,
+           100.0 * ((double)b.prim_count - mesh.triangle_count) / mesh.triangle_count, b.node_count,
            (double)b.sah_cost);
     qsort(ms, runs, sizeof *ms, compare_doubles);
     printf("build and pairs layout: min %.1f ms, median %.1f ms, max %.1f ms over %d runs\n", ms[0],

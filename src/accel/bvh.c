@@ -12,27 +12,36 @@
  *     and the record range is partitioned in place. Boxes and centroids are 4-lane vectors
  *     (bvh_lanes.h: SSE2 on x86-64), which halved the build: written as float arrays, every box
  *     update went through memory lane by lane.
+ *     With spatial splits (desc->spatial_budget > 0) bvh_spatial.c decides instead: a node may
+ *     also be cut by a plane, its triangles that cross it going to both children clipped. Every
+ *     range of refs then has room past its end for duplicates (refs[end, cap)), shared out
+ *     between the children in proportion to their refs, and a leaf's refs move down to follow
+ *     the previous leaf's, so prim_order has no gaps.
  *  3. With more than one thread, the top levels (nodes over top_min triangles: a share of one
  *     thread's work, see TOP_JOBS_PER_THREAD) are split by all threads together, a level at a
  *     time (bvh_top.c: binning and partitioning in parallel, into the order the serial partition
- *     leaves). Their children below top_min become the first jobs of the pool.
+ *     leaves; with spatial splits a node at a time, its bins filled by all threads,
+ *     bvh_spatial_split_shared). Their children below top_min become the first jobs of the pool.
  *     The pool is desc->threads threads (the caller's thread included) sharing a
  *     stack of jobs. A job over more than SPAWN_MIN_PRIMS triangles splits its node and pushes
  *     its two children as new jobs; a smaller job builds its whole subtree alone, depth first,
  *     into its own slice of a scratch node array (the slice of a range [b, e) is nodes
- *     [2b, 2e), which never overlaps another job's, so no locking is needed).
+ *     [2b, 2e), with spatial splits [2b, 2 cap), which never overlaps another job's, so no
+ *     locking is needed).
  *  4. One serial pass over the jobs stitches them together in depth-first order, and the threads
  *     then copy the local jobs' nodes to where it put them. Every node's sibling pair
  *     is allocated when the node splits and the left subtree is laid out before the right one,
  *     both inside a job and across jobs, so the output is the same for any thread count and any
  *     scheduling: the build is deterministic.
  *
- * Node bounds are the exact unions of the triangles' float vertex coordinates (no padding): the
- * kernels must treat a ray that touches a box face as entering it.
+ * Node bounds are the exact unions of the triangles' float vertex coordinates (no padding; with
+ * spatial splits, of their clipped parts' boxes, rounded outwards): the kernels must treat a ray
+ * that touches a box face as entering it.
  */
 #define _POSIX_C_SOURCE 200809L
 
 #include "bvh.h"
+#include "bvh_spatial.h"
 #include "bvh_split.h"
 #include "bvh_threads.h"
 #include "bvh_top.h"
@@ -68,10 +77,11 @@ enum { TOP_MIN_PRIMS = 1 << 15, TOP_JOBS_PER_THREAD = 8 };
 /* bvh_node.count of an inner node (bvh.h). */
 enum { INNER_NODE_COUNT = 0 };
 
-/* A node still to be built: its place, its range of refs, its bounds. */
+/* A node still to be built: its place, its range of refs, its bounds. refs[end, cap) is its room
+ * for the references spatial splits duplicate (none in a plain build: cap == end). */
 typedef struct pending_node {
     uint32_t node;         /* index in the job's local node array */
-    uint32_t begin, end;
+    uint32_t begin, end, cap;
     uint32_t depth;
     aabb bounds, cbounds;
 } pending_node;
@@ -83,20 +93,24 @@ typedef struct build_job {
     enum job_kind kind;
     uint32_t child[2];     /* JOB_SPLIT: job indices of the children */
     uint32_t local_nodes;  /* JOB_LOCAL: node count in scratch_nodes[2 * root.begin ...] */
+    uint32_t ref_count;    /* JOB_LOCAL: its leaves' refs, packed from refs[root.begin] on */
     uint32_t max_depth;    /* JOB_LOCAL: of its deepest leaf */
+    uint32_t spatial_splits; /* JOB_LOCAL: in its subtree; JOB_SPLIT: 1 if its node's split was */
 } build_job;
 
 /* Read-only parameters and shared arrays of one build. */
 typedef struct build_ctx {
     bvh_split_params sah;
-    prim_ref *refs;
-    bvh_node *scratch_nodes; /* 2 * prim_count: job slices */
+    bool spatial;            /* spatial splits allowed (bvh_spatial.h) */
+    bvh_spatial_params spatial_params;
+    prim_ref *refs;          /* capacity: the triangles and the duplicates' budget */
+    bvh_node *scratch_nodes; /* 2 * the refs' capacity: job slices */
 } build_ctx;
 
 /* Per-thread scratch: bins and the depth-first stack of a local build. */
 typedef struct thread_scratch {
     bvh_split_scratch bins;
-    pending_node *stack;   /* capacity prim_count: pending ranges are disjoint and non-empty */
+    pending_node *stack;   /* capacity: the refs' capacity (pending ranges are disjoint and non-empty) */
 } thread_scratch;
 
 /* The job pool: a LIFO stack of job indices guarded by one mutex. */
@@ -104,7 +118,7 @@ typedef struct job_pool {
     const build_ctx *ctx;
     pthread_mutex_t lock;
     pthread_cond_t wake;
-    build_job *jobs;       /* capacity 2 * prim_count - 1: jobs form a binary tree over ranges */
+    build_job *jobs;       /* capacity 2 * refs' capacity - 1: jobs form a binary tree over ranges */
     uint32_t job_count;
     uint32_t *stack;
     uint32_t stack_len;
@@ -180,38 +194,54 @@ static bool build_refs(const float *positions, uint32_t n, uint32_t threads, pri
 
 /* ------------------------------------------------------------------------ building */
 
-/* Leaf or split for one pending node (bvh_split.h); on a split its range is partitioned. */
+/* Leaf or split for one pending node (bvh_split.h, bvh_spatial.h); on a split its range is
+ * partitioned. */
 static void split_node(const build_ctx *ctx, thread_scratch *s, const pending_node *n,
                        bvh_split_result *out)
 {
-    bvh_split_node(&ctx->sah, &s->bins, ctx->refs, n->begin, n->end, &n->bounds, &n->cbounds, out);
+    if (ctx->spatial)
+        bvh_spatial_split_node(&ctx->sah, &ctx->spatial_params, &s->bins, ctx->refs, n->begin,
+                               n->end, n->cap, &n->bounds, &n->cbounds, out);
+    else
+        bvh_split_node(&ctx->sah, &s->bins, ctx->refs, n->begin, n->end, &n->bounds, &n->cbounds,
+                       out);
 }
 
 static void set_node_bounds(bvh_node *node, const aabb *b)
 {
-    float lo[4], hi[4];
-    v4_store(lo, b->lo);
-    v4_store(hi, b->hi);
-    memcpy(node->lo, lo, sizeof node->lo);
-    memcpy(node->hi, hi, sizeof node->hi);
+    aabb_store(b, node->lo, node->hi);
 }
 
-static pending_node child_pending(const pending_node *parent, const bvh_split_result *sr, int side,
-                                  uint32_t node)
+/* The children of a split node. The room the parent has left past its children's refs is shared
+ * in proportion to their refs (Embree shares a spatial-split budget the same way), the left's
+ * part between the two: the right child's refs move up by it. */
+static void child_pending(const build_ctx *ctx, const pending_node *parent,
+                          const bvh_split_result *sr, pending_node child[2])
 {
-    pending_node c = { .node = node, .depth = parent->depth + 1,
-                       .bounds = sr->bounds[side], .cbounds = sr->cbounds[side] };
-    c.begin = side == 0 ? parent->begin : sr->mid;
-    c.end = side == 0 ? sr->mid : parent->end;
-    return c;
+    uint32_t nl = sr->mid - parent->begin, nr = sr->right_end - sr->mid;
+    uint32_t spare = parent->cap - sr->right_end;
+    uint32_t left_spare = (uint32_t)((uint64_t)spare * nl / (nl + nr));
+    if (left_spare > 0)
+        memmove(ctx->refs + sr->mid + left_spare, ctx->refs + sr->mid, nr * sizeof *ctx->refs);
+    for (int side = 0; side < 2; side++)
+        child[side] = (pending_node){ .depth = parent->depth + 1, .bounds = sr->bounds[side],
+                                      .cbounds = sr->cbounds[side] };
+    child[0].begin = parent->begin;
+    child[0].end = sr->mid;
+    child[0].cap = sr->mid + left_spare;
+    child[1].begin = sr->mid + left_spare;
+    child[1].end = sr->right_end + left_spare;
+    child[1].cap = parent->cap;
 }
 
 /* Builds a job's whole subtree depth first into its scratch slice: local node 0 is its root,
- * children pairs are allocated in the order nodes split, left subtree before right. */
+ * children pairs are allocated in the order nodes split, left subtree before right. Leaves are
+ * made in the order of their ranges, so each leaf's refs move down to follow the previous
+ * leaf's, closing the gaps of unused room (in a plain build there are none, and nothing moves). */
 static void build_local(const build_ctx *ctx, thread_scratch *s, build_job *job)
 {
     bvh_node *nodes = ctx->scratch_nodes + 2 * (size_t)job->root.begin;
-    uint32_t used = 1, top = 0, max_depth = 0;
+    uint32_t used = 1, top = 0, max_depth = 0, packed = job->root.begin, spatial = 0;
     s->stack[top] = job->root;
     s->stack[top++].node = 0;
     while (top > 0) {
@@ -221,20 +251,31 @@ static void build_local(const build_ctx *ctx, thread_scratch *s, build_job *job)
         bvh_split_result sr;
         split_node(ctx, s, &n, &sr);
         if (!sr.split) {
-            node->left_first = n.begin;
-            node->count = n.end - n.begin;
+            uint32_t count = n.end - n.begin;
+            if (packed != n.begin)
+                memmove(ctx->refs + packed, ctx->refs + n.begin, count * sizeof *ctx->refs);
+            node->left_first = packed;
+            node->count = count;
+            packed += count;
             max_depth = MAXF(max_depth, n.depth);
             continue;
         }
         node->left_first = used;
         node->count = INNER_NODE_COUNT;
-        s->stack[top++] = child_pending(&n, &sr, 1, used + 1); /* popped after the left one */
-        s->stack[top++] = child_pending(&n, &sr, 0, used);
+        spatial += sr.spatial;
+        pending_node child[2];
+        child_pending(ctx, &n, &sr, child);
+        child[0].node = used;
+        child[1].node = used + 1;
+        s->stack[top++] = child[1]; /* popped after the left one */
+        s->stack[top++] = child[0];
         used += 2;
     }
     job->kind = JOB_LOCAL;
     job->local_nodes = used;
     job->max_depth = max_depth;
+    job->ref_count = packed - job->root.begin;
+    job->spatial_splits = spatial;
 }
 
 /* A new job over root's range, not yet queued; the caller holds pool->lock or runs alone. */
@@ -267,12 +308,13 @@ static void run_job(job_pool *pool, thread_scratch *s, uint32_t j)
         bvh_split_result sr;
         split_node(ctx, s, &job->root, &sr);
         if (sr.split) {
-            pending_node left = child_pending(&job->root, &sr, 0, 0);
-            pending_node right = child_pending(&job->root, &sr, 1, 0);
+            pending_node child[2];
+            child_pending(ctx, &job->root, &sr, child);
             job->kind = JOB_SPLIT;
+            job->spatial_splits = sr.spatial;
             pthread_mutex_lock(&pool->lock);
-            job->child[0] = push_job(pool, &left);
-            job->child[1] = push_job(pool, &right);
+            job->child[0] = push_job(pool, &child[0]);
+            job->child[1] = push_job(pool, &child[1]);
             pthread_cond_broadcast(&pool->wake);
             pthread_mutex_unlock(&pool->lock);
             return;
@@ -281,15 +323,47 @@ static void run_job(job_pool *pool, thread_scratch *s, uint32_t j)
     build_local(ctx, s, job);
 }
 
+/* Splits a level of the top (jobs level[0, len)) with all threads: bvh_top.c's parallel binning
+ * and partitioning, or with spatial splits one node after another, each node's binning shared
+ * by the threads (bvh_spatial.h; applying a spatial split moves the right child's references,
+ * which bvh_top.c's partition does not). False when out of memory: then a plain level is as
+ * bvh_top_split left it, and a spatial node that failed comes back unsplit (split false) with
+ * its references untouched; either way the pool splits what was not, to the same tree. */
+static bool split_level(const build_ctx *ctx, thread_scratch **scratch, const job_pool *pool,
+                        const uint32_t *level, uint32_t len, uint32_t threads,
+                        bvh_top_node *nodes, bvh_split_result *split)
+{
+    if (ctx->spatial) {
+        bvh_split_scratch *bins[MAX_THREADS];
+        for (uint32_t t = 0; t < threads; t++)
+            bins[t] = &scratch[t]->bins;
+        for (uint32_t i = 0; i < len; i++) {
+            const pending_node *r = &pool->jobs[level[i]].root;
+            if (!bvh_spatial_split_shared(&ctx->sah, &ctx->spatial_params, bins, threads,
+                                          ctx->refs, r->begin, r->end, r->cap, &r->bounds,
+                                          &r->cbounds, &split[i]))
+                split[i].split = false;
+        }
+        return true;
+    }
+    for (uint32_t i = 0; i < len; i++) {
+        const pending_node *r = &pool->jobs[level[i]].root;
+        nodes[i] = (bvh_top_node){
+            .begin = r->begin, .end = r->end, .bounds = r->bounds, .cbounds = r->cbounds};
+    }
+    return bvh_top_split(&ctx->sah, ctx->refs, nodes, len, threads, split);
+}
+
 /* The top levels: the root job and then, level by level, every child over top_min triangles are
  * split by all threads together (bvh_top.c); smaller children are queued for the pool. If memory
  * for that runs out, a level's jobs are queued unsplit and the pool splits them, as it would
  * with one thread: the tree is the same either way. */
-static void split_top(job_pool *pool, uint32_t root_job, uint32_t top_min, uint32_t threads)
+static void split_top(job_pool *pool, thread_scratch **scratch, uint32_t root_job,
+                      uint32_t top_min, uint32_t threads)
 {
     const build_ctx *ctx = pool->ctx;
-    /* A level's nodes are disjoint and each holds over top_min triangles. */
-    size_t cap = pool->jobs[root_job].root.end / top_min + 1;
+    /* A level's nodes are disjoint and each holds over top_min references. */
+    size_t cap = pool->jobs[root_job].root.cap / top_min + 1;
     uint32_t *level = malloc(cap * sizeof *level), *next = malloc(cap * sizeof *next);
     bvh_top_node *nodes = malloc(cap * sizeof *nodes);
     bvh_split_result *split = malloc(cap * sizeof *split);
@@ -300,12 +374,7 @@ static void split_top(job_pool *pool, uint32_t root_job, uint32_t top_min, uint3
     else
         queue_job(pool, root_job);
     while (ok && level_len > 0) {
-        for (uint32_t i = 0; i < level_len; i++) {
-            const pending_node *r = &pool->jobs[level[i]].root;
-            nodes[i] = (bvh_top_node){
-                .begin = r->begin, .end = r->end, .bounds = r->bounds, .cbounds = r->cbounds};
-        }
-        ok = bvh_top_split(&ctx->sah, ctx->refs, nodes, level_len, threads, split);
+        ok = split_level(ctx, scratch, pool, level, level_len, threads, nodes, split);
         uint32_t next_len = 0;
         for (uint32_t i = 0; i < level_len; i++) {
             if (!ok || !split[i].split) {
@@ -313,11 +382,13 @@ static void split_top(job_pool *pool, uint32_t root_job, uint32_t top_min, uint3
                 continue;
             }
             pool->jobs[level[i]].kind = JOB_SPLIT;
+            pool->jobs[level[i]].spatial_splits = split[i].spatial;
+            pending_node child[2];
+            child_pending(ctx, &pool->jobs[level[i]].root, &split[i], child);
             for (int side = 0; side < 2; side++) {
-                pending_node c = child_pending(&pool->jobs[level[i]].root, &split[i], side, 0);
-                uint32_t j = new_job(pool, &c);
+                uint32_t j = new_job(pool, &child[side]);
                 pool->jobs[level[i]].child[side] = j;
-                if (c.end - c.begin > top_min)
+                if (child[side].end - child[side].begin > top_min)
                     next[next_len++] = j;
                 else
                     queue_job(pool, j);
@@ -371,18 +442,21 @@ typedef struct stitch_item {
     uint32_t job, pos;
 } stitch_item;
 
-/* Where a local job's nodes go: its root to pos, its other nodes from base on. */
+/* Where a local job's nodes go: its root to pos, its other nodes from base on; its refs to
+ * prim_order from ref_base on. */
 typedef struct local_place {
-    uint32_t job, pos, base;
+    uint32_t job, pos, base, ref_base;
 } local_place;
 
 /* Lays the job tree out depth first, left before right, as build_local does inside a job:
  * writes the split jobs' nodes and lists where every local job's nodes go, in output order.
- * Returns the node count; *place_count and the deepest leaf's depth come back too. */
+ * Returns the node count; *place_count, the refs in leaves and the deepest leaf's depth come
+ * back too. */
 static uint32_t stitch(const job_pool *pool, bvh_node *out, stitch_item *stack,
-                       local_place *places, uint32_t *place_count, uint32_t *max_depth)
+                       local_place *places, uint32_t *place_count, uint32_t *ref_count,
+                       uint32_t *max_depth)
 {
-    uint32_t used = 1, top = 0;
+    uint32_t used = 1, top = 0, refs = 0;
     *max_depth = 0;
     *place_count = 0;
     stack[top++] = (stitch_item){ 0, 0 };
@@ -390,8 +464,9 @@ static uint32_t stitch(const job_pool *pool, bvh_node *out, stitch_item *stack,
         stitch_item it = stack[--top];
         const build_job *job = &pool->jobs[it.job];
         if (job->kind == JOB_LOCAL) {
-            places[(*place_count)++] = (local_place){ it.job, it.pos, used };
+            places[(*place_count)++] = (local_place){ it.job, it.pos, used, refs };
             used += job->local_nodes - 1;
+            refs += job->ref_count;
             *max_depth = MAXF(*max_depth, job->max_depth);
             continue;
         }
@@ -402,6 +477,7 @@ static uint32_t stitch(const job_pool *pool, bvh_node *out, stitch_item *stack,
         stack[top++] = (stitch_item){ job->child[0], used };
         used += 2;
     }
+    *ref_count = refs;
     return used;
 }
 
@@ -415,8 +491,9 @@ typedef struct copy_share {
     uint32_t *prim_order;
 } copy_share;
 
-/* Copies local jobs' nodes to their places (child links rebased) and their triangles' original
- * indices to prim_order; the jobs' ranges tile both arrays, so shares never overlap. */
+/* Copies local jobs' nodes to their places (child links and leaf ranges rebased) and their
+ * triangles' original indices to prim_order; the jobs' places tile both arrays, so shares never
+ * overlap. */
 static void *copy_places(void *arg)
 {
     const copy_share *c = arg;
@@ -428,10 +505,12 @@ static void *copy_places(void *arg)
             bvh_node n = src[i];
             if (n.count == INNER_NODE_COUNT)
                 n.left_first = pl->base + n.left_first - 1;
+            else
+                n.left_first = pl->ref_base + n.left_first - job->root.begin;
             c->out[i == 0 ? pl->pos : pl->base + i - 1] = n;
         }
-        for (uint32_t i = job->root.begin; i < job->root.end; i++)
-            c->prim_order[i] = c->ctx->refs[i].index;
+        for (uint32_t i = 0; i < job->ref_count; i++)
+            c->prim_order[pl->ref_base + i] = c->ctx->refs[job->root.begin + i].index;
     }
     return NULL;
 }
@@ -448,8 +527,7 @@ static void copy_all_places(const build_ctx *ctx, const job_pool *pool, const lo
                                   .out = out->nodes, .prim_order = out->prim_order };
         uint64_t target = (uint64_t)n * (t + 1) / threads;
         while (p < place_count && covered < target) {
-            const build_job *job = &pool->jobs[places[p++].job];
-            covered += job->root.end - job->root.begin;
+            covered += pool->jobs[places[p++].job].ref_count;
         }
         shares[t].end = p;
     }
@@ -545,6 +623,11 @@ static bool read_desc(const bvh_build_desc *desc, build_ctx *ctx, uint32_t *thre
     ctx->sah.max_leaf = d.max_leaf_size ? d.max_leaf_size : DEFAULT_MAX_LEAF;
     ctx->sah.bins = d.bins ? d.bins : DEFAULT_BINS;
     ctx->sah.traversal_cost = d.traversal_cost != 0.0f ? d.traversal_cost : DEFAULT_TRAVERSAL_COST;
+    ctx->spatial = d.spatial_budget > 0.0f;
+    ctx->spatial_params = (bvh_spatial_params){ .alpha = BVH_SPATIAL_ALPHA };
+    if (!(d.spatial_budget >= 0.0f && d.spatial_budget <= BVH_MAX_SPATIAL_BUDGET))
+        return vkrt_error_set(err, "bvh: spatial_budget must be 0..%g, got %g",
+                              (double)BVH_MAX_SPATIAL_BUDGET, (double)d.spatial_budget);
     /* 0: one per online core, at most 16 (bvh_threads.h). The tree is the same for any count. */
     *threads = d.threads ? d.threads : bvh_threads_default();
     if (ctx->sah.bins < MIN_BINS || ctx->sah.bins > MAX_BINS)
@@ -588,6 +671,7 @@ static void free_mem(build_mem *m)
     }
 }
 
+/* n: the refs' capacity (the triangles and the duplicates' budget). */
 static bool alloc_mem(build_mem *m, bvh *out, uint32_t n, uint32_t threads, vkrt_error *err)
 {
     size_t max_nodes = 2 * (size_t)n - 1;
@@ -608,7 +692,7 @@ static bool alloc_mem(build_mem *m, bvh *out, uint32_t n, uint32_t threads, vkrt
         m->scratch[t] = malloc(sizeof *m->scratch[t]);
         ok = m->scratch[t] && (m->scratch[t]->stack = malloc(n * sizeof(pending_node)));
     }
-    return ok || vkrt_error_set(err, "bvh: out of memory for %u triangles", n);
+    return ok || vkrt_error_set(err, "bvh: out of memory for %u references", n);
 }
 
 bool bvh_build(bvh *out, const float *positions, uint32_t triangle_count,
@@ -620,20 +704,25 @@ bool bvh_build(bvh *out, const float *positions, uint32_t triangle_count,
         return vkrt_error_set(err, "bvh: no output");
     memset(out, 0, sizeof *out);
     build_ctx ctx;
-    uint32_t threads;
+    uint32_t threads = 0;
     if (triangle_count == 0)
         return vkrt_error_set(err, "bvh: no triangles");
     if (!positions)
         return vkrt_error_set(err, "bvh: no positions for %u triangles", triangle_count);
-    if (triangle_count > UINT32_MAX / 2)
-        return vkrt_error_set(err, "bvh: %u triangles, at most %u", triangle_count,
-                              UINT32_MAX / 2);
     if (!read_desc(desc, &ctx, &threads, err))
         return false;
+    /* The refs' capacity: the triangles and the duplicates spatial splits may add. */
+    double capacity = floor((double)triangle_count *
+                            (1.0 + (desc ? (double)desc->spatial_budget : 0.0)));
+    if (capacity > UINT32_MAX / 2)
+        return vkrt_error_set(err, "bvh: %u triangles%s, at most %u references", triangle_count,
+                              ctx.spatial ? " with the spatial splits' budget" : "",
+                              UINT32_MAX / 2);
+    uint32_t cap = (uint32_t)capacity;
 
     build_mem m = { 0 };
-    pending_node root = { .begin = 0, .end = triangle_count };
-    bool ok = alloc_mem(&m, out, triangle_count, threads, err) &&
+    pending_node root = { .begin = 0, .end = triangle_count, .cap = cap };
+    bool ok = alloc_mem(&m, out, cap, threads, err) &&
               build_refs(positions, triangle_count, threads, m.refs, &root.bounds,
                          &root.cbounds, err);
     if (!ok) {
@@ -643,6 +732,8 @@ bool bvh_build(bvh *out, const float *positions, uint32_t triangle_count,
     }
     ctx.refs = m.refs;
     ctx.scratch_nodes = m.scratch_nodes;
+    ctx.spatial_params.positions = positions;
+    ctx.spatial_params.root_half_area = aabb_half_area(&root.bounds);
     end_stage(out, BVH_STAGE_REFS, &mark);
 
     job_pool pool = { .ctx = &ctx, .jobs = m.jobs, .stack = m.job_stack };
@@ -651,7 +742,7 @@ bool bvh_build(bvh *out, const float *positions, uint32_t triangle_count,
     uint32_t top_min =
         MAXF((uint32_t)TOP_MIN_PRIMS, triangle_count / (threads * (uint32_t)TOP_JOBS_PER_THREAD));
     if (threads > 1 && triangle_count > top_min)
-        split_top(&pool, new_job(&pool, &root), top_min, threads);
+        split_top(&pool, m.scratch, new_job(&pool, &root), top_min, threads);
     else
         push_job(&pool, &root);
     end_stage(out, BVH_STAGE_TOP, &mark);
@@ -662,9 +753,11 @@ bool bvh_build(bvh *out, const float *positions, uint32_t triangle_count,
 
     uint32_t place_count;
     out->node_count = stitch(&pool, out->nodes, m.stitch_stack, m.places, &place_count,
-                             &out->max_depth);
-    out->prim_count = triangle_count;
-    copy_all_places(&ctx, &pool, m.places, place_count, triangle_count, threads, out);
+                             &out->prim_count, &out->max_depth);
+    out->triangle_count = triangle_count;
+    for (uint32_t j = 0; j < pool.job_count; j++) /* every job is a node or a subtree of the tree */
+        out->spatial_splits += pool.jobs[j].spatial_splits;
+    copy_all_places(&ctx, &pool, m.places, place_count, out->prim_count, threads, out);
     end_stage(out, BVH_STAGE_STITCH, &mark);
     out->sah_cost = tree_sah(out->nodes, out->node_count, ctx.sah.traversal_cost, threads,
                              m.sah_block_sum, m.sah_block_leaves, &out->leaf_count);
@@ -673,6 +766,9 @@ bool bvh_build(bvh *out, const float *positions, uint32_t triangle_count,
     bvh_node *shrunk = realloc(out->nodes, out->node_count * sizeof *out->nodes);
     if (shrunk)
         out->nodes = shrunk;
+    uint32_t *order = realloc(out->prim_order, out->prim_count * sizeof *out->prim_order);
+    if (order)
+        out->prim_order = order;
     end_stage(out, BVH_STAGE_FINISH, &mark);
     out->build_ms = mark.wall_ms - t0;
     return true;

@@ -112,6 +112,24 @@ static inline void aabb_grow(aabb *b, const aabb *other)
     aabb_grow_box(b, other->lo, other->hi);
 }
 
+/* The box's lanes 0..2 into lo[3] and hi[3]. */
+static inline void aabb_store(const aabb *b, float lo[3], float hi[3])
+{
+    float l[4], h[4];
+    v4_store(l, b->lo);
+    v4_store(h, b->hi);
+    memcpy(lo, l, 3 * sizeof *lo);
+    memcpy(hi, h, 3 * sizeof *hi);
+}
+
+/* Half the surface area; the SAH only uses ratios, so the factor 2 does not matter. */
+static inline float aabb_half_area(const aabb *b)
+{
+    float d[4];
+    v4_store(d, v4_sub(b->hi, b->lo));
+    return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
+}
+
 /* A ref's bounds and centroid. Every centroid of the build comes from here (the centroid bounds,
  * the binning, the partitioning), so they agree bit for bit. Halving before adding keeps huge
  * coordinates from overflowing. */

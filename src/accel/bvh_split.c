@@ -12,22 +12,13 @@
 #include <math.h>
 #include <string.h>
 
-/* A node this small is a leaf without looking at the SAH. */
-enum { ALWAYS_LEAF_PRIMS = 1 };
+enum { ALWAYS_LEAF_PRIMS = BVH_SPLIT_ALWAYS_LEAF };
 
 /* A small node gets at most max(count, SMALL_NODE_MIN_BINS) bins (a departure from Wald's fixed
  * count): with a few triangles most of 16 bins would be empty, yet clearing and sweeping them is
  * a fixed cost per node, and the bottom levels hold most nodes. count bins still separate the two
  * extreme centroids and give count - 1 candidate planes, as many as an exact sweep has. */
 enum { SMALL_NODE_MIN_BINS = 4 };
-
-/* Half the surface area; the SAH only uses ratios, so the factor 2 does not matter. */
-static inline float half_area(const aabb *b)
-{
-    float d[4];
-    v4_store(d, v4_sub(b->hi, b->lo));
-    return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
-}
 
 /* The bins of a node with centroid bounds cb: nb per axis where the extent is usable (positive
  * and finite). Other axes get scale 0 and lo 0, so their refs all fall into bin 0 without a
@@ -96,7 +87,7 @@ static void sweep_axis(bvh_split_scratch *s, int a, bvh_bin_split *best)
         aabb_grow(&acc, &bins[k]);
         cnt += counts[k];
         s->right_count[k] = cnt;
-        s->right_area[k] = cnt ? half_area(&acc) : 0.0f;
+        s->right_area[k] = cnt ? aabb_half_area(&acc) : 0.0f;
     }
     aabb_empty(&acc);
     cnt = 0;
@@ -105,7 +96,7 @@ static void sweep_axis(bvh_split_scratch *s, int a, bvh_bin_split *best)
         cnt += counts[k - 1];
         if (cnt == 0 || s->right_count[k] == 0)
             continue;
-        float cost = half_area(&acc) * (float)cnt + s->right_area[k] * (float)s->right_count[k];
+        float cost = aabb_half_area(&acc) * (float)cnt + s->right_area[k] * (float)s->right_count[k];
         if (cost < best->cost) {
             best->cost = cost;
             best->axis = a;
@@ -139,7 +130,7 @@ bvh_split_kind bvh_split_choose(const bvh_split_params *p, bvh_split_scratch *s,
             sweep_axis(s, a, b);
     }
     bool must_split = count > p->max_leaf;
-    float area = half_area(bounds);
+    float area = aabb_half_area(bounds);
     bool worth = b->axis >= 0 && p->traversal_cost * area + b->cost < (float)count * area;
     if (b->axis >= 0 && (must_split || worth))
         return BVH_SPLIT_BINNED;
@@ -199,8 +190,8 @@ static uint32_t partition_refs(prim_ref *refs, uint32_t begin, uint32_t end,
     return i;
 }
 
-/* The bounds of a range, for the median split. */
-static void range_bounds(const prim_ref *refs, uint32_t begin, uint32_t end, aabb *b, aabb *cb)
+void bvh_split_range_bounds(const prim_ref *refs, uint32_t begin, uint32_t end, aabb *b,
+                            aabb *cb)
 {
     aabb_empty(b);
     aabb_empty(cb);
@@ -217,9 +208,11 @@ static void range_bounds(const prim_ref *refs, uint32_t begin, uint32_t end, aab
 void bvh_split_median(const prim_ref *refs, uint32_t begin, uint32_t end, bvh_split_result *out)
 {
     out->split = true;
+    out->spatial = false;
     out->mid = begin + (end - begin) / 2;
-    range_bounds(refs, begin, out->mid, &out->bounds[0], &out->cbounds[0]);
-    range_bounds(refs, out->mid, end, &out->bounds[1], &out->cbounds[1]);
+    out->right_end = end;
+    bvh_split_range_bounds(refs, begin, out->mid, &out->bounds[0], &out->cbounds[0]);
+    bvh_split_range_bounds(refs, out->mid, end, &out->bounds[1], &out->cbounds[1]);
 }
 
 void bvh_split_node(const bvh_split_params *p, bvh_split_scratch *s, prim_ref *refs,
@@ -228,18 +221,27 @@ void bvh_split_node(const bvh_split_params *p, bvh_split_scratch *s, prim_ref *r
 {
     uint32_t count = end - begin;
     out->split = false;
+    out->spatial = false;
     if (count <= ALWAYS_LEAF_PRIMS)
         return;
     bvh_bin_split b;
     bvh_split_bins_init(p, count, cbounds, &b);
     bvh_split_bins_fill(s, refs, begin, end, &b);
-    bvh_split_kind kind = bvh_split_choose(p, s, count, bounds, &b);
+    bvh_split_apply(p, refs, begin, end, bvh_split_choose(p, s, count, bounds, &b), &b, out);
+}
+
+void bvh_split_apply(const bvh_split_params *p, prim_ref *refs, uint32_t begin, uint32_t end,
+                     bvh_split_kind kind, const bvh_bin_split *b, bvh_split_result *out)
+{
+    out->split = false;
+    out->spatial = false;
+    out->right_end = end;
     if (kind == BVH_SPLIT_BINNED) {
-        out->mid = partition_refs(refs, begin, end, &b, out);
+        out->mid = partition_refs(refs, begin, end, b, out);
         out->split = out->mid > begin && out->mid < end;
         if (out->split)
             return;
-        kind = count > p->max_leaf ? BVH_SPLIT_MEDIAN : BVH_SPLIT_LEAF;
+        kind = end - begin > p->max_leaf ? BVH_SPLIT_MEDIAN : BVH_SPLIT_LEAF;
     }
     if (kind == BVH_SPLIT_MEDIAN)
         bvh_split_median(refs, begin, end, out);

@@ -19,6 +19,9 @@
 /* The most bins per axis a build may use: the scratch arrays are this long. */
 enum { BVH_SPLIT_MAX_BINS = 256 };
 
+/* A node this small is a leaf without looking at the SAH. */
+enum { BVH_SPLIT_ALWAYS_LEAF = 1 };
+
 /* The SAH settings of a build: bvh_build_desc's, defaults applied (bvh.h). */
 typedef struct bvh_split_params {
     uint32_t max_leaf;    /* a node over this many triangles always splits */
@@ -26,18 +29,23 @@ typedef struct bvh_split_params {
     float traversal_cost; /* of one node visit, in triangle tests */
 } bvh_split_params;
 
-/* One thread's bins, about 30 KiB: one per thread, reused for every node it splits. */
+/* One thread's bins, about 40 KiB: one per thread, reused for every node it splits. The spatial
+ * bins (bvh_spatial.h) count in counts the references that start in each bin and in exits those
+ * that end there. */
 typedef struct bvh_split_scratch {
     aabb bins[3][BVH_SPLIT_MAX_BINS];
     uint32_t counts[3][BVH_SPLIT_MAX_BINS];
     float right_area[BVH_SPLIT_MAX_BINS];
     uint32_t right_count[BVH_SPLIT_MAX_BINS];
+    uint32_t exits[3][BVH_SPLIT_MAX_BINS];
 } bvh_split_scratch;
 
 /* What one node's split decision says. */
 typedef struct bvh_split_result {
     bool split;
-    uint32_t mid;          /* left child: [begin, mid), right child: [mid, end) */
+    uint32_t mid;          /* left child: [begin, mid), right child: [mid, right_end) */
+    uint32_t right_end;    /* the node's end, or past it when a spatial split duplicated refs */
+    bool spatial;          /* split by a plane (bvh_spatial.h), not by grouping whole refs */
     aabb bounds[2];        /* exact bounds of the children */
     aabb cbounds[2];       /* centroid bounds of the children */
 } bvh_split_result;
@@ -106,11 +114,19 @@ void bvh_split_bins_bounds(const bvh_split_scratch *s, const bvh_bin_split *b, u
  * included. */
 void bvh_split_median(const prim_ref *refs, uint32_t begin, uint32_t end, bvh_split_result *out);
 
+/* Carries out bvh_split_choose's decision `kind` (b's plane for BVH_SPLIT_BINNED) on
+ * refs[begin, end), as bvh_split_node does after choosing: out->split false for a leaf. */
+void bvh_split_apply(const bvh_split_params *p, prim_ref *refs, uint32_t begin, uint32_t end,
+                     bvh_split_kind kind, const bvh_bin_split *b, bvh_split_result *out);
+
+/* The exact bounds and centroid bounds of refs[begin, end). */
+void bvh_split_range_bounds(const prim_ref *refs, uint32_t begin, uint32_t end, aabb *b, aabb *cb);
+
 /* Decides whether the node over refs[begin, end), with exact bounds `bounds` and centroid bounds
  * `cbounds`, is a leaf or splits, and on a split reorders refs[begin, end) so that its children
- * are [begin, out->mid) and [out->mid, end), both non-empty, with their bounds in *out. A node of
- * more than p->max_leaf triangles always splits (in the middle of its order when no binned split
- * separates it); a leaf leaves the order of refs as it was. */
+ * are [begin, out->mid) and [out->mid, end) (out->right_end = end), both non-empty, with their
+ * bounds in *out. A node of more than p->max_leaf triangles always splits (in the middle of its
+ * order when no binned split separates it); a leaf leaves the order of refs as it was. */
 void bvh_split_node(const bvh_split_params *p, bvh_split_scratch *s, prim_ref *refs,
                     uint32_t begin, uint32_t end, const aabb *bounds, const aabb *cbounds,
                     bvh_split_result *out);

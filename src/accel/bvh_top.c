@@ -319,6 +319,7 @@ bool bvh_top_split(const bvh_split_params *p, prim_ref *refs, const bvh_top_node
     bvh_split_scratch *sum = &m.scratch[threads];
     for (uint32_t i = 0; i < count; i++) {
         out[i].split = false;
+        out[i].spatial = false;
         choose_split(&ctx, sum, i, &out[i]);
     }
     run_pass(&ctx, workers, threads, classify_chunk);
@@ -333,6 +334,7 @@ bool bvh_top_split(const bvh_split_params *p, prim_ref *refs, const bvh_top_node
         if (m.state[i].kind == BVH_SPLIT_BINNED) {
             out[i].split = true;
             out[i].mid = m.state[i].mid;
+            out[i].right_end = nodes[i].end;
         } else if (m.state[i].kind == BVH_SPLIT_MEDIAN) {
             bvh_split_median(refs, nodes[i].begin, nodes[i].end, &out[i]);
         }

@@ -74,6 +74,78 @@ static bool lay_out(const bvh *b, uint32_t width, gpu_layout *out, vkrt_error *e
     return true;
 }
 
+/* Spatial splits may add up to this share of the triangles as duplicates. On Sponza and
+ * Sibenik (with Stich's overlap threshold, 1e-5) a budget of +100% used +28-29% and lowered the
+ * SAH cost 1% more than +30%, which used +18-19% (research/journal.md, "Spatial splits"). */
+static const float spatial_budget = 0.3f;
+
+/* bvh-splits auto keeps the spatial splits' tree when its SAH cost is at least this share below
+ * the plain tree's. The traversal work of a primary, a shadow and a diffuse ray together (`vkrt
+ * bench --stats`, node cost x nodes + triangles, research/results/cpu-1202-sbvh/work.txt) followed
+ * the SAH's change in sign, and in size within 3.2 points: Sponza -14.7% SAH, -14.6% work;
+ * Sibenik -5.8%, -8.7%; the bunny -0.2%, -0.1%; the Mori knob +1.4%, +4.6% (the GPUs' trees
+ * alike). A gain under that spread does not say which tree traces faster; 5% clears it, and
+ * Sibenik's 5.8% is the smallest gain measured that cut every kind of ray's node visits. */
+static const float spatial_margin = 0.05f;
+
+/* Above this many triangles auto builds the plain tree alone: building both costs about 3 times
+ * one plain build (research/results/cpu-1202-sbvh), seconds at this size. */
+static const uint32_t spatial_auto_limit = 2000000;
+
+/* Builds the binary tree as desc->bvh_splits says and says why in why. */
+static bool build_tree(const vkrt_accel_desc *desc, const bvh_build_desc *build,
+                       const float *positions, uint32_t n, bvh *out, char *why, size_t why_size,
+                       vkrt_error *err)
+{
+    bvh_build_desc spatial = *build;
+    spatial.spatial_budget =
+        desc->bvh_spatial_budget > 0 ? desc->bvh_spatial_budget : spatial_budget;
+    if (desc->bvh_splits == VKRT_BVH_SPLITS_OFF) {
+        snprintf(why, why_size, "no spatial splits (asked for)");
+        return bvh_build(out, positions, n, build, err);
+    }
+    if (desc->bvh_splits == VKRT_BVH_SPLITS_ON) {
+        if (!bvh_build(out, positions, n, &spatial, err))
+            return false;
+        snprintf(why, why_size, "spatial splits (asked for): +%.1f%% references",
+                 100.0 * (out->prim_count - n) / n);
+        return true;
+    }
+    if (n > spatial_auto_limit) {
+        snprintf(why, why_size, "no spatial splits: over %u triangles", spatial_auto_limit);
+        return bvh_build(out, positions, n, build, err);
+    }
+    /* The split tree first: where no node took a spatial split it is the plain tree itself
+     * (bvh.h), and the plain build is not needed. */
+    if (!bvh_build(out, positions, n, &spatial, err))
+        return false;
+    if (out->spatial_splits == 0) {
+        snprintf(why, why_size, "no spatial splits: none pays");
+        return true;
+    }
+    bvh plain;
+    if (!bvh_build(&plain, positions, n, build, err)) {
+        bvh_free(out);
+        return false;
+    }
+    bool keep = out->sah_cost < (1.0f - spatial_margin) * plain.sah_cost;
+    int used =
+        snprintf(why, why_size, "%sspatial splits: SAH cost %.1f -> %.1f, +%.1f%% references",
+                 keep ? "" : "no ", (double)plain.sah_cost, (double)out->sah_cost,
+                 100.0 * (out->prim_count - n) / n);
+    if (!keep && used > 0 && (size_t)used < why_size)
+        snprintf(why + used, why_size - used, ", not %.0f%% lower", 100.0 * spatial_margin);
+    double both_ms = plain.build_ms + out->build_ms;
+    if (!keep) {
+        bvh_free(out);
+        *out = plain;
+    } else {
+        bvh_free(&plain);
+    }
+    out->build_ms = both_ms;
+    return true;
+}
+
 static bool build_bvh(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc *desc,
                       const float *positions, uint32_t n, vkrt_error *err)
 {
@@ -88,8 +160,11 @@ static bool build_bvh(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc
     if (width != 2 && width != 4)
         return vkrt_error_set(err, "BVH width %u: the GPU layouts are 2 and 4 wide", width);
     bvh b;
-    if (!bvh_build(&b, positions, n, &build, err))
+    char why[160];
+    if (!build_tree(desc, &build, positions, n, &b, why, sizeof why, err))
         return false;
+    size_t used = strlen(a->stats.reason);
+    snprintf(a->stats.reason + used, sizeof a->stats.reason - used, "; %s", why);
     double start = vkrt_clock_ms();
     gpu_layout g = {0};
     bool ok = lay_out(&b, width, &g, err);
@@ -107,7 +182,8 @@ static bool build_bvh(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc
         s->bytes = g.bytes;
         s->nodes = g.count;
         s->leaves = b.leaf_count;
-        s->triangles_per_leaf = b.leaf_count ? (double)n / b.leaf_count : 0;
+        s->triangles_per_leaf = b.leaf_count ? (double)b.prim_count / b.leaf_count : 0;
+        s->references = b.prim_count;
         s->max_depth = g.depth;
         s->bvh_width = width;
         s->sah_cost = b.sah_cost;
@@ -117,6 +193,7 @@ static bool build_bvh(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc
         /* The binary build and its layout into the GPU's nodes. */
         s->build_ms = b.build_ms + layout_ms;
         a->prim_order = b.prim_order;
+        a->triangle_count = b.prim_count;
         b.prim_order = NULL;
     }
     free(g.nodes);
@@ -186,6 +263,7 @@ bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel
     memset(a, 0, sizeof *a);
     a->triangle_count = triangle_count;
     vkrt_accel_stats *s = &a->stats;
+    s->triangles = triangle_count;
     grid g = {0};
     bool have_grid = false;
     snprintf(s->reason, sizeof s->reason, "asked for");

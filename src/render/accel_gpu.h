@@ -5,7 +5,9 @@
  * grid cell starts, grid or kd-tree references; the last two split where one buffer cannot hold
  * them, gpu/array.h) and the triangle order: a BVH stores its triangles
  * in leaf order, so every per-triangle array the kernels read is uploaded in that order, and
- * prim_order maps back.
+ * prim_order maps back. With spatial splits a triangle sits in several leaves: it is uploaded
+ * once per leaf (its record, material and attributes copied), so the kernels read leaves as
+ * ranges as before.
  */
 #ifndef VKRT_ACCEL_GPU_H
 #define VKRT_ACCEL_GPU_H
@@ -23,6 +25,7 @@
 typedef struct vkrt_accel_stats {
     vkrt_accel_kind kind;       /* what was built (never auto) */
     char reason[256];           /* why: the auto rule's sentence, or "asked for" */
+    uint32_t triangles;         /* the scene's triangles it was built over */
     double build_ms;            /* CPU build time */
     double choose_ms;           /* time to decide (the grid built for auto's statistics) */
     size_t bytes;               /* GPU memory of the structure, triangles not counted */
@@ -36,7 +39,9 @@ typedef struct vkrt_accel_stats {
     uint32_t bvh_width;         /* BVH: children per GPU node, 2 or 4 */
     float sah_cost;             /* BVH; kd-tree (in units of a triangle test) */
     float kd_traversal_cost;    /* kd-tree: the build's K_T / K_I */
-    uint32_t references;        /* kd-tree: triangle references in its leaves */
+    uint32_t references;        /* BVH, kd-tree: triangle references in its leaves (a BVH's are the
+                                   scene's triangles, or more with spatial splits: the uploaded
+                                   triangle count) */
     uint32_t empty_leaves;      /* kd-tree */
     uint32_t bvh_max_leaf;      /* BVH: the build's largest leaf */
     float bvh_traversal_cost;   /* BVH: the build's SAH cost of a node against a triangle */
@@ -48,7 +53,7 @@ typedef struct vkrt_accel_gpu {
     gpu_array refs;             /* grid or kd-tree references; for other kinds a minimal buffer,
                                    unread */
     uint32_t *prim_order;       /* NULL for identity order; else prim_order[i] = original index */
-    uint32_t triangle_count;
+    uint32_t triangle_count;    /* triangles uploaded: the scene's, or more with spatial splits */
     vkrt_accel_stats stats;
 } vkrt_accel_gpu;
 
@@ -60,8 +65,13 @@ typedef struct vkrt_accel_desc {
     uint32_t bvh_max_leaf;    /* bvh_build_desc.max_leaf_size, at most 16 (the GPU's leaf
                                  references); 0: bvh.h's default */
     float bvh_traversal_cost; /* bvh_build_desc.traversal_cost; 0: bvh.h's default */
+    float bvh_spatial_budget; /* bvh_build_desc.spatial_budget of a tree with spatial splits;
+                                 0: accel_gpu.c's default */
     float kd_traversal_cost;  /* the kd-tree's K_T / K_I; 0: kdtree.h's default */
     bool grid_competes;       /* auto weighs the grid against the BVH (vkrt_tuning) */
+    vkrt_bvh_splits bvh_splits; /* auto (0): both trees built (up to a size; the plain one only
+                                   where the split one took a spatial split), the spatial
+                                   splits' kept when its SAH cost is lower by a margin */
 } vkrt_accel_desc;
 
 /* Builds the structure desc asks for over positions (9 floats per triangle) and uploads it. On
@@ -72,7 +82,7 @@ bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel
 /* Frees buffers and the order. Safe on a zeroed struct. */
 void vkrt_accel_gpu_destroy(vkrt_accel_gpu *a, gpu_context *ctx);
 
-/* The original index of the triangle stored at position i. */
+/* The original index of the triangle stored at position i (i < a->triangle_count). */
 uint32_t vkrt_accel_original_triangle(const vkrt_accel_gpu *a, uint32_t i);
 
 #endif

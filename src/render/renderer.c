@@ -169,10 +169,12 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
     const vkrt_tuning *t = &r->tuning;
     const vkrt_accel_desc accel = {
         .kind = desc->accel,
+        .bvh_splits = desc->bvh_splits,
         .grid_density = t->grid_density,
         .bvh_width = t->bvh_width,
         .bvh_max_leaf = t->bvh_max_leaf,
         .bvh_traversal_cost = t->bvh_traversal_cost,
+        .bvh_spatial_budget = t->bvh_spatial_budget,
         .kd_traversal_cost = t->kd_traversal_cost,
         .grid_competes = t->grid_competes,
     };

@@ -38,6 +38,7 @@ typedef struct vkrt_render_desc {
     uint32_t width, height;   /* required */
     uint32_t samples;         /* samples per pixel; 0 means 1 */
     vkrt_accel_kind accel;    /* auto (0) chooses from the scene */
+    vkrt_bvh_splits bvh_splits; /* auto (0): spatial splits where they pay (accel_gpu.h) */
     uint32_t max_depth;       /* generations of secondary rays; 0: the scene's max-depth */
     uint32_t ray_capacity;    /* rays per buffer to start with; 0 (or below the pixel count):
                                  one per pixel. Tests start small to force growth. */

@@ -81,7 +81,9 @@ static bool upload_array(vkrt_renderer *r, gpu_array *a, size_t element_size, si
 bool renderer_upload_geometry(vkrt_renderer *r, const vkrt_mesh *mesh,
                               const vkrt_scene_materials *mats, vkrt_error *err)
 {
-    size_t n = mesh->triangle_count;
+    /* The structure's triangle count: with spatial splits a triangle is uploaded once per leaf. */
+    size_t n = r->accel.triangle_count;
+    r->triangle_count = r->accel.triangle_count;
     bool want_texcoords = mats->reads_texcoords && mesh->texcoords;
     geometry_source source = {r, mesh, mats};
     return upload_array(r, &r->triangles, sizeof(Triangle), n, fill_triangles, &source,
@@ -372,7 +374,8 @@ static bool build_emitter_table(vkrt_renderer *r, const vkrt_scene *scene,
     }
     for (uint32_t m = 0; m < mats->count; ++m)
         renderer_material_ke(mats, m, &ke[3 * m]);
-    for (uint32_t i = 0; i < n; ++i)
+    /* A triangle uploaded more than once (spatial splits) is sampled through any one copy. */
+    for (uint32_t i = 0; i < r->accel.triangle_count; ++i)
         uploaded[vkrt_accel_original_triangle(&r->accel, i)] = i;
     vkrt_emitters e;
     bool ok = vkrt_emitters_build(scene->mesh.positions, n, mats->triangle_material, ke,

@@ -59,6 +59,7 @@ vkrt_tuning vkrt_tuning_choose(bool cpu_device, bool llvmpipe, const vkrt_tuning
         .bvh_traversal_cost = o->bvh_traversal_cost > 0 ? o->bvh_traversal_cost
                               : cpu_device              ? 0
                                                         : gpu_bvh_traversal_cost,
+        .bvh_spatial_budget = o->bvh_spatial_budget,
         .kd_traversal_cost = o->kd_traversal_cost,
         /* Mesa's llvmpipe loads a storage buffer one lane and one word at a time, each behind a
          * bounds check and a branch, and a texel buffer with vector gathers: texel loads made

@@ -36,6 +36,8 @@ typedef struct vkrt_tuning_overrides {
     uint32_t bvh_width;       /* children per node of the BVH's GPU layout, 2 or 4 */
     uint32_t bvh_max_leaf;    /* the BVH build's largest leaf (1..16) */
     float bvh_traversal_cost; /* the BVH build's SAH cost of a node against a triangle */
+    float bvh_spatial_budget; /* the share of duplicate references spatial splits may add
+                                 (0 .. BVH_MAX_SPATIAL_BUDGET; 0: accel_gpu.c's default) */
     float kd_traversal_cost;  /* the kd-tree build's K_T / K_I */
     vkrt_loads loads;
     vkrt_walk walk;
@@ -49,6 +51,7 @@ typedef struct vkrt_tuning {
     uint32_t bvh_width;       /* 2 or 4 */
     uint32_t bvh_max_leaf;    /* 0: bvh.h's default */
     float bvh_traversal_cost; /* 0: bvh.h's default */
+    float bvh_spatial_budget; /* 0: accel_gpu.c's default */
     float kd_traversal_cost;  /* K_T / K_I; 0: kdtree.h's default */
     bool texel_loads;         /* read through texel views where they hold the whole buffers */
     bool texel_loads_required;/* asked for: an error where they cannot hold them */

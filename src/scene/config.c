@@ -345,6 +345,16 @@ static bool kw_integrator(parser *p, const tokens *t)
     return true;
 }
 
+static bool kw_bvh_splits(parser *p, const tokens *t)
+{
+    char buf[SHOWN_TOKEN_BYTES + 4];
+    if (t->count != 2)
+        return fail(p, "bvh-splits needs one name (auto, on or off), got %d", t->count - 1);
+    if (!vkrt_bvh_splits_parse(t->tok[1], &p->cfg->bvh_splits))
+        return fail(p, "unknown bvh-splits '%s' (expected auto, on or off)", shown(t->tok[1], buf));
+    return true;
+}
+
 static bool kw_environment(parser *p, const tokens *t)
 {
     return want_numbers(p, t, 1, 3, "environment") &&
@@ -605,6 +615,7 @@ static const keyword keywords[] = {
     {"shutter", true, kw_shutter},
     {"accel", true, kw_accel},
     {"integrator", true, kw_integrator},
+    {"bvh-splits", true, kw_bvh_splits},
     {"output", true, kw_output},
     {"environment", true, kw_environment},
     {"environment-map", true, kw_environment_map},
@@ -638,8 +649,8 @@ static bool parse_line(void *ctx, const tokens *t)
         return keywords[i].parse(p, t);
     }
     return fail(p, "unknown keyword '%s' (expected geometry, materials, resolution, samples, "
-                   "max-depth, shutter, accel, integrator, output, environment, environment-map, "
-                   "light or camera)",
+                   "max-depth, shutter, accel, integrator, bvh-splits, output, environment, "
+                   "environment-map, light or camera)",
                 shown(t->tok[0], buf));
 }
 
@@ -786,6 +797,32 @@ bool vkrt_integrator_parse(const char *name, vkrt_integrator *integrator)
         if (strcmp(name, vkrt_integrator_name(all[i])) == 0) {
             if (integrator)
                 *integrator = all[i];
+            return true;
+        }
+    }
+    return false;
+}
+
+const char *vkrt_bvh_splits_name(vkrt_bvh_splits splits)
+{
+    switch (splits) {
+    case VKRT_BVH_SPLITS_AUTO:
+        return "auto";
+    case VKRT_BVH_SPLITS_ON:
+        return "on";
+    case VKRT_BVH_SPLITS_OFF:
+        return "off";
+    }
+    return "unknown";
+}
+
+bool vkrt_bvh_splits_parse(const char *name, vkrt_bvh_splits *splits)
+{
+    static const vkrt_bvh_splits all[] = {VKRT_BVH_SPLITS_AUTO, VKRT_BVH_SPLITS_ON,
+                                          VKRT_BVH_SPLITS_OFF};
+    for (size_t i = 0; name && i < sizeof all / sizeof all[0]; i++) {
+        if (strcmp(name, vkrt_bvh_splits_name(all[i])) == 0) {
+            *splits = all[i];
             return true;
         }
     }

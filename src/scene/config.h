@@ -29,6 +29,13 @@ typedef enum vkrt_integrator {
     VKRT_INTEGRATOR_PATH,     /* unidirectional path tracing with next-event estimation and MIS */
 } vkrt_integrator;
 
+/* Whether the BVH splits triangles between nodes (docs/scene-format.md, `bvh-splits`). */
+typedef enum vkrt_bvh_splits {
+    VKRT_BVH_SPLITS_AUTO = 0, /* spatial splits kept where they pay (accel_gpu.c) */
+    VKRT_BVH_SPLITS_ON,       /* spatial splits (an SBVH) */
+    VKRT_BVH_SPLITS_OFF,      /* object splits only: every triangle in one leaf */
+} vkrt_bvh_splits;
+
 typedef enum vkrt_light_kind {
     VKRT_LIGHT_AMBIENT = 0, /* uniform, unoccluded radiance from every direction: adds Kd * colour */
     VKRT_LIGHT_DIRECTIONAL, /* colour is irradiance (W/m^2) on a surface facing the light */
@@ -66,6 +73,7 @@ typedef struct vkrt_config {
                                  which a frame's samples are taken, 0 (default) to 1 */
     vkrt_accel_kind accel;    /* default auto */
     vkrt_integrator integrator; /* default auto */
+    vkrt_bvh_splits bvh_splits; /* default auto */
     float environment[3];     /* radiance of rays that miss, default 0; unused with a map */
     char *environment_map;    /* equirectangular image (src/scene/envmap.h), resolved against the
                                  scene.cfg's folder; NULL when absent. It replaces environment[]. */
@@ -106,5 +114,11 @@ const char *vkrt_integrator_name(vkrt_integrator integrator);
 /* Parses an integrator name (exact, lower case); returns false for an unknown one and then leaves
  * *integrator unchanged. integrator may be NULL to test a name. */
 bool vkrt_integrator_parse(const char *name, vkrt_integrator *integrator);
+
+/* Name of a bvh-splits setting as written in scene.cfg ("auto", "on", "off"). */
+const char *vkrt_bvh_splits_name(vkrt_bvh_splits splits);
+
+/* Parses a bvh-splits name; returns false for an unknown one and then leaves *splits unchanged. */
+bool vkrt_bvh_splits_parse(const char *name, vkrt_bvh_splits *splits);
 
 #endif

@@ -27,17 +27,55 @@
 #include "render/renderer.h"
 #include "scene/scene.h"
 
-static const vkrt_accel_kind all_kinds[] = {VKRT_ACCEL_BRUTE, VKRT_ACCEL_GRID, VKRT_ACCEL_BVH,
-                                            VKRT_ACCEL_KDTREE};
+/* A structure to render with: a kind and, for the BVH, whether it splits triangles. */
+typedef struct structure {
+    vkrt_accel_kind kind;
+    vkrt_bvh_splits splits;
+    const char *name;
+    uint32_t max_leaf;    /* the BVH's largest leaf; 0: the device's default */
+    float spatial_budget; /* the BVH's share of duplicate references; 0: the default */
+} structure;
+
+/* The spatial splits' tree of these little scenes is built with leaves of one triangle and the
+ * largest budget (BVH_MAX_SPATIAL_BUDGET, +100%): at the defaults (leaves of 8, +30%) the
+ * 14 triangles of a cube on a floor split none, and what the suite holds here is the split tree,
+ * clipped boxes that meet at split planes included. */
+#define SPLIT_TREE_MAX_LEAF 1
+#define SPLIT_TREE_BUDGET 1.0f
+
+static const structure all_kinds[] = {
+    {VKRT_ACCEL_BRUTE, VKRT_BVH_SPLITS_AUTO, "brute"},
+    {VKRT_ACCEL_GRID, VKRT_BVH_SPLITS_AUTO, "grid"},
+    {VKRT_ACCEL_BVH, VKRT_BVH_SPLITS_OFF, "bvh"},
+    {VKRT_ACCEL_BVH, VKRT_BVH_SPLITS_ON, "bvh with spatial splits", SPLIT_TREE_MAX_LEAF,
+     SPLIT_TREE_BUDGET},
+    {VKRT_ACCEL_KDTREE, VKRT_BVH_SPLITS_AUTO, "kdtree"},
+};
 enum { KINDS = sizeof all_kinds / sizeof *all_kinds };
 
-/* Renders the folder's scene.cfg at w x h with the given structure; fails the test on error. */
-static void render(vkrt_accel_kind kind, uint32_t w, uint32_t h, float *rgb, vkrt_frame_stats *stats)
+/* Renders the folder's scene.cfg at w x h with the given structure; fails the test on error,
+ * and when a tree with spatial splits holds no triangle twice (it would be the plain tree). */
+static void render_as(const structure *s, uint32_t w, uint32_t h, float *rgb,
+                      vkrt_frame_stats *stats)
 {
     vkrt_error err = {{0}};
-    vkrt_render_desc desc = {.accel = kind};
-    if (!scene_dir_render(w, h, &desc, rgb, stats, &err))
-        fail_msg("%s: %s", vkrt_accel_name(kind), err.msg);
+    vkrt_render_desc desc = {.accel = s->kind, .bvh_splits = s->splits,
+                             .tuning = {.bvh_max_leaf = s->max_leaf,
+                                        .bvh_spatial_budget = s->spatial_budget}};
+    vkrt_accel_stats accel;
+    if (!scene_dir_render_accel(w, h, &desc, rgb, stats, &accel, &err))
+        fail_msg("%s: %s", s->name, err.msg);
+    if (s->splits != VKRT_BVH_SPLITS_ON)
+        return;
+    print_message("%s: %u triangles, %u references\n", s->name, accel.triangles, accel.references);
+    if (accel.references <= accel.triangles)
+        fail_msg("%s: no triangle in two leaves (%s)", s->name, accel.reason);
+}
+
+/* Renders with the structure of that kind (the BVH with its default splits). */
+static void render(vkrt_accel_kind kind, uint32_t w, uint32_t h, float *rgb, vkrt_frame_stats *stats)
+{
+    render_as(&(structure){kind, VKRT_BVH_SPLITS_AUTO, vkrt_accel_name(kind)}, w, h, rgb, stats);
 }
 
 static void assert_all_finite(const float *rgb, size_t n, const char *what)
@@ -122,11 +160,11 @@ static void test_light_inside_a_closed_box_does_not_leak(void **state)
     enum { N = 32 };
     static float rgb[N * N * 3];
     for (size_t k = 0; k < sizeof all_kinds / sizeof *all_kinds; ++k) {
-        render(all_kinds[k], N, N, rgb, NULL);
+        render_as(&all_kinds[k], N, N, rgb, NULL);
         for (int i = 0; i < N * N * 3; ++i)
             if (rgb[i] != 0.0f)
                 fail_msg("%s: value %d is %g: light leaked out of the box",
-                         vkrt_accel_name(all_kinds[k]), i, rgb[i]);
+                         all_kinds[k].name, i, rgb[i]);
     }
     /* The control: without its lid the same box lets light out, so the black above was the
      * box's doing, not a black renderer. */
@@ -199,15 +237,16 @@ static void test_self_shadows_hold_far_from_the_origin(void **state)
     const double MEAN_TOLERANCE = 1e-3, MOVED_TOLERANCE = 1e-2;
     enum { N = 128 };
     static const double offsets[] = {1e2, 1e4, 1e5};
-    static const vkrt_accel_kind kinds[] = {VKRT_ACCEL_BVH};
+    /* the BVH, and the BVH with spatial splits (whose clipped boxes are rounded outwards) */
+    static const structure *const kinds[] = {&all_kinds[2], &all_kinds[3]};
     static float base[N * N * 3], moved[N * N * 3];
     for (size_t k = 0; k < sizeof kinds / sizeof *kinds; ++k) {
         write_bumpy_sphere(1);
-        render(kinds[k], N, N, base, NULL);
+        render_as(kinds[k], N, N, base, NULL);
         for (size_t c = 0; c < sizeof offsets / sizeof *offsets; ++c) {
             write_bumpy_sphere(offsets[c]);
-            render(kinds[k], N, N, moved, NULL);
-            assert_all_finite(moved, N * N * 3, vkrt_accel_name(kinds[k]));
+            render_as(kinds[k], N, N, moved, NULL);
+            assert_all_finite(moved, N * N * 3, kinds[k]->name);
             double sum_base = 0, sum_moved = 0;
             int lit = 0, moved_pixels = 0;
             for (int i = 0; i < N * N; ++i) {
@@ -221,11 +260,11 @@ static void test_self_shadows_hold_far_from_the_origin(void **state)
             double mean = sum_moved / sum_base - 1, share = (double)moved_pixels / lit;
             print_message("%s, offset %g: mean %+.4f%%, %.2f%% of %d lit pixels moved by more "
                           "than 5%%\n",
-                          vkrt_accel_name(kinds[k]), offsets[c], 100 * mean, 100 * share, lit);
+                          kinds[k]->name, offsets[c], 100 * mean, 100 * share, lit);
             if (fabs(mean) > MEAN_TOLERANCE || share > MOVED_TOLERANCE)
                 fail_msg("%s, offset %g: mean %+.4f%% (tolerance %g%%), %.2f%% of pixels moved "
                          "(tolerance %g%%)",
-                         vkrt_accel_name(kinds[k]), offsets[c], 100 * mean, 100 * MEAN_TOLERANCE,
+                         kinds[k]->name, offsets[c], 100 * mean, 100 * MEAN_TOLERANCE,
                          100 * share, 100 * MOVED_TOLERANCE);
         }
     }
@@ -248,13 +287,13 @@ static void render_all_alike(float rgb[][5 * 5 * 3])
 {
     enum { N = 5 };
     for (size_t k = 0; k < KINDS; ++k) {
-        render(all_kinds[k], N, N, rgb[k], NULL);
-        assert_all_finite(rgb[k], N * N * 3, vkrt_accel_name(all_kinds[k]));
+        render_as(&all_kinds[k], N, N, rgb[k], NULL);
+        assert_all_finite(rgb[k], N * N * 3, all_kinds[k].name);
     }
     for (int i = 0; i < N * N * 3; ++i)
         for (size_t k = 1; k < KINDS; ++k)
             if (rgb[k][i] != rgb[0][i])
-                fail_msg("value %d: brute %g, %s %g", i, rgb[0][i], vkrt_accel_name(all_kinds[k]),
+                fail_msg("value %d: brute %g, %s %g", i, rgb[0][i], all_kinds[k].name,
                          rgb[k][i]);
 }
 
@@ -327,13 +366,13 @@ static void test_degenerate_triangles_change_nothing(void **state)
           f);
     fclose(f);
     for (size_t k = 0; k < KINDS; ++k) {
-        render(all_kinds[k], N, N, got, NULL);
-        assert_all_finite(got, N * N * 3, vkrt_accel_name(all_kinds[k]));
+        render_as(&all_kinds[k], N, N, got, NULL);
+        assert_all_finite(got, N * N * 3, all_kinds[k].name);
         int differ = 0;
         for (int i = 0; i < N * N * 3; ++i)
             differ += fabs(got[i] - want[i]) > 1e-6 * want[i] + 1e-9;
         if (differ)
-            fail_msg("%s: %d values changed by degenerate triangles", vkrt_accel_name(all_kinds[k]),
+            fail_msg("%s: %d values changed by degenerate triangles", all_kinds[k].name,
                      differ);
     }
 }
