@@ -34,7 +34,9 @@ typedef struct bvh_spatial_params {
  * times the plain one (Sponza, Sibenik: the search clips every triangle at every slab plane it
  * crosses), 1e-3 about 4 times, and 1e-2 1.8 to 2.9 times, for SAH costs within 1.3% and 2% of
  * 1e-5's (Sponza 57.7 against 57.0, Sibenik 44.7 against 43.7; plain 67.7 and 47.4). */
+#ifndef BVH_SPATIAL_ALPHA /* a research build may set it (research/gpu-run sliver-alpha) */
 #define BVH_SPATIAL_ALPHA 1e-2f
+#endif
 
 /* Decides the node over refs[begin, end), with room for duplicates up to cap (refs[end, cap) are
  * free), like bvh_split_node, with spatial splits as well. A spatial split writes the left
