@@ -399,7 +399,7 @@ overlap threshold (`research/gpu-run extras-1202` measures lower thresholds; not
 Sponza the splits trade shadow rays (-13%) for primary (+34%) and diffuse (+31%) ones. Where auto
 took no splits the two runs traced the same tree, and their ratio (0.98-1.01x) is the run-to-run
 noise. Building with auto costs 1.9-3.0x the plain build (it builds the split tree first, and the
-plain one too where splits were taken, to compare), within issue 21's 3x; Sibenik is at the edge.
+plain one too where the split tree took any spatial split, to compare), within issue 21's 3x; Sibenik is at the edge.
 
 ### What the trace does per ray
 
