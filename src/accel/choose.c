@@ -14,11 +14,18 @@
  * stadium is how much of the scene sits in crowded cells: there the grid tests every triangle of
  * a cell for each ray that crosses it, while a BVH keeps subdividing.
  *
- * The kd-tree (accel kdtree, docs/kdtree.md) is never chosen: on the H200 at 1080p it traced
- * Sponza's camera rays 1.23x as fast as the BVH and its diffuse rays 1.02x, but its shadow rays
- * 0.57x, and the bunny's and Lost Empire's rays of every kind 0.42-0.78x, and it builds 7 to 10
- * times slower; a frame spends most of its time on shadow and bounce rays, so no scene measured
- * renders faster with it.
+ * The kd-tree (accel kdtree, docs/kdtree.md) is not chosen on GPUs: on the H200 at 1080p it
+ * traced Sponza's camera rays 1.23x as fast as the BVH and its diffuse rays 1.02x, but its
+ * shadow rays 0.57x, and the bunny's and Lost Empire's rays of every kind 0.42-0.78x, and it
+ * builds 7 to 10 times slower; a frame spends most of its time on shadow and bounce rays, so no
+ * scene measured renders faster with it. On lavapipe reading texel buffers (its default) the
+ * reverse: at 480x270 on a quiet machine (research/results/kdtree-lavapipe-quiet/) the kd-tree
+ * traced 1.1 to 2.4 times the BVH's rays per second in 25 of the 27 scene and ray kinds of the
+ * nine scenes measured (Cornell boxes, teapot, bunny, Sponza, Sibenik, Lost Empire, the teapot
+ * in a stadium; the bunny's shadow and diffuse rays 0.83-0.85x, and 1.57x and 0.95x in a second
+ * round). Its build is the price: the bunny's 499 ms against 78, Lost Empire's (225k triangles)
+ * 228 against 173, and it runs mostly on one core; past kdtree_limit, the largest scene measured,
+ * the BVH's parallel build is taken instead.
  */
 #include "choose.h"
 
@@ -27,6 +34,9 @@
 /* Below this, building and walking any structure costs more than testing every triangle: a ray
  * against 64 triangles is a few hundred instructions, about one traversal's overhead. */
 static const uint32_t brute_force_limit = 64;
+
+/* Up to this many triangles a CPU device reading texel buffers gets the kd-tree (above). */
+static const uint32_t kdtree_limit = 250000;
 
 /* A cell is crowded when it holds more than this many times the mean of the occupied cells. */
 static const double crowded_ratio = 16.0;
@@ -41,12 +51,17 @@ uint32_t accel_brute_force_limit(void)
     return brute_force_limit;
 }
 
-bool accel_choice_needs_grid(uint32_t triangle_count, bool cpu_device)
+uint32_t accel_kdtree_limit(void)
 {
-    return cpu_device && triangle_count > brute_force_limit;
+    return kdtree_limit;
 }
 
-accel_choice accel_choose(uint32_t triangle_count, bool cpu_device, const grid *g)
+bool accel_choice_needs_grid(uint32_t triangle_count, accel_device device)
+{
+    return device == ACCEL_DEVICE_CPU_STORAGE && triangle_count > brute_force_limit;
+}
+
+accel_choice accel_choose(uint32_t triangle_count, accel_device device, const grid *g)
 {
     accel_choice c = {0};
     if (triangle_count <= brute_force_limit) {
@@ -55,7 +70,15 @@ accel_choice accel_choose(uint32_t triangle_count, bool cpu_device, const grid *
                  brute_force_limit);
         return c;
     }
-    if (!cpu_device || !g) {
+    if (device == ACCEL_DEVICE_CPU_TEXELS && triangle_count <= kdtree_limit) {
+        c.kind = VKRT_ACCEL_KDTREE;
+        snprintf(c.reason, sizeof c.reason,
+                 "%u triangles (at most %u) on a CPU device reading texel buffers: kd-tree (it "
+                 "outran the BVH there on every scene measured but the bunny)",
+                 triangle_count, kdtree_limit);
+        return c;
+    }
+    if (device != ACCEL_DEVICE_CPU_STORAGE || !g) {
         c.kind = VKRT_ACCEL_BVH;
         snprintf(c.reason, sizeof c.reason,
                  "%u triangles: BVH (it outran the grid on every scene measured, on GPUs and on "

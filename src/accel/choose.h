@@ -8,8 +8,9 @@
  * device whose traversal reads storage buffers, where it traced about as fast as the BVH (each
  * ahead on some scenes) and builds two to three times faster, and the BVH otherwise: on a GPU it
  * traced 1.2 to 2.1 times faster than the grid on every scene measured, and on lavapipe with
- * texel loads (the default there) 1.5 to 3.9 times (research/journal.md). cpu_device below means
- * such a storage-reading CPU device.
+ * texel loads (the default there) 1.5 to 3.9 times (research/journal.md). On a CPU device
+ * reading texel buffers the kd-tree outran the BVH (choose.c says by how much), up to a size past
+ * which its slower build would eat the gain.
  */
 #ifndef VKRT_ACCEL_CHOOSE_H
 #define VKRT_ACCEL_CHOOSE_H
@@ -20,6 +21,15 @@
 #include "../scene/config.h"
 #include "grid.h"
 
+/* The kind of device the structure is for, as far as the choice is concerned: a GPU; a CPU device
+ * (lavapipe) whose traversal reads texel buffers (its default); a CPU device reading storage
+ * buffers (`--loads storage`). */
+typedef enum accel_device {
+    ACCEL_DEVICE_GPU,
+    ACCEL_DEVICE_CPU_TEXELS,
+    ACCEL_DEVICE_CPU_STORAGE,
+} accel_device;
+
 typedef struct accel_choice {
     vkrt_accel_kind kind;   /* never VKRT_ACCEL_AUTO */
     char reason[256];       /* one sentence for --verbose and the summary */
@@ -28,12 +38,16 @@ typedef struct accel_choice {
 /* At or below this many triangles brute force is chosen without building anything. */
 uint32_t accel_brute_force_limit(void);
 
-/* True when the choice for this scene and device needs the grid's statistics: above the brute
- * force limit on a CPU device. (Elsewhere the BVH wins either way, so no grid is built.) */
-bool accel_choice_needs_grid(uint32_t triangle_count, bool cpu_device);
+/* Up to this many triangles a CPU device reading texel buffers gets the kd-tree. */
+uint32_t accel_kdtree_limit(void);
 
-/* Chooses for a scene of triangle_count triangles on a CPU or GPU device. g is the scene's grid at
- * the default density when accel_choice_needs_grid said so, else NULL. */
-accel_choice accel_choose(uint32_t triangle_count, bool cpu_device, const grid *g);
+/* True when the choice for this scene and device needs the grid's statistics: above the brute
+ * force limit on a CPU device reading storage buffers. (Elsewhere the grid loses either way, so
+ * no grid is built.) */
+bool accel_choice_needs_grid(uint32_t triangle_count, accel_device device);
+
+/* Chooses for a scene of triangle_count triangles on a device of that kind. g is the scene's grid
+ * at the default density when accel_choice_needs_grid said so, else NULL. */
+accel_choice accel_choose(uint32_t triangle_count, accel_device device, const grid *g);
 
 #endif

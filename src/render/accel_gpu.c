@@ -269,15 +269,17 @@ bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel
     snprintf(s->reason, sizeof s->reason, "asked for");
     if (kind == VKRT_ACCEL_AUTO) {
         double start = vkrt_clock_ms();
-        /* Whether the grid competes with the BVH is the tuning's (tuning.c). */
-        bool cpu_device = desc->grid_competes;
-        if (accel_choice_needs_grid(triangle_count, cpu_device)) {
+        /* Which structures compete is the tuning's (tuning.c). */
+        accel_device device = desc->grid_competes     ? ACCEL_DEVICE_CPU_STORAGE
+                              : desc->kdtree_competes ? ACCEL_DEVICE_CPU_TEXELS
+                                                      : ACCEL_DEVICE_GPU;
+        if (accel_choice_needs_grid(triangle_count, device)) {
             /* The rule's thresholds were measured at the default density. */
             if (!grid_build(&g, positions, triangle_count, NULL, err))
                 return false;
             have_grid = true;
         }
-        accel_choice c = accel_choose(triangle_count, cpu_device, have_grid ? &g : NULL);
+        accel_choice c = accel_choose(triangle_count, device, have_grid ? &g : NULL);
         kind = c.kind;
         memcpy(s->reason, c.reason, sizeof s->reason);
         s->choose_ms = vkrt_clock_ms() - start;

@@ -69,6 +69,7 @@ typedef struct vkrt_accel_desc {
                                  0: accel_gpu.c's default */
     float kd_traversal_cost;  /* the kd-tree's K_T / K_I; 0: kdtree.h's default */
     bool grid_competes;       /* auto weighs the grid against the BVH (vkrt_tuning) */
+    bool kdtree_competes;     /* auto takes the kd-tree for scenes it builds fast (vkrt_tuning) */
     vkrt_bvh_splits bvh_splits; /* auto (0): both trees built (up to a size; the plain one only
                                    where the split one took a spatial split), the spatial
                                    splits' kept when its SAH cost is lower by a margin */

@@ -78,6 +78,8 @@ vkrt_tuning vkrt_tuning_choose(bool cpu_device, bool llvmpipe, const vkrt_tuning
     /* The grid traced about as fast as the BVH only on a CPU device reading storage buffers; with
      * texel loads, as on GPUs, the BVH was 1.5 to 3.9 times faster on every scene measured. */
     t.grid_competes = cpu_device && !t.texel_loads;
+    /* The kd-tree outran the BVH on a CPU device reading texel buffers (src/accel/choose.c). */
+    t.kdtree_competes = cpu_device && t.texel_loads;
     return t;
 }
 

@@ -57,6 +57,7 @@ typedef struct vkrt_tuning {
     bool texel_loads_required;/* asked for: an error where they cannot hold them */
     bool nested_walk;
     bool grid_competes;       /* accel auto weighs the grid against the BVH */
+    bool kdtree_competes;     /* accel auto takes the kd-tree up to accel_kdtree_limit */
     uint32_t loop_budget;     /* loop iterations an invocation may run in all (0: no limit) */
     uint32_t brute_force_block; /* triangles per brute-force dispatch */
     float min_importance;     /* a cast ray weaker than this (largest channel) is dropped */
