@@ -8,8 +8,9 @@ evaluates and samples the BSDFs (its diffuse, conductor and dielectric), the lig
 spot, directional, area, constant and envmap emitters), the textures (its bitmap) and the
 camera (its perspective sensor and box filter). What Mitsuba lacks is written here, small: the
 Blinn-Phong BRDF, vkrt's two-sided convention (the side is the triangle's, not the interpolated
-normal's), the unshadowed ambient light, and the Whitted integrator that stops at the first
-diffuse surface. docs/speed-vs-accuracy.md lists what matches exactly and what cannot."""
+normal's) and its rule for normals bent by a normal or height map (Mitsuba's adapters treat one
+bent away from the viewer otherwise), the unshadowed ambient light, and the Whitted integrator
+that stops at the first diffuse surface. docs/speed-vs-accuracy.md lists what matches exactly and what cannot."""
 import os
 
 import numpy as np
