@@ -12,7 +12,9 @@ conventions give (docs/materials.md, docs/scene-format.md, docs/speed-vs-accurac
   `integrator auto` picks path for it;
 - whitted mode: an emissive square lights a floor under it with the closed form's irradiance
   (vkrt's Whitted samples emissive geometry as a light);
-- the environment map's orientation and `rotate` (docs/scene-format.md, environment-map).
+- the environment map's orientation and `rotate` (docs/scene-format.md, environment-map);
+- the surface maps (docs/materials.md, "Normal, bump and emission maps"): a height map's
+  displaced normal, a normal map's green as +v (mirrored uv included) and -bm, and map_Ke.
 
 Skipped (77) where the repository's .venv has no Mitsuba (tools/setup-python makes it).
     usage: test_reference.py"""
@@ -162,8 +164,73 @@ def environment_map(folder):
         expect(name, image, np.array(value, np.float32), 0.02)
 
 
+def write_png(folder, name, texels):
+    import mitsuba as mi
+    mi.set_variant("scalar_rgb")
+    mi.Bitmap(np.ascontiguousarray(texels, np.uint8),
+              pixel_format=mi.Bitmap.PixelFormat.RGB).write(os.path.join(folder, name))
+
+
+# The quad with uv (0, 0) to (1, 1) at its corners: dp/du = 2 x, dp/dv = 2 y.
+QUAD_UV = QUAD + "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+# A directional light of irradiance pi from direction l (towards the light): a Lambertian Kd
+# shows Kd x max(0, n . l) for a shading normal n.
+def lit_from(light):
+    return ("light directional {} {} {}  3.14159265 3.14159265 3.14159265\n"
+            .format(*(-np.asarray(light))))
+
+
+def height_map(folder):
+    """`map_Bump -bm 2` of a ramp of 8 columns, 32 k / 255 in column k: the slope is
+    dh/du = 8 x 32 / 255 per unit of u wherever the view falls (u from 0.24 to 0.76, away from
+    the wrap). The displaced surface's normal is (2 x + 2 dh/du z) x (2 y) ~ (-dh/du, 0, 1); lit
+    from (-1, 0, 1) it shows 0.5 (Kd) x the cosine."""
+    write_png(folder, "ramp.png", np.repeat(np.repeat(np.arange(8, dtype=np.uint8)[None, :, None]
+                                                      * 32, 2, axis=0), 3, axis=2))
+    slope = 8 * 32 / 255
+    n = np.array([-slope, 0.0, 1.0]) / np.hypot(slope, 1.0)
+    light = np.array([-1.0, 0.0, 1.0]) / np.sqrt(2.0)
+    image, _ = render(folder, "height-map", QUAD_UV + "usemtl b\nf 1/1 2/2 3/3 4/4\n",
+                      "newmtl b\nKd 0.5 0.5 0.5\nmap_Bump -bm 2 ramp.png\n",
+                      FRONT + lit_from(light), spp=4, integrator="whitted")
+    expect("height-map", image, 0.5 * float(np.dot(n, light)), 0.01)
+
+
+def normal_map(folder):
+    """`norm -bm 0.5` of one texel (128, 204, 230): the tangent-space normal (0.004, 0.6, 0.804)
+    with x and y halved, in the frame (dp/du, the bitangent, n): green is +v (the OpenGL
+    convention), so the normal leans to +y, and lit from (0, 0.6, 0.8) the quad shows 0.5 (Kd)
+    x the cosine. With u mirrored (dp/du = -2 x) vkrt mirrors the bitangent with it: green is
+    still +v, the same picture; were green -v, the cosine would be 0.37 against 0.92."""
+    write_png(folder, "tilt.png", np.full((2, 2, 3), (128, 204, 230), np.uint8))
+    c = 2.0 * np.array([128, 204, 230]) / 255.0 - 1.0
+    light = np.array([0.0, 0.6, 0.8])
+    mtl = "newmtl n\nKd 0.5 0.5 0.5\nnorm -bm 0.5 tilt.png\n"
+    for name, vt, tangent in (("normal-map", "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n", 1.0),
+                              ("normal-map-mirrored", "vt 1 0\nvt 0 0\nvt 0 1\nvt 1 1\n", -1.0)):
+        n = np.array([0.5 * c[0] * tangent, 0.5 * c[1], c[2]])
+        n /= np.linalg.norm(n)
+        image, _ = render(folder, name, QUAD + vt + "usemtl n\nf 1/1 2/2 3/3 4/4\n", mtl,
+                          FRONT + lit_from(light), spp=4, integrator="whitted")
+        expect(name, image, 0.5 * float(np.dot(n, light)), 0.01)
+
+
+def emission_map(folder):
+    """Path mode: a lamp whose map_Ke is one grey texel of 128 (0.2159 decoded from sRGB) shows
+    Ke x 0.2159 from its front, and the map alone (Ke 1) without a Ke line."""
+    write_png(folder, "grey.png", np.full((2, 2, 3), 128, np.uint8))
+    grey = ((128 / 255 + 0.055) / 1.055) ** 2.4
+    for name, ke, value in (("map-ke", "Ke 2 2 2\n", 2 * grey), ("map-ke-alone", "", grey)):
+        image, _ = render(folder, name, QUAD_UV + "usemtl lamp\nf 1/1 2/2 3/3 4/4\n",
+                          f"newmtl lamp\nKd 0 0 0\n{ke}map_Ke grey.png\n", FRONT, spp=4)
+        expect(name, image, value, 0.01)
+
+
 def main():
     with tempfile.TemporaryDirectory() as folder:
+        height_map(folder)
+        normal_map(folder)
+        emission_map(folder)
         mirrors(folder)
         texture_without_vt(folder)
         bent_normals(folder)

@@ -8,8 +8,9 @@ evaluates and samples the BSDFs (its diffuse, conductor and dielectric), the lig
 spot, directional, area, constant and envmap emitters), the textures (its bitmap) and the
 camera (its perspective sensor and box filter). What Mitsuba lacks is written here, small: the
 Blinn-Phong BRDF, vkrt's two-sided convention (the side is the triangle's, not the interpolated
-normal's), the unshadowed ambient light, and the Whitted integrator that stops at the first
-diffuse surface. docs/speed-vs-accuracy.md lists what matches exactly and what cannot."""
+normal's) and its rule for normals bent by a normal or height map (Mitsuba's adapters treat one
+bent away from the viewer otherwise), the unshadowed ambient light, and the Whitted integrator
+that stops at the first diffuse surface. docs/speed-vs-accuracy.md lists what matches exactly and what cannot."""
 import os
 
 import numpy as np
@@ -134,6 +135,23 @@ class Material:
         self.map_kd = self.map_d = None
         self.roughness = 0.0  # a material file's number 16 (the rough built-ins)
         self.coat, self.coat_roughness = 0.0, 0.0  # numbers 18 and 19: the clear coat
+        # The maps that change the surface (docs/materials.md, "Normal, bump and emission maps"):
+        # `norm`, `map_Bump`/`bump` with the -bm of the statement that names the map used, and
+        # map_Ke; ke_given: without a Ke line a map_Ke is the emission itself (Ke 1 1 1).
+        self.norm = self.map_bump = self.map_ke = None
+        self.norm_bm = self.bump_bm = 1.0
+        self.ke_given = False
+
+    def detail_map(self):
+        """(path, kind, -bm) of the map that bends the normal, kind "normal" or "height", or
+        None: `norm` wins over map_Bump, and a map_Bump whose image reads as a normal map is one
+        (vkrt's test, looks_like_normal_map)."""
+        if self.norm:
+            return self.norm, "normal", self.norm_bm
+        if self.map_bump:
+            kind = "normal" if looks_like_normal_map(self.map_bump) else "height"
+            return self.map_bump, kind, self.bump_bm
+        return None
 
     def builtin(self):
         """The built-in shader vkrt maps this material to (docs/materials.md's table)."""
@@ -180,6 +198,7 @@ def read_mtl(path, materials):
                 continue
             elif key in ("Kd", "Ks", "Ke", "Tf") and len(args) >= 3:
                 setattr(m, key.lower(), [float(x) for x in args[:3]])
+                m.ke_given |= key == "Ke"
             elif key == "Ns":
                 m.ns = float(args[0])
             elif key == "Ni":
@@ -194,6 +213,23 @@ def read_mtl(path, materials):
                 m.map_kd = find_file(folder, args[-1])
             elif key == "map_d":
                 m.map_d = find_file(folder, args[-1])
+            elif key == "norm":
+                m.norm, m.norm_bm = find_file(folder, args[-1]), bump_multiplier(args)
+            elif key in ("map_Bump", "map_bump", "bump"):  # the last statement wins, as in vkrt
+                m.map_bump, m.bump_bm = find_file(folder, args[-1]), bump_multiplier(args)
+            elif key == "map_Ke":
+                m.map_ke = find_file(folder, args[-1])
+    for m in materials.values():
+        if m.map_ke and not m.ke_given:
+            m.ke = [1.0, 1.0, 1.0]
+
+
+def bump_multiplier(args):
+    """A map statement's `-bm S` (1 without one); the file name is its last word."""
+    for i, word in enumerate(args[:-2]):
+        if word == "-bm":
+            return float(args[i + 1])
+    return 1.0
 
 
 BUILTINS = ("diffuse", "textured", "phong", "mirror", "glass", "emissive", "roughconductor",
@@ -336,6 +372,75 @@ def coverage_texture(path):
             "wrap_mode": "repeat"}
 
 
+def data_texels(path):
+    """An image's texels as stored (8-bit as /255, no sRGB decoding): how vkrt reads normal and
+    height maps. [h, w, 3] float32, the top row first; a grey image as three equal channels."""
+    source = mi.Bitmap(path)
+    source.set_srgb_gamma(False)
+    return np.array(source.convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32,
+                                   srgb_gamma=False), np.float32)
+
+
+def looks_like_normal_map(path):
+    """vkrt's test of a map_Bump image (src/scene/texture.c, vkrt_texture_is_normal_map): a
+    tangent-space normal map averages to about (0.5, 0.5, 1), red and green within 0.25 of 0.5,
+    blue above 0.8 and 0.2 above both; a grey or colour height map does not."""
+    r, g, b = data_texels(path).reshape(-1, 3).mean(axis=0, dtype=np.float64)
+    return abs(r - 0.5) < 0.25 and abs(g - 0.5) < 0.25 and b > 0.8 and b > max(r, g) + 0.2
+
+
+def data_texture(texels):
+    return {"type": "bitmap", "bitmap": mi.Bitmap(np.ascontiguousarray(texels, np.float32)),
+            "raw": True, "filter_type": "bilinear", "wrap_mode": "repeat"}
+
+
+def surface_map(path, kind, multiplier, mirrored):
+    """The properties that make vkrt_twosided bend its normal by a normal or height map (its
+    _mapped_normal says how), or for smooth glass, which is not wrapped in it, Mitsuba's own
+    adapter (`bumpmap`, `normalmap`) as a dict without its nested "bsdf".
+    Height map: the mean of the channels (vkrt's height; Mitsuba's bumpmap would read the
+    luminance), times -bm. Normal map: -bm scales x and y, which is linear in the texel, so it is
+    baked into the texels; so is vkrt's mirroring of the bitangent on triangles whose uv are
+    mirrored (green inverted): the frame built from Mitsuba's dp/du has t = n x s always."""
+    texels = data_texels(path)
+    if kind == "height":
+        return {"height": data_texture(texels.mean(axis=2, keepdims=True)),
+                "bump_scale": float(multiplier)}
+    xy = 2.0 * texels[..., :2] - 1.0
+    xy *= np.float32(multiplier)
+    if mirrored:
+        xy[..., 1] = -xy[..., 1]
+    texels[..., :2] = 0.5 * (xy + 1.0)
+    return {"normal_map": data_texture(texels)}
+
+
+def with_surface_map(bsdf, mapping):
+    """bsdf with a surface_map: given to vkrt_twosided (inside a mask, if any), which maps on the
+    front side and turns the result to the viewer's side as vkrt does. Smooth glass, two-sided
+    already and not wrapped, gets Mitsuba's adapter around it (with its own rules for normals
+    that face away, and its shadow terminator term off)."""
+    if bsdf["type"] == "mask":
+        return {**bsdf, "bsdf": with_surface_map(bsdf["bsdf"], mapping)}
+    if bsdf["type"] == "vkrt_twosided":
+        return {**bsdf, **mapping}
+    if "height" in mapping:
+        adapter = {"type": "bumpmap", "texture": mapping["height"],
+                   "scale": mapping["bump_scale"]}
+    else:
+        adapter = {"type": "normalmap", "normalmap": mapping["normal_map"]}
+    return {**adapter, "use_shadowing_function": False, "bsdf": bsdf}
+
+
+def uv_orientation(tris):
+    """Per triangle: +1 where its uv keep the winding, -1 where they mirror it, 0 where they are
+    degenerate (on a line, or none: vkrt keeps the normal there). The sign of the uv determinant
+    is that of (dp/du x dp/dv) . (the counter-clockwise normal)."""
+    uv = tris["uv"]
+    d1, d2 = uv[:, 1] - uv[:, 0], uv[:, 2] - uv[:, 0]
+    det = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
+    return np.sign(det).astype(np.int64)
+
+
 def two_sided(bsdf, reads_wi=False):
     """vkrt's two-sided surface around a one-sided BSDF (VkrtTwoSided, below)."""
     return {"type": "vkrt_twosided", "bsdf": bsdf, "reads_wi": reads_wi}
@@ -448,7 +553,7 @@ def mesh_for(name, tris, with_normals, bsdf, emission):
     props = mi.Properties()
     props["bsdf"] = mi.load_dict(bsdf)
     if emission is not None:
-        props["emitter"] = mi.load_dict({"type": "area", "radiance": rgb(emission)})
+        props["emitter"] = mi.load_dict({"type": "area", "radiance": emission})
     mesh = mi.Mesh(name, 3 * count, count, props=props, has_vertex_normals=with_normals,
                    has_vertex_texcoords=True)
     params = mi.traverse(mesh)
@@ -532,16 +637,30 @@ def scene_dict(cfg, frame=0, width=None, height=None, spp=64, seed=0, max_depth=
     for i, (name, tris) in enumerate(groups.items()):
         m = used[name]
         bsdf = bsdf_for(m, notes)
-        emission = m.ke if any(m.ke) else None
+        # map_Ke: Mitsuba's area emitter takes a texture as its radiance (Ke x the map, decoded
+        # from sRGB as map_Kd); it draws points by area, vkrt by the map's mean: the same light.
+        emission = None
+        if any(m.ke):
+            emission = texture_times(m.map_ke, m.ke) if m.map_ke else rgb(m.ke)
+        # Triangles whose uv are degenerate keep their normal in vkrt; mirrored ones mirror a
+        # normal map's bitangent: each kind is its own mesh, with its own adapter.
+        detail = m.detail_map()
+        orientation = (uv_orientation(tris) if detail else np.zeros(len(tris["p"]), np.int64))
+        if detail and detail[1] == "height":
+            orientation = np.abs(orientation)  # a height map has no bitangent to mirror
+        bsdfs = {0: bsdf}
+        for o in set(orientation.tolist()) - {0}:
+            bsdfs[o] = with_surface_map(bsdf, surface_map(*detail, mirrored=o < 0))
         has_n = tris["has_n"]
         for with_normals in (True, False):
-            pick = has_n if with_normals else ~has_n
-            if not pick.any():
-                continue
-            part = {"p": tris["p"][pick], "uv": tris["uv"][pick],
-                    "n": None if tris["n"] is None else tris["n"][pick]}
-            scene[f"mesh{i}_{int(with_normals)}"] = mesh_for(f"{name}", part, with_normals, bsdf,
-                                                             emission)
+            for o, part_bsdf in bsdfs.items():
+                pick = (has_n if with_normals else ~has_n) & (orientation == o)
+                if not pick.any():
+                    continue
+                part = {"p": tris["p"][pick], "uv": tris["uv"][pick],
+                        "n": None if tris["n"] is None else tris["n"][pick]}
+                scene[f"mesh{i}_{int(with_normals)}_{o + 1}"] = mesh_for(
+                    f"{name}", part, with_normals, part_bsdf, emission)
     ambient = np.zeros(3)
     for k, (kind, light) in enumerate(cfg.lights):
         if kind == "ambient":
@@ -609,56 +728,119 @@ class VkrtTwoSided(mi.BSDF):
     frame) when the shading normal must be turned, as Mitsuba's twosided mirrors them. A viewer
     that is then still below the shading normal, which vkrt's Lambertian lobe ignores, is moved
     onto it for Mitsuba's BSDFs (which would return nothing); the Blinn-Phong BSDF (reads_wi)
-    reads the true direction, as vkrt's does."""
+    reads the true direction, as vkrt's does.
+
+    With a normal map (`normal_map`) or a height map (`height`, `bump_scale`) the nested BSDF
+    sees the mapped normal instead (_mapped_normal), turned to the viewer's side and kept in
+    front of the geometric normal and the viewer as vkrt keeps it."""
 
     def __init__(self, props):
         mi.BSDF.__init__(self, props)
         self.nested = props["bsdf"]
         self.reads_wi = bool(props.get("reads_wi", False))
+        self.normal_map = props["normal_map"] if props.has_property("normal_map") else None
+        self.height = props["height"] if props.has_property("height") else None
+        self.bump_scale = float(props.get("bump_scale", 1.0))
         sides = mi.BSDFFlags.FrontSide | mi.BSDFFlags.BackSide
         self.m_components = [self.nested.flags(i) | sides
                              for i in range(self.nested.component_count())]
         self.m_flags = self.nested.flags() | sides
 
-    def _sides(self, si):
-        """(flip, viewer's side of the geometric normal, the geometric normal, the nested si)."""
+    def _mapped_normal(self, si, active):
+        """The map's normal on the front side (that of si.sh_frame.n, the OBJ's normal turned
+        to the counter-clockwise side by read_obj, or the winding's), in world space, from
+        Mitsuba's texture lookups and dp/du, dp/dv (of its uv, whose v is the OBJ's flipped:
+        both flips cancel in the normal). Normal map: (2 rgb - 1) in (s, t, n), s = dp/du made
+        orthogonal to n, t = n x s (+v of the OBJ: green up, the OpenGL convention). Height map:
+        the surface displaced by bump_scale x height along n, n' = (dp/du + dh/du n) x (dp/dv +
+        dh/dv n) with dp/du, dp/dv made orthogonal to n (Mitsuba's bumpmap's frame), turned to
+        n's side; dh/du and dh/dv by _height_slope."""
+        n = si.sh_frame.n
+        su = dr.normalize(si.dp_du - n * dr.dot(n, si.dp_du))
+        if self.normal_map is not None:
+            c = self.normal_map.eval(si, active) * 2.0 - 1.0
+            m = su * c.x + dr.cross(n, su) * c.y + n * c.z
+        else:
+            g = self.bump_scale * self._height_slope(si, active)
+            du = si.dp_du + n * (g.x - dr.dot(n, si.dp_du))
+            dv = si.dp_dv + n * (g.y - dr.dot(n, si.dp_dv))
+            m = dr.cross(du, dv)
+            m = dr.select(dr.dot(m, n) < 0, -m, m)
+        length = dr.norm(m)
+        ok = (length > 0) & dr.isfinite(length)
+        return dr.select(ok, m / dr.select(ok, length, 1.0), n)
+
+    def _height_slope(self, si, active):
+        """(dh/du, dh/dv) as vkrt takes them: central differences of the bilinear lookups half a
+        texel either side (the slope of a ramp exactly). Mitsuba's bumpmap takes the bitmap's
+        eval_1_grad, the derivative of the bilinear interpolant, which differs where the slope
+        changes inside a texel: with it Sponza read +0.16% brighter in the mean (research/
+        journal.md, "Surface maps in the reference")."""
+        size = mi.Vector2f(self.height.resolution())
+
+        def h(du, dv):
+            at = mi.SurfaceInteraction3f(si)
+            at.uv = si.uv + mi.Vector2f(du, dv)
+            return self.height.eval_1(at, active)
+
+        return mi.Vector2f((h(0.5 / size.x, 0.0) - h(-0.5 / size.x, 0.0)) * size.x,
+                           (h(0.0, 0.5 / size.y) - h(0.0, -0.5 / size.y)) * size.y)
+
+    def _sides(self, si, active=True):
+        """(to_inner, to_outer, viewer's side of the geometric normal, the geometric normal, the
+        nested si): directions in si's frame to the nested BSDF's frame and back."""
         ng = si.to_local(si.n)
         side = dr.dot(si.wi, ng)
         flip = side * ng.z < 0
         inner = mi.SurfaceInteraction3f(si)
-        wi = _flip_z(si.wi, flip)
-        if not self.reads_wi:
-            wi = dr.normalize(mi.Vector3f(wi.x, wi.y, dr.maximum(wi.z, 1e-4)))
-        inner.wi = wi
-        return flip, side, ng, inner
+        if self.normal_map is None and self.height is None:
+            wi = _flip_z(si.wi, flip)
+            if not self.reads_wi:
+                wi = dr.normalize(mi.Vector3f(wi.x, wi.y, dr.maximum(wi.z, 1e-4)))
+            inner.wi = wi
+            return (lambda v: _flip_z(v, flip)), (lambda v: _flip_z(v, flip)), side, ng, inner
+        # vkrt (glsl/lib/surface.glsl): the map's normal on the front side, turned to the
+        # viewer's, then kept at least a cosine of 0.01 in front of the geometric normal and
+        # then of the viewer (guard_mapped_normal, surface_maps.glsl).
+        wi = si.to_world(si.wi)
+        facing = dr.select(dr.dot(wi, si.n) < 0, -1.0, 1.0)
+        n_g = si.n * facing
+        n = self._mapped_normal(si, active) * facing
+        for towards in (n_g, wi):
+            c = dr.dot(n, towards)
+            n = dr.select(c < 0.01, dr.normalize(n + (0.01 - c) * towards), n)
+        inner.sh_frame = mi.Frame3f(n)
+        inner.wi = inner.to_local(wi)
+        return ((lambda v: inner.to_local(si.to_world(v))),
+                (lambda v: si.to_local(inner.to_world(v))), side, ng, inner)
 
     def eval(self, ctx, si, wo, active=True):
-        flip, side, ng, inner = self._sides(si)
+        to_inner, _, side, ng, inner = self._sides(si, active)
         ok = active & (dr.dot(wo, ng) * side > 0)
-        return dr.select(ok, self.nested.eval(ctx, inner, _flip_z(wo, flip), ok), 0.0)
+        return dr.select(ok, self.nested.eval(ctx, inner, to_inner(wo), ok), 0.0)
 
     def pdf(self, ctx, si, wo, active=True):
-        flip, side, ng, inner = self._sides(si)
+        to_inner, _, side, ng, inner = self._sides(si, active)
         ok = active & (dr.dot(wo, ng) * side > 0)
-        return dr.select(ok, self.nested.pdf(ctx, inner, _flip_z(wo, flip), ok), 0.0)
+        return dr.select(ok, self.nested.pdf(ctx, inner, to_inner(wo), ok), 0.0)
 
     def eval_pdf(self, ctx, si, wo, active=True):
-        flip, side, ng, inner = self._sides(si)
+        to_inner, _, side, ng, inner = self._sides(si, active)
         ok = active & (dr.dot(wo, ng) * side > 0)
-        f, pdf = self.nested.eval_pdf(ctx, inner, _flip_z(wo, flip), ok)
+        f, pdf = self.nested.eval_pdf(ctx, inner, to_inner(wo), ok)
         return dr.select(ok, f, 0.0), dr.select(ok, pdf, 0.0)
 
     def sample(self, ctx, si, sample1, sample2, active=True):
-        flip, side, ng, inner = self._sides(si)
+        _, to_outer, side, ng, inner = self._sides(si, active)
         bs, weight = self.nested.sample(ctx, inner, sample1, sample2, active)
-        bs.wo = _flip_z(bs.wo, flip)
+        bs.wo = to_outer(bs.wo)
         # vkrt ends a path whose sampled direction would go through the geometric surface.
         ok = active & (dr.dot(bs.wo, ng) * side > 0)
         bs.pdf = dr.select(ok, bs.pdf, 0.0)
         return bs, dr.select(ok, weight, 0.0)
 
     def eval_diffuse_reflectance(self, si, active=True):
-        return self.nested.eval_diffuse_reflectance(self._sides(si)[3], active)
+        return self.nested.eval_diffuse_reflectance(self._sides(si, active)[4], active)
 
     def traverse(self, callback):
         pass
