@@ -312,6 +312,7 @@ def main():
     startup = startup_section()
     startup_cpu = startup_section(STARTUP_CPU)
     tiled_cpu = tiled_startup_section()
+    tiled_quiet = tiled_startup_section(f"{STARTUP_CPU}/tiled-3x3-quiet-log.txt")
     plain_ms, glossy_ms = glossy_section()
     embree = load(EMBREE)
     m = embree["machine"]
@@ -498,6 +499,13 @@ work, now cut into chunks of 4 MiB that any number of cores share (identical mes
 What it gains on 16 free cores is `research/gpu-run big-startup`'s to say.
 
 {tiled_cpu}
+
+The same scene and command on a quiet machine (load average under 1; main after the split
+arrays and the spatial splits, `{STARTUP_CPU}/tiled-3x3-quiet-log.txt`): 4.95 s cold and
+3.8-4.0 s warm from start to PNG; the OBJ 1.1-1.25 s on the two cores, the BVH 0.76-0.86 s, the
+rest of the renderer (uploads, and lavapipe making its pipelines) 1.2-2.1 s:
+
+{tiled_quiet}
 
 ## A flythrough on the H200 (issue 22)
 
