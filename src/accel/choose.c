@@ -9,8 +9,11 @@
  * Sibenik and the grid 29% on the teapot; the grid built two to three times faster, and the BVH
  * was again about 100 times faster in the stadium. Those lavapipe figures are of traversal reading
  * storage buffers; reading triangles and nodes through texel buffers (vkrt_loads, lavapipe's
- * default since) made the BVH 1.5 to 3.9 times faster than the grid on every scene, so the grid is
- * weighed only on a CPU device that reads storage buffers. What separates the
+ * default since) made the BVH 1.5 to 3.9 times faster than the grid on every scene in that
+ * session's measurement, so the grid is weighed only on a CPU device that reads storage buffers
+ * (on texel loads the kd-tree is taken instead, below; a quiet 2026-12-02 table,
+ * research/results/kdtree-lavapipe-quiet/, has the grid level with the BVH on some scenes and
+ * behind the kd-tree on all but the smallest). What separates the
  * stadium is how much of the scene sits in crowded cells: there the grid tests every triangle of
  * a cell for each ray that crosses it, while a BVH keeps subdividing.
  *

@@ -7,10 +7,9 @@
  * teapot in a stadium) gets the BVH everywhere. An evenly spread scene gets the grid on a CPU
  * device whose traversal reads storage buffers, where it traced about as fast as the BVH (each
  * ahead on some scenes) and builds two to three times faster, and the BVH otherwise: on a GPU it
- * traced 1.2 to 2.1 times faster than the grid on every scene measured, and on lavapipe with
- * texel loads (the default there) 1.5 to 3.9 times (research/journal.md). On a CPU device
- * reading texel buffers the kd-tree outran the BVH (choose.c says by how much), up to a size past
- * which its slower build would eat the gain.
+ * traced 1.2 to 2.1 times faster than the grid on every scene measured. On a CPU device reading
+ * texel buffers (lavapipe's default) the kd-tree outran both (choose.c says by how much), up to
+ * a size past which its slower build would eat the gain.
  */
 #ifndef VKRT_ACCEL_CHOOSE_H
 #define VKRT_ACCEL_CHOOSE_H
