@@ -51,6 +51,22 @@ static const char *first_emitter(const vkrt_scene_materials *mats)
 /* The integrator: asked for (desc, else the scene's `integrator`), or chosen from the scene's
  * lights. Light from geometry or from an environment map needs the path tracer; a scene lit by
  * point, spot and directional lights alone keeps Whitted's picture (and its speed). */
+/* How many different shaders the materials that triangles can have use (the environment's
+ * apart). */
+static uint32_t surface_shaders(const vkrt_scene_materials *mats)
+{
+    uint32_t count = 0;
+    for (uint32_t i = 0; i < mats->count; ++i) {
+        if (i == mats->environment)
+            continue;
+        bool seen = false;
+        for (uint32_t j = 0; j < i && !seen; ++j)
+            seen = j != mats->environment && mats->list[j].shader == mats->list[i].shader;
+        count += !seen;
+    }
+    return count;
+}
+
 static void choose_integrator(vkrt_renderer *r, const vkrt_render_desc *desc,
                               const vkrt_scene *scene, const vkrt_scene_materials *mats)
 {
@@ -166,6 +182,9 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
     if (r->integrator == VKRT_INTEGRATOR_PATH)
         r->max_depth += 1;
     r->light_sampling = desc->light_sampling;
+    /* Grouping hits by shader pays only where hits of different shaders can share a subgroup. */
+    r->material_order = r->tuning.material_order && ok && surface_shaders(mats) > 1 &&
+                        r->max_depth >= VKRT_ORDER_FIRST_DEPTH;
     const vkrt_tuning *t = &r->tuning;
     const vkrt_accel_desc accel = {
         .kind = desc->accel,
@@ -262,7 +281,7 @@ void vkrt_renderer_destroy(vkrt_renderer *r)
 {
     if (!r)
         return;
-    gpu_pipeline *pipelines[] = {&r->adapt_dispatch, &r->adapt, &r->shade, &r->prepare, &r->count,
+    gpu_pipeline *pipelines[] = {&r->order, &r->adapt_dispatch, &r->adapt, &r->shade, &r->prepare, &r->count,
                                  &r->occlusion,      &r->light, &r->trace, &r->raygen};
     for (size_t i = 0; i < sizeof pipelines / sizeof *pipelines; ++i)
         gpu_pipeline_destroy(r->ctx, pipelines[i]);

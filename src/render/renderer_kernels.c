@@ -117,6 +117,7 @@ bool renderer_create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoo
         {VKRT_SPEC_SPLIT_NODES, renderer_split_shift(r, VKRT_SPLIT_NODES)},
         {VKRT_SPEC_SPLIT_REFS, renderer_split_shift(r, VKRT_SPLIT_REFS)},
         {VKRT_SPEC_SPLIT_TEXELS, renderer_split_shift(r, VKRT_SPLIT_TEXELS)},
+        {VKRT_SPEC_MATERIAL_ORDER, r->material_order},
     };
     const uint32_t count = sizeof constants / sizeof *constants;
     const kernel_spec wave = {workgroup_size, constants, count};
@@ -133,6 +134,7 @@ bool renderer_create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoo
            create_kernel(r, &r->prepare, "prepare.comp", &single, err) &&
            create_material_kernel(r, &r->count, "count.comp", kernel, mats, &wave, err) &&
            create_material_kernel(r, &r->shade, "shade.comp", kernel, mats, &wave, err) &&
+           (!r->material_order || create_kernel(r, &r->order, "order.comp", &wave, err)) &&
            /* Adaptive sampling's kernels only where there is a target error. */
            (r->target_error <= 0 ||
             (create_kernel(r, &r->adapt, "adapt.comp", &wave, err) &&

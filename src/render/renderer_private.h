@@ -16,6 +16,7 @@ struct vkrt_renderer {
     gpu_storage_set set;
     vkrt_accel_gpu accel;     /* the structure, its statistics and the triangle order */
     gpu_pipeline raygen, trace, light, occlusion, count, prepare, shade;
+    gpu_pipeline order;       /* where material_order (order.comp) */
     gpu_pipeline adapt, adapt_dispatch; /* with a target error only (renderer_adaptive.c) */
     gpu_buffer rays, rays_b, hits, materials, lights, image, counters, waves, visibility, slots,
         texture_infos;
@@ -25,6 +26,8 @@ struct vkrt_renderer {
     gpu_array triangles, normals, texcoords, triangle_material, texels;
     gpu_buffer split_addresses;
     bool split;               /* an array is split: the kernels are compiled to read chunks */
+    bool material_order;      /* each bounce's hits grouped by shader (glsl/order.comp) */
+    gpu_buffer order_buffer;  /* its bins and the grouped order (minimal without it) */
     gpu_buffer emitters;      /* LightInfo, then the alias table over emissive triangles */
     gpu_buffer environment;   /* the environment map's sampling distribution */
     /* Adaptive sampling's PixelStats, ActivePixels and per-sample luminance (bindings.glsl);
