@@ -138,6 +138,20 @@ static uint32_t material_cutout(const vkrt_scene_materials *mats, uint32_t m)
     return VKRT_CUTOUT_NONE;
 }
 
+bool renderer_scan_materials(vkrt_renderer *r, const vkrt_scene_materials *mats,
+                             vkrt_error *err)
+{
+    r->material_cutouts = calloc(mats->count ? mats->count : 1, sizeof *r->material_cutouts);
+    if (!r->material_cutouts)
+        return vkrt_error_set(err, "out of memory");
+    for (uint32_t i = 0; i < mats->count; ++i) {
+        r->material_cutouts[i] = material_cutout(mats, i);
+        r->has_cutouts |= r->material_cutouts[i] != VKRT_CUTOUT_NONE;
+        r->surface_maps |= mats->list[i].maps;
+    }
+    return true;
+}
+
 bool renderer_upload_materials(vkrt_renderer *r, const vkrt_scene_materials *mats,
                                const vkrt_material_kernel *kernel, vkrt_error *err)
 {
@@ -158,12 +172,10 @@ bool renderer_upload_materials(vkrt_renderer *r, const vkrt_scene_materials *mat
         g->info = (uvec4){m->shader,
                           (kernel->shader_uses_lights[m->shader] ? VKRT_MATERIAL_USES_LIGHTS : 0) |
                               m->maps,
-                          m->texture_count, material_cutout(mats, i)};
+                          m->texture_count, r->material_cutouts[i]};
         float ke[3];
         renderer_material_ke(mats, i, ke);
         g->maps = (vec4){(float)vkrt_luminance(ke), m->detail_multiplier, 0, 0};
-        r->has_cutouts |= g->info.w != VKRT_CUTOUT_NONE;
-        r->surface_maps |= m->maps;
         size_t len = strlen(m->name) + strlen(m->referrer) + 8;
         r->material_names[i] = malloc(len);
         if (!r->material_names[i]) {
@@ -277,6 +289,72 @@ static const gpu_array *split_array(const vkrt_renderer *r, uint32_t k)
 uint32_t renderer_split_shift(const vkrt_renderer *r, uint32_t k)
 {
     return split_array(r, k)->shift;
+}
+
+void renderer_data_layout_of(const vkrt_renderer *r, renderer_data_layout *layout)
+{
+    memset(layout, 0, sizeof *layout);
+    layout->kind = r->accel.stats.kind;
+    layout->bvh_width = r->accel.stats.bvh_width;
+    layout->texel_loads = r->texel_loads;
+    layout->emitter_light = r->emitter_light;
+    for (uint32_t k = 0; k < VKRT_SPLIT_ARRAY_COUNT; ++k)
+        layout->split_shift[k] = renderer_split_shift(r, k);
+}
+
+/* Whether a texel view (16-byte texels) holds an array of bytes whole: one buffer, and within
+ * the device's texel count (renderer_create_texel_views decides the same after the upload). */
+static bool view_holds(const gpu_context *ctx, size_t bytes)
+{
+    return bytes <= ctx->split_bytes && bytes % 16 == 0 &&
+           bytes / 16 <= ctx->properties.limits.maxTexelBufferElements;
+}
+
+bool renderer_data_layout_predict(const vkrt_renderer *r, const vkrt_accel_desc *accel,
+                                  const vkrt_mesh *mesh, const vkrt_scene_materials *mats,
+                                  renderer_data_layout *layout)
+{
+    memset(layout, 0, sizeof *layout);
+    size_t n = mesh->triangle_count;
+    layout->kind = vkrt_accel_gpu_predict(accel, mesh->triangle_count);
+    if (layout->kind == VKRT_ACCEL_AUTO)
+        return false;
+    /* The structure's nodes: a guess where only the build knows their number (a BVH's leaves
+     * hold about two triangles, research/results/h200-1202), which matters only for arrays near
+     * a buffer's limit; spatial splits' extra triangles are left out alike. */
+    size_t node_size = sizeof(uint32_t), nodes = n, refs = 0;
+    if (layout->kind == VKRT_ACCEL_BVH) {
+        layout->bvh_width = accel->bvh_width;
+        node_size = accel->bvh_width == 2 ? sizeof(BvhPair) : sizeof(BvhQuad);
+        nodes = n / accel->bvh_width;
+    } else if (layout->kind == VKRT_ACCEL_KDTREE) {
+        node_size = sizeof(KdNode);
+        refs = n;
+    } else if (layout->kind == VKRT_ACCEL_GRID) {
+        refs = n;
+    } else {
+        nodes = 0;
+    }
+    const gpu_context *ctx = r->ctx;
+    bool texcoords = mats->reads_texcoords && mesh->texcoords;
+    uint32_t *shift = layout->split_shift;
+    shift[VKRT_SPLIT_TRIANGLES] = gpu_array_shift_for(ctx, sizeof(Triangle), n);
+    shift[VKRT_SPLIT_NORMALS] = gpu_array_shift_for(ctx, sizeof(TriangleNormals),
+                                                    mesh->normals ? n : 0);
+    shift[VKRT_SPLIT_TEXCOORDS] = gpu_array_shift_for(ctx, sizeof(TriangleTexcoords),
+                                                      texcoords ? n : 0);
+    shift[VKRT_SPLIT_TRIANGLE_MATERIAL] = gpu_array_shift_for(ctx, sizeof(uint32_t), n);
+    shift[VKRT_SPLIT_NODES] = gpu_array_shift_for(ctx, node_size, nodes);
+    shift[VKRT_SPLIT_REFS] = gpu_array_shift_for(ctx, sizeof(uint32_t), refs);
+    shift[VKRT_SPLIT_TEXELS] = gpu_array_shift_for(ctx, sizeof(uint32_t),
+                                                   mats->textures.count ? mats->textures.texel_words
+                                                                        : 0);
+    bool reads_nodes = layout->kind == VKRT_ACCEL_BVH || layout->kind == VKRT_ACCEL_KDTREE;
+    layout->texel_loads = r->tuning.texel_loads && view_holds(ctx, n * sizeof(Triangle)) &&
+                          (!reads_nodes || view_holds(ctx, nodes * node_size));
+    /* Cleared by the light upload where every emissive triangle has zero area: rare. */
+    layout->emitter_light = r->emitter_light;
+    return true;
 }
 
 void vkrt_renderer_split_text(const vkrt_renderer *r, char *text, size_t size)
