@@ -172,15 +172,20 @@ typedef struct startup_clock {
 } startup_clock;
 
 static void print_startup(FILE *out, const startup_clock *t, const vkrt_scene *scene,
-                          const vkrt_accel_stats *accel)
+                          const vkrt_accel_stats *accel, const vkrt_renderer_startup *steps)
 {
     fprintf(out,
             "vkrt: start-up: scene %.0f ms (OBJ %.0f ms), Vulkan %.0f ms, renderer %.0f ms "
-            "(structure %.0f ms), first frame %.0f ms, its image written %.0f ms; %.0f ms since "
-            "main\n",
+            "(structure %.0f ms, of which building %.0f; triangles' upload %.0f, materials %.0f, "
+            "lights %.0f, buffers %.0f, %s %.0f), first frame %.0f ms, its image written %.0f "
+            "ms; %.0f ms since main\n",
             t->scene - t->main, scene->obj_ms, t->vulkan - t->scene, t->renderer - t->vulkan,
-            accel->build_ms + accel->choose_ms, t->frame - t->renderer, t->image - t->frame,
-            t->image - t->main);
+            steps->structure_ms, accel->build_ms + accel->choose_ms, steps->geometry_ms,
+            steps->materials_ms, steps->lights_ms, steps->buffers_ms,
+            steps->kernels_recompiled ? "kernels compiled after them"
+                                      : "waiting for the kernels compiled alongside",
+            steps->kernels_ms,
+            t->frame - t->renderer, t->image - t->frame, t->image - t->main);
 }
 
 /* Sampling to a target error: what frame f reached (its estimates' spread, the samples it took,
@@ -384,6 +389,7 @@ typedef struct render_totals {
     bool interrupted;
     char device[256];
     vkrt_accel_stats accel;
+    vkrt_renderer_startup startup; /* the renderer's steps (--verbose's start-up line) */
     vkrt_integrator integrator;   /* what the renderer computed, and why */
     char integrator_reason[256];
 } render_totals;
@@ -400,6 +406,7 @@ static bool render_on_one_device(const vkrt_render_options *opts, const vkrt_sce
         return false;
     snprintf(totals->device, sizeof totals->device, "%s", w.ctx.properties.deviceName);
     totals->accel = *vkrt_renderer_accel_stats(w.renderer);
+    totals->startup = *vkrt_renderer_startup_times(w.renderer);
     const char *why;
     totals->integrator = vkrt_renderer_integrator(w.renderer, &why);
     snprintf(totals->integrator_reason, sizeof totals->integrator_reason, "%s", why);
@@ -666,7 +673,7 @@ static int run_render(const vkrt_render_options *opts, double main_ms)
                 rendered ? 1e3 * totals.seconds / rendered : 0.0,
                 totals.seconds > 0 ? totals.rays / totals.seconds * 1e-6 : 0.0);
         if (opts->common.verbose && clock.image)
-            print_startup(stderr, &clock, &scene, &totals.accel);
+            print_startup(stderr, &clock, &scene, &totals.accel, &totals.startup);
         if (!opts->common.verbose) {
             fprintf(stderr, "vkrt: accel %s: %s\n", vkrt_accel_name(totals.accel.kind),
                     totals.accel.reason);

@@ -41,7 +41,7 @@ typedef struct file_header {
 static const uint64_t BYTES_MAGIC = 0x3144435054524B56ull; /* "VKRTPCD1", little-endian */
 static const uint64_t MAX_BYTES = 1u << 26;
 
-static _Atomic uint32_t loaded_count, compiled_count;
+static _Atomic uint32_t loaded_count, compiled_count, temp_serial;
 static atomic_bool disabled;
 
 /* FNV-1a over bytes, from a given basis; 64 bits. */
@@ -212,7 +212,10 @@ static void store_entry(const gpu_spirv_key *key, const char *ext, const file_he
     if (!gpu_spirv_cache_dir(dir, sizeof dir) || !key_path(key, ext, path, sizeof path) ||
         !make_dirs(dir))
         return;
-    int n = snprintf(temp, sizeof temp, "%s.%ld.tmp", path, (long)getpid());
+    /* The process and a number of its own: the kernels are compiled on several threads at once
+     * (render/renderer_kernels.c), so the process id alone would not keep two writers apart. */
+    int n = snprintf(temp, sizeof temp, "%s.%ld.%u.tmp", path, (long)getpid(),
+                     atomic_fetch_add(&temp_serial, 1u));
     if (n < 0 || (size_t)n >= sizeof temp)
         return;
     FILE *f = fopen(temp, "wb");

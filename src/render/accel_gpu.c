@@ -315,6 +315,24 @@ static bool build_brute(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_error *err)
            gpu_array_create(ctx, &a->refs, sizeof(uint32_t), 0, "grid references", err);
 }
 
+/* Which structures compete is the tuning's (tuning.c). */
+static accel_device choice_device(const vkrt_accel_desc *desc)
+{
+    return desc->grid_competes     ? ACCEL_DEVICE_CPU_STORAGE
+           : desc->kdtree_competes ? ACCEL_DEVICE_CPU_TEXELS
+                                   : ACCEL_DEVICE_GPU;
+}
+
+vkrt_accel_kind vkrt_accel_gpu_predict(const vkrt_accel_desc *desc, uint32_t triangle_count)
+{
+    if (desc->kind != VKRT_ACCEL_AUTO)
+        return desc->kind;
+    accel_device device = choice_device(desc);
+    if (accel_choice_needs_grid(triangle_count, device))
+        return VKRT_ACCEL_AUTO;
+    return accel_choose(triangle_count, device, NULL).kind;
+}
+
 bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc *desc,
                            const float *positions, uint32_t triangle_count, vkrt_error *err)
 {
@@ -328,10 +346,7 @@ bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel
     grid g = {0};
     bool have_grid = false;
     snprintf(s->reason, sizeof s->reason, "asked for");
-    /* Which structures compete is the tuning's (tuning.c). */
-    accel_device device = desc->grid_competes     ? ACCEL_DEVICE_CPU_STORAGE
-                          : desc->kdtree_competes ? ACCEL_DEVICE_CPU_TEXELS
-                                                  : ACCEL_DEVICE_GPU;
+    accel_device device = choice_device(desc);
     if (kind == VKRT_ACCEL_AUTO) {
         double start = vkrt_clock_ms();
         if (accel_choice_needs_grid(triangle_count, device)) {
