@@ -8,7 +8,8 @@ an emissive quad each sphere hides, so that the sheen's grazing rims show.
 Usage:
     sheen_spheres.py OUTPUT_DIR
     sheen_spheres.py --spheres VKRT.exr MITSUBA.exr CONVERGED.exr
-The second form prints, per sphere, the mean of vkrt's image and of Mitsuba's (renders of the
+The second form prints, per sphere (over a disc about its centre, and over its rim, where the
+sheen shows), the mean of vkrt's image and of Mitsuba's (renders of the
 scene.cfg at equal samples, as tools/agreement leaves them) against Mitsuba's converged image,
 and their per-pixel relative errors. Mitsuba's sheen is its own `principled` BSDF's
 (tools/mitsuba_scene.py's Sheen adds it to the base)."""
@@ -88,8 +89,13 @@ def scene_obj():
 
 def main():
     if sys.argv[1:2] == ["--spheres"]:
-        sphere_table(*sys.argv[2:5], names=[r[0] for r in ROWS], values=SHEEN,
-                     value_name="sheen")
+        import toolenv
+        toolenv.enter_venv()  # before printing: it runs this script again in the venv
+        for ring, what in (((0.0, 0.6), "a disc of 0.6 of the radius"),
+                           ((0.75, 0.95), "the rim, 0.75 to 0.95 of the radius")):
+            print(f"\nPer sphere, over {what}:")
+            sphere_table(*sys.argv[2:5], names=[r[0] for r in ROWS], values=SHEEN,
+                         value_name="sheen", ring=ring)
         return
     out = sys.argv[1]
     os.makedirs(out, exist_ok=True)
