@@ -69,22 +69,22 @@ static void sheen_numbers_and_flag(void **state)
 {
     temp_dir *fx = *state;
     /* A 1 x 1 uncompressed true-colour TGA (stb_image reads it): the sheen map. */
-    static const unsigned char tga[18 + 3] = {0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-                                              1, 0, 1, 0, 24, 0, 64, 128, 192};
+    static const unsigned char tga[18 + 3] = {0, 0, 2, 0, 0, 0,  0, 0,  0,   0,  0,
+                                              0, 1, 0, 1, 0, 24, 0, 64, 128, 192};
     temp_dir_write(fx, "sheen.tga", tga, sizeof tga);
     temp_dir_write_text(fx, "m.mtl",
-                        "newmtl velvet\nKd 0.3 0 0\nPs 0.75\n"          /* Ps alone: pbr */
-                        "newmtl satin\nKd 0.3 0 0\nPm 0.5\nPs 3\n"      /* clamped to 1 */
+                        "newmtl velvet\nKd 0.3 0 0\nPs 0.75\n"                 /* Ps alone: pbr */
+                        "newmtl satin\nKd 0.3 0 0\nPm 0.5\nPs 3\n"             /* clamped to 1 */
                         "newmtl cloth\nKd 0.3 0 0\nPs 0.2\nmap_Ps sheen.tga\n" /* map wins */
-                        "newmtl bottle\nNi 1.5\nillum 7\nPs 1\n"       /* glass: no sheen */
-                        "newmtl plain\nKd 0.5 0.5 0.5\nPs 0\n"          /* no sheen */
+                        "newmtl bottle\nNi 1.5\nillum 7\nPs 1\n"               /* glass: no sheen */
+                        "newmtl plain\nKd 0.5 0.5 0.5\nPs 0\n"                 /* no sheen */
                         "newmtl file_sheen\nnewmtl file_bare\n");
     temp_dir_write_text(fx, "m.mat",
                         "file_sheen 0 @roughplastic 0.3 0 0 0  0 0 0 0  0 0 0  1  0 0 0  0  0  0  "
                         "0 0  0.4\n"
                         "file_bare 0 @roughplastic 0.3 0 0 0  0 0 0 0  0 0 0  1\n");
-    const char *names[] = {"velvet", "satin", "cloth", "bottle", "plain", "file_sheen",
-                           "file_bare"};
+    const char *names[] = {"velvet", "satin",      "cloth",    "bottle",
+                           "plain",  "file_sheen", "file_bare"};
     vkrt_scene scene;
     vkrt_error err = {{0}};
     if (!load_triangles(fx, names, sizeof names / sizeof *names, &scene, &err))
