@@ -9,8 +9,9 @@ spot, directional, area, constant and envmap emitters), the textures (its bitmap
 camera (its perspective sensor and box filter). What Mitsuba lacks is written here, small: the
 Blinn-Phong BRDF, vkrt's two-sided convention (the side is the triangle's, not the interpolated
 normal's) and its rule for normals bent by a normal or height map (Mitsuba's adapters treat one
-bent away from the viewer otherwise), the unshadowed ambient light, and the Whitted integrator
-that stops at the first diffuse surface. docs/speed-vs-accuracy.md lists what matches exactly and what cannot."""
+bent away from the viewer otherwise), the unshadowed ambient light, the clear coat's layering
+(vkrt_coat), the sum of a base and the sheen (vkrt_sheen; the sheen itself is Mitsuba's
+`principled`), and the Whitted integrator that stops at the first diffuse surface. docs/speed-vs-accuracy.md lists what matches exactly and what cannot."""
 import os
 
 import numpy as np
