@@ -198,8 +198,12 @@ VKRT_STRUCT(TriangleTexcoords) {
 /* Not a map, but compiled away the same way: the material has a clear coat (numbers 18-19, the
  * .mtl's Pc and Pcr; lib/microfacet.glsl). A scene without a coated material compiles no coat. */
 #define VKRT_MATERIAL_COAT 16u
+/* The same for the sheen (the .mtl's Ps and map_Ps: Material.maps.z and texture slot
+ * VKRT_SLOT_SHEEN; lib/microfacet.glsl). */
+#define VKRT_MATERIAL_SHEEN 32u
 #define VKRT_SLOT_DETAIL 4u
 #define VKRT_SLOT_EMISSION 5u
+#define VKRT_SLOT_SHEEN 6u
 VKRT_STRUCT(Material) {
     vec4 params[5];   /* parameter i is params[i / 4][i % 4] */
     uvec4 textures[2];/* texture of slot k is textures[k / 4][k % 4], or VKRT_NO_TEXTURE */
@@ -207,7 +211,8 @@ VKRT_STRUCT(Material) {
                          z: texture count, w: VKRT_CUTOUT_* */
     vec4 maps;        /* x: the luminance light sampling weighs the emission by, luminance(Ke
                          times the mean of map_Ke) (lib/emitters.glsl); y: the detail map's
-                         multiplier (-bm); zw: 0 */
+                         multiplier (-bm); z: the sheen weight of the rough built-ins (the
+                         .mtl's Ps, a material file's number 20); w: 0 */
 };
 
 /* A light in GPU form. Spot lights fall off linearly in angle from beam_angle (full intensity)

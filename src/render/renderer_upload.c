@@ -220,7 +220,7 @@ bool renderer_upload_materials(vkrt_renderer *r, const vkrt_scene_materials *mat
                           m->texture_count, r->material_cutouts[i]};
         float ke[3];
         renderer_material_ke(mats, i, ke);
-        g->maps = (vec4){(float)vkrt_luminance(ke), m->detail_multiplier, 0, 0};
+        g->maps = (vec4){(float)vkrt_luminance(ke), m->detail_multiplier, m->sheen, 0};
         size_t len = strlen(m->name) + strlen(m->referrer) + 8;
         r->material_names[i] = malloc(len);
         if (!r->material_names[i]) {
