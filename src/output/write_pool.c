@@ -6,11 +6,12 @@
  * variable says that any of them changed; the callbacks run under a second mutex of their own,
  * so a slow callback (a progress line, a pipe) never holds up the render loop's calls.
  */
-#define _POSIX_C_SOURCE 200809L
+#define _GNU_SOURCE /* sched_getaffinity: the cores this process may run on */
 #include "write_pool.h"
 
 #include <errno.h>
 #include <pthread.h>
+#include <sched.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -67,7 +68,11 @@ bool vkrt_write_pool_threads(uint32_t sharers, uint32_t *threads, vkrt_error *er
         *threads = (uint32_t)n;
         return true;
     }
-    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    /* The cores the process may use, not the machine's: a Slurm task or a taskset gets fewer. */
+    cpu_set_t allowed;
+    long cores = sched_getaffinity(0, sizeof allowed, &allowed) == 0
+                     ? CPU_COUNT(&allowed)
+                     : sysconf(_SC_NPROCESSORS_ONLN);
     long per_process = cores > 0 ? cores / (sharers ? sharers : 1) : 1;
     long n = per_process - 1;
     *threads = n < 1 ? 1 : n > DEFAULT_MAX_THREADS ? DEFAULT_MAX_THREADS : (uint32_t)n;

@@ -46,10 +46,10 @@ typedef struct vkrt_write_pool_desc {
 
 enum { VKRT_WRITE_POOL_MAX_THREADS = 16 };
 
-/* How many writer threads a render should use when sharers processes share the machine's cores
- * (the workers of --devices): VKRT_WRITE_THREADS if set (0 to 16; 0 writes on the render
- * thread), else one core a process left to rendering and the rest, at most 4, to writing, at
- * least 1. False with err set for a VKRT_WRITE_THREADS that is not such a number. */
+/* How many writer threads a render should use when sharers processes share the cores it may run
+ * on (its affinity: a Slurm task's, a taskset's; sharers: the workers of --devices):
+ * VKRT_WRITE_THREADS if set (0 to 16; 0 writes on the render thread), else one core a process
+ * left to rendering and the rest, at most 4, to writing, at least 1. False with err set for a VKRT_WRITE_THREADS that is not such a number. */
 bool vkrt_write_pool_threads(uint32_t sharers, uint32_t *threads, vkrt_error *err);
 
 /* Makes the pool: its buffers and threads. False with err set (out of memory, no threads); then
