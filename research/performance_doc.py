@@ -526,6 +526,16 @@ one H200, timed from process start: Whitted **0.98 frames/s** (25.6 s) in the pl
 and renderer); the path tracer (max-depth 8) 0.83 and 0.77 frames/s. The two runs' frames are
 byte-identical, all 25 of each integrator.
 
+The GPU rendered those frames in 84 ms (Whitted) and 236 ms (path); the rest was the host
+writing each PNG before the next frame: stb_image_write's encoder (about a second at 1080p) and
+a pow() per value for the sRGB curve (135-175 ms). Now an exact table converts (src/output/srgb8.h)
+and ISA-L's igzip at level 1 with the Up filter deflates (src/output/png_encode.h): on 1600x900
+renders here, a frame's floats to PNG bytes 15-58 ms against 625-1291 ms before, files 0.71-0.90x
+stb's, the same pixels (research/journal.md, "A faster PNG writer"). And writer threads
+(src/output/write_pool.h) write frame N while frame N+1 renders. What that makes of the H200's
+flythrough is `research/gpu-run writer`'s to say (to be measured: `.bundle-old` with stb against
+this build with and without its threads).
+
 ## The BVH build (issue 20)
 
 Issue 20 asks for a BVH over 10 M triangles in well under a second. The build was a job pool in

@@ -1,8 +1,10 @@
 /*
  * device_pool.c: worker processes, one per device, fed frame numbers from one queue (see
  * device_pool.h). Parent and worker talk through two pipes per worker: frame numbers go down,
- * fixed-size reports come up. A report is smaller than PIPE_BUF, so it arrives whole or not at
- * all; a pipe that ends (EOF) is a worker that is gone, whatever killed it.
+ * fixed-size reports come up, from the worker's render loop (started, ready for a frame, failed)
+ * and from its writer threads (a file written, a write failed). A report is smaller than PIPE_BUF,
+ * so it arrives whole or not at all; a pipe that ends (EOF) is a worker that is gone, whatever
+ * killed it.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "device_pool.h"
@@ -21,8 +23,9 @@
 static const uint32_t stop_word = UINT32_MAX;
 
 typedef enum report_kind {
-    REPORT_STARTED = 1,
-    REPORT_DONE,
+    REPORT_STARTED = 1, /* and ready for a frame */
+    REPORT_READY,       /* for another frame */
+    REPORT_DONE,        /* a frame's file is written */
     REPORT_FAILED,
     REPORT_FAILED_AT_END
 } report_kind;
@@ -31,7 +34,6 @@ typedef enum report_kind {
 typedef struct report {
     uint32_t kind;          /* report_kind */
     uint32_t frame;         /* DONE: the frame written */
-    double seconds;         /* DONE: the frame's wall time in the worker */
     vkrt_pool_frame result; /* DONE */
     union {
         vkrt_pool_start started; /* STARTED */
@@ -47,8 +49,9 @@ typedef enum frame_state { FRAME_WAITING = 0, FRAME_IN_FLIGHT, FRAME_DONE } fram
 typedef struct worker_link {
     pid_t pid;
     int to_worker, from_worker; /* the parent's ends of the two pipes; -1 once closed */
-    bool started, busy;
-    uint32_t frame; /* the index (into desc->frames) it holds while busy */
+    bool started, ready;        /* ready: it asked for a frame and was given none yet */
+    uint32_t held;              /* frames given to it whose files it has not reported */
+    double started_ms;          /* when it said it started */
 } worker_link;
 
 /* write() (out) or read() exactly size bytes, through interruptions; false at the end of the
@@ -94,6 +97,20 @@ static void send_failure(int fd, report_kind kind, const vkrt_error *err)
     write_all(fd, &r, sizeof r);
 }
 
+void vkrt_pool_report_written(vkrt_pool_reporter *reporter, uint32_t frame,
+                              const vkrt_pool_frame *result)
+{
+    report r = {.kind = REPORT_DONE, .frame = frame, .result = *result};
+    /* A parent that is gone makes this fail; the worker then reads the end of its frame pipe. */
+    write_all(reporter->fd, &r, sizeof r);
+}
+
+void vkrt_pool_report_failed(vkrt_pool_reporter *reporter, const vkrt_error *err)
+{
+    atomic_store(&reporter->failed, 1);
+    send_failure(reporter->fd, REPORT_FAILED, err);
+}
+
 /* The worker's life, in the child process; never returns. */
 _Noreturn static void worker_main(const vkrt_device_pool_desc *desc, uint32_t index,
                                   int from_parent, int to_parent)
@@ -103,29 +120,30 @@ _Noreturn static void worker_main(const vkrt_device_pool_desc *desc, uint32_t in
     signal(SIGINT, SIG_IGN);
     signal(SIGTERM, SIG_IGN);
     vkrt_error err = {{0}};
+    vkrt_pool_reporter reporter = {.fd = to_parent};
     report r = {.kind = REPORT_STARTED};
-    if (!desc->start(desc->user, index, desc->devices[index], &r.text.started, &err)) {
+    if (!desc->start(desc->user, index, desc->devices[index], &reporter, &r.text.started, &err)) {
         send_failure(to_parent, REPORT_FAILED, &err);
         _exit(1);
     }
     bool ok = write_all(to_parent, &r, sizeof r);
     uint32_t frame;
     while (ok && read_all(from_parent, &frame, sizeof frame) && frame != stop_word) {
-        double start = vkrt_clock_ms();
-        r = (report){.kind = REPORT_DONE, .frame = frame};
-        if (!desc->render(desc->user, frame, &r.result, &err)) {
+        if (!desc->render(desc->user, frame, &err)) {
             send_failure(to_parent, REPORT_FAILED, &err);
             ok = false;
             break;
         }
-        r.seconds = (vkrt_clock_ms() - start) * 1e-3;
+        r = (report){.kind = REPORT_READY};
         ok = write_all(to_parent, &r, sizeof r);
     }
+    /* A write that failed on another thread has been reported already; it ends the pipe. */
+    ok = ok && !atomic_load(&reporter.failed);
     if (desc->finish && !desc->finish(desc->user, ok, &err) && ok) {
         send_failure(to_parent, REPORT_FAILED_AT_END, &err);
         ok = false;
     }
-    _exit(ok ? 0 : 1);
+    _exit(ok && !atomic_load(&reporter.failed) ? 0 : 1);
 }
 
 /* ------------------------------------------------------------------ the parent */
@@ -154,6 +172,7 @@ typedef struct pool_run {
     vkrt_pool_result *result;
     worker_link links[VKRT_POOL_MAX_WORKERS];
     uint8_t *state; /* frame_state of each of desc->frames */
+    uint8_t *owner; /* the worker that holds each frame in flight */
     uint32_t next;  /* no frame before this one is waiting */
     uint32_t in_flight;
     uint32_t alive;  /* workers whose report pipe is still open */
@@ -176,26 +195,31 @@ static void worker_ended(pool_run *p, uint32_t w)
         snprintf(out->failure, sizeof out->failure, "%s", how);
         out->failed = true;
     }
-    if (l->busy) {
+    l->ready = false;
+    for (uint32_t i = 0; l->held > 0 && i < p->desc->frame_count; ++i) {
+        if (p->state[i] != FRAME_IN_FLIGHT || p->owner[i] != w)
+            continue;
+        if (!out->lost_frame)
+            out->lost_frame_number = p->desc->frames[i];
         out->lost_frame = true;
-        out->lost_frame_number = p->desc->frames[l->frame];
-        p->state[l->frame] = FRAME_WAITING;
-        if (l->frame < p->next)
-            p->next = l->frame;
+        ++out->lost_frames;
+        p->state[i] = FRAME_WAITING;
+        if (i < p->next)
+            p->next = i;
         --p->in_flight;
-        l->busy = false;
+        --l->held;
         out->failed = true;
         if (!out->failure[0])
             snprintf(out->failure, sizeof out->failure, "its process ended");
     }
 }
 
-/* Gives an idle started worker the next waiting frame, if any and not stopped. */
+/* Gives a worker that asked for a frame the next waiting one, if any and not stopped. */
 static void hand_out(pool_run *p, uint32_t w)
 {
     worker_link *l = &p->links[w];
     const vkrt_device_pool_desc *desc = p->desc;
-    if (!l->started || l->busy || l->to_worker < 0 || (desc->stop && *desc->stop))
+    if (!l->ready || l->to_worker < 0 || (desc->stop && *desc->stop))
         return;
     while (p->next < desc->frame_count && p->state[p->next] != FRAME_WAITING)
         ++p->next;
@@ -208,9 +232,39 @@ static void hand_out(pool_run *p, uint32_t w)
         return;
     }
     p->state[i] = FRAME_IN_FLIGHT;
+    p->owner[i] = (uint8_t)w;
     ++p->in_flight;
-    l->busy = true;
-    l->frame = i;
+    ++l->held;
+    l->ready = false;
+}
+
+/* The index in desc->frames of frame, in flight with worker w; frame_count if none is. */
+static uint32_t held_index(const pool_run *p, uint32_t w, uint32_t frame)
+{
+    for (uint32_t i = 0; i < p->desc->frame_count; ++i)
+        if (p->desc->frames[i] == frame && p->state[i] == FRAME_IN_FLIGHT && p->owner[i] == w)
+            return i;
+    return p->desc->frame_count;
+}
+
+/* Worker w's file of frame is written. */
+static void frame_written(pool_run *p, uint32_t w, const report *r)
+{
+    uint32_t i = held_index(p, w, r->frame);
+    if (i == p->desc->frame_count)
+        return; /* not a frame it holds: ignored */
+    worker_link *l = &p->links[w];
+    vkrt_pool_worker *out = &p->result->workers[w];
+    p->state[i] = FRAME_DONE;
+    --p->in_flight;
+    --l->held;
+    ++out->frames;
+    out->seconds = (vkrt_clock_ms() - l->started_ms) * 1e-3;
+    out->gpu_seconds += r->result.gpu_seconds;
+    out->rays += r->result.rays;
+    ++p->result->rendered;
+    if (p->desc->frame_done)
+        p->desc->frame_done(p->desc->user, r->frame, p->result->rendered, w);
 }
 
 /* Reads one report of worker w (its pipe is readable). */
@@ -224,7 +278,8 @@ static void read_report(pool_run *p, uint32_t w)
         return;
     }
     if (r.kind == REPORT_STARTED) {
-        l->started = true;
+        l->started = l->ready = true;
+        l->started_ms = vkrt_clock_ms();
         r.text.started.device_name[sizeof r.text.started.device_name - 1] = '\0';
         r.text.started.about[sizeof r.text.started.about - 1] = '\0';
         snprintf(out->device_name, sizeof out->device_name, "%s", r.text.started.device_name);
@@ -232,17 +287,10 @@ static void read_report(pool_run *p, uint32_t w)
             p->result->start_seconds = (vkrt_clock_ms() - p->start_ms) * 1e-3;
         if (!p->result->about[0])
             snprintf(p->result->about, sizeof p->result->about, "%s", r.text.started.about);
-    } else if (r.kind == REPORT_DONE && l->busy && r.frame == p->desc->frames[l->frame]) {
-        p->state[l->frame] = FRAME_DONE;
-        --p->in_flight;
-        l->busy = false;
-        ++out->frames;
-        out->seconds += r.seconds;
-        out->gpu_seconds += r.result.gpu_seconds;
-        out->rays += r.result.rays;
-        ++p->result->rendered;
-        if (p->desc->frame_done)
-            p->desc->frame_done(p->desc->user, r.frame, p->result->rendered, w);
+    } else if (r.kind == REPORT_READY) {
+        l->ready = true;
+    } else if (r.kind == REPORT_DONE) {
+        frame_written(p, w, &r);
     } else if (r.kind == REPORT_FAILED || r.kind == REPORT_FAILED_AT_END) {
         /* The worker exits next; its held frame goes back when its pipe ends. */
         out->failed = true;
@@ -354,8 +402,12 @@ bool vkrt_device_pool_run(const vkrt_device_pool_desc *desc, vkrt_pool_result *r
                               desc->worker_count, VKRT_POOL_MAX_WORKERS);
     pool_run p = {.desc = desc, .result = result};
     p.state = calloc(desc->frame_count ? desc->frame_count : 1, 1);
-    if (!p.state)
+    p.owner = calloc(desc->frame_count ? desc->frame_count : 1, 1);
+    if (!p.state || !p.owner) {
+        free(p.state);
+        free(p.owner);
         return vkrt_error_set(err, "out of memory");
+    }
     result->worker_count = desc->worker_count;
     for (uint32_t w = 0; w < desc->worker_count; ++w) {
         result->workers[w].device = desc->devices[w];
@@ -372,6 +424,7 @@ bool vkrt_device_pool_run(const vkrt_device_pool_desc *desc, vkrt_pool_result *r
     result->interrupted = desc->stop && *desc->stop && result->rendered < desc->frame_count;
     result->seconds = (vkrt_clock_ms() - p.start_ms) * 1e-3;
     free(p.state);
+    free(p.owner);
     return ok;
 }
 

@@ -5,8 +5,11 @@
  * The parent process holds the scene (loaded before vkrt_device_pool_run, so every worker shares
  * it copy-on-write) and never touches a device: it forks the workers, gives each a frame number
  * through a pipe whenever the worker says it is ready for one, and collects what each reports. A
- * fast device thus takes more frames than a slow one. A worker that fails (its device lost, its
- * driver crashing, a `kill -9`) costs only itself: its pipe closes, the frame it held goes back
+ * fast device thus takes more frames than a slow one. A worker asks for the next frame as soon as
+ * it can render it, while its threads still write the files of the frames before (the caller's
+ * business: main.c's write pool), so it may hold several frames; each is done when its file is
+ * reported written. A worker that fails (its device lost, its
+ * driver crashing, a `kill -9`) costs only itself: its pipe closes, the frames it held go back
  * to the queue for the others, and it is reported. The module knows nothing of Vulkan or scenes:
  * what a worker does is the caller's, through the three callbacks below, which run in the worker
  * process (docs/architecture.md, "Several devices").
@@ -15,6 +18,7 @@
 #define VKRT_DEVICE_POOL_H
 
 #include <signal.h>
+#include <stdatomic.h>
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -37,6 +41,24 @@ typedef struct vkrt_pool_frame {
     uint64_t rays;
 } vkrt_pool_frame;
 
+/* How a worker tells the parent about its frames' files, from any of its threads (a report is
+ * one write() of less than PIPE_BUF bytes, so reports of several threads never mix). Valid for
+ * the worker's life; given to the start callback. */
+typedef struct vkrt_pool_reporter {
+    int fd;
+    atomic_int failed; /* set by vkrt_pool_report_failed */
+} vkrt_pool_reporter;
+
+/* In a worker: frame's file is complete (renamed into place). */
+void vkrt_pool_report_written(vkrt_pool_reporter *reporter, uint32_t frame,
+                              const vkrt_pool_frame *result);
+
+/* In a worker: a file failed to be written on another thread than the one that renders (err
+ * names it). The parent hands the worker no more frames; the frames it holds go back to the
+ * queue when it ends, which it does when its render callback next returns false or its frame
+ * pipe ends. */
+void vkrt_pool_report_failed(vkrt_pool_reporter *reporter, const vkrt_error *err);
+
 typedef struct vkrt_device_pool_desc {
     const int *devices;     /* the device index of each worker */
     uint32_t worker_count;  /* 1 to VKRT_POOL_MAX_WORKERS */
@@ -44,20 +66,25 @@ typedef struct vkrt_device_pool_desc {
     uint32_t frame_count;
     void *user; /* given to every callback */
     /* In the worker: prepare to render on device (e.g. create a context and a renderer); worker is
-     * its index in devices. False with err set: the worker fails, the others go on. */
-    bool (*start)(void *user, uint32_t worker, int device, vkrt_pool_start *started,
-                  vkrt_error *err);
-    /* In the worker: render frame and write its file (atomically: a worker may be killed at any
-     * moment). False with err set: the worker fails and the frame goes back to the queue. */
-    bool (*render)(void *user, uint32_t frame, vkrt_pool_frame *result, vkrt_error *err);
-    /* In the worker, when the queue is empty or the run stops: free what start took. ok says
-     * whether the worker's run went well; false with err set reports a failure found at the end
-     * (e.g. a validation message). May be NULL. */
+     * its index in devices; reporter is where its frames' files are reported. False with err set:
+     * the worker fails, the others go on. */
+    bool (*start)(void *user, uint32_t worker, int device, vkrt_pool_reporter *reporter,
+                  vkrt_pool_start *started, vkrt_error *err);
+    /* In the worker: render frame and see its file written (atomically: a worker may be killed at
+     * any moment), then or later on another thread, calling vkrt_pool_report_written when it is.
+     * Returns when the worker can take another frame: a worker holds the frames it was given
+     * until their files are reported. False with err set: the worker fails and every frame it
+     * holds goes back to the queue. */
+    bool (*render)(void *user, uint32_t frame, vkrt_error *err);
+    /* In the worker, when the queue is empty or the run stops: wait for the files still being
+     * written (reporting them), free what start took. ok says whether the worker's run went
+     * well; false with err set reports a failure found at the end (e.g. a validation message).
+     * May be NULL. */
     bool (*finish)(void *user, bool ok, vkrt_error *err);
     /* In the parent, after each frame written: done frames of frame_count so far. May be NULL. */
     void (*frame_done)(void *user, uint32_t frame, uint32_t done, uint32_t worker);
     /* Set (by a signal handler) to stop: no frame is handed out after, the frames being rendered
-     * finish. May be NULL. */
+     * and written finish. May be NULL. */
     volatile sig_atomic_t *stop;
 } vkrt_device_pool_desc;
 
@@ -66,15 +93,17 @@ typedef struct vkrt_pool_worker {
     int device;
     char device_name[256]; /* empty when it failed before saying */
     uint32_t frames;       /* frames it wrote */
-    double seconds;        /* wall time of those frames in the worker (render and write) */
+    double seconds;        /* from its start (ready) to its last file written: its frames took
+                              seconds / frames each, rendering and writing overlapped */
     double gpu_seconds;
     uint64_t rays;
     bool failed;
     char failure[1024]; /* why: its error, or how the process ended ("killed by signal 9") */
     bool failed_at_end; /* its finish callback failed after its frames (e.g. validation
                            messages): the frames it wrote are suspect */
-    bool lost_frame;    /* it failed holding a frame, which went back to the queue */
-    uint32_t lost_frame_number;
+    bool lost_frame;    /* it failed holding frames, which went back to the queue */
+    uint32_t lost_frame_number; /* the first of them */
+    uint32_t lost_frames;       /* how many */
 } vkrt_pool_worker;
 
 typedef struct vkrt_pool_result {

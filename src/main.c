@@ -24,6 +24,7 @@
 #include "gpu/spirv_cache.h"
 #include "output/image_check.h"
 #include "output/image_write.h"
+#include "output/write_pool.h"
 #include "render/renderer.h"
 #include "render/trace_api.h"
 #include "scene/scene.h"
@@ -286,18 +287,24 @@ static void early_context_discard(early_context *e)
 }
 
 /* One device rendering a scene's frames into their files: the single-device loop and each
- * worker of --devices (device_pool.h) use it. */
+ * worker of --devices (device_pool.h) use it. Files are written by a pool of threads while the
+ * next frame renders (output/write_pool.h); the callbacks hear of each file written. */
 typedef struct frame_writer {
     const vkrt_render_options *opts;
     const vkrt_scene *scene;
     const char *output;
-    bool clear_line;          /* a progress line is on the terminal: messages clear it first */
-    startup_clock *clock;     /* the single-device run's start-up stages, or NULL */
-    early_context *early;     /* the single device's context, being made since start, or NULL */
+    bool clear_line;      /* a progress line is on the terminal: messages clear it first */
+    startup_clock *clock; /* the single-device run's start-up stages, or NULL */
+    uint32_t sharers;     /* processes rendering on this machine: they share its cores */
+    uint32_t frames;      /* at most this many frames to render: a writer thread a frame */
+    void (*written)(void *user, const vkrt_written_frame *frame);
+    void (*failed)(void *user, const vkrt_error *err);
+    void *user;
+    early_context *early; /* the single device's context, being made since start, or NULL */
     gpu_context ctx;
     vkrt_renderer *renderer;
     vkrt_render_desc desc;
-    float *rgb;
+    vkrt_write_pool *pool;
 } frame_writer;
 
 /* Creates the device's context and the renderer; tell says whether to print the choices
@@ -347,18 +354,28 @@ static bool frame_writer_start(frame_writer *w, int device, bool tell, vkrt_erro
                                 "ignores `light ambient`, Whitted's stand-in for it\n");
                 break;
             }
-    w->rgb = malloc((size_t)w->desc.width * w->desc.height * 3 * sizeof *w->rgb);
-    if (!w->rgb) {
+    vkrt_write_pool_desc pool_desc = {.width = w->desc.width,
+                                      .height = w->desc.height,
+                                      .exposure = opts->exposure,
+                                      .written = w->written,
+                                      .failed = w->failed,
+                                      .user = w->user};
+    bool ok = vkrt_write_pool_threads(w->sharers, &pool_desc.threads, err);
+    /* A single frame's file overlaps nothing: written on this thread, no buffers to spare. */
+    if (w->frames <= 1)
+        pool_desc.threads = 0;
+    else if (pool_desc.threads > w->frames - 1)
+        pool_desc.threads = w->frames - 1;
+    if (!ok || !vkrt_write_pool_create(&w->pool, &pool_desc, err)) {
         vkrt_renderer_destroy(w->renderer);
         gpu_context_destroy(&w->ctx);
-        return vkrt_error_set(err, "out of memory for a %ux%u image", w->desc.width,
-                              w->desc.height);
+        return false;
     }
     return true;
 }
 
-/* Renders frame f and writes its file (a temporary renamed onto it: image_write.h), with the
- * frame's warnings. */
+/* Renders frame f and hands it to the write pool, which writes its file (a temporary renamed
+ * onto it: image_write.h); prints the frame's warnings. */
 static bool frame_writer_write(frame_writer *w, uint32_t f, vkrt_frame_stats *stats,
                                vkrt_error *err)
 {
@@ -371,38 +388,57 @@ static bool frame_writer_write(frame_writer *w, uint32_t f, vkrt_frame_stats *st
     /* Motion blur towards the next frame's camera; the last frame has none and is sharp. */
     vkrt_renderer_set_next_camera(w->renderer,
                                   f + 1 < cfg->camera_count ? &cfg->cameras[f + 1] : NULL);
-    if (!vkrt_renderer_render(w->renderer, &cfg->cameras[f], f, w->rgb, stats, err))
+    float *rgb = vkrt_write_pool_buffer(w->pool, err);
+    if (!rgb || !vkrt_renderer_render(w->renderer, &cfg->cameras[f], f, rgb, stats, err))
         return false;
     if (w->clock && !w->clock->frame)
         w->clock->frame = vkrt_clock_ms();
-    if (!vkrt_image_write(path, w->desc.width, w->desc.height, w->rgb, opts->exposure, err) ||
-        (w->desc.target_error &&
-         !report_convergence(opts, w->renderer, &w->desc, f, stats, err)))
-        return false;
-    if (w->clock && !w->clock->image)
-        w->clock->image = vkrt_clock_ms();
-    if (w->clear_line) /* the progress line makes way for this frame's messages */
+    vkrt_written_frame written = {.frame = f,
+                                  .path = path,
+                                  .gpu_seconds = stats->seconds,
+                                  .rays = stats->primary_rays + stats->shadow_rays +
+                                          stats->secondary_rays};
+    /* The progress line, printed by the writer threads, makes way for this frame's messages;
+     * holding stderr keeps a progress line from coming between. */
+    bool quiet = opts->common.quiet;
+    bool tell = w->desc.target_error ||
+                (!quiet && (stats->dropped_rays || stats->nonfinite || stats->profile.profiled)) ||
+                (opts->common.verbose && stats->attempts > 1);
+    if (tell)
+        flockfile(stderr);
+    if (tell && w->clear_line)
         fputs("\r\033[K", stderr);
-    if (stats->dropped_rays && !opts->common.quiet)
+    /* The convergence report reads the renderer's state of this frame: before the next one. */
+    bool ok = !w->desc.target_error ||
+              report_convergence(opts, w->renderer, &w->desc, f, stats, err);
+    if (ok && stats->dropped_rays && !quiet)
         fprintf(stderr, "vkrt: warning: frame %u: %llu rays did not fit the largest ray "
                         "buffers the device allows (%u rays) and were not traced\n",
                 f, (unsigned long long)stats->dropped_rays, stats->ray_capacity);
-    if (stats->nonfinite && !opts->common.quiet)
+    if (ok && stats->nonfinite && !quiet)
         fprintf(stderr, "vkrt: warning: frame %u: %u shading results were NaN or "
                         "infinite and were dropped\n",
                 f, stats->nonfinite);
-    if (stats->profile.profiled && !opts->common.quiet)
+    if (ok && stats->profile.profiled && !quiet)
         vkrt_frame_profile_print(stderr, &stats->profile);
-    if (opts->common.verbose && stats->attempts > 1)
+    if (ok && opts->common.verbose && stats->attempts > 1)
         fprintf(stderr, "vkrt: frame %u: ray buffers grew to %u rays (%u attempts)\n", f,
                 stats->ray_capacity, stats->attempts);
-    return true;
+    if (tell)
+        funlockfile(stderr);
+    return ok && vkrt_write_pool_submit(w->pool, &written, err);
 }
 
-/* Frees what start took; after a run that went well (ok), the validation layers' word too. */
+/* Waits for the files still being written, then frees what start took; after a run that went
+ * well (ok), the validation layers' word too. A write that fails here makes the run fail. */
 static bool frame_writer_finish(frame_writer *w, bool ok, vkrt_error *err)
 {
-    free(w->rgb);
+    vkrt_error write_err = {{0}};
+    if (!vkrt_write_pool_finish(w->pool, &write_err) && ok) {
+        *err = write_err;
+        ok = false;
+    }
+    vkrt_write_pool_destroy(w->pool);
     vkrt_renderer_destroy(w->renderer);
     return gpu_context_close(&w->ctx, ok, err);
 }
@@ -455,6 +491,27 @@ typedef struct render_totals {
     char integrator_reason[256];
 } render_totals;
 
+/* The single-device run's frames as their files are written (on the write pool's threads, one
+ * call at a time): counted, the first one's time kept, the progress line printed. */
+typedef struct one_device_run {
+    render_totals *totals;
+    const frame_list *list;
+    startup_clock *clock;
+    bool progress, terminal;
+    double start_ms;
+} one_device_run;
+
+static void one_device_written(void *user, const vkrt_written_frame *frame)
+{
+    one_device_run *run = user;
+    uint32_t written = ++run->totals->rendered;
+    if (!run->clock->image)
+        run->clock->image = vkrt_clock_ms();
+    if (run->progress)
+        print_progress(stderr, run->list->skipped + written, run->list->total, written,
+                       (vkrt_clock_ms() - run->start_ms) / 1e3, frame->path, run->terminal);
+}
+
 static bool render_on_one_device(const vkrt_render_options *opts, const vkrt_scene *scene,
                                  const char *output, const frame_list *list,
                                  render_totals *totals, startup_clock *clock,
@@ -462,8 +519,12 @@ static bool render_on_one_device(const vkrt_render_options *opts, const vkrt_sce
 {
     bool progress = !opts->common.quiet && list->total > 1;
     bool terminal = progress && isatty(fileno(stderr));
+    one_device_run run = {.totals = totals, .list = list, .clock = clock,
+                          .progress = progress, .terminal = terminal};
     frame_writer w = {.opts = opts, .scene = scene, .output = output, .clear_line = terminal,
-                      .clock = clock, .early = early};
+                      .clock = clock, .early = early, .sharers = 1, .frames = list->count,
+                      .written = one_device_written,
+                      .user = &run};
     if (!frame_writer_start(&w, opts->common.device, true, err))
         return false;
     snprintf(totals->device, sizeof totals->device, "%s", w.ctx.properties.deviceName);
@@ -472,44 +533,55 @@ static bool render_on_one_device(const vkrt_render_options *opts, const vkrt_sce
     const char *why;
     totals->integrator = vkrt_renderer_integrator(w.renderer, &why);
     snprintf(totals->integrator_reason, sizeof totals->integrator_reason, "%s", why);
-    double start_ms = vkrt_clock_ms();
+    run.start_ms = vkrt_clock_ms();
     bool ok = true;
     for (uint32_t i = 0; ok && i < list->count; ++i) {
+        /* Ctrl-C: no frame is started after it; those rendered are still written (finish). */
         if (stop_requested) {
             totals->interrupted = true;
             break;
         }
         vkrt_frame_stats stats;
         ok = frame_writer_write(&w, list->frames[i], &stats, err);
-        if (!ok)
-            break;
-        totals->seconds += stats.seconds;
-        totals->rays += stats.primary_rays + stats.shadow_rays + stats.secondary_rays;
-        ++totals->rendered;
-        if (progress) {
-            char path[4096];
-            vkrt_frame_path(path, sizeof path, output, list->frames[i], NULL);
-            print_progress(stderr, list->skipped + totals->rendered, list->total,
-                           totals->rendered, (vkrt_clock_ms() - start_ms) / 1e3, path, terminal);
-        }
+        totals->seconds += ok ? stats.seconds : 0;
+        totals->rays += ok ? stats.primary_rays + stats.shadow_rays + stats.secondary_rays : 0;
     }
+    ok = frame_writer_finish(&w, ok, err);
     if (terminal && totals->rendered > 0)
         fputc('\n', stderr);
-    return frame_writer_finish(&w, ok, err);
+    return ok;
 }
 
 /* --devices: a worker process per device (device_pool.h), each with a frame_writer. */
 typedef struct pool_job {
     frame_writer writer;      /* the worker's own, in the worker's process */
+    vkrt_pool_reporter *reporter; /* in the worker: where its files are reported */
     const frame_list *list;
     bool progress, terminal;
     double start_ms;
 } pool_job;
 
-static bool pool_worker_start(void *user, uint32_t worker, int device, vkrt_pool_start *started,
+/* In a worker, on its write pool's threads: a file written, or the first that failed. */
+static void pool_frame_written(void *user, const vkrt_written_frame *frame)
+{
+    pool_job *job = user;
+    vkrt_pool_report_written(job->reporter, frame->frame,
+                             &(vkrt_pool_frame){.gpu_seconds = frame->gpu_seconds,
+                                                .rays = frame->rays});
+}
+
+static void pool_write_failed(void *user, const vkrt_error *err)
+{
+    pool_job *job = user;
+    vkrt_pool_report_failed(job->reporter, err);
+}
+
+static bool pool_worker_start(void *user, uint32_t worker, int device,
+                              vkrt_pool_reporter *reporter, vkrt_pool_start *started,
                               vkrt_error *err)
 {
     pool_job *job = user;
+    job->reporter = reporter;
     frame_writer *w = &job->writer;
     if (!frame_writer_start(w, device, worker == 0, err))
         return vkrt_error_prefix(err, "device %d", device);
@@ -524,16 +596,15 @@ static bool pool_worker_start(void *user, uint32_t worker, int device, vkrt_pool
     return true;
 }
 
-static bool pool_worker_render(void *user, uint32_t frame, vkrt_pool_frame *result,
-                               vkrt_error *err)
+/* Renders frame and queues its file; returns once a buffer is free for the next frame, so that
+ * the worker asks for one only when it can start it (a frame it cannot start yet is better
+ * rendered by another worker). */
+static bool pool_worker_render(void *user, uint32_t frame, vkrt_error *err)
 {
     pool_job *job = user;
     vkrt_frame_stats stats;
-    if (!frame_writer_write(&job->writer, frame, &stats, err))
-        return false;
-    result->gpu_seconds = stats.seconds;
-    result->rays = stats.primary_rays + stats.shadow_rays + stats.secondary_rays;
-    return true;
+    return frame_writer_write(&job->writer, frame, &stats, err) &&
+           vkrt_write_pool_buffer(job->writer.pool, err) != NULL;
 }
 
 static bool pool_worker_finish(void *user, bool ok, vkrt_error *err)
@@ -564,7 +635,9 @@ static void print_pool_summary(const vkrt_render_options *opts, const vkrt_scene
             fprintf(stderr, "vkrt: device %d (%s) failed after %u frame%s: %s%s\n", k->device,
                     k->device_name[0] ? k->device_name : "not started", k->frames,
                     k->frames == 1 ? "" : "s", k->failure,
-                    k->lost_frame ? "; the frame it held went back to the others" : "");
+                    !k->lost_frame            ? ""
+                    : k->lost_frames == 1     ? "; the frame it held went back to the others"
+                                              : "; the frames it held went back to the others");
     }
     if (opts->common.quiet)
         return;
@@ -614,10 +687,13 @@ static int render_on_devices(const vkrt_render_options *opts, const vkrt_scene *
     if (workers > list->count)
         workers = list->count;
     pool_job job = {
-        .writer = {.opts = opts, .scene = scene, .output = output},
+        .writer = {.opts = opts, .scene = scene, .output = output, .sharers = workers,
+                   .frames = list->count,
+                   .written = pool_frame_written, .failed = pool_write_failed},
         .list = list,
         .progress = !opts->common.quiet && list->total > 1,
     };
+    job.writer.user = &job;
     job.terminal = job.progress && isatty(fileno(stderr));
     job.writer.clear_line = job.terminal;
     job.start_ms = vkrt_clock_ms();

@@ -110,6 +110,24 @@ check "resume renders the missing frame" test -s "$tmp/r1.png"
 check "resume removes stale temporaries" test ! -e "$tmp/r2.png.tmp-12345"
 check "resume leaves the complete frame alone" cmp -s "$tmp/r0.png" "$tmp/r0.saved"
 
+# Frames are written by threads while the next ones render (src/output/write_pool.h): the same
+# bytes as written one at a time on the render thread (VKRT_WRITE_THREADS=0).
+VKRT_WRITE_THREADS=0 "$vkrt" render "$tmp/fly.cfg" --quiet -o "$tmp/w0-%d.png"
+VKRT_WRITE_THREADS=3 "$vkrt" render "$tmp/fly.cfg" --quiet -o "$tmp/w3-%d.png"
+check "frames written by 3 threads have the bytes of frames written one at a time" \
+    sh -c "cmp '$tmp/w0-0.png' '$tmp/w3-0.png' && cmp '$tmp/w0-1.png' '$tmp/w3-1.png' && cmp '$tmp/w0-2.png' '$tmp/w3-2.png'"
+check "and the frames differ from each other (the cameras move)" sh -c "! cmp -s '$tmp/w3-0.png' '$tmp/w3-1.png'"
+VKRT_WRITE_THREADS=many "$vkrt" render "$tmp/fly.cfg" --quiet -o "$tmp/wx%d.png" 2>"$tmp/err"
+check "a VKRT_WRITE_THREADS that is not a number is refused" test $? -eq 1
+check "and says what it takes" grep -q "VKRT_WRITE_THREADS=many: give the number of writer threads, 0 to 16" "$tmp/err"
+# A write that fails mid-run (frame 1's folder is a file): the file named, exit 1, no temporary.
+mkdir "$tmp/d0" "$tmp/d2" && : >"$tmp/d1"
+VKRT_WRITE_THREADS=2 "$vkrt" render "$tmp/fly.cfg" -o "$tmp/d%d/f.png" 2>"$tmp/err"
+check "a frame that cannot be written stops the run with exit 1" test $? -eq 1
+check "and names its file" grep -q "^vkrt: $tmp/d1/f.png: cannot write: Not a directory$" "$tmp/err"
+check "the frame before it was written" test -s "$tmp/d0/f.png"
+check "and no temporary is left" sh -c "! find '$tmp' -name '*.tmp-*' | grep -q ."
+
 # Ctrl-C in the middle of a flythrough: exit 130 after a whole frame, then --resume finishes.
 {
     echo "geometry $src/scenes/cornell/cornell.obj"

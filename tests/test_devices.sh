@@ -53,8 +53,14 @@ children() {
 
 frames=16
 fly "$tmp/fly.cfg" $frames 32
-"$vkrt" render "$tmp/fly.cfg" --quiet -o "$tmp/one%02d.png"
+# The reference: one device, each file written on the render thread before the next frame.
+VKRT_WRITE_THREADS=0 "$vkrt" render "$tmp/fly.cfg" --quiet -o "$tmp/one%02d.png"
 check "the single-device reference renders" test $? -eq 0
+# Written by 3 threads while the next frames render (src/output/write_pool.h): the same bytes.
+VKRT_WRITE_THREADS=3 "$vkrt" render "$tmp/fly.cfg" -o "$tmp/threads%02d.png" 2>"$tmp/err"
+check "frames written by 3 threads have the bytes of frames written one at a time" \
+    same_frames "$tmp/threads" "$tmp/one" $frames
+check "whose progress line counts every frame" grep -q "^vkrt: $frames of $frames frames done" "$tmp/err"
 
 # Two workers on the one device: the frames are shared out, and each is the single run's bytes.
 "$vkrt" render "$tmp/fly.cfg" --devices 0,0 -o "$tmp/two%02d.png" 2>"$tmp/err"
@@ -106,6 +112,17 @@ check "the lost worker is reported" grep -q '^vkrt: device 0 (.*) failed after [
 check "the others' frames add up to the flythrough" test "$(frames_sum "$tmp/err")" -eq $frames
 check "no temporaries are left" sh -c "! ls '$tmp' | grep -q 'tmp-'"
 [ $status -eq 0 ] || cat "$tmp/err"
+
+# A file that cannot be written (frame 3's folder is a file) fails the worker that renders it,
+# then the other; the run names the file, exits 1 and leaves no temporary.
+mkdir "$tmp/d"
+i=0
+while [ $i -lt $frames ]; do mkdir "$tmp/d/$i"; i=$((i + 1)); done
+rmdir "$tmp/d/3" && : >"$tmp/d/3"
+VKRT_WRITE_THREADS=2 "$vkrt" render "$tmp/fly.cfg" --devices 0,0 -o "$tmp/d/%d/f.png" 2>"$tmp/err"
+check "--devices with a file that cannot be written exits 1" test $? -eq 1
+check "and names the file" grep -q "^vkrt: device 0 (.*) failed after [0-9]* frames\{0,1\}: $tmp/d/3/f.png: cannot write: Not a directory" "$tmp/err"
+check "and leaves no temporary" sh -c "! find '$tmp/d' -name '*.tmp-*' | grep -q ."
 
 # One frame and two devices: one worker renders it, the same bytes as one device.
 "$vkrt" render "$tmp/fly.cfg" --frames 5:5 --devices 0,0 -o "$tmp/single%02d.png" 2>"$tmp/err"

@@ -1,5 +1,5 @@
 /*
- * image_write.c: writes rendered frames as PNG (8-bit sRGB, via stb_image_write) or EXR (32-bit
+ * image_write.c: writes rendered frames as PNG (8-bit sRGB: srgb8.h, png_encode.h) or EXR (32-bit
  * float linear RGB, via OpenEXRCore), and expands frame-number patterns in output paths.
  *
  * Both formats go through the same temporary-file discipline: the bytes are written to
@@ -23,7 +23,9 @@
 #include <unistd.h>
 
 #include <openexr.h>
-#include <stb_image_write.h>
+
+#include "png_encode.h"
+#include "srgb8.h"
 
 /* ---------------------------------------------------------------------------------------------
  * Format detection
@@ -150,44 +152,23 @@ static bool temp_file_commit(temp_file *tf, vkrt_error *err)
  * PNG
  * ------------------------------------------------------------------------------------------- */
 
-/* Exact sRGB OETF (IEC 61966-2-1), on a value already clamped to [0, 1]. */
-static double srgb_encode(double linear)
-{
-    if (linear < 0.0031308)
-        return 12.92 * linear;
-    return 1.055 * pow(linear, 1.0 / 2.4) - 0.055;
-}
-
-/* One channel of linear radiance (already scaled by exposure) to an 8-bit sRGB code value.
- * NaN maps to black so a single bad sample cannot poison a frame (or reach the cast, where
- * converting NaN to an integer would be undefined behaviour). */
-static uint8_t linear_to_srgb8(float scaled)
-{
-    if (isnan(scaled))
-        return 0;
-    double clamped = scaled < 0.0f ? 0.0 : scaled > 1.0f ? 1.0 : (double)scaled;
-    return (uint8_t)(srgb_encode(clamped) * 255.0 + 0.5);
-}
-
-/* Where stb_image_write's bytes go: straight into the temp file, remembering the first error
- * because stb's callback cannot report one. */
-typedef struct png_sink {
-    int fd;
-    int error; /* errno of the first failed write, 0 if none */
-} png_sink;
-
-static void png_sink_write(void *context, void *data, int size)
-{
-    png_sink *sink = context;
-    if (sink->error == 0 && size > 0)
-        sink->error = write_all(sink->fd, data, (size_t)size, AT_FILE_POSITION);
-}
-
 static bool png_size_fits(uint32_t width, uint32_t height)
 {
-    /* stb_image_write computes its filter buffer as (width*3 + 1) * height in int. */
-    uint64_t filtered_bytes = ((uint64_t)width * 3 + 1) * (uint64_t)height;
-    return filtered_bytes <= (uint64_t)INT_MAX;
+    return width <= (uint32_t)INT32_MAX && height <= (uint32_t)INT32_MAX; /* PNG's limits */
+}
+
+/* Where the PNG encoder's bytes go: straight into the temp file, keeping the errno of a failed
+ * write for the message. */
+typedef struct png_file_sink {
+    int fd;
+    int error;
+} png_file_sink;
+
+static bool png_file_sink_write(void *context, const void *data, size_t size)
+{
+    png_file_sink *sink = context;
+    sink->error = write_all(sink->fd, data, size, AT_FILE_POSITION);
+    return sink->error == 0;
 }
 
 /* Encodes 8-bit RGB (size already checked) into path through a temporary file. */
@@ -197,17 +178,15 @@ static bool write_png8(const char *path, uint32_t width, uint32_t height, const 
     temp_file tf;
     if (!temp_file_open(&tf, path, err))
         return false;
-    png_sink sink = {.fd = tf.fd, .error = 0};
-    int encoded = stbi_write_png_to_func(png_sink_write, &sink, (int)width, (int)height, 3,
-                                         srgb8, (int)width * 3);
-    if (sink.error != 0) {
+    png_file_sink sink = {.fd = tf.fd, .error = 0};
+    png_encode_result result = png_encode_rgb8(srgb8, width, height, png_file_sink_write, &sink);
+    if (result != PNG_ENCODE_OK) {
         temp_file_discard(&tf);
-        return vkrt_error_set(err, "%s: cannot write: %s", path, strerror(sink.error));
-    }
-    if (!encoded) {
-        /* stb only fails to encode when an allocation fails. */
-        temp_file_discard(&tf);
-        return vkrt_error_set(err, "%s: cannot write: PNG encoding failed (out of memory)", path);
+        return result == PNG_ENCODE_SINK_FAILED
+                   ? vkrt_error_set(err, "%s: cannot write: %s", path, strerror(sink.error))
+               : result == PNG_ENCODE_NO_MEMORY
+                   ? vkrt_error_set(err, "%s: cannot write: out of memory", path)
+                   : vkrt_error_set(err, "%s: cannot write: the PNG encoder failed", path);
     }
     return temp_file_commit(&tf, err);
 }
@@ -221,11 +200,15 @@ static bool write_png(const char *path, uint32_t width, uint32_t height, const f
 
     size_t value_count = (size_t)width * height * 3;
     uint8_t *srgb8 = malloc(value_count);
-    if (!srgb8)
+    srgb8_table *table = malloc(sizeof *table);
+    if (!srgb8 || !table) {
+        free(srgb8);
+        free(table);
         return vkrt_error_set(err, "%s: cannot write: out of memory", path);
-    float scale = exp2f(exposure);
-    for (size_t i = 0; i < value_count; i++)
-        srgb8[i] = linear_to_srgb8(rgb[i] * scale);
+    }
+    srgb8_table_init(table);
+    srgb8_encode_array(table, rgb, exp2f(exposure), value_count, srgb8);
+    free(table);
     bool ok = write_png8(path, width, height, srgb8, err);
     free(srgb8);
     return ok;
