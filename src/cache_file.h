@@ -1,0 +1,91 @@
+/*
+ * cache_file.h: files kept in vkrt's cache directory, and the hashes that name and check them.
+ *
+ * The kernel cache (gpu/spirv_cache.h), the scene cache (scene/scene_cache.h) and the structure
+ * cache (render/accel_cache.h) share one directory and one discipline: an entry is named by a
+ * 128-bit key of everything it depends on, written whole under a temporary name and renamed (so a
+ * reader never sees half an entry, and concurrent writers of one key each leave a whole one),
+ * and read back only after its own checks; anything short, damaged or foreign is a miss.
+ *
+ * Where: $VKRT_CACHE_DIR if set (empty: no cache), else $XDG_CACHE_HOME/vkrt, else
+ * $HOME/.cache/vkrt (the XDG base directory convention). `--no-cache` turns all three off.
+ */
+#ifndef VKRT_CACHE_FILE_H
+#define VKRT_CACHE_FILE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+/* Turns every cache off for the rest of the process (--no-cache). */
+void vkrt_cache_disable(void);
+
+/* The cache directory as above, written into dir (dir_size bytes); false when there is none
+ * (turned off, VKRT_CACHE_DIR empty, or no HOME) or it does not fit. Does not create it. */
+bool vkrt_cache_dir(char *dir, size_t dir_size);
+
+/* The path of the entry of key with extension ext (".spv") in the cache directory; false when
+ * there is no directory or the path does not fit. */
+bool vkrt_cache_entry_path(const uint64_t key[2], const char *ext, char *path, size_t size);
+
+/* A 64-bit hash of the running program's file (its device, inode, size and modification time):
+ * in a key, it keeps a rebuilt vkrt, whose loader or builder may give other results, from
+ * reading what an older build stored. 0 where /proc/self/exe cannot be read. */
+uint64_t vkrt_cache_program_id(void);
+
+/* A 64-bit hash of size bytes from seed: four independent multiply-rotate lanes over 32-byte
+ * stripes (the structure of XXH64), several GB/s on one core. For naming and checking entries,
+ * not against an adversary. */
+uint64_t vkrt_hash64(const void *data, size_t size, uint64_t seed);
+
+/* The same kind of hash of a large array, cut into fixed 8 MiB chunks hashed on every core (up to
+ * 16 threads); the value depends on the bytes alone, never on the thread count. */
+uint64_t vkrt_hash64_parallel(const void *data, size_t size);
+
+/* What identifies a file's contents: its size, its modification time (ns) and vkrt_hash64_parallel's
+ * hash of its bytes (read in chunks on every core). */
+typedef struct vkrt_file_identity {
+    uint64_t size;
+    int64_t mtime_ns;
+    uint64_t hash;
+} vkrt_file_identity;
+
+/* Reads path's identity; false when it cannot be opened or read whole. */
+bool vkrt_file_identity_of(const char *path, vkrt_file_identity *id);
+
+/* An entry being written: under a temporary name until vkrt_cache_writer_commit renames it. */
+typedef struct vkrt_cache_writer {
+    FILE *file;
+    const char *what; /* named in warnings ("scene cache"), or NULL to stay silent */
+    char path[4200], temp[4300];
+    int error_number; /* the first write's errno, 0 while all went well */
+} vkrt_cache_writer;
+
+/* Opens the temporary file of key's entry (creating the cache directory if needed); false when
+ * there is no cache or it cannot be written (then nothing is left behind, and unless what is
+ * NULL a warning says why: vkrt_cache_warn). */
+bool vkrt_cache_writer_open(vkrt_cache_writer *w, const char *what, const uint64_t key[2],
+                            const char *ext);
+
+/* Appends size bytes; a failure is remembered and reported by commit. */
+void vkrt_cache_writer_put(vkrt_cache_writer *w, const void *data, size_t size);
+
+/* Closes the file and renames it to the entry, or removes it (and warns, as open does) when any
+ * write failed; returns whether the entry was stored. */
+bool vkrt_cache_writer_commit(vkrt_cache_writer *w);
+
+/* Reads exactly size bytes from f into dst (large reads go straight into dst); false if short. */
+bool vkrt_cache_read(FILE *f, void *dst, size_t size);
+
+/* Reads bytes bytes from f into a new allocation and checks them against hash
+ * (vkrt_hash64_parallel): the array, or NULL for none (bytes 0, or *ok false already) or on a
+ * failure, which sets *ok false. */
+void *vkrt_cache_read_checked(FILE *f, uint64_t bytes, uint64_t hash, bool *ok);
+
+/* Prints "vkrt: warning: what: cannot write PATH: reason" once per process, for a cache
+ * that cannot be written: a full disk or an unwritable directory costs the next start time, not
+ * this one its result. */
+void vkrt_cache_warn(const char *what, const char *path, int error_number);
+
+#endif
