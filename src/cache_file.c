@@ -115,6 +115,8 @@ enum { HASH_CHUNK = 8u << 20, HASH_MAX_THREADS = 16 };
 typedef struct hash_job {
     const unsigned char *data; /* the bytes, or NULL to read them from fd */
     int fd;
+    unsigned char *dst;        /* where the bytes read go, or NULL for a buffer of each thread's */
+    size_t offset;             /* of the bytes in fd */
     size_t size, chunks;
     uint64_t *hashes;
     atomic_size_t next;
@@ -139,8 +141,9 @@ static bool read_at(int fd, unsigned char *dst, size_t size, size_t offset)
 static void *hash_chunks(void *arg)
 {
     hash_job *job = arg;
-    unsigned char *buffer = job->data ? NULL : malloc(HASH_CHUNK);
-    if (!job->data && !buffer) {
+    bool buffered = !job->data && !job->dst;
+    unsigned char *buffer = buffered ? malloc(HASH_CHUNK) : NULL;
+    if (buffered && !buffer) {
         atomic_store(&job->failed, true);
         return NULL;
     }
@@ -150,8 +153,9 @@ static void *hash_chunks(void *arg)
             break;
         size_t offset = i * (size_t)HASH_CHUNK;
         size_t bytes = job->size - offset < HASH_CHUNK ? job->size - offset : HASH_CHUNK;
-        const unsigned char *chunk = job->data ? job->data + offset : buffer;
-        if (!job->data && !read_at(job->fd, buffer, bytes, offset)) {
+        unsigned char *target = job->dst ? job->dst + offset : buffer;
+        const unsigned char *chunk = job->data ? job->data + offset : target;
+        if (!job->data && !read_at(job->fd, target, bytes, job->offset + offset)) {
             atomic_store(&job->failed, true);
             break;
         }
@@ -318,21 +322,47 @@ bool vkrt_cache_writer_commit(vkrt_cache_writer *w)
     return false;
 }
 
-bool vkrt_cache_read(FILE *f, void *dst, size_t size)
+bool vkrt_cache_reader_open(vkrt_cache_reader *r, const uint64_t key[2], const char *ext)
 {
-    return size == 0 || fread(dst, 1, size, f) == size;
+    memset(r, 0, sizeof *r);
+    char path[4200];
+    if (!vkrt_cache_entry_path(key, ext, path, sizeof path))
+        return false;
+    r->fd = open(path, O_RDONLY);
+    if (r->fd < 0)
+        return false;
+    struct stat st;
+    r->ok = fstat(r->fd, &st) == 0;
+    r->size = r->ok ? (uint64_t)st.st_size : 0;
+    return true;
 }
 
-void *vkrt_cache_read_checked(FILE *f, uint64_t bytes, uint64_t hash, bool *ok)
+void vkrt_cache_reader_get(vkrt_cache_reader *r, void *dst, size_t size)
 {
-    if (!*ok || bytes == 0)
+    r->ok = r->ok && size <= r->size - r->at && read_at(r->fd, dst, size, (size_t)r->at);
+    if (!r->ok)
+        memset(dst, 0, size);
+    r->at += size;
+}
+
+void *vkrt_cache_reader_array(vkrt_cache_reader *r, uint64_t bytes, uint64_t hash)
+{
+    if (!r->ok || bytes == 0)
         return NULL;
-    void *data = bytes <= SIZE_MAX ? malloc((size_t)bytes) : NULL;
-    *ok = data && vkrt_cache_read(f, data, (size_t)bytes) &&
-          vkrt_hash64_parallel(data, (size_t)bytes) == hash;
-    if (!*ok) {
+    unsigned char *data = bytes <= r->size - r->at ? malloc((size_t)bytes) : NULL;
+    hash_job job = {.fd = r->fd, .dst = data, .offset = (size_t)r->at, .size = (size_t)bytes};
+    uint64_t got = 0;
+    r->ok = data && hash_parallel(&job, &got) && got == hash;
+    r->at += bytes;
+    if (!r->ok) {
         free(data);
         data = NULL;
     }
     return data;
+}
+
+void vkrt_cache_reader_close(vkrt_cache_reader *r)
+{
+    close(r->fd);
+    r->fd = -1;
 }

@@ -75,13 +75,28 @@ void vkrt_cache_writer_put(vkrt_cache_writer *w, const void *data, size_t size);
  * write failed; returns whether the entry was stored. */
 bool vkrt_cache_writer_commit(vkrt_cache_writer *w);
 
-/* Reads exactly size bytes from f into dst (large reads go straight into dst); false if short. */
-bool vkrt_cache_read(FILE *f, void *dst, size_t size);
+/* An entry being read: its file, its size, where the next read starts, and whether every read
+ * so far went well (once false, later reads do nothing). */
+typedef struct vkrt_cache_reader {
+    int fd;
+    uint64_t size, at;
+    bool ok;
+} vkrt_cache_reader;
 
-/* Reads bytes bytes from f into a new allocation and checks them against hash
- * (vkrt_hash64_parallel): the array, or NULL for none (bytes 0, or *ok false already) or on a
- * failure, which sets *ok false. */
-void *vkrt_cache_read_checked(FILE *f, uint64_t bytes, uint64_t hash, bool *ok);
+/* Opens key's entry with extension ext; false (nothing to close) when there is none. */
+bool vkrt_cache_reader_open(vkrt_cache_reader *r, const uint64_t key[2], const char *ext);
+
+/* Reads the next size bytes into dst (zeroed on a failure, which clears r->ok). */
+void vkrt_cache_reader_get(vkrt_cache_reader *r, void *dst, size_t size);
+
+/* Reads the next bytes bytes into a new allocation, in 8 MiB chunks on every core, each chunk
+ * read straight into its place and hashed there, and checks them against hash
+ * (vkrt_hash64_parallel's value): the array, or NULL for none (bytes 0, or r->ok already false)
+ * or on a failure, which clears r->ok. */
+void *vkrt_cache_reader_array(vkrt_cache_reader *r, uint64_t bytes, uint64_t hash);
+
+/* Closes the file. */
+void vkrt_cache_reader_close(vkrt_cache_reader *r);
 
 /* Prints "vkrt: warning: what: cannot write PATH: reason" once per process, for a cache
  * that cannot be written: a full disk or an unwritable directory costs the next start time, not

@@ -9,10 +9,10 @@
 #define _POSIX_C_SOURCE 200809L
 #include "accel_cache.h"
 
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "../cache_file.h"
 #include "../clock.h"
@@ -37,11 +37,19 @@ typedef struct accel_header {
     uint64_t header_hash; /* of everything above */
 } accel_header;
 
+static atomic_bool disabled;
+
+void vkrt_accel_cache_disable(void)
+{
+    atomic_store(&disabled, true);
+}
+
 bool vkrt_accel_cache_key(const vkrt_accel_desc *desc, const float *positions,
                           uint32_t triangle_count, uint64_t key[2])
 {
     char dir[4096];
-    if (triangle_count < MIN_TRIANGLES || !vkrt_cache_dir(dir, sizeof dir))
+    if (triangle_count < MIN_TRIANGLES || atomic_load(&disabled) ||
+        !vkrt_cache_dir(dir, sizeof dir))
         return false;
     uint64_t positions_hash =
         vkrt_hash64_parallel(positions, (size_t)triangle_count * 9 * sizeof *positions);
@@ -90,29 +98,24 @@ bool vkrt_accel_cache_load(const uint64_t key[2], vkrt_accel_arrays *a)
 {
     memset(a, 0, sizeof *a);
     double start = vkrt_clock_ms();
-    char path[4200];
-    if (!vkrt_cache_entry_path(key, ".accel", path, sizeof path))
-        return false;
-    FILE *f = fopen(path, "rb");
-    if (!f)
+    vkrt_cache_reader r;
+    if (!vkrt_cache_reader_open(&r, key, ".accel"))
         return false;
     accel_header h;
-    struct stat st;
     uint64_t bytes[ARRAY_COUNT] = {0};
-    bool ok = fstat(fileno(f), &st) == 0 && vkrt_cache_read(f, &h, sizeof h) &&
-              h.magic == ACCEL_MAGIC && h.key[0] == key[0] && h.key[1] == key[1] &&
-              vkrt_hash64(&h, offsetof(accel_header, header_hash), 0) == h.header_hash &&
-              plausible(&h);
-    if (ok) {
+    vkrt_cache_reader_get(&r, &h, sizeof h);
+    r.ok = r.ok && h.magic == ACCEL_MAGIC && h.key[0] == key[0] && h.key[1] == key[1] &&
+           vkrt_hash64(&h, offsetof(accel_header, header_hash), 0) == h.header_hash &&
+           plausible(&h);
+    if (r.ok) {
         array_bytes(&h, bytes);
-        ok = sizeof h + bytes[ARRAY_NODES] + bytes[ARRAY_REFS] + bytes[ARRAY_ORDER] ==
-             (uint64_t)st.st_size;
+        r.ok = sizeof h + bytes[ARRAY_NODES] + bytes[ARRAY_REFS] + bytes[ARRAY_ORDER] == r.size;
     }
-    a->nodes = vkrt_cache_read_checked(f, bytes[ARRAY_NODES], h.hash[ARRAY_NODES], &ok);
-    a->refs = vkrt_cache_read_checked(f, bytes[ARRAY_REFS], h.hash[ARRAY_REFS], &ok);
-    a->prim_order = vkrt_cache_read_checked(f, bytes[ARRAY_ORDER], h.hash[ARRAY_ORDER], &ok);
-    fclose(f);
-    if (!ok) {
+    a->nodes = vkrt_cache_reader_array(&r, bytes[ARRAY_NODES], h.hash[ARRAY_NODES]);
+    a->refs = vkrt_cache_reader_array(&r, bytes[ARRAY_REFS], h.hash[ARRAY_REFS]);
+    a->prim_order = vkrt_cache_reader_array(&r, bytes[ARRAY_ORDER], h.hash[ARRAY_ORDER]);
+    vkrt_cache_reader_close(&r);
+    if (!r.ok) {
         vkrt_accel_arrays_free(a);
         return false;
     }

@@ -21,8 +21,13 @@
 
 #include "accel_gpu.h"
 
+/* Turns the structure cache alone off for the rest of the process: `vkrt bench`, whose build
+ * times must be builds'. */
+void vkrt_accel_cache_disable(void);
+
 /* The key of the structure desc asks for over positions (9 floats per triangle); false when
- * there is nothing to gain (no cache directory, or fewer triangles than are worth storing). */
+ * there is nothing to gain (no cache directory, the cache turned off, or fewer triangles than
+ * are worth storing). */
 bool vkrt_accel_cache_key(const vkrt_accel_desc *desc, const float *positions,
                           uint32_t triangle_count, uint64_t key[2]);
 

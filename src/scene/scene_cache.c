@@ -233,42 +233,38 @@ static void array_bytes(uint32_t triangles, uint32_t materials, bool normals, bo
     bytes[SECTION_MATERIAL] = (uint64_t)triangles * sizeof(int32_t);
 }
 
-/* Section s of h, read at the file's position and checked (vkrt_cache_read_checked). */
-static void *read_section(FILE *f, const mesh_header *h, int s, bool *ok)
+/* Section s of h, the next in r, read and checked (vkrt_cache_reader_array). */
+static void *read_section(vkrt_cache_reader *r, const mesh_header *h, int s)
 {
-    return vkrt_cache_read_checked(f, h->bytes[s], h->hash[s], ok);
+    return vkrt_cache_reader_array(r, h->bytes[s], h->hash[s]);
 }
 
 /* Fills *mesh from key's entry; false on any miss (why says what was wrong with an entry that
  * was there), with *mesh left empty. */
 static bool load_entry(const uint64_t key[2], vkrt_mesh *mesh, const char **why)
 {
-    char path[4200];
-    if (!vkrt_cache_entry_path(key, ".mesh", path, sizeof path))
-        return false;
-    FILE *f = fopen(path, "rb");
-    if (!f)
+    vkrt_cache_reader r;
+    if (!vkrt_cache_reader_open(&r, key, ".mesh"))
         return false;
     const char *reason = "a damaged entry";
     mesh_header h;
-    struct stat st;
     uint64_t expected[SECTION_COUNT];
-    bool ok = fstat(fileno(f), &st) == 0 && vkrt_cache_read(f, &h, sizeof h) &&
-              h.magic == MESH_MAGIC && h.key[0] == key[0] && h.key[1] == key[1] &&
-              vkrt_hash64(&h, offsetof(mesh_header, header_hash), 0) == h.header_hash &&
-              h.triangle_count > 0 && h.triangle_count <= UINT32_MAX / 9;
-    if (ok) {
+    vkrt_cache_reader_get(&r, &h, sizeof h);
+    r.ok = r.ok && h.magic == MESH_MAGIC && h.key[0] == key[0] && h.key[1] == key[1] &&
+           vkrt_hash64(&h, offsetof(mesh_header, header_hash), 0) == h.header_hash &&
+           h.triangle_count > 0 && h.triangle_count <= UINT32_MAX / 9;
+    if (r.ok) {
         array_bytes(h.triangle_count, h.material_count, h.has_normals, h.has_texcoords, expected);
         uint64_t total = sizeof h + h.bytes[SECTION_TEXT];
         for (int s = SECTION_MATERIALS; s < SECTION_COUNT; ++s) {
-            ok = ok && h.bytes[s] == expected[s];
+            r.ok = r.ok && h.bytes[s] == expected[s];
             total += h.bytes[s];
         }
-        ok = ok && h.bytes[SECTION_TEXT] < (1u << 30) && total == (uint64_t)st.st_size;
+        r.ok = r.ok && h.bytes[SECTION_TEXT] < (1u << 30) && total == r.size;
     }
-    char *text = read_section(f, &h, SECTION_TEXT, &ok);
-    mesh->materials = read_section(f, &h, SECTION_MATERIALS, &ok);
-    if (ok) {
+    char *text = read_section(&r, &h, SECTION_TEXT);
+    mesh->materials = read_section(&r, &h, SECTION_MATERIALS);
+    if (r.ok) {
         mesh->material_count = h.material_count;
         for (uint32_t i = 0; i < mesh->material_count; ++i) {
             char **fields[MTL_STRINGS];
@@ -277,16 +273,16 @@ static bool load_entry(const uint64_t key[2], vkrt_mesh *mesh, const char **why)
                 *fields[k] = NULL;
         }
         cursor c = {text, (size_t)h.bytes[SECTION_TEXT], 0, false};
-        ok = read_text(&c, mesh, &reason);
+        r.ok = read_text(&c, mesh, &reason);
     }
     free(text);
     /* The arrays last: a stale .mtl is found before hundreds of MB are read. */
-    mesh->positions = read_section(f, &h, SECTION_POSITIONS, &ok);
-    mesh->normals = read_section(f, &h, SECTION_NORMALS, &ok);
-    mesh->texcoords = read_section(f, &h, SECTION_TEXCOORDS, &ok);
-    mesh->material = read_section(f, &h, SECTION_MATERIAL, &ok);
-    fclose(f);
-    if (!ok) {
+    mesh->positions = read_section(&r, &h, SECTION_POSITIONS);
+    mesh->normals = read_section(&r, &h, SECTION_NORMALS);
+    mesh->texcoords = read_section(&r, &h, SECTION_TEXCOORDS);
+    mesh->material = read_section(&r, &h, SECTION_MATERIAL);
+    vkrt_cache_reader_close(&r);
+    if (!r.ok) {
         *why = reason;
         vkrt_mesh_free(mesh);
         return false;
