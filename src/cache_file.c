@@ -5,6 +5,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cache_file.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <pthread.h>
@@ -320,6 +321,26 @@ bool vkrt_cache_writer_commit(vkrt_cache_writer *w)
     if (w->what)
         vkrt_cache_warn(w->what, w->path, w->error_number);
     return false;
+}
+
+void vkrt_cache_remove_others(const char *suffix, const char *keep)
+{
+    char dir[4096], path[4400];
+    if (!vkrt_cache_dir(dir, sizeof dir))
+        return;
+    DIR *d = opendir(dir);
+    if (!d)
+        return;
+    size_t suffix_length = strlen(suffix);
+    for (struct dirent *e; (e = readdir(d));) {
+        size_t length = strlen(e->d_name);
+        if (length <= suffix_length || strcmp(e->d_name + length - suffix_length, suffix) != 0)
+            continue;
+        int n = snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        if (n > 0 && (size_t)n < sizeof path && strcmp(path, keep) != 0)
+            remove(path);
+    }
+    closedir(d);
 }
 
 bool vkrt_cache_reader_open(vkrt_cache_reader *r, const uint64_t key[2], const char *ext)

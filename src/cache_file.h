@@ -75,6 +75,12 @@ void vkrt_cache_writer_put(vkrt_cache_writer *w, const void *data, size_t size);
  * write failed; returns whether the entry was stored. */
 bool vkrt_cache_writer_commit(vkrt_cache_writer *w);
 
+/* Removes the cache directory's files whose names end with suffix (".0123456789abcdef.mesh"),
+ * but keep (a path): an entry replacing its older versions, so that re-exporting a big scene
+ * does not leave a copy of every version behind. Best effort; a reader that has one of them
+ * open reads on (POSIX unlink). */
+void vkrt_cache_remove_others(const char *suffix, const char *keep);
+
 /* An entry being read: its file, its size, where the next read starts, and whether every read
  * so far went well (once false, later reads do nothing). */
 typedef struct vkrt_cache_reader {

@@ -4,7 +4,8 @@
  *
  * What must hold: the structure read back is the one built, array for array (BVH 2 and 4 wide,
  * with spatial splits, the kd-tree, the grid); a triangle moved by one ulp or any field of the
- * description changed gives another key; a damaged, truncated or foreign entry is a miss; small
+ * description changed gives another key; a damaged, truncated or foreign entry is a miss; a new
+ * version of one source's structure replaces the old entry, not another source's; small
  * scenes and a turned-off cache have no key; a file's hash, read in chunks on several threads,
  * is the hash of its bytes in memory.
  */
@@ -82,11 +83,11 @@ static void round_trip(const vkrt_accel_desc *desc, const float *positions)
     vkrt_accel_arrays built, back;
     vkrt_error err = {{0}};
     assert_true(vkrt_accel_build(desc, positions, TRIANGLES, &built, &err));
-    uint64_t key[2];
-    assert_true(vkrt_accel_cache_key(desc, positions, TRIANGLES, key));
-    assert_false(vkrt_accel_cache_load(key, &back));
-    vkrt_accel_cache_store(key, &built);
-    assert_true(vkrt_accel_cache_load(key, &back));
+    vkrt_accel_cache_name name;
+    assert_true(vkrt_accel_cache_name_of(desc, positions, TRIANGLES, &name));
+    assert_false(vkrt_accel_cache_load(&name, &back));
+    vkrt_accel_cache_store(&name, &built);
+    assert_true(vkrt_accel_cache_load(&name, &back));
     assert_true(back.stats.from_cache);
     assert_false(built.stats.from_cache);
     assert_same_arrays(&built, &back);
@@ -116,10 +117,10 @@ static void keys_follow_every_input(void **state)
     use_cache(*state);
     float *p = scene();
     const vkrt_accel_desc base = {.kind = VKRT_ACCEL_BVH, .bvh_width = 4};
-    uint64_t k0[2], k[2];
-    assert_true(vkrt_accel_cache_key(&base, p, TRIANGLES, k0));
-    assert_true(vkrt_accel_cache_key(&base, p, TRIANGLES, k));
-    assert_memory_equal(k0, k, sizeof k);
+    vkrt_accel_cache_name n0, n;
+    assert_true(vkrt_accel_cache_name_of(&base, p, TRIANGLES, &n0));
+    assert_true(vkrt_accel_cache_name_of(&base, p, TRIANGLES, &n));
+    assert_memory_equal(n0.key, n.key, sizeof n.key);
     vkrt_accel_desc changed[] = {base, base, base, base, base, base, base, base, base};
     changed[0].bvh_width = 2;
     changed[1].bvh_max_leaf = 3;
@@ -131,23 +132,30 @@ static void keys_follow_every_input(void **state)
     changed[7].kd_traversal_cost = 1.5f;
     changed[8].kdtree_competes = true;
     for (size_t i = 0; i < sizeof changed / sizeof *changed; ++i) {
-        assert_true(vkrt_accel_cache_key(&changed[i], p, TRIANGLES, k));
-        assert_memory_not_equal(k0, k, sizeof k);
+        assert_true(vkrt_accel_cache_name_of(&changed[i], p, TRIANGLES, &n));
+        assert_memory_not_equal(n0.key, n.key, sizeof n.key);
     }
+    /* The source names the entry's family, never the structure: the same key. */
+    vkrt_accel_desc sourced = base;
+    sourced.source = "scene.obj";
+    assert_true(vkrt_accel_cache_name_of(&sourced, p, TRIANGLES, &n));
+    assert_memory_equal(n0.key, n.key, sizeof n.key);
+    assert_string_equal(n0.ext, ".accel");
+    assert_string_not_equal(n.ext, ".accel");
     p[9 * 1234 + 4] = nextafterf(p[9 * 1234 + 4], INFINITY);
-    assert_true(vkrt_accel_cache_key(&base, p, TRIANGLES, k));
-    assert_memory_not_equal(k0, k, sizeof k);
-    /* Too small to be worth storing, and no cache at all: no key. */
-    assert_false(vkrt_accel_cache_key(&base, p, 1000, k));
+    assert_true(vkrt_accel_cache_name_of(&base, p, TRIANGLES, &n));
+    assert_memory_not_equal(n0.key, n.key, sizeof n.key);
+    /* Too small to be worth storing, and no cache at all: no name. */
+    assert_false(vkrt_accel_cache_name_of(&base, p, 1000, &n));
     setenv("VKRT_CACHE_DIR", "", 1);
-    assert_false(vkrt_accel_cache_key(&base, p, TRIANGLES, k));
+    assert_false(vkrt_accel_cache_name_of(&base, p, TRIANGLES, &n));
     free(p);
 }
 
-/* The one entry in the cache, into path. */
-static void entry_path(const uint64_t key[2], char *path, size_t size)
+/* The named entry's file, into path. */
+static void entry_path(const vkrt_accel_cache_name *name, char *path, size_t size)
 {
-    assert_true(vkrt_cache_entry_path(key, ".accel", path, size));
+    assert_true(vkrt_cache_entry_path(name->key, name->ext, path, size));
 }
 
 static long file_size(const char *path)
@@ -168,15 +176,15 @@ static void damaged_truncated_and_foreign_are_misses(void **state)
     vkrt_accel_arrays built, back;
     vkrt_error err = {{0}};
     assert_true(vkrt_accel_build(&desc, p, TRIANGLES, &built, &err));
-    uint64_t key[2];
-    assert_true(vkrt_accel_cache_key(&desc, p, TRIANGLES, key));
+    vkrt_accel_cache_name name;
+    assert_true(vkrt_accel_cache_name_of(&desc, p, TRIANGLES, &name));
     char path[4200];
-    entry_path(key, path, sizeof path);
+    entry_path(&name, path, sizeof path);
     long size;
     /* One bit of the nodes (the middle), of the triangle order (the end), of the header's
      * statistics (byte 200: the reason's text). */
     for (int i = 0; i < 3; ++i) {
-        vkrt_accel_cache_store(key, &built);
+        vkrt_accel_cache_store(&name, &built);
         size = file_size(path);
         long at = i == 0 ? size / 2 : i == 1 ? size - 2 : 200;
         FILE *f = fopen(path, "r+b");
@@ -185,31 +193,68 @@ static void damaged_truncated_and_foreign_are_misses(void **state)
         fseek(f, at, SEEK_SET);
         fputc(c ^ 0x10, f);
         fclose(f);
-        assert_false(vkrt_accel_cache_load(key, &back));
+        assert_false(vkrt_accel_cache_load(&name, &back));
     }
     /* Truncated by one byte. */
-    vkrt_accel_cache_store(key, &built);
+    vkrt_accel_cache_store(&name, &built);
     size = file_size(path);
     assert_int_equal(truncate(path, size - 1), 0);
-    assert_false(vkrt_accel_cache_load(key, &back));
+    assert_false(vkrt_accel_cache_load(&name, &back));
     /* Another structure's entry under this key's name. */
     const vkrt_accel_desc other = {.kind = VKRT_ACCEL_BVH, .bvh_width = 4};
     vkrt_accel_arrays built4;
     assert_true(vkrt_accel_build(&other, p, TRIANGLES, &built4, &err));
-    uint64_t key4[2];
-    assert_true(vkrt_accel_cache_key(&other, p, TRIANGLES, key4));
-    vkrt_accel_cache_store(key4, &built4);
+    vkrt_accel_cache_name name4;
+    assert_true(vkrt_accel_cache_name_of(&other, p, TRIANGLES, &name4));
+    vkrt_accel_cache_store(&name4, &built4);
     char path4[4200];
-    entry_path(key4, path4, sizeof path4);
+    entry_path(&name4, path4, sizeof path4);
     assert_int_equal(rename(path4, path), 0);
-    assert_false(vkrt_accel_cache_load(key, &back));
+    assert_false(vkrt_accel_cache_load(&name, &back));
     /* And whole again: a hit. */
-    vkrt_accel_cache_store(key, &built);
-    assert_true(vkrt_accel_cache_load(key, &back));
+    vkrt_accel_cache_store(&name, &built);
+    assert_true(vkrt_accel_cache_load(&name, &back));
     assert_same_arrays(&built, &back);
     vkrt_accel_arrays_free(&back);
     vkrt_accel_arrays_free(&built);
     vkrt_accel_arrays_free(&built4);
+    free(p);
+}
+
+static bool exists(const char *path)
+{
+    return access(path, F_OK) == 0;
+}
+
+/* A new version of one source's structure replaces the old one; another source's stays. */
+static void newer_versions_replace_older(void **state)
+{
+    use_cache(*state);
+    float *p = scene();
+    vkrt_accel_desc desc = {.kind = VKRT_ACCEL_GRID, .source = "/scenes/a.obj"};
+    vkrt_accel_arrays built;
+    vkrt_error err = {{0}};
+    assert_true(vkrt_accel_build(&desc, p, TRIANGLES, &built, &err));
+    vkrt_accel_cache_name a1, b1, a2;
+    char path_a1[4200], path_b1[4200], path_a2[4200];
+    assert_true(vkrt_accel_cache_name_of(&desc, p, TRIANGLES, &a1));
+    vkrt_accel_cache_store(&a1, &built);
+    desc.source = "/scenes/b.obj";
+    assert_true(vkrt_accel_cache_name_of(&desc, p, TRIANGLES, &b1));
+    vkrt_accel_cache_store(&b1, &built);
+    /* a.obj edited: one vertex moved. (The arrays stored need not match: only names matter.) */
+    p[5] = nextafterf(p[5], INFINITY);
+    desc.source = "/scenes/a.obj";
+    assert_true(vkrt_accel_cache_name_of(&desc, p, TRIANGLES, &a2));
+    assert_string_equal(a1.ext, a2.ext);
+    vkrt_accel_cache_store(&a2, &built);
+    entry_path(&a1, path_a1, sizeof path_a1);
+    entry_path(&b1, path_b1, sizeof path_b1);
+    entry_path(&a2, path_a2, sizeof path_a2);
+    assert_false(exists(path_a1));
+    assert_true(exists(path_b1));
+    assert_true(exists(path_a2));
+    vkrt_accel_arrays_free(&built);
     free(p);
 }
 
@@ -238,6 +283,7 @@ int main(void)
         temp_dir_test(read_back_equals_built),
         temp_dir_test(keys_follow_every_input),
         temp_dir_test(damaged_truncated_and_foreign_are_misses),
+        temp_dir_test(newer_versions_replace_older),
         temp_dir_test(file_hash_is_the_bytes_hash),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

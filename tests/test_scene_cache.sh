@@ -86,6 +86,8 @@ render made-edited "$made"
 check "an OBJ rewritten under the same size and time is parsed again" \
     said made-edited "OBJ parsed, mesh stored"
 check "and renders the new scene" sh -c "! cmp -s '$tmp/made-cold.png' '$tmp/made-edited.png'"
+check "and its entry replaces the old version's" \
+    test "$(find "$VKRT_CACHE_DIR" -name '*.mesh' | wc -l)" -eq 1
 # A changed .mtl: the entry lists it with its identity.
 render made-again "$made"
 check "(the edited OBJ is read from the cache)" said made-again "mesh read in"

@@ -1,7 +1,8 @@
 /*
  * accel_cache.c: built structures kept in the cache directory (accel_cache.h).
  *
- * An entry "<key>.accel" is a header (magic, key, the arrays' sizes, the frame, the statistics,
+ * An entry "<key>.<family>.accel" (accel_cache.h: the latest of one OBJ's structures under one
+ * set of settings) is a header (magic, key, the arrays' sizes, the frame, the statistics,
  * each array's hash and a hash of the header itself), then the nodes, the references and the
  * triangle order, exactly as vkrt_accel_arrays holds them. The file's size must be the header's
  * sum: a truncated entry is found before anything is read.
@@ -13,6 +14,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "../cache_file.h"
 #include "../clock.h"
@@ -44,32 +46,47 @@ void vkrt_accel_cache_disable(void)
     atomic_store(&disabled, true);
 }
 
-bool vkrt_accel_cache_key(const vkrt_accel_desc *desc, const float *positions,
-                          uint32_t triangle_count, uint64_t key[2])
+bool vkrt_accel_cache_name_of(const vkrt_accel_desc *desc, const float *positions,
+                              uint32_t triangle_count, vkrt_accel_cache_name *name)
 {
     char dir[4096];
+    memset(name, 0, sizeof *name);
     if (triangle_count < MIN_TRIANGLES || atomic_load(&disabled) ||
         !vkrt_cache_dir(dir, sizeof dir))
         return false;
-    uint64_t positions_hash =
-        vkrt_hash64_parallel(positions, (size_t)triangle_count * 9 * sizeof *positions);
     /* Every field of desc by name, floats exactly (%a): padding never enters the key. */
-    char text[1024];
+    char settings[1024], text[1200];
     int n = snprintf(
-        text, sizeof text,
-        "vkrt structure layout %d, program %016llx, nodes %zu %zu %zu, stats %zu; %u triangles, "
-        "positions %016llx; kind %d, splits %d, grid density %a, BVH width %u, leaf %u, node "
-        "cost %a, spatial budget %a, kd-tree cost %a, grid competes %d, kd-tree competes %d",
+        settings, sizeof settings,
+        "vkrt structure layout %d, program %016llx, nodes %zu %zu %zu, stats %zu; kind %d, "
+        "splits %d, grid density %a, BVH width %u, leaf %u, node cost %a, spatial budget %a, "
+        "kd-tree cost %a, grid competes %d, kd-tree competes %d",
         LAYOUT_VERSION, (unsigned long long)vkrt_cache_program_id(), sizeof(BvhPair),
-        sizeof(BvhQuad), sizeof(KdNode), sizeof(vkrt_accel_stats), triangle_count,
-        (unsigned long long)positions_hash, (int)desc->kind, (int)desc->bvh_splits,
-        (double)desc->grid_density, desc->bvh_width, desc->bvh_max_leaf,
+        sizeof(BvhQuad), sizeof(KdNode), sizeof(vkrt_accel_stats), (int)desc->kind,
+        (int)desc->bvh_splits, (double)desc->grid_density, desc->bvh_width, desc->bvh_max_leaf,
         (double)desc->bvh_traversal_cost, (double)desc->bvh_spatial_budget,
         (double)desc->kd_traversal_cost, (int)desc->grid_competes, (int)desc->kdtree_competes);
-    if (n < 0 || (size_t)n >= sizeof text)
+    if (n < 0 || (size_t)n >= sizeof settings)
         return false;
-    key[0] = vkrt_hash64(text, (size_t)n, 0x243F6A8885A308D3ull);
-    key[1] = vkrt_hash64(text, (size_t)n, 0x13198A2E03707344ull);
+    uint64_t positions_hash =
+        vkrt_hash64_parallel(positions, (size_t)triangle_count * 9 * sizeof *positions);
+    int m = snprintf(text, sizeof text, "%s; %u triangles, positions %016llx", settings,
+                     triangle_count, (unsigned long long)positions_hash);
+    if (m < 0 || (size_t)m >= sizeof text)
+        return false;
+    name->key[0] = vkrt_hash64(text, (size_t)m, 0x243F6A8885A308D3ull);
+    name->key[1] = vkrt_hash64(text, (size_t)m, 0x13198A2E03707344ull);
+    if (!desc->source) {
+        snprintf(name->ext, sizeof name->ext, ".accel");
+        return true;
+    }
+    char cwd[4096] = "";
+    if (desc->source[0] != '/' && !getcwd(cwd, sizeof cwd))
+        cwd[0] = '\0';
+    uint64_t family = vkrt_hash64(settings, (size_t)n,
+                                  vkrt_hash64(desc->source, strlen(desc->source),
+                                              vkrt_hash64(cwd, strlen(cwd), 0)));
+    snprintf(name->ext, sizeof name->ext, ".%016llx.accel", (unsigned long long)family);
     return true;
 }
 
@@ -94,12 +111,13 @@ static bool plausible(const accel_header *h)
            memchr(s->reason, '\0', sizeof s->reason) != NULL;
 }
 
-bool vkrt_accel_cache_load(const uint64_t key[2], vkrt_accel_arrays *a)
+bool vkrt_accel_cache_load(const vkrt_accel_cache_name *name, vkrt_accel_arrays *a)
 {
     memset(a, 0, sizeof *a);
     double start = vkrt_clock_ms();
     vkrt_cache_reader r;
-    if (!vkrt_cache_reader_open(&r, key, ".accel"))
+    const uint64_t *key = name->key;
+    if (!vkrt_cache_reader_open(&r, key, name->ext))
         return false;
     accel_header h;
     uint64_t bytes[ARRAY_COUNT] = {0};
@@ -131,8 +149,9 @@ bool vkrt_accel_cache_load(const uint64_t key[2], vkrt_accel_arrays *a)
     return true;
 }
 
-void vkrt_accel_cache_store(const uint64_t key[2], const vkrt_accel_arrays *a)
+void vkrt_accel_cache_store(const vkrt_accel_cache_name *name, const vkrt_accel_arrays *a)
 {
+    const uint64_t *key = name->key;
     accel_header h;
     /* Zeroed first: the padding of the header and of its statistics is hashed and written. */
     memset(&h, 0, sizeof h);
@@ -153,10 +172,11 @@ void vkrt_accel_cache_store(const uint64_t key[2], const vkrt_accel_arrays *a)
         h.hash[i] = bytes[i] ? vkrt_hash64_parallel(arrays[i], (size_t)bytes[i]) : 0;
     h.header_hash = vkrt_hash64(&h, offsetof(accel_header, header_hash), 0);
     vkrt_cache_writer w;
-    if (!vkrt_cache_writer_open(&w, "structure cache", key, ".accel"))
+    if (!vkrt_cache_writer_open(&w, "structure cache", key, name->ext))
         return;
     vkrt_cache_writer_put(&w, &h, sizeof h);
     for (int i = 0; i < ARRAY_COUNT; ++i)
         vkrt_cache_writer_put(&w, arrays[i], (size_t)bytes[i]);
-    vkrt_cache_writer_commit(&w);
+    if (vkrt_cache_writer_commit(&w) && strcmp(name->ext, ".accel") != 0)
+        vkrt_cache_remove_others(name->ext, w.path);
 }

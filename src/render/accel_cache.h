@@ -25,16 +25,26 @@
  * times must be builds'. */
 void vkrt_accel_cache_disable(void);
 
-/* The key of the structure desc asks for over positions (9 floats per triangle); false when
+/* Where a structure is kept: its key, and the entry's extension ".<16 hex digits>.accel", a hash
+ * of the description's source and every other input but the positions, shared by the versions of
+ * one OBJ's structure under one set of settings, of which the cache keeps the latest (".accel"
+ * alone when the description names no source: nothing is replaced). */
+typedef struct vkrt_accel_cache_name {
+    uint64_t key[2];
+    char ext[32];
+} vkrt_accel_cache_name;
+
+/* The name of the structure desc asks for over positions (9 floats per triangle); false when
  * there is nothing to gain (no cache directory, the cache turned off, or fewer triangles than
  * are worth storing). */
-bool vkrt_accel_cache_key(const vkrt_accel_desc *desc, const float *positions,
-                          uint32_t triangle_count, uint64_t key[2]);
+bool vkrt_accel_cache_name_of(const vkrt_accel_desc *desc, const float *positions,
+                              uint32_t triangle_count, vkrt_accel_cache_name *name);
 
-/* Fills *a from key's entry; false on any miss, with *a zeroed. stats.from_cache is set. */
-bool vkrt_accel_cache_load(const uint64_t key[2], vkrt_accel_arrays *a);
+/* Fills *a from the named entry; false on any miss, with *a zeroed. stats.from_cache is set. */
+bool vkrt_accel_cache_load(const vkrt_accel_cache_name *name, vkrt_accel_arrays *a);
 
-/* Stores a under key, best effort: a cache that cannot be written warns once. */
-void vkrt_accel_cache_store(const uint64_t key[2], const vkrt_accel_arrays *a);
+/* Stores a under name, in place of older versions of the same source and settings; best
+ * effort: a cache that cannot be written warns once. */
+void vkrt_accel_cache_store(const vkrt_accel_cache_name *name, const vkrt_accel_arrays *a);
 
 #endif

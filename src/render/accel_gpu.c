@@ -339,15 +339,15 @@ bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel
 {
     memset(a, 0, sizeof *a);
     /* The structure cache (accel_cache.h): try it, else build and store. */
-    uint64_t key[2];
+    vkrt_accel_cache_name name;
     vkrt_accel_arrays arr;
     bool cached = desc->kind != VKRT_ACCEL_BRUTE &&
-                  vkrt_accel_cache_key(desc, positions, triangle_count, key);
-    if (!(cached && vkrt_accel_cache_load(key, &arr))) {
+                  vkrt_accel_cache_name_of(desc, positions, triangle_count, &name);
+    if (!(cached && vkrt_accel_cache_load(&name, &arr))) {
         if (!vkrt_accel_build(desc, positions, triangle_count, &arr, err))
             return false;
         if (cached && arr.stats.kind != VKRT_ACCEL_BRUTE)
-            vkrt_accel_cache_store(key, &arr);
+            vkrt_accel_cache_store(&name, &arr);
     }
     bool ok = upload(a, ctx, &arr, err);
     vkrt_accel_arrays_free(&arr);

@@ -76,6 +76,9 @@ typedef struct vkrt_accel_desc {
     vkrt_bvh_splits bvh_splits; /* auto (0): both trees built (up to a size; the plain one only
                                    where the split one took a spatial split), the spatial
                                    splits' kept when its SAH cost is lower by a margin */
+    const char *source;       /* what the positions came from (the OBJ's path), or NULL: the
+                                 structure cache keeps one entry per source and settings
+                                 (accel_cache.h); the structure never depends on it */
 } vkrt_accel_desc;
 
 /* A structure built on the CPU in the form the upload takes (and the structure cache keeps,

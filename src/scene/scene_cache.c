@@ -1,7 +1,8 @@
 /*
  * scene_cache.c: an OBJ's mesh kept in the cache directory (scene_cache.h).
  *
- * An entry "<key>.mesh" is a header (magic, key, counts, bounds, each section's size and hash,
+ * An entry "<key>.<where>.mesh" (where: a hash of the OBJ's path, shared by its versions, of which
+ * the cache keeps the latest) is a header (magic, key, counts, bounds, each section's size and hash,
  * and a hash of the header itself), then its sections in order: the text (the .mtl files read
  * with their identities, the materials' strings, the warnings), the materials' records (vkrt_mtl
  * with its pointers zeroed), then the per-triangle arrays exactly as vkrt_mesh holds them. The
@@ -53,22 +54,40 @@ static void mtl_strings(vkrt_mtl *m, char **out[MTL_STRINGS])
 
 /* ---------------------------------------------------------------- the key */
 
-/* The key of the OBJ at path with identity id: two hashes of one description of it. */
-static void key_of(const char *path, const vkrt_file_identity *id, uint64_t key[2])
+/* Where path leads: the path, and the working folder when it is relative (texture paths are
+ * resolved against it). */
+static void where_of(const char *path, char *text, size_t size)
 {
     char cwd[4096] = "";
     if (path[0] != '/' && !getcwd(cwd, sizeof cwd))
         cwd[0] = '\0';
-    char text[8800];
+    snprintf(text, size, "in %s: %s", cwd, path);
+}
+
+/* The key of the OBJ at path with identity id: two hashes of one description of it. */
+static void key_of(const char *path, const vkrt_file_identity *id, uint64_t key[2])
+{
+    char where[8400], text[8800];
+    where_of(path, where, sizeof where);
     int n = snprintf(text, sizeof text,
-                     "vkrt mesh layout %d, vkrt_mtl %zu bytes, program %016llx; in %s: %s, %llu "
-                     "bytes, mtime %lld, hash %016llx",
+                     "vkrt mesh layout %d, vkrt_mtl %zu bytes, program %016llx; %s, %llu bytes, "
+                     "mtime %lld, hash %016llx",
                      LAYOUT_VERSION, sizeof(vkrt_mtl), (unsigned long long)vkrt_cache_program_id(),
-                     cwd, path, (unsigned long long)id->size, (long long)id->mtime_ns,
+                     where, (unsigned long long)id->size, (long long)id->mtime_ns,
                      (unsigned long long)id->hash);
     size_t size = n < 0 ? 0 : (size_t)n < sizeof text ? (size_t)n : sizeof text - 1;
     key[0] = vkrt_hash64(text, size, 0x243F6A8885A308D3ull);
     key[1] = vkrt_hash64(text, size, 0x13198A2E03707344ull);
+}
+
+/* The entry's extension, ".<16 hex digits of where path leads>.mesh": one OBJ's versions share
+ * it, and storing one removes the others (vkrt_cache_remove_others). */
+static void extension_of(const char *path, char ext[32])
+{
+    char where[8400];
+    where_of(path, where, sizeof where);
+    snprintf(ext, 32, ".%016llx.mesh",
+             (unsigned long long)vkrt_hash64(where, strlen(where), 0x452821E638D01377ull));
 }
 
 /* ---------------------------------------------------------------- the text section */
@@ -241,10 +260,10 @@ static void *read_section(vkrt_cache_reader *r, const mesh_header *h, int s)
 
 /* Fills *mesh from key's entry; false on any miss (why says what was wrong with an entry that
  * was there), with *mesh left empty. */
-static bool load_entry(const uint64_t key[2], vkrt_mesh *mesh, const char **why)
+static bool load_entry(const uint64_t key[2], const char *ext, vkrt_mesh *mesh, const char **why)
 {
     vkrt_cache_reader r;
-    if (!vkrt_cache_reader_open(&r, key, ".mesh"))
+    if (!vkrt_cache_reader_open(&r, key, ext))
         return false;
     const char *reason = "a damaged entry";
     mesh_header h;
@@ -293,8 +312,10 @@ static bool load_entry(const uint64_t key[2], vkrt_mesh *mesh, const char **why)
     return true;
 }
 
-/* Writes mesh under key; false (with why) when it is not stored. */
-static bool store_entry(const uint64_t key[2], const vkrt_mesh *mesh, const char **why)
+/* Writes mesh under key, in place of the OBJ's older versions; false (with why) when it is not
+ * stored. */
+static bool store_entry(const uint64_t key[2], const char *ext, const vkrt_mesh *mesh,
+                        const char **why)
 {
     blob text = {0};
     if (!text_of(mesh, &text)) {
@@ -335,12 +356,14 @@ static bool store_entry(const uint64_t key[2], const vkrt_mesh *mesh, const char
     h.header_hash = vkrt_hash64(&h, offsetof(mesh_header, header_hash), 0);
     vkrt_cache_writer w;
     bool stored = false;
-    if (vkrt_cache_writer_open(&w, "scene cache", key, ".mesh")) {
+    if (vkrt_cache_writer_open(&w, "scene cache", key, ext)) {
         vkrt_cache_writer_put(&w, &h, sizeof h);
         for (int s = 0; s < SECTION_COUNT; ++s)
             vkrt_cache_writer_put(&w, sections[s], (size_t)h.bytes[s]);
         stored = vkrt_cache_writer_commit(&w);
     }
+    if (stored)
+        vkrt_cache_remove_others(ext, w.path);
     if (!stored)
         *why = "the cache could not be written";
     free(records);
@@ -365,15 +388,17 @@ bool vkrt_scene_cache_obj_load(const char *path, vkrt_mesh *mesh,
     char dir[4096];
     vkrt_file_identity id;
     uint64_t key[2];
+    char ext[32];
     double start = vkrt_clock_ms();
     bool cached = path && mesh && vkrt_cache_dir(dir, sizeof dir) &&
                   vkrt_file_identity_of(path, &id);
     report->hash_ms = vkrt_clock_ms() - start;
     if (cached) {
         key_of(path, &id, key);
+        extension_of(path, ext);
         memset(mesh, 0, sizeof *mesh);
         start = vkrt_clock_ms();
-        if (load_entry(key, mesh, &report->rejected)) {
+        if (load_entry(key, ext, mesh, &report->rejected)) {
             report->read_ms = vkrt_clock_ms() - start;
             report->outcome = VKRT_SCENE_CACHE_HIT;
             return true;
@@ -392,7 +417,7 @@ bool vkrt_scene_cache_obj_load(const char *path, vkrt_mesh *mesh,
         report->why = "the OBJ changed while it was read";
     else {
         start = vkrt_clock_ms();
-        if (store_entry(key, mesh, &report->why))
+        if (store_entry(key, ext, mesh, &report->why))
             report->outcome = VKRT_SCENE_CACHE_STORED;
         report->store_ms = vkrt_clock_ms() - start;
     }

@@ -17,7 +17,8 @@
  * render the old scene, so the contents are hashed. Each array's hash is checked too: a short,
  * damaged or foreign entry is a miss and the OBJ is parsed again. An OBJ under 1 MiB is parsed
  * in milliseconds and is not stored; nor is one whose mtllib names a file not found (that file
- * appearing later would go unnoticed).
+ * appearing later would go unnoticed). The cache keeps one version per OBJ path: storing a new
+ * one removes the older.
  */
 #ifndef VKRT_SCENE_CACHE_H
 #define VKRT_SCENE_CACHE_H
