@@ -22,8 +22,13 @@ void vkrt_cache_disable(void)
     atomic_store(&disabled, true);
 }
 
-bool vkrt_cache_dir(char *dir, size_t dir_size)
+bool vkrt_cache_dir(vkrt_cache_kind kind, char *dir, size_t dir_size)
 {
+    const char *scenes = getenv("VKRT_SCENE_CACHE_DIR");
+    if (kind == VKRT_CACHE_SCENES && scenes && !atomic_load(&disabled)) {
+        int n = scenes[0] ? snprintf(dir, dir_size, "%s", scenes) : -1;
+        return n > 0 && (size_t)n < dir_size;
+    }
     const char *set = getenv("VKRT_CACHE_DIR");
     const char *xdg = getenv("XDG_CACHE_HOME");
     const char *home = getenv("HOME");
@@ -41,10 +46,11 @@ bool vkrt_cache_dir(char *dir, size_t dir_size)
     return n > 0 && (size_t)n < dir_size;
 }
 
-bool vkrt_cache_entry_path(const uint64_t key[2], const char *ext, char *path, size_t size)
+bool vkrt_cache_entry_path(vkrt_cache_kind kind, const uint64_t key[2], const char *ext,
+                           char *path, size_t size)
 {
     char dir[4096];
-    if (!vkrt_cache_dir(dir, sizeof dir))
+    if (!vkrt_cache_dir(kind, dir, sizeof dir))
         return false;
     int n = snprintf(path, size, "%s/%016llx%016llx%s", dir, (unsigned long long)key[0],
                      (unsigned long long)key[1], ext);
@@ -278,16 +284,18 @@ static bool make_dirs(char *path)
     return mkdir(path, 0700) == 0 || errno == EEXIST;
 }
 
-bool vkrt_cache_writer_open(vkrt_cache_writer *w, const char *what, const uint64_t key[2],
-                            const char *ext)
+bool vkrt_cache_writer_open(vkrt_cache_writer *w, vkrt_cache_kind kind, const char *what,
+                            const uint64_t key[2], const char *ext)
 {
     /* Entries written at once by threads of one process (device_pool.c's are processes) get
      * names of their own as well. */
     static atomic_uint serial;
     memset(w, 0, sizeof *w);
     w->what = what;
+    w->kind = kind;
     char dir[4096];
-    if (!vkrt_cache_dir(dir, sizeof dir) || !vkrt_cache_entry_path(key, ext, w->path, sizeof w->path))
+    if (!vkrt_cache_dir(kind, dir, sizeof dir) ||
+        !vkrt_cache_entry_path(kind, key, ext, w->path, sizeof w->path))
         return false;
     int n = snprintf(w->temp, sizeof w->temp, "%s.%ld.%u.tmp", w->path, (long)getpid(),
                      atomic_fetch_add(&serial, 1u));
@@ -323,10 +331,10 @@ bool vkrt_cache_writer_commit(vkrt_cache_writer *w)
     return false;
 }
 
-void vkrt_cache_remove_others(const char *suffix, const char *keep)
+void vkrt_cache_remove_others(vkrt_cache_kind kind, const char *suffix, const char *keep)
 {
     char dir[4096], path[4400];
-    if (!vkrt_cache_dir(dir, sizeof dir))
+    if (!vkrt_cache_dir(kind, dir, sizeof dir))
         return;
     DIR *d = opendir(dir);
     if (!d)
@@ -343,11 +351,12 @@ void vkrt_cache_remove_others(const char *suffix, const char *keep)
     closedir(d);
 }
 
-bool vkrt_cache_reader_open(vkrt_cache_reader *r, const uint64_t key[2], const char *ext)
+bool vkrt_cache_reader_open(vkrt_cache_reader *r, vkrt_cache_kind kind, const uint64_t key[2],
+                            const char *ext)
 {
     memset(r, 0, sizeof *r);
     char path[4200];
-    if (!vkrt_cache_entry_path(key, ext, path, sizeof path))
+    if (!vkrt_cache_entry_path(kind, key, ext, path, sizeof path))
         return false;
     r->fd = open(path, O_RDONLY);
     if (r->fd < 0)

@@ -8,7 +8,9 @@
  * and read back only after its own checks; anything short, damaged or foreign is a miss.
  *
  * Where: $VKRT_CACHE_DIR if set (empty: no cache), else $XDG_CACHE_HOME/vkrt, else
- * $HOME/.cache/vkrt (the XDG base directory convention). `--no-cache` turns all three off.
+ * $HOME/.cache/vkrt (the XDG base directory convention). Meshes and structures, up to gigabytes
+ * an entry where kernels take kilobytes, go to $VKRT_SCENE_CACHE_DIR where it is set (empty:
+ * none kept, the kernels still are), else beside the kernels. `--no-cache` turns all off.
  */
 #ifndef VKRT_CACHE_FILE_H
 #define VKRT_CACHE_FILE_H
@@ -21,13 +23,20 @@
 /* Turns every cache off for the rest of the process (--no-cache). */
 void vkrt_cache_disable(void);
 
-/* The cache directory as above, written into dir (dir_size bytes); false when there is none
- * (turned off, VKRT_CACHE_DIR empty, or no HOME) or it does not fit. Does not create it. */
-bool vkrt_cache_dir(char *dir, size_t dir_size);
+/* What an entry holds, which decides its directory. */
+typedef enum vkrt_cache_kind {
+    VKRT_CACHE_KERNELS, /* compiled kernels and the driver's pipeline data */
+    VKRT_CACHE_SCENES,  /* meshes and structures */
+} vkrt_cache_kind;
 
-/* The path of the entry of key with extension ext (".spv") in the cache directory; false when
+/* The cache directory of kind as above, written into dir (dir_size bytes); false when there is
+ * none (turned off, the variable empty, or no HOME) or it does not fit. Does not create it. */
+bool vkrt_cache_dir(vkrt_cache_kind kind, char *dir, size_t dir_size);
+
+/* The path of the entry of key with extension ext (".spv") in kind's directory; false when
  * there is no directory or the path does not fit. */
-bool vkrt_cache_entry_path(const uint64_t key[2], const char *ext, char *path, size_t size);
+bool vkrt_cache_entry_path(vkrt_cache_kind kind, const uint64_t key[2], const char *ext,
+                           char *path, size_t size);
 
 /* A 64-bit hash of the running program's file (its device, inode, size and modification time):
  * in a key, it keeps a rebuilt vkrt, whose loader or builder may give other results, from
@@ -57,6 +66,7 @@ bool vkrt_file_identity_of(const char *path, vkrt_file_identity *id);
 /* An entry being written: under a temporary name until vkrt_cache_writer_commit renames it. */
 typedef struct vkrt_cache_writer {
     FILE *file;
+    vkrt_cache_kind kind;
     const char *what; /* named in warnings ("scene cache"), or NULL to stay silent */
     char path[4200], temp[4300];
     int error_number; /* the first write's errno, 0 while all went well */
@@ -65,8 +75,8 @@ typedef struct vkrt_cache_writer {
 /* Opens the temporary file of key's entry (creating the cache directory if needed); false when
  * there is no cache or it cannot be written (then nothing is left behind, and unless what is
  * NULL a warning says why: vkrt_cache_warn). */
-bool vkrt_cache_writer_open(vkrt_cache_writer *w, const char *what, const uint64_t key[2],
-                            const char *ext);
+bool vkrt_cache_writer_open(vkrt_cache_writer *w, vkrt_cache_kind kind, const char *what,
+                            const uint64_t key[2], const char *ext);
 
 /* Appends size bytes; a failure is remembered and reported by commit. */
 void vkrt_cache_writer_put(vkrt_cache_writer *w, const void *data, size_t size);
@@ -75,11 +85,11 @@ void vkrt_cache_writer_put(vkrt_cache_writer *w, const void *data, size_t size);
  * write failed; returns whether the entry was stored. */
 bool vkrt_cache_writer_commit(vkrt_cache_writer *w);
 
-/* Removes the cache directory's files whose names end with suffix (".0123456789abcdef.mesh"),
+/* Removes the files of kind's directory whose names end with suffix (".0123456789abcdef.mesh"),
  * but keep (a path): an entry replacing its older versions, so that re-exporting a big scene
  * does not leave a copy of every version behind. Best effort; a reader that has one of them
  * open reads on (POSIX unlink). */
-void vkrt_cache_remove_others(const char *suffix, const char *keep);
+void vkrt_cache_remove_others(vkrt_cache_kind kind, const char *suffix, const char *keep);
 
 /* An entry being read: its file, its size, where the next read starts, and whether every read
  * so far went well (once false, later reads do nothing). */
@@ -89,8 +99,9 @@ typedef struct vkrt_cache_reader {
     bool ok;
 } vkrt_cache_reader;
 
-/* Opens key's entry with extension ext; false (nothing to close) when there is none. */
-bool vkrt_cache_reader_open(vkrt_cache_reader *r, const uint64_t key[2], const char *ext);
+/* Opens key's entry with extension ext in kind's directory; false (nothing to close) when there is none. */
+bool vkrt_cache_reader_open(vkrt_cache_reader *r, vkrt_cache_kind kind, const uint64_t key[2],
+                            const char *ext);
 
 /* Reads the next size bytes into dst (zeroed on a failure, which clears r->ok). */
 void vkrt_cache_reader_get(vkrt_cache_reader *r, void *dst, size_t size);

@@ -155,7 +155,7 @@ static void keys_follow_every_input(void **state)
 /* The named entry's file, into path. */
 static void entry_path(const vkrt_accel_cache_name *name, char *path, size_t size)
 {
-    assert_true(vkrt_cache_entry_path(name->key, name->ext, path, size));
+    assert_true(vkrt_cache_entry_path(VKRT_CACHE_SCENES, name->key, name->ext, path, size));
 }
 
 static long file_size(const char *path)

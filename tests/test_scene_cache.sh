@@ -5,7 +5,8 @@
 # (a new time; new bytes under the old size and time) or .mtl is parsed again; a damaged or
 # truncated entry is parsed or built again; the OBJ's warnings are printed again from the cache;
 # four runs at once on an empty cache agree; an unwritable cache or a full disk only warns;
-# --no-cache writes nothing. Run by meson test with VKRT_BINARY, VKRT_SOURCE_DIR and
+# --no-cache writes nothing; VKRT_SCENE_CACHE_DIR moves the meshes and structures, or (empty)
+# keeps none. Run by meson test with VKRT_BINARY, VKRT_SOURCE_DIR and
 # VKRT_SCENES_DIR; the shared scenes' cases are skipped where they are absent.
 set -u
 vkrt=${VKRT_BINARY:?}
@@ -150,6 +151,18 @@ rm -rf "$VKRT_CACHE_DIR"
 render nocache "$made" --no-cache
 check "--no-cache writes no mesh" test -z "$(find "$tmp" -name '*.mesh')"
 check "--no-cache says nothing of the scene cache" sh -c "! grep -q 'scene cache' '$tmp/nocache.err'"
+
+# VKRT_SCENE_CACHE_DIR: meshes and structures elsewhere, or (empty) not kept, kernels as ever.
+rm -rf "$VKRT_CACHE_DIR"
+VKRT_SCENE_CACHE_DIR="$tmp/scenes" render elsewhere "$made" --accel bvh
+check "VKRT_SCENE_CACHE_DIR holds the mesh and the structure" \
+    test "$(find "$tmp/scenes" -name '*.mesh' -o -name '*.accel' | wc -l)" -eq 2
+check "and the kernels stay in VKRT_CACHE_DIR" test -n "$(find "$VKRT_CACHE_DIR" -name '*.spv')"
+check "and no mesh goes there" test -z "$(find "$VKRT_CACHE_DIR" -name '*.mesh')"
+rm -rf "$tmp/scenes"
+VKRT_SCENE_CACHE_DIR= render nowhere "$made" --accel bvh
+check "VKRT_SCENE_CACHE_DIR= keeps no mesh" test -z "$(find "$tmp" -name '*.mesh')"
+check "and reads the kernels" said nowhere "kernels: 0 compiled"
 
 # The shared scenes: the bunny, Sponza with its textures, and the bunny's arrays split over
 # buffers, each cold then warm (the made scene above took lavapipe's kd-tree).

@@ -98,7 +98,7 @@ void gpu_spirv_cache_disable(void)
 
 bool gpu_spirv_cache_dir(char *dir, size_t dir_size)
 {
-    return vkrt_cache_dir(dir, dir_size);
+    return vkrt_cache_dir(VKRT_CACHE_KERNELS, dir, dir_size);
 }
 
 gpu_spirv_key gpu_spirv_key_of_bytes(const void *data, size_t size)
@@ -116,7 +116,7 @@ static bool load_entry(const gpu_spirv_key *key, const char *ext, uint64_t magic
     *data = NULL;
     *count = 0;
     char path[4200];
-    if (!vkrt_cache_entry_path(key->h, ext, path, sizeof path))
+    if (!vkrt_cache_entry_path(VKRT_CACHE_KERNELS, key->h, ext, path, sizeof path))
         return false;
     FILE *f = fopen(path, "rb");
     if (!f)
@@ -169,7 +169,7 @@ static void store_entry(const gpu_spirv_key *key, const char *ext, const file_he
                         const void *data, size_t size)
 {
     vkrt_cache_writer w;
-    if (!vkrt_cache_writer_open(&w, NULL, key->h, ext))
+    if (!vkrt_cache_writer_open(&w, VKRT_CACHE_KERNELS, NULL, key->h, ext))
         return;
     uint64_t hash = block_hash(data, size, 0);
     vkrt_cache_writer_put(&w, h, sizeof *h);

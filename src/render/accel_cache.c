@@ -52,7 +52,7 @@ bool vkrt_accel_cache_name_of(const vkrt_accel_desc *desc, const float *position
     char dir[4096];
     memset(name, 0, sizeof *name);
     if (triangle_count < MIN_TRIANGLES || atomic_load(&disabled) ||
-        !vkrt_cache_dir(dir, sizeof dir))
+        !vkrt_cache_dir(VKRT_CACHE_SCENES, dir, sizeof dir))
         return false;
     /* Every field of desc by name, floats exactly (%a): padding never enters the key. */
     char settings[1024], text[1200];
@@ -117,7 +117,7 @@ bool vkrt_accel_cache_load(const vkrt_accel_cache_name *name, vkrt_accel_arrays 
     double start = vkrt_clock_ms();
     vkrt_cache_reader r;
     const uint64_t *key = name->key;
-    if (!vkrt_cache_reader_open(&r, key, name->ext))
+    if (!vkrt_cache_reader_open(&r, VKRT_CACHE_SCENES, key, name->ext))
         return false;
     accel_header h;
     uint64_t bytes[ARRAY_COUNT] = {0};
@@ -172,11 +172,11 @@ void vkrt_accel_cache_store(const vkrt_accel_cache_name *name, const vkrt_accel_
         h.hash[i] = bytes[i] ? vkrt_hash64_parallel(arrays[i], (size_t)bytes[i]) : 0;
     h.header_hash = vkrt_hash64(&h, offsetof(accel_header, header_hash), 0);
     vkrt_cache_writer w;
-    if (!vkrt_cache_writer_open(&w, "structure cache", key, name->ext))
+    if (!vkrt_cache_writer_open(&w, VKRT_CACHE_SCENES, "structure cache", key, name->ext))
         return;
     vkrt_cache_writer_put(&w, &h, sizeof h);
     for (int i = 0; i < ARRAY_COUNT; ++i)
         vkrt_cache_writer_put(&w, arrays[i], (size_t)bytes[i]);
     if (vkrt_cache_writer_commit(&w) && strcmp(name->ext, ".accel") != 0)
-        vkrt_cache_remove_others(name->ext, w.path);
+        vkrt_cache_remove_others(VKRT_CACHE_SCENES, name->ext, w.path);
 }

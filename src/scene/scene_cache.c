@@ -263,7 +263,7 @@ static void *read_section(vkrt_cache_reader *r, const mesh_header *h, int s)
 static bool load_entry(const uint64_t key[2], const char *ext, vkrt_mesh *mesh, const char **why)
 {
     vkrt_cache_reader r;
-    if (!vkrt_cache_reader_open(&r, key, ext))
+    if (!vkrt_cache_reader_open(&r, VKRT_CACHE_SCENES, key, ext))
         return false;
     const char *reason = "a damaged entry";
     mesh_header h;
@@ -356,14 +356,14 @@ static bool store_entry(const uint64_t key[2], const char *ext, const vkrt_mesh 
     h.header_hash = vkrt_hash64(&h, offsetof(mesh_header, header_hash), 0);
     vkrt_cache_writer w;
     bool stored = false;
-    if (vkrt_cache_writer_open(&w, "scene cache", key, ext)) {
+    if (vkrt_cache_writer_open(&w, VKRT_CACHE_SCENES, "scene cache", key, ext)) {
         vkrt_cache_writer_put(&w, &h, sizeof h);
         for (int s = 0; s < SECTION_COUNT; ++s)
             vkrt_cache_writer_put(&w, sections[s], (size_t)h.bytes[s]);
         stored = vkrt_cache_writer_commit(&w);
     }
     if (stored)
-        vkrt_cache_remove_others(ext, w.path);
+        vkrt_cache_remove_others(VKRT_CACHE_SCENES, ext, w.path);
     if (!stored)
         *why = "the cache could not be written";
     free(records);
@@ -390,7 +390,7 @@ bool vkrt_scene_cache_obj_load(const char *path, vkrt_mesh *mesh,
     uint64_t key[2];
     char ext[32];
     double start = vkrt_clock_ms();
-    bool cached = path && mesh && vkrt_cache_dir(dir, sizeof dir) &&
+    bool cached = path && mesh && vkrt_cache_dir(VKRT_CACHE_SCENES, dir, sizeof dir) &&
                   vkrt_file_identity_of(path, &id);
     report->hash_ms = vkrt_clock_ms() - start;
     if (cached) {
