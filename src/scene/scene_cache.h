@@ -5,7 +5,7 @@
  * Parsing Lost Empire tiled to 10 M triangles (388 MB of OBJ) takes 2.2 s on the H200's 16
  * cores; reading the 966 MB of arrays it makes back from the page cache takes a fraction of that.
  * An entry holds everything vkrt_obj_load gives: the per-triangle arrays (read straight into the
- * mesh's own arrays, one read each, no conversion), the .mtl materials, the bounds and the
+ * mesh's own arrays, in chunks on every core, no conversion), the .mtl materials, the bounds and the
  * warnings, which a warm start prints exactly as the parse did.
  *
  * Its key: the OBJ's path (and the working folder when the path is relative: the materials' texture
