@@ -166,7 +166,8 @@ check "and reads the kernels" said nowhere "kernels: 0 compiled"
 
 # The shared scenes: the bunny, Sponza with its textures, and the bunny's arrays split over
 # buffers, each cold then warm (the made scene above took lavapipe's kd-tree).
-if [ -n "$scenes" ] && [ -f "$scenes/stanford-bunny/stanford-bunny.obj" ] &&
+if [ -z "${VKRT_SKIP_SHARED_SCENES:-}" ] && [ -n "$scenes" ] &&
+    [ -f "$scenes/stanford-bunny/stanford-bunny.obj" ] &&
     [ -f "$scenes/dabrovic-sponza/sponza.obj" ]; then
     bunny="$src/scenes/shared/bunny.cfg"
     for accel in bvh; do

@@ -331,7 +331,8 @@ static bool store_entry(const uint64_t key[2], const char *ext, const vkrt_mesh 
         return false;
     }
     for (uint32_t i = 0; i < mesh->material_count; ++i) {
-        records[i] = mesh->materials[i];
+        /* Byte for byte, padding included (calloc'd by the loader): the entry's hash covers it. */
+        memcpy(&records[i], &mesh->materials[i], sizeof records[i]);
         char **fields[MTL_STRINGS];
         mtl_strings(&records[i], fields);
         for (int k = 0; k < MTL_STRINGS; ++k)
