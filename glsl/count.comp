@@ -49,9 +49,10 @@ uint hit_count(uint index)
 
 void main()
 {
-    uint index = invocation_index();
+    uint invocation = invocation_index();
     /* No early return: invocations past the wave take part in the subgroup sums with 0. */
-    bool in_wave = index < dispatch_ray_count();
+    bool in_wave = invocation < dispatch_ray_count();
+    uint index = in_wave ? ray_of_invocation(invocation) : 0u;
     uint count = in_wave ? hit_count(index) : 0u;
 #ifdef VKRT_SUBGROUPS
     /* Lanes that reach this point together (whatever the material branches did to convergence)

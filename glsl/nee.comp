@@ -92,9 +92,10 @@ void main()
         workgroup_shadow_rays = 0u;
     barrier();
 
-    uint index = invocation_index();
+    uint invocation = invocation_index();
     uint shadow_rays = 0u;
-    if (index < dispatch_ray_count()) {
+    if (invocation < dispatch_ray_count()) {
+        uint index = ray_of_invocation(invocation);
         Ray ray = load_ray(index);
         Hit hit = hits[index];
         if ((ray.info.w & VKRT_RAY_DEAD) == 0u && hit.triangle != VKRT_NO_HIT &&

@@ -65,6 +65,11 @@ void main()
     uint pass_rays = TARGET_ERROR > 0.0 ? listed * frame.counts.z : frame.counts.z;
     /* Before the check: a pass of no listed pixels (adapt_dispatch.comp still dispatches one
      * workgroup) must empty the wave table all the same. */
+    /* The bins of order.comp, every depth's, start each pass empty. */
+    if (MATERIAL_ORDER && gl_WorkGroupID.x == 0u && gl_WorkGroupID.y == 0u)
+        for (uint i = gl_LocalInvocationIndex; i < order_bins_start(frame.wave.z + 1u);
+             i += gl_WorkGroupSize.x)
+            material_order[i] = 0u;
     if (index == 0u) {
         reset_waves(pass_rays);
         if (TARGET_ERROR > 0.0)

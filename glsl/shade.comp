@@ -78,9 +78,10 @@ void shade_path(uint index, Ray ray, Hit hit)
 
 void main()
 {
-    uint index = invocation_index();
-    if (index >= dispatch_ray_count())
+    uint invocation = invocation_index();
+    if (invocation >= dispatch_ray_count())
         return;
+    uint index = ray_of_invocation(invocation);
     Ray ray = load_ray(index);
     if ((ray.info.w & VKRT_RAY_DEAD) != 0u)
         return;

@@ -49,9 +49,10 @@ typedef uint32_t uint;
 #define VKRT_BINDING_ACTIVE_PIXELS 22     /* otherwise a minimal buffer each */
 #define VKRT_BINDING_SAMPLE_LUMINANCE 23
 #define VKRT_BINDING_SPLIT_ADDRESSES 24   /* the chunks of split arrays (below) */
-#define VKRT_STORAGE_BINDINGS 25
-#define VKRT_BINDING_TRIANGLE_TEXELS 25
-#define VKRT_BINDING_NODE_TEXELS 26
+#define VKRT_BINDING_MATERIAL_ORDER 25    /* hits grouped by shader (order.comp); else minimal */
+#define VKRT_STORAGE_BINDINGS 26
+#define VKRT_BINDING_TRIANGLE_TEXELS 26
+#define VKRT_BINDING_NODE_TEXELS 27
 #define VKRT_TEXEL_BINDINGS 2
 
 /* Arrays larger than one buffer holds (issue 20; src/gpu/array.h): each is split into chunks of
@@ -97,6 +98,7 @@ typedef uint32_t uint;
 #define VKRT_SPEC_SPLIT_NODES 20
 #define VKRT_SPEC_SPLIT_REFS 21
 #define VKRT_SPEC_SPLIT_TEXELS 22
+#define VKRT_SPEC_MATERIAL_ORDER 23
 
 /* Integrators (VKRT_SPEC_INTEGRATOR): Whitted's (delta lights, ambient, the materials' own rays)
  * or the path tracer (next-event estimation with multiple importance sampling). */
@@ -196,8 +198,12 @@ VKRT_STRUCT(TriangleTexcoords) {
 /* Not a map, but compiled away the same way: the material has a clear coat (numbers 18-19, the
  * .mtl's Pc and Pcr; lib/microfacet.glsl). A scene without a coated material compiles no coat. */
 #define VKRT_MATERIAL_COAT 16u
+/* The same for the sheen (the .mtl's Ps and map_Ps: Material.maps.z and texture slot
+ * VKRT_SLOT_SHEEN; lib/microfacet.glsl). */
+#define VKRT_MATERIAL_SHEEN 32u
 #define VKRT_SLOT_DETAIL 4u
 #define VKRT_SLOT_EMISSION 5u
+#define VKRT_SLOT_SHEEN 6u
 VKRT_STRUCT(Material) {
     vec4 params[5];   /* parameter i is params[i / 4][i % 4] */
     uvec4 textures[2];/* texture of slot k is textures[k / 4][k % 4], or VKRT_NO_TEXTURE */
@@ -205,7 +211,8 @@ VKRT_STRUCT(Material) {
                          z: texture count, w: VKRT_CUTOUT_* */
     vec4 maps;        /* x: the luminance light sampling weighs the emission by, luminance(Ke
                          times the mean of map_Ke) (lib/emitters.glsl); y: the detail map's
-                         multiplier (-bm); zw: 0 */
+                         multiplier (-bm); z: the sheen weight of the rough built-ins (the
+                         .mtl's Ps, a material file's number 20); w: 0 */
 };
 
 /* A light in GPU form. Spot lights fall off linearly in angle from beam_angle (full intensity)
@@ -396,6 +403,17 @@ VKRT_STRUCT(PixelStats) {
  * is below the cap. */
 #define VKRT_PIXEL_LISTED 1u
 #define VKRT_PIXEL_UNCONVERGED 2u
+
+/* Hits grouped by shader (order.comp, binding VKRT_BINDING_MATERIAL_ORDER): per depth
+ * VKRT_ORDER_BINS counts and VKRT_ORDER_BINS cursors, then the ray index of every place in the
+ * grouped order. Shaders past VKRT_ORDER_BINS - 2 share a bin; the last bin holds the misses
+ * and the dead rays. FrameParams.range.x of order.comp: count the hits of each bin, or place them. */
+#define VKRT_ORDER_BINS 64u
+/* The camera's hits stay in pixel order: neighbouring pixels mostly share a material, and their
+ * shadow rays keep each other company through the structure. */
+#define VKRT_ORDER_FIRST_DEPTH 1u
+#define VKRT_ORDER_COUNT 0u
+#define VKRT_ORDER_PLACE 1u
 
 /* FrameParams.range.x of adapt.comp: fold the pass's samples and judge each listed pixel by its
  * own estimate, or keep listed each listed pixel with an unconverged pixel in its 3x3

@@ -5,6 +5,7 @@
  * Only this file decides how the process exits.
  */
 #define _POSIX_C_SOURCE 200809L
+#include <pthread.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -191,15 +192,21 @@ typedef struct startup_clock {
 } startup_clock;
 
 static void print_startup(FILE *out, const startup_clock *t, const vkrt_scene *scene,
-                          const vkrt_accel_stats *accel)
+                          const vkrt_accel_stats *accel, const vkrt_renderer_startup *steps)
 {
     fprintf(out,
             "vkrt: start-up: scene %.0f ms (OBJ %.0f ms), Vulkan %.0f ms, renderer %.0f ms "
-            "(structure %.0f ms), first frame %.0f ms, its image written %.0f ms; %.0f ms since "
-            "main\n",
+            "(structure %.0f ms, of which %s %.0f; triangles' upload %.0f, materials %.0f, "
+            "lights %.0f, buffers %.0f, %s %.0f), first frame %.0f ms, its image written %.0f "
+            "ms; %.0f ms since main\n",
             t->scene - t->main, scene->obj_ms, t->vulkan - t->scene, t->renderer - t->vulkan,
-            accel->build_ms + accel->choose_ms, t->frame - t->renderer, t->image - t->frame,
-            t->image - t->main);
+            steps->structure_ms, accel->from_cache ? "reading it from the cache" : "building",
+            accel->build_ms + accel->choose_ms, steps->geometry_ms,
+            steps->materials_ms, steps->lights_ms, steps->buffers_ms,
+            steps->kernels_recompiled ? "kernels compiled after them"
+                                      : "waiting for the kernels compiled alongside",
+            steps->kernels_ms,
+            t->frame - t->renderer, t->image - t->frame, t->image - t->main);
 }
 
 /* Sampling to a target error: what frame f reached (its estimates' spread, the samples it took,
@@ -240,6 +247,64 @@ static bool report_convergence(const vkrt_render_options *opts, vkrt_renderer *r
     return ok;
 }
 
+/* The single device's Vulkan context, made on a thread of its own while the scene loads: creating
+ * the instance and the device took 150 ms of the bunny's 0.44 s from start to PNG on the H200
+ * (research/results/coldstart-h200/first-try-log.txt), the OBJ 107 ms beside it. */
+typedef struct early_context {
+    gpu_context_desc desc;
+    gpu_context ctx;
+    vkrt_error err;
+    bool ok;
+    bool started;  /* the thread runs, to be joined */
+    bool joined;
+    pthread_t thread;
+} early_context;
+
+static void *early_context_thread(void *arg)
+{
+    early_context *e = arg;
+    e->ok = gpu_context_create(&e->ctx, &e->desc, &e->err);
+    return NULL;
+}
+
+static void early_context_start(early_context *e, const vkrt_render_options *opts)
+{
+    *e = (early_context){.desc = {.device_index = opts->common.device,
+                                  .validation = opts->common.validation,
+                                  .pipeline_statistics = opts->profile}};
+    /* A thread that cannot start costs the overlap only: the context is made at the join. */
+    e->started = pthread_create(&e->thread, NULL, early_context_thread, e) == 0;
+}
+
+/* Waits for the context (making it here if no thread could); false with err where it failed. */
+static bool early_context_join(early_context *e, gpu_context *out, vkrt_error *err)
+{
+    if (e->started)
+        pthread_join(e->thread, NULL);
+    else
+        early_context_thread(e);
+    e->started = false;
+    e->joined = true;
+    if (!e->ok) {
+        *err = e->err;
+        return false;
+    }
+    *out = e->ctx;
+    return true;
+}
+
+/* For the ways out before the context is taken: joins the thread and frees what it made. */
+static void early_context_discard(early_context *e)
+{
+    if (e->joined)
+        return;
+    if (e->started)
+        pthread_join(e->thread, NULL);
+    if (e->started && e->ok)
+        gpu_context_destroy(&e->ctx);
+    e->joined = true;
+}
+
 /* One device rendering a scene's frames into their files: the single-device loop and each
  * worker of --devices (device_pool.h) use it. */
 typedef struct frame_writer {
@@ -248,6 +313,7 @@ typedef struct frame_writer {
     const char *output;
     bool clear_line;          /* a progress line is on the terminal: messages clear it first */
     startup_clock *clock;     /* the single-device run's start-up stages, or NULL */
+    early_context *early;     /* the single device's context, being made since start, or NULL */
     gpu_context ctx;
     vkrt_renderer *renderer;
     vkrt_render_desc desc;
@@ -268,7 +334,8 @@ static bool frame_writer_start(frame_writer *w, int device, bool tell, vkrt_erro
     gpu_context_desc ctx_desc = {.device_index = device,
                                  .validation = opts->common.validation,
                                  .pipeline_statistics = opts->profile};
-    if (!gpu_context_create(&w->ctx, &ctx_desc, err))
+    if (w->early ? !early_context_join(w->early, &w->ctx, err)
+                 : !gpu_context_create(&w->ctx, &ctx_desc, err))
         return false;
     if (w->clock)
         w->clock->vulkan = vkrt_clock_ms();
@@ -404,22 +471,25 @@ typedef struct render_totals {
     bool interrupted;
     char device[256];
     vkrt_accel_stats accel;
+    vkrt_renderer_startup startup; /* the renderer's steps (--verbose's start-up line) */
     vkrt_integrator integrator;   /* what the renderer computed, and why */
     char integrator_reason[256];
 } render_totals;
 
 static bool render_on_one_device(const vkrt_render_options *opts, const vkrt_scene *scene,
                                  const char *output, const frame_list *list,
-                                 render_totals *totals, startup_clock *clock, vkrt_error *err)
+                                 render_totals *totals, startup_clock *clock,
+                                 early_context *early, vkrt_error *err)
 {
     bool progress = !opts->common.quiet && list->total > 1;
     bool terminal = progress && isatty(fileno(stderr));
     frame_writer w = {.opts = opts, .scene = scene, .output = output, .clear_line = terminal,
-                      .clock = clock};
+                      .clock = clock, .early = early};
     if (!frame_writer_start(&w, opts->common.device, true, err))
         return false;
     snprintf(totals->device, sizeof totals->device, "%s", w.ctx.properties.deviceName);
     totals->accel = *vkrt_renderer_accel_stats(w.renderer);
+    totals->startup = *vkrt_renderer_startup_times(w.renderer);
     const char *why;
     totals->integrator = vkrt_renderer_integrator(w.renderer, &why);
     snprintf(totals->integrator_reason, sizeof totals->integrator_reason, "%s", why);
@@ -625,8 +695,13 @@ static int run_render(const vkrt_render_options *opts, double main_ms)
     vkrt_error err = {{0}};
     vkrt_scene scene;
     startup_clock clock = {.main = main_ms};
+    /* --devices: each worker process makes its own. */
+    early_context early = {.joined = true};
+    if (!opts->devices)
+        early_context_start(&early, opts);
     if (!vkrt_scene_load(opts->scene_path, &scene, &err)) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
+        early_context_discard(&early);
         return 1;
     }
     clock.scene = vkrt_clock_ms();
@@ -638,6 +713,7 @@ static int run_render(const vkrt_render_options *opts, double main_ms)
         fprintf(stderr, "vkrt: --frames %u:%u: %s has %u camera%s (frames 0 to %u)\n",
                 opts->frame_first, opts->frame_last, opts->scene_path, cameras,
                 cameras == 1 ? "" : "s", cameras - 1);
+        early_context_discard(&early);
         vkrt_scene_free(&scene);
         return 1;
     }
@@ -647,6 +723,7 @@ static int run_render(const vkrt_render_options *opts, double main_ms)
          !check_output(opts->sample_count_image, scene.config.camera_count, &err)) ||
         !frame_list_make(opts, &scene, output, &list, &err)) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
+        early_context_discard(&early);
         vkrt_scene_free(&scene);
         return 1;
     }
@@ -660,7 +737,8 @@ static int run_render(const vkrt_render_options *opts, double main_ms)
         return status;
     }
     render_totals totals = {0};
-    bool ok = render_on_one_device(opts, &scene, output, &list, &totals, &clock, &err);
+    bool ok = render_on_one_device(opts, &scene, output, &list, &totals, &clock, &early, &err);
+    early_context_discard(&early);
     free(list.frames);
     if (!ok) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
@@ -686,7 +764,7 @@ static int run_render(const vkrt_render_options *opts, double main_ms)
                 rendered ? 1e3 * totals.seconds / rendered : 0.0,
                 totals.seconds > 0 ? totals.rays / totals.seconds * 1e-6 : 0.0);
         if (opts->common.verbose && clock.image)
-            print_startup(stderr, &clock, &scene, &totals.accel);
+            print_startup(stderr, &clock, &scene, &totals.accel, &totals.startup);
         if (!opts->common.verbose) {
             fprintf(stderr, "vkrt: accel %s: %s\n", vkrt_accel_name(totals.accel.kind),
                     totals.accel.reason);

@@ -64,20 +64,31 @@ double furnace_integrate(v3 o, double alpha, double eta, int n,
 
 void furnace_write_tile(FILE *obj, int columns, int rows, int row, int column)
 {
-    double x0 = column - 0.5 * columns, x1 = x0 + 1, z0 = 2.0 * row - rows, z1 = z0 + 2;
+    furnace_write_tile_deep(obj, columns, rows, row, column, 2);
+}
+
+void furnace_write_tile_deep(FILE *obj, int columns, int rows, int row, int column, double depth)
+{
+    double x0 = column - 0.5 * columns, x1 = x0 + 1, z0 = depth * (row - 0.5 * rows),
+           z1 = z0 + depth;
     fprintf(obj, "v %g 0 %g\nv %g 0 %g\nv %g 0 %g\nv %g 0 %g\nusemtl t%d%d\nf -4 -3 -2 -1\n", x0,
             z1, x1, z1, x1, z0, x0, z0, row, column);
 }
 
 void furnace_write_cfg(int rows, double view_cos)
 {
+    furnace_write_cfg_lit(rows, view_cos, "environment 1 1 1\n");
+}
+
+void furnace_write_cfg_lit(int rows, double view_cos, const char *lighting)
+{
     const double pi = 3.14159265358979323846;
-    char cfg[512];
+    char cfg[768];
     double d = 500, s = sqrt(1 - view_cos * view_cos);
     snprintf(cfg, sizeof cfg,
              "geometry tiles.obj\nmaterials tiles.mat\nmax-depth 8\nintegrator path\n"
-             "environment 1 1 1\ncamera eye 0 %.9g %.9g look 0 0 0 up 0 1 0 fov %.9g\n",
-             d * view_cos, d * s, 2 * atan(0.5 * rows / d) * 180 / pi);
+             "%scamera eye 0 %.9g %.9g look 0 0 0 up 0 1 0 fov %.9g\n",
+             lighting, d * view_cos, d * s, 2 * atan(0.5 * rows / d) * 180 / pi);
     scene_dir_write("scene.cfg", cfg);
 }
 

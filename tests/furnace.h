@@ -48,10 +48,18 @@ double furnace_integrate(v3 o, double alpha, double eta, int n,
  * `usemtl t<row><column>`. */
 void furnace_write_tile(FILE *obj, int columns, int rows, int row, int column);
 
+/* The same with tiles `depth` deep (z) instead of 2: 1 / cos of the furnace's viewing angle
+ * makes them square in the picture at any angle (2 at cos 0.5). */
+void furnace_write_tile_deep(FILE *obj, int columns, int rows, int row, int column, double depth);
+
 /* Writes the scene folder's scene.cfg: tiles.obj with tiles.mat, path traced to depth 8 under an
  * environment of radiance 1, the camera 500 away at cos view_cos to the tiles' normal, its field
  * of view just the rows' depth, so that each tile is a square of pixels. */
 void furnace_write_cfg(int rows, double view_cos);
+
+/* The same with other lighting: `lighting` is scene.cfg lines (environment, lights) in place of
+ * the environment of radiance 1. */
+void furnace_write_cfg_lit(int rows, double view_cos, const char *lighting);
 
 /* Renders the scene folder's scene.cfg (scene_dir.h) at columns x rows tiles of tile pixels,
  * spp samples per pixel, with the integrator and light sampling mode given; fails the test where

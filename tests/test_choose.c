@@ -3,7 +3,9 @@
  * gets brute force on every device; an even soup gets the grid on a CPU device reading storage
  * buffers, the kd-tree on one reading texel buffers and the BVH on a GPU; a dense cluster inside
  * a sparse shell (a small teapot-in-a-stadium) gets the BVH where the grid is weighed; past
- * accel_kdtree_limit a CPU device reading texel buffers gets the BVH.
+ * accel_kdtree_limit a CPU device reading texel buffers gets the BVH. On a GPU, the kd-tree is
+ * weighed, and taken, for crossing tubes of long thin triangles (tools/sliver_cylinder.py's
+ * layout, smaller), and not weighed for the even soup, from the SAH costs of real builds.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -13,7 +15,11 @@
 
 #include <cmocka.h>
 
+#include <math.h>
+
+#include "accel/bvh.h"
 #include "accel/choose.h"
+#include "accel/kdtree.h"
 
 static uint32_t rng = 7;
 static float uniform(void)
@@ -89,6 +95,80 @@ static void test_big_scene_on_cpu_texels(void **state)
     assert_int_equal(accel_choose(n + 1, ACCEL_DEVICE_CPU_TEXELS, NULL).kind, VKRT_ACCEL_BVH);
 }
 
+/* tubes crossing tubes of `sides` x `rings` slivers each, as tools/sliver_cylinder.py makes them
+ * (without its ground); *count gets the triangle count. */
+static float *slivers(uint32_t tubes, uint32_t sides, uint32_t rings, uint32_t *count)
+{
+    const double pi = 3.14159265358979, length = 16.0;
+    *count = tubes * sides * rings * 2;
+    float *p = malloc(9 * sizeof *p * *count), *out = p;
+    assert_non_null(p);
+    for (uint32_t i = 0; i < tubes; ++i) {
+        double turn = pi * i / tubes, tz = 0.5 + turn, tx = 0.35 * ((int)(i % 3) - 1);
+        double off[3] = {2.0 * cos(turn), 0.0, 2.0 * sin(turn)};
+        for (uint32_t r = 0; r < rings; ++r)
+            for (uint32_t k = 0; k < sides; ++k) {
+                /* The strip's corners: (ring, side) at a, b, c, d as the tool orders them. */
+                uint32_t corner[4][2] = {{r, k}, {r, (k + 1) % sides}, {r + 1, (k + 1) % sides},
+                                         {r + 1, k}};
+                static const int tri[2][3] = {{0, 1, 2}, {0, 2, 3}};
+                for (int t = 0; t < 2; ++t)
+                    for (int v = 0; v < 3; ++v) {
+                        const uint32_t *c = corner[tri[t][v]];
+                        double y = -length / 2 + length * c[0] / rings, a = 2 * pi * c[1] / sides;
+                        double x = cos(a), z = sin(a);
+                        double x1 = x * cos(tz) - y * sin(tz), y1 = x * sin(tz) + y * cos(tz);
+                        double y2 = y1 * cos(tx) - z * sin(tx), z2 = y1 * sin(tx) + z * cos(tx);
+                        *out++ = (float)(x1 + off[0]);
+                        *out++ = (float)(y2 + off[1]);
+                        *out++ = (float)(z2 + off[2]);
+                    }
+            }
+    }
+    return p;
+}
+
+/* What `auto` on a GPU does after choosing the BVH: the BVH with the GPU's settings (leaves of 2,
+ * node cost 0.5: tuning.c), the kd-tree when the rule says it is worth trying; true if the
+ * kd-tree is taken. */
+static bool gpu_takes_kdtree(const float *p, uint32_t n)
+{
+    vkrt_error err;
+    bvh b;
+    const bvh_build_desc desc = {.max_leaf_size = 2, .traversal_cost = 0.5f};
+    if (!bvh_build(&b, p, n, &desc, &err))
+        fail_msg("%s", err.msg);
+    float bvh_cost = b.sah_cost;
+    bvh_free(&b);
+    bool worth = accel_kdtree_worth_trying(n, bvh_cost);
+    print_message("%u triangles: BVH SAH cost %.1f (%.2f per doubling): kd-tree %s\n", n,
+                  (double)bvh_cost, bvh_cost / log2((double)n), worth ? "weighed" : "not weighed");
+    if (!worth)
+        return false;
+    kdtree t;
+    if (!kdtree_build(&t, p, n, NULL, &err))
+        fail_msg("%s", err.msg);
+    print_message("  kd-tree SAH cost %.1f\n", (double)t.sah_cost);
+    bool wins = accel_kdtree_wins(t.sah_cost, bvh_cost);
+    kdtree_free(&t);
+    return wins;
+}
+
+static void test_slivers_on_gpu(void **state)
+{
+    (void)state;
+    uint32_t n;
+    float *p = slivers(4, 500, 6, &n);
+    assert_true(gpu_takes_kdtree(p, n));
+    free(p);
+    p = soup(n, 0);
+    assert_false(gpu_takes_kdtree(p, n));
+    free(p);
+    /* Past the kd-tree's limit it is never weighed, nor for a handful. */
+    assert_false(accel_kdtree_worth_trying(accel_kdtree_limit() + 1, 1e9f));
+    assert_false(accel_kdtree_worth_trying(accel_brute_force_limit(), 1e9f));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -96,6 +176,7 @@ int main(void)
         cmocka_unit_test(test_even_soup),
         cmocka_unit_test(test_dense_cluster_in_sparse_shell),
         cmocka_unit_test(test_big_scene_on_cpu_texels),
+        cmocka_unit_test(test_slivers_on_gpu),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -32,6 +32,10 @@ check "--verbose prints device memory by kind against the device's" \
     grep -q "^vkrt: device memory: triangles .* MiB, nodes .* rays .* MiB of the device's .* MiB$" "$tmp/err"
 check "--verbose prints host memory" grep -q "^vkrt: host memory: mesh .* peak resident" "$tmp/err"
 check "--verbose prints the start-up's stages" grep -q "^vkrt: start-up: scene .* (OBJ .*), Vulkan .* first frame" "$tmp/err"
+# The kernels compile while the structure is built, for the layout predicted before it: for the
+# Cornell box (brute force, nothing split) the prediction holds, so they are not compiled again.
+check "--verbose prints the renderer's steps, the kernels compiled alongside them" \
+    grep -q "^vkrt: start-up: .* renderer .* (structure .* triangles' upload .*, waiting for the kernels compiled alongside [0-9]*)" "$tmp/err"
 VKRT_DEVICE_MEMORY_LIMIT=300000 "$vkrt" render "$src/scenes/cornell/scene.cfg" --width 48 --height 32 --spp 2 \
     -o "$tmp/small.png" 2>"$tmp/err"
 check "a scene beyond the device's memory exits 1" test $? -eq 1

@@ -318,8 +318,8 @@ static const bad_case bad_cases[] = {
     {"gold 0 \"my gold.glsl\"\n", "t.mat:1: ", "material 'gold': quotes are not supported; paths may not contain spaces"},
     {"gold 1 \"a b.png\" @diffuse\n", "t.mat:1: ", "quotes are not supported"},
     /* the numbers */
-    {"gold 0 @diffuse 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20\n", "t.mat:1: ", "material 'gold' has 21 numbers; at most 20 are allowed"},
-    {"gold 0 @diffuse 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24 25 26 27 28 29 30 31 32 33\n", "t.mat:1: ", "has 34 numbers; at most 20"},
+    {"gold 0 @diffuse 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21\n", "t.mat:1: ", "material 'gold' has 22 numbers; at most 21 are allowed"},
+    {"gold 0 @diffuse 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24 25 26 27 28 29 30 31 32 33\n", "t.mat:1: ", "has 34 numbers; at most 21"},
     {"gold 0 @diffuse 1.0x\n", "t.mat:1: ", "material 'gold': param(0) '1.0x' is not a number"},
     {"gold 0 @diffuse 1 nan\n", "t.mat:1: ", "material 'gold': param(1) 'nan' is not a finite number"},
     {"gold 0 @diffuse 1 1 inf\n", "t.mat:1: ", "param(2) 'inf' is not a finite number"},

@@ -669,7 +669,9 @@ static void mtl_fields_are_parsed(void **state)
 
 /* The PBR extension as Blender's exporter writes it: Pr, Pm and their maps (a map resolved as
  * map_Kd, with its line), the clear coat Pc/Pcr (a Pc above 0 alone makes a material pbr; Pc 0
- * does not), and Ps read but warned about as not rendered, at its line. */
+ * does not), the sheen Ps and map_Ps (either alone makes a material pbr, Ps 0 does not; on a
+ * mirror or glass, which have no sheen, the loader warns at the Ps line, and glass stays the
+ * smooth glass). */
 static void mtl_pbr_fields_are_parsed(void **state)
 {
     temp_dir *fx = *state;
@@ -678,9 +680,15 @@ static void mtl_pbr_fields_are_parsed(void **state)
                         "newmtl coated\nKd 0.5 0.5 0.5\nPm 0.5\nPc 1\nPcr 0.1\nPs 0.3\n"
                         "newmtl old\nKs 0.5 0.5 0.5\nNs 30\nPc 0\n"
                         "newmtl varnish\nKd 0.5 0.5 0.5\nPc 2\nPcr 0.3\n"
-                        "newmtl chrome\nKs 1 1 1\nillum 3\nPc 1\n");
+                        "newmtl chrome\nKs 1 1 1\nillum 3\nPc 1\n"
+                        "newmtl velvet\nKd 0.3 0 0\nPs 0.75\n"              /* 24-26 */
+                        "newmtl cloth\nKd 0.3 0 0\nmap_Ps sheen.png\nPs 0\n" /* 27-30 */
+                        "newmtl matte\nKd 0.3 0 0\nPs 0\n"                  /* 31-33 */
+                        "newmtl bottle\nNi 1.5\nillum 7\nKs 1 1 1\nPs 1\n");  /* 34-38 */
     const char *text = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl metal\nf 1 2 3\n"
-                       "usemtl coated\nf 1 3 2\nusemtl old\nf 2 1 3\nusemtl varnish\nf 3 2 1\n";
+                       "usemtl coated\nf 1 3 2\nusemtl old\nf 2 1 3\nusemtl varnish\nf 3 2 1\n"
+                       "usemtl velvet\nf 1 2 3\nusemtl cloth\nf 1 2 3\nusemtl matte\nf 1 2 3\n"
+                       "usemtl bottle\nf 1 2 3\n";
     vkrt_mesh m = load_ok(temp_dir_write_text(fx, "pbr.obj", text));
     const vkrt_mtl *metal = &m.materials[m.material[0]];
     const vkrt_mtl *coated = &m.materials[m.material[1]];
@@ -703,8 +711,26 @@ static void mtl_pbr_fields_are_parsed(void **state)
     assert_true(varnish->pbr);
     assert_close(varnish->pc, 2);
     assert_close(varnish->pcr, 0.3f);
-    assert_non_null(strstr(m.warnings, "m.mtl:11: warning: material 'coated' has sheen (Ps"));
+    assert_close(coated->ps, 0.3f);
+    assert_null(strstr(m.warnings, "'coated'"));
     assert_null(strstr(m.warnings, "'varnish'"));
+    const vkrt_mtl *velvet = &m.materials[m.material[4]];
+    const vkrt_mtl *cloth = &m.materials[m.material[5]];
+    const vkrt_mtl *matte = &m.materials[m.material[6]];
+    const vkrt_mtl *bottle = &m.materials[m.material[7]];
+    assert_true(velvet->pbr);
+    assert_close(velvet->ps, 0.75f);
+    assert_null(velvet->map_ps);
+    assert_true(cloth->pbr);
+    snprintf(want, sizeof want, "%s/sheen.png", fx->dir);
+    assert_string_equal(cloth->map_ps, want);
+    assert_int_equal(cloth->map_ps_line, 29);
+    assert_false(matte->pbr);
+    assert_close(matte->ps, 0);
+    assert_false(bottle->pbr);
+    assert_close(bottle->ps, 1);
+    assert_non_null(strstr(m.warnings, "m.mtl:38: warning: material 'bottle' has a sheen (Ps, "
+                                       "map_Ps) but illum 3 to 7"));
     assert_non_null(strstr(m.warnings, "m.mtl:23: warning: material 'chrome' has a clear coat (Pc) "
                                        "but illum 3 or 5"));
     vkrt_mesh_free(&m);

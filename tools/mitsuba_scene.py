@@ -9,8 +9,9 @@ spot, directional, area, constant and envmap emitters), the textures (its bitmap
 camera (its perspective sensor and box filter). What Mitsuba lacks is written here, small: the
 Blinn-Phong BRDF, vkrt's two-sided convention (the side is the triangle's, not the interpolated
 normal's) and its rule for normals bent by a normal or height map (Mitsuba's adapters treat one
-bent away from the viewer otherwise), the unshadowed ambient light, and the Whitted integrator
-that stops at the first diffuse surface. docs/speed-vs-accuracy.md lists what matches exactly and what cannot."""
+bent away from the viewer otherwise), the unshadowed ambient light, the clear coat's layering
+(vkrt_coat), the sum of a base and the sheen (vkrt_sheen; the sheen itself is Mitsuba's
+`principled`), and the Whitted integrator that stops at the first diffuse surface. docs/speed-vs-accuracy.md lists what matches exactly and what cannot."""
 import os
 
 import numpy as np
@@ -135,6 +136,7 @@ class Material:
         self.map_kd = self.map_d = None
         self.roughness = 0.0  # a material file's number 16 (the rough built-ins)
         self.coat, self.coat_roughness = 0.0, 0.0  # numbers 18 and 19: the clear coat
+        self.sheen = 0.0  # number 20: the sheen's weight (the .mtl's Ps)
         # The maps that change the surface (docs/materials.md, "Normal, bump and emission maps"):
         # `norm`, `map_Bump`/`bump` with the -bm of the statement that names the map used, and
         # map_Ke; ke_given: without a Ke line a map_Ke is the emission itself (Ke 1 1 1).
@@ -251,7 +253,7 @@ def read_material_file(path):
             name, count = w[0], int(w[1])
             textures = [os.path.join(folder, t) for t in w[2:2 + count]]
             shader = w[2 + count]
-            p = [float(x) for x in w[3 + count:]] + [0.0] * 20
+            p = [float(x) for x in w[3 + count:]] + [0.0] * 21
             m = Material(name, folder)
             m.shader = shader[1:] if shader.startswith("@") else os.path.join(folder, shader)
             m.where = f"{path}:{number}"
@@ -259,6 +261,7 @@ def read_material_file(path):
             m.ni, m.tf = p[11], p[12:15]
             m.roughness = p[16]
             m.coat, m.coat_roughness = min(max(p[18], 0.0), 1.0), p[19]
+            m.sheen = min(max(p[20], 0.0), 1.0)
             m.map_kd = textures[0] if textures else None
             m.map_d = textures[1] if len(textures) > 1 else None
             out[name] = m
@@ -454,7 +457,7 @@ def rough_bsdf(m, kind, albedo, notes):
     if kind == "roughplastic" and m.ni == 1.0 and not any(m.ks):
         # A plastic of index 1 has no coat of its own (Fresnel 0 both ways) and, with Ks 0, no
         # specular lobe: vkrt's plastic is then exactly Lambertian.
-        return two_sided(coated(m, {"type": "diffuse", "reflectance": albedo}))
+        return two_sided(coated(m, sheened(m, {"type": "diffuse", "reflectance": albedo})))
     r = min(max(m.roughness, 0.0), 1.0)
     ggx = {"distribution": "ggx", "alpha": max(r * r, 1e-4), "sample_visible": True}
     if r < 0.02:
@@ -474,10 +477,18 @@ def rough_bsdf(m, kind, albedo, notes):
                           "ext_ior": 1.0, "specular_transmittance": reflectance(tint), **ggx})
     # vkrt's base sees the coat's smooth Fresnel transmission, 1 - F(cos); Mitsuba's
     # roughplastic a table of the rough coat's: the same as the roughness goes to 0.
-    return two_sided(coated(m, {"type": "roughplastic", "int_ior": m.ni if m.ni > 0 else 1.5,
-                                "ext_ior": 1.0, "diffuse_reflectance": albedo,
-                                "nonlinear": False, "specular_reflectance": reflectance(m.ks),
-                                **ggx}))
+    return two_sided(coated(m, sheened(m, {"type": "roughplastic",
+                                           "int_ior": m.ni if m.ni > 0 else 1.5, "ext_ior": 1.0,
+                                           "diffuse_reflectance": albedo, "nonlinear": False,
+                                           "specular_reflectance": reflectance(m.ks), **ggx})))
+
+
+def sheened(m, base):
+    """The base with the material's sheen (number 20; Sheen, below) beside it, or the base alone
+    where it has none. Only the plastic has one in vkrt (the conductor and glass have none)."""
+    if m.sheen <= 0.0:
+        return base
+    return {"type": "vkrt_sheen", "base": base, "weight": m.sheen}
 
 
 def coated(m, base):
@@ -920,6 +931,60 @@ class BlinnPhong(mi.BSDF):
         return f"BlinnPhong[ns={self.ns}]"
 
 
+class Sheen(mi.BSDF):
+    """vkrt's sheen (docs/materials.md, "The sheen") beside a nested Mitsuba BSDF: the sheen is
+    Mitsuba's own `principled` BSDF's, evaluated by it, with base_color 0 (no diffuse, no
+    retro-reflection) and specular 0 (index 1: no specular lobe), so that what it returns is its
+    sheen term alone, sheen x (1 - |wo.h|)^5 x cos; vkrt's formula is not written here. Sampled
+    as a mixture: the base's own sampling with probability 1/2, else the cosine hemisphere (as
+    Mitsuba's principled samples its sheen); the pdf is the mixture's."""
+
+    def __init__(self, props):
+        mi.BSDF.__init__(self, props)
+        self.base = props["base"]
+        self.weight = float(props["weight"])
+        self.sheen = mi.load_dict({"type": "principled", "base_color": {"type": "rgb",
+                                                                         "value": [0.0, 0.0, 0.0]},
+                                   "specular": 0.0, "metallic": 0.0, "sheen": self.weight})
+        self.m_components = [self.base.flags(i) for i in range(self.base.component_count())] + [
+            mi.BSDFFlags.DiffuseReflection | mi.BSDFFlags.FrontSide]
+        self.m_flags = self.base.flags() | mi.BSDFFlags.DiffuseReflection
+
+    def eval_pdf(self, ctx, si, wo, active=True):
+        fb, pb = self.base.eval_pdf(ctx, si, wo, active)
+        ok = active & (mi.Frame3f.cos_theta(si.wi) > 0) & (mi.Frame3f.cos_theta(wo) > 0)
+        fs = dr.select(ok, self.sheen.eval(ctx, si, wo, ok), 0.0)
+        pc = dr.select(ok, mi.warp.square_to_cosine_hemisphere_pdf(wo), 0.0)
+        return fb + fs, 0.5 * pb + 0.5 * pc
+
+    def eval(self, ctx, si, wo, active=True):
+        return self.eval_pdf(ctx, si, wo, active)[0]
+
+    def pdf(self, ctx, si, wo, active=True):
+        return self.eval_pdf(ctx, si, wo, active)[1]
+
+    def sample(self, ctx, si, sample1, sample2, active=True):
+        take_base = sample1 < 0.5
+        bs, _ = self.base.sample(ctx, si, dr.minimum(2.0 * sample1, 0.99999994), sample2, active)
+        cosine = mi.warp.square_to_cosine_hemisphere(sample2)
+        bs.wo = dr.select(take_base, bs.wo, cosine)
+        bs.eta = dr.select(take_base, bs.eta, 1.0)
+        bs.sampled_type = dr.select(take_base, bs.sampled_type,
+                                    mi.UInt32(+mi.BSDFFlags.DiffuseReflection))
+        f, bs.pdf = self.eval_pdf(ctx, si, bs.wo, active)
+        ok = active & (bs.pdf > 0)
+        return bs, dr.select(ok, f / dr.maximum(bs.pdf, 1e-20), 0.0)
+
+    def eval_diffuse_reflectance(self, si, active=True):
+        return self.base.eval_diffuse_reflectance(si, active)
+
+    def traverse(self, callback):
+        pass
+
+    def to_string(self):
+        return f"Sheen[weight={self.weight}, {self.base}]"
+
+
 class ClearCoat(mi.BSDF):
     """vkrt's clear coat (docs/materials.md, "The clear coat"), one-sided over a nested Mitsuba
     BSDF, written from the documentation: the coat reflects weight x F(wo.h) D G / (4 cos_i)
@@ -1081,4 +1146,5 @@ class Whitted(mi.SamplingIntegrator):
 mi.register_bsdf("vkrt_blinn_phong", lambda props: BlinnPhong(props))
 mi.register_bsdf("vkrt_twosided", lambda props: VkrtTwoSided(props))
 mi.register_bsdf("vkrt_coat", lambda props: ClearCoat(props))
+mi.register_bsdf("vkrt_sheen", lambda props: Sheen(props))
 mi.register_integrator("vkrt_whitted", lambda props: Whitted(props))

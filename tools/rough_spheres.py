@@ -103,10 +103,11 @@ def material_file():
 
 
 def sphere_table(vkrt_exr, mitsuba_exr, converged_exr, names=None, values=ROUGHNESS,
-                 value_name="roughness"):
+                 value_name="roughness", ring=(0.0, 0.6)):
     """Per sphere: image means against the converged one, and per-pixel relative errors, over
-    a disc of 0.6 of the sphere's radius about its centre in the picture (the camera of CFG);
-    the rows are names (default: ROWS'), the columns values."""
+    the ring between ring[0] and ring[1] of the sphere's radius about its centre in the picture
+    (the camera of CFG; by default a disc of 0.6 of the radius); the rows are names (default:
+    ROWS'), the columns values."""
     names = names or [r[0] for r in ROWS]
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
     import toolenv
@@ -125,10 +126,14 @@ def sphere_table(vkrt_exr, mitsuba_exr, converged_exr, names=None, values=ROUGHN
         for column, r in enumerate(values):
             cx = (0.5 + 2.4 * (column - 1) / (2 * half * w / h)) * w
             cy = (0.5 - 2.4 * (1 - row) / (2 * half)) * h
-            disc = (xs + 0.5 - cx) ** 2 + (ys + 0.5 - cy) ** 2 < (0.6 * h / (2 * half)) ** 2
+            r2 = ((xs + 0.5 - cx) ** 2 + (ys + 0.5 - cy) ** 2) / (h / (2 * half)) ** 2
+            disc = (r2 >= ring[0] ** 2) & (r2 < ring[1] ** 2)
             m = [float(img[disc].mean()) for img in (ref, test, mitsuba)]
             e = [float((np.abs(img[disc] - ref[disc]) / (np.abs(ref[disc]) + floor)).mean())
                  for img in (test, mitsuba)]
+            if m[0] == 0.0:  # a black region (the sheen spheres' black base without a sheen)
+                print(f"| {name} | {r} | 0 | {m[1]:.2g} | {m[2]:.2g} | - | - |")
+                continue
             print(f"| {name} | {r} | {m[0]:.4f} | {m[1] / m[0] - 1:+.2%} | {m[2] / m[0] - 1:+.2%} "
                   f"| {e[0]:.2%} | {e[1]:.2%} |")
 

@@ -115,6 +115,12 @@ layout(std430, set = 0, binding = VKRT_BINDING_ACTIVE_PIXELS) buffer ActivePixel
 layout(std430, set = 0, binding = VKRT_BINDING_SAMPLE_LUMINANCE) buffer SampleLuminanceBuffer { float sample_luminance[]; };
 layout(std430, set = 0, binding = VKRT_BINDING_SAMPLE_LUMINANCE) buffer SampleLuminanceWords { uint sample_luminance_words[]; };
 
+/* Hits grouped by shader from depth VKRT_ORDER_FIRST_DEPTH on (glsl/order.comp; on GPUs, for
+ * scenes of several shaders: src/render/tuning.c): the light, count and shade kernels read their
+ * rays in that order. */
+layout(constant_id = VKRT_SPEC_MATERIAL_ORDER) const bool MATERIAL_ORDER = false;
+layout(std430, set = 0, binding = VKRT_BINDING_MATERIAL_ORDER) buffer MaterialOrderBuffer { uint material_order[]; };
+
 /* Which structure trace_closest and trace_any walk (VKRT_TRAVERSE_*). */
 layout(constant_id = VKRT_SPEC_ACCEL_KIND) const uint ACCEL_KIND = VKRT_TRAVERSE_BRUTE;
 
@@ -133,6 +139,26 @@ uint dispatch_ray_count()
     if (frame.counts.z != VKRT_RAYS_OF_WAVE)
         return frame.counts.z;
     return min(waves[frame.wave.y].ray_count, frame.wave.w);
+}
+
+/* Where depth's bin totals start in material_order (its cursors follow them), and where the
+ * grouped order starts: after the bins of depths 0 to the max depth. */
+uint order_bins_start(uint depth)
+{
+    return depth * 2u * VKRT_ORDER_BINS;
+}
+uint order_places_start()
+{
+    return order_bins_start(frame.wave.z + 1u);
+}
+
+/* The ray that invocation i of a light, count or shade dispatch handles (i below
+ * dispatch_ray_count()): the i-th in the grouped order where there is one. */
+uint ray_of_invocation(uint i)
+{
+    if (!MATERIAL_ORDER || frame.wave.y < VKRT_ORDER_FIRST_DEPTH)
+        return i;
+    return material_order[order_places_start() + i];
 }
 
 /* Ray i of this depth, from the buffer frame.wave.x names. */

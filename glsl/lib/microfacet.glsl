@@ -132,8 +132,9 @@ vec3 to_local(mat3 f, vec3 v)
 
 /* The built-ins describe themselves in this struct; the functions below evaluate, sample and
  * Whitted-shade any of them. A mixture: `metallic` of a conductor of colour f0, the rest a
- * plastic (a GGX dielectric coat of index eta and colour specular over a Lambertian diffuse),
- * unless `dielectric` (a rough glass boundary of index eta, transmission tinted by tint). */
+ * plastic (a GGX dielectric coat of index eta and colour specular over a Lambertian diffuse,
+ * with a sheen of weight `sheen` beside it), unless `dielectric` (a rough glass boundary of
+ * index eta, transmission tinted by tint). */
 struct RoughMaterial {
     vec3 diffuse;   /* the plastic's Lambertian albedo under the coat */
     vec3 specular;  /* the plastic coat's reflectance scale (1: a plain dielectric coat) */
@@ -143,7 +144,46 @@ struct RoughMaterial {
     float eta;      /* n_transmitted / n_incident of the coat or glass at this hit */
     float alpha;    /* GGX alpha of every lobe */
     bool dielectric;
+    float sheen;    /* the plastic's sheen weight, in [0, 1] (the .mtl's Ps; "The sheen", below) */
 };
+
+/* ---- The sheen ------------------------------------------------------------------------------ */
+
+/* The .mtl's Ps (docs/materials.md, "The sheen"): the Disney sheen (Burley 2012, "Physically
+ * Based Shading at Disney", section 5.3), as Blender 3's Principled BSDF and Mitsuba 3's
+ * `principled` have it: f = sheen (1 - i.h)^5, untinted (white: Blender 4's default Sheen Tint,
+ * Mitsuba's sheen_tint 0), no 1 / pi, added to the non-metal share beside its diffuse base (and
+ * so under a clear coat). A grazing term: near 0 where i and o are near the normal, 1 where they
+ * are grazing and on opposite sides (light from behind the surface's rim). Sampled with the
+ * diffuse base's cosine lobe, as Mitsuba samples it. Not energy-conserving on its own (it adds
+ * to the base, as Disney's does): its albedo is at most 0.088 per unit weight, at grazing view.
+ * A scene whose materials have no sheen compiles none of it (VKRT_MATERIAL_SHEEN in
+ * SURFACE_MAPS). */
+bool sheen_present(RoughMaterial m)
+{
+    return (SURFACE_MAPS & VKRT_MATERIAL_SHEEN) != 0u && m.sheen > 0.0;
+}
+
+/* f cos of the sheen for the local o (o.z > 0) and i (i.z > 0). */
+float sheen_lobe(RoughMaterial m, vec3 o, vec3 i)
+{
+    if (!sheen_present(m))
+        return 0.0;
+    float c = clamp(1.0 - dot(i, normalize(o + i)), 0.0, 1.0);
+    float c2 = c * c;
+    return m.sheen * c2 * c2 * c * i.z;
+}
+
+/* The sheen's directional albedo at the viewing cosine cos_o, int sheen_lobe di: a quartic in
+ * 1 - cos_o fitted to the integral (within 2.5e-5 per unit weight; tests/test_sheen.c holds it to
+ * the integral). For the sampling probabilities and Whitted's ambient light. */
+float sheen_albedo(RoughMaterial m, float cos_o)
+{
+    if (!sheen_present(m))
+        return 0.0;
+    float x = 1.0 - clamp(cos_o, 0.0, 1.0);
+    return m.sheen * (2.588e-4 + x * (6.3485e-3 + x * (2.92702e-2 + x * (2.44559e-2 + x * 2.81456e-2))));
+}
 
 /* The plastic's diffuse lobe (f cos), the coat's transmission in and out with smooth-surface
  * Fresnel: kd / pi (1 - F(cos_i)) (1 - F(cos_o)) / (1 - Fdr), Fdr the hemispherical average
@@ -158,12 +198,14 @@ vec3 plastic_diffuse(RoughMaterial m, vec3 o, vec3 i)
     return m.diffuse * ((1.0 - fo) * (1.0 - fi) * i.z / (PI * inside));
 }
 
-/* Probability that the plastic samples its coat rather than its diffuse base: the coat's
- * Fresnel at the viewing angle against what the base gets, each by luminance. */
+/* Probability that the plastic samples its coat rather than its diffuse base (and the sheen,
+ * which shares the base's cosine sampling): the coat's Fresnel at the viewing angle against what
+ * the base gets, each by luminance, and the sheen's albedo. */
 float plastic_coat_probability(RoughMaterial m, vec3 o)
 {
     float f = fresnel_dielectric(o.z, m.eta);
-    float ws = luminance(m.specular) * f, wd = luminance(m.diffuse) * (1.0 - f);
+    float ws = luminance(m.specular) * f;
+    float wd = luminance(m.diffuse) * (1.0 - f) + sheen_albedo(m, o.z);
     return ws + wd > 0.0 ? ws / (ws + wd) : 1.0;
 }
 
@@ -218,7 +260,7 @@ vec3 rough_reflection_lobes(RoughMaterial m, vec3 o, vec3 i, out float pdf)
     /* The probability of choosing the specular lobes over the diffuse one. */
     float p_specular = m.metallic + (1.0 - m.metallic) * coat;
     pdf = (1.0 - p_specular) * pdf_diffuse;
-    vec3 f = (1.0 - m.metallic) * plastic;
+    vec3 f = (1.0 - m.metallic) * (plastic + sheen_lobe(m, o, i));
     if (rough_is_smooth(m))
         return f;
     vec3 h = normalize(o + i);
@@ -295,7 +337,8 @@ float coat_probability(RoughMaterial m, Coat c, vec3 o)
     float base = m.dielectric ? 1.0
                               : m.metallic * luminance(fresnel_schlick(m.f0, o.z)) +
                                     (1.0 - m.metallic) * (luminance(m.specular) * fb +
-                                                          luminance(m.diffuse) * (1.0 - fb));
+                                                          luminance(m.diffuse) * (1.0 - fb) +
+                                                          sheen_albedo(m, o.z));
     float t = (1.0 - r) * base;
     return r + t > 0.0 ? r / (r + t) : 1.0;
 }
@@ -447,14 +490,15 @@ bool rough_sample(Surface s, RoughMaterial m, Coat c, out BsdfSample b)
  * through the whole BSDF (highlights and diffuse; point lights are never hit by a ray, so nothing
  * is counted twice), the ambient light on the diffuse base (through the coat), and one ray from
  * the specular lobes (a glossy reflection from the coat or the base, or reflection or refraction
- * through the glass). The diffuse base casts no ray, as diffuse surfaces do not in Whitted's
- * model. Everything is scaled by coverage (the covered part of a cut-out; 1 for a solid
- * surface). */
+ * through the glass). The diffuse base (and the sheen beside it, which sees the ambient light
+ * through its albedo) casts no ray, as diffuse surfaces do not in Whitted's model. Everything is
+ * scaled by coverage (the covered part of a cut-out; 1 for a solid surface). */
 void rough_whitted_shade(Surface s, RoughMaterial m, Coat c, float coverage)
 {
-    vec3 sum = (1.0 - m.metallic) * m.diffuse * ambient_light();
+    float cos_o = dot(-s.incoming, s.normal);
+    vec3 sum = (1.0 - m.metallic) * (m.diffuse + sheen_albedo(m, cos_o)) * ambient_light();
     if (coat_present(c))
-        sum *= coat_transmission(c, dot(-s.incoming, s.normal));
+        sum *= coat_transmission(c, cos_o);
     if (m.dielectric)
         sum = vec3(0.0);
     for (uint k = 0u; k < light_count(); ++k) {
@@ -472,6 +516,7 @@ void rough_whitted_shade(Surface s, RoughMaterial m, Coat c, float coverage)
     }
     RoughMaterial specular_only = m;
     specular_only.diffuse = vec3(0.0);
+    specular_only.sheen = 0.0;
     if (rough_sample(s, specular_only, c, b))
         cast_ray(s, b.direction, coverage * b.weight);
 }

@@ -4,7 +4,8 @@
  *   0-2 Kd (diffuse albedo)   3 transparency (1 - d)   4-6 Ks (specular)   7 Ns (Phong exponent)
  *   8-10 Ke (emission)        11 Ni (index of refraction)   12-14 Tf (transmission filter)
  *   15 illum   16 Pr (roughness)   17 Pm (metallic)   18 Pc (clearcoat)   19 Pcr (its roughness)
- * and texture slot 0 is map_Kd (colour), slot 1 map_d (coverage), 2 map_Pr, 3 map_Pm.
+ * and texture slot 0 is map_Kd (colour), slot 1 map_d (coverage), 2 map_Pr, 3 map_Pm, 6 map_Ps;
+ * the sheen Ps (a material file's number 20) is Material.maps.z.
  */
 #ifndef VKRT_MTL_GLSL
 #define VKRT_MTL_GLSL
@@ -27,6 +28,18 @@ float mtl_dielectric_eta(Surface s)
 float mtl_roughness(Surface s)
 {
     return param(16u) * material_texture(2u, s.uv).r;
+}
+
+/* The sheen weight of the rough built-ins (lib/microfacet.glsl, "The sheen"): the .mtl's Ps (a
+ * material file's number 20), kept in Material.maps.z so that the 20 numbers' layout stays as it
+ * was, times the red of texture slot 6 (map_Ps, data), in [0, 1]. Constant 0 in a scene without
+ * a sheen. */
+float mtl_sheen(Surface s)
+{
+    if ((SURFACE_MAPS & VKRT_MATERIAL_SHEEN) == 0u)
+        return 0.0;
+    return clamp(materials[vkrt_material].maps.z * material_texture(VKRT_SLOT_SHEEN, s.uv).r, 0.0,
+                 1.0);
 }
 
 /* Glass's transmission filter Tf; all 0 (not given) means clear. */

@@ -6,7 +6,8 @@
  * clear GGX coat of index Ni, 11; 1 or less means 1.5). One roughness for both, GGX
  * alpha = roughness^2.
  * d and map_d cut it out as they do the other built-ins. A clear coat over it: weight 18 (the .mtl
- * Pc / 4), roughness 19 (Pcr) (lib/microfacet.glsl, rough_coat).
+ * Pc / 4), roughness 19 (Pcr) (lib/microfacet.glsl, rough_coat). A sheen beside the non-metal
+ * share: the .mtl's Ps times map_Ps (lib/mtl.glsl, mtl_sheen).
  * Whitted: the lights through the BSDF by light_sample, ambient light on the diffuse share, one
  * glossy reflection ray. The entry points are ROUGH_BUILTIN's.
  */
@@ -17,7 +18,7 @@ RoughMaterial pbr_material(Surface s)
     /* The .mtl's Ni defaults to 1, which would be no coat at all: a coat needs an index above 1. */
     float ni = param(11u) > 1.0 ? param(11u) : 1.5;
     return RoughMaterial(base, vec3(1.0), base, vec3(1.0), metallic, ni,
-                         ggx_alpha(mtl_roughness(s)), false);
+                         ggx_alpha(mtl_roughness(s)), false, mtl_sheen(s));
 }
 
 ROUGH_BUILTIN(pbr_material)

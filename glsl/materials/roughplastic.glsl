@@ -6,6 +6,7 @@
  * for the light the coat reflects back down (lib/microfacet.glsl, plastic_diffuse).
  * Numbers 18 and 19 put a clear coat over it (weight, roughness; lib/microfacet.glsl): with Ks 0
  * and Ni 1 (no Fresnel of its own) the base is exactly Lambertian, so that is a coated diffuse.
+ * Number 20 is a sheen beside the base (Disney's; lib/microfacet.glsl, "The sheen").
  * Whitted: the lights through the whole BSDF by light_sample, the ambient light on the base, and
  * one glossy reflection ray from the coat.
  * The entry points (count_rays, shade, emitted, bsdf_eval, bsdf_sample) are ROUGH_BUILTIN's.
@@ -14,7 +15,7 @@ RoughMaterial roughplastic_material(Surface s)
 {
     float ni = param(11u) > 0.0 ? param(11u) : 1.5;
     return RoughMaterial(mtl_diffuse(s), param3(4u), vec3(0.0), vec3(1.0), 0.0, ni,
-                         ggx_alpha(mtl_roughness(s)), false);
+                         ggx_alpha(mtl_roughness(s)), false, mtl_sheen(s));
 }
 
 ROUGH_BUILTIN(roughplastic_material)

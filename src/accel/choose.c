@@ -17,12 +17,19 @@
  * stadium is how much of the scene sits in crowded cells: there the grid tests every triangle of
  * a cell for each ray that crosses it, while a BVH keeps subdividing.
  *
- * The kd-tree (accel kdtree, docs/kdtree.md) is not chosen on GPUs: on the H200 at 1080p it
- * traced Sponza's camera rays 1.23x as fast as the BVH and its diffuse rays 1.02x, but its
- * shadow rays 0.57x, and the bunny's and Lost Empire's rays of every kind 0.42-0.78x, and it
- * builds 7 to 10 times slower; a frame spends most of its time on shadow and bounce rays, so no
- * scene measured renders faster with it. On lavapipe reading texel buffers (its default) the
- * reverse: at 480x270 on a quiet machine (research/results/kdtree-lavapipe-quiet/) the kd-tree
+ * On GPUs the kd-tree (accel kdtree, docs/kdtree.md) lost to the BVH on every public scene at
+ * 1080p on the H200 (research/results/h200-1203/kd: 0.41-0.94x its rays per second, every scene
+ * and kind of ray of bunny, Sponza, Sibenik, Lost Empire, CornellBox-Original, the teapot and the
+ * Mori knob) and builds 1.2 to 4 times slower, so it is built only where the BVH's own SAH cost
+ * says the BVH is bad: the slivers (tools/sliver_cylinder.py, 96k long thin triangles), whose
+ * overlapping boxes gave a BVH of SAH cost 95.0, 5.7 per doubling of the triangle count, where
+ * the public scenes' trees cost 0.3 to 2.1 per doubling (10.1 M triangles of tiled Lost Empire:
+ * 2.6). There the kd-tree, which clips triangles to its cells, cost 26.0 and traced 3.1 to 3.8
+ * times the BVH's rays (3.0 to 6.2 times the driver's ray tracing pipeline, where the BVH was at
+ * 0.99 to 1.65). The kd-tree's SAH cost was 1.6 to 2.7 times the BVH's on the public scenes and
+ * 0.27 times on the slivers; it is taken when below half.
+ * On lavapipe reading texel buffers (its default) the
+ * kd-tree mostly wins: at 480x270 on a quiet machine (research/results/kdtree-lavapipe-quiet/) the kd-tree
  * traced 1.1 to 2.4 times the BVH's rays per second in 25 of the 27 scene and ray kinds of the
  * nine scenes measured (Cornell boxes, teapot, bunny, Sponza, Sibenik, Lost Empire, the teapot
  * in a stadium; the bunny's shadow and diffuse rays 0.83-0.85x, and 1.57x and 0.95x in a second
@@ -32,6 +39,7 @@
  */
 #include "choose.h"
 
+#include <math.h>
 #include <stdio.h>
 
 /* Below this, building and walking any structure costs more than testing every triangle: a ray
@@ -40,6 +48,14 @@ static const uint32_t brute_force_limit = 64;
 
 /* Up to this many triangles a CPU device reading texel buffers gets the kd-tree (above). */
 static const uint32_t kdtree_limit = 250000;
+
+/* On a GPU, the kd-tree is built as well when the BVH's SAH cost per doubling of the triangle
+ * count is above this (above) and the scene within kdtree_limit (its build runs mostly on one
+ * core). */
+static const double bvh_cost_per_doubling_limit = 3.5;
+
+/* ... and taken when its SAH cost is below this share of the BVH's. */
+static const double kdtree_cost_share = 0.5;
 
 /* A cell is crowded when it holds more than this many times the mean of the occupied cells. */
 static const double crowded_ratio = 16.0;
@@ -57,6 +73,18 @@ uint32_t accel_brute_force_limit(void)
 uint32_t accel_kdtree_limit(void)
 {
     return kdtree_limit;
+}
+
+bool accel_kdtree_worth_trying(uint32_t triangle_count, float bvh_sah_cost)
+{
+    if (triangle_count > kdtree_limit || triangle_count <= brute_force_limit)
+        return false;
+    return bvh_sah_cost > bvh_cost_per_doubling_limit * log2((double)triangle_count);
+}
+
+bool accel_kdtree_wins(float kdtree_sah_cost, float bvh_sah_cost)
+{
+    return kdtree_sah_cost < kdtree_cost_share * bvh_sah_cost;
 }
 
 bool accel_choice_needs_grid(uint32_t triangle_count, accel_device device)
@@ -85,7 +113,7 @@ accel_choice accel_choose(uint32_t triangle_count, accel_device device, const gr
         c.kind = VKRT_ACCEL_BVH;
         snprintf(c.reason, sizeof c.reason,
                  "%u triangles: BVH (it outran the grid on every scene measured, on GPUs and on "
-                 "CPU devices with texel loads, and the kd-tree on all but Sponza's camera rays)",
+                 "CPU devices with texel loads, and the kd-tree on every public scene)",
                  triangle_count);
         return c;
     }

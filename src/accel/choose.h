@@ -9,7 +9,8 @@
  * ahead on some scenes) and builds two to three times faster, and the BVH otherwise: on a GPU it
  * traced 1.2 to 2.1 times faster than the grid on every scene measured. On a CPU device reading
  * texel buffers (lavapipe's default) the kd-tree outran both (choose.c says by how much), up to
- * a size past which its slower build would eat the gain.
+ * a size past which its slower build would eat the gain. On a GPU, a BVH whose SAH cost is far
+ * above its triangle count's norm is weighed against the kd-tree.
  */
 #ifndef VKRT_ACCEL_CHOOSE_H
 #define VKRT_ACCEL_CHOOSE_H
@@ -39,6 +40,13 @@ uint32_t accel_brute_force_limit(void);
 
 /* Up to this many triangles a CPU device reading texel buffers gets the kd-tree. */
 uint32_t accel_kdtree_limit(void);
+
+/* On a GPU, after `auto` chose the BVH: whether its SAH cost is so high for triangle_count
+ * triangles (overlapping boxes of long thin triangles) that the kd-tree is worth building too. */
+bool accel_kdtree_worth_trying(uint32_t triangle_count, float bvh_sah_cost);
+
+/* Whether the kd-tree of that SAH cost replaces the BVH of this one. */
+bool accel_kdtree_wins(float kdtree_sah_cost, float bvh_sah_cost);
 
 /* True when the choice for this scene and device needs the grid's statistics: above the brute
  * force limit on a CPU device reading storage buffers. (Elsewhere the grid loses either way, so

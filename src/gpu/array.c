@@ -27,6 +27,14 @@ static uint32_t chunk_shift(size_t element_size, VkDeviceSize limit, bool *fits)
     return shift;
 }
 
+uint32_t gpu_array_shift_for(const gpu_context *ctx, size_t element_size, size_t count)
+{
+    bool fits;
+    if (count == 0 || element_size * count <= ctx->split_bytes)
+        return 0;
+    return chunk_shift(element_size, ctx->split_bytes, &fits);
+}
+
 bool gpu_array_create(gpu_context *ctx, gpu_array *a, size_t element_size, size_t count,
                       const char *what, vkrt_error *err)
 {

@@ -38,6 +38,11 @@ typedef void gpu_array_fill_fn(void *user, size_t first, size_t count, void *dst
 bool gpu_array_create(gpu_context *ctx, gpu_array *a, size_t element_size, size_t count,
                       const char *what, vkrt_error *err);
 
+/* The shift gpu_array_create gives an array of count elements of element_size bytes: 0 where one
+ * buffer holds it, else log2 of the elements per chunk (what the kernels are compiled for, known
+ * before the array is made). */
+uint32_t gpu_array_shift_for(const gpu_context *ctx, size_t element_size, size_t count);
+
 /* Fills the whole array from what fill writes, through staging buffers of at most
  * GPU_STAGING_BYTES, and waits until done. */
 bool gpu_array_fill(gpu_context *ctx, gpu_array *a, gpu_array_fill_fn *fill, void *user,

@@ -1,9 +1,10 @@
 /*
  * buffer.c: device buffers and staging transfers (see buffer.h).
  *
- * Every upload and download goes through a short-lived staging buffer and a one-shot command
- * buffer. That costs a wait per transfer, which is fine: vkrt transfers when a scene loads and
- * when a frame is read back, never per bounce.
+ * Every upload and download goes through a staging buffer (the context's, kept between transfers
+ * of up to GPU_STAGING_BYTES) and a one-shot command buffer. That costs a wait per transfer,
+ * which is fine: vkrt transfers when a scene loads and when a frame is read back, never per
+ * bounce.
  */
 #include "buffer.h"
 
@@ -210,6 +211,45 @@ void gpu_buffer_destroy(gpu_context *ctx, gpu_buffer *buf)
     memset(buf, 0, sizeof *buf);
 }
 
+/* The context's kept staging buffer, holding at least size bytes (size <= GPU_STAGING_BYTES),
+ * into *staging; the context keeps owning it. */
+static bool kept_staging(gpu_context *ctx, size_t size, gpu_buffer *staging, vkrt_error *err)
+{
+    if (ctx->staging_size < size) {
+        gpu_buffer old = {.buffer = ctx->staging_buffer, .memory = ctx->staging_memory,
+                          .mapped = ctx->staging_mapped};
+        gpu_buffer_destroy(ctx, &old);
+        ctx->staging_buffer = VK_NULL_HANDLE;
+        ctx->staging_memory = VK_NULL_HANDLE;
+        ctx->staging_mapped = NULL;
+        ctx->staging_size = 0;
+        /* Powers of two from 1 MiB: a few sizes, however the transfers come. */
+        size_t grown = (size_t)1 << 20;
+        while (grown < size)
+            grown *= 2;
+        gpu_buffer made;
+        if (!gpu_staging_create(ctx, &made, grown, err))
+            return false;
+        ctx->staging_buffer = made.buffer;
+        ctx->staging_memory = made.memory;
+        ctx->staging_mapped = made.mapped;
+        ctx->staging_size = made.size;
+    }
+    *staging = (gpu_buffer){.buffer = ctx->staging_buffer, .memory = ctx->staging_memory,
+                            .size = ctx->staging_size, .mapped = ctx->staging_mapped};
+    return true;
+}
+
+/* A staging buffer of size bytes: the context's kept one up to GPU_STAGING_BYTES (*kept), else
+ * one of its own that the caller destroys. */
+static bool staging_for(gpu_context *ctx, size_t size, gpu_buffer *staging, bool *kept,
+                        vkrt_error *err)
+{
+    *kept = size <= GPU_STAGING_BYTES;
+    return *kept ? kept_staging(ctx, size, staging, err)
+                 : gpu_staging_create(ctx, staging, size, err);
+}
+
 static bool copy_buffer(gpu_context *ctx, VkBuffer src, size_t src_offset, VkBuffer dst,
                         size_t dst_offset, size_t size, vkrt_error *err)
 {
@@ -263,7 +303,8 @@ bool gpu_buffer_write(gpu_context *ctx, gpu_buffer *buf, size_t offset, size_t s
     if (piece == 0 || piece > size)
         piece = size;
     gpu_buffer staging;
-    if (!gpu_staging_create(ctx, &staging, piece, err))
+    bool kept;
+    if (!staging_for(ctx, piece, &staging, &kept, err))
         return false;
     bool ok = true;
     for (size_t done = 0; ok && done < size; done += piece) {
@@ -271,7 +312,8 @@ bool gpu_buffer_write(gpu_context *ctx, gpu_buffer *buf, size_t offset, size_t s
         write(user, done, n, staging.mapped);
         ok = copy_buffer(ctx, staging.buffer, 0, buf->buffer, offset + done, n, err);
     }
-    gpu_buffer_destroy(ctx, &staging);
+    if (!kept)
+        gpu_buffer_destroy(ctx, &staging);
     return ok;
 }
 
@@ -284,12 +326,14 @@ bool gpu_buffer_download(gpu_context *ctx, const gpu_buffer *buf, void *data, si
         return vkrt_error_set(err, "download of %zu bytes from a buffer of %zu", size,
                               (size_t)buf->size);
     gpu_buffer staging;
-    if (!gpu_staging_create(ctx, &staging, size, err))
+    bool kept;
+    if (!staging_for(ctx, size, &staging, &kept, err))
         return false;
     bool ok = copy_buffer(ctx, buf->buffer, 0, staging.buffer, 0, size, err);
     if (ok)
         memcpy(data, staging.mapped, size);
-    gpu_buffer_destroy(ctx, &staging);
+    if (!kept)
+        gpu_buffer_destroy(ctx, &staging);
     return ok;
 }
 

@@ -506,6 +506,10 @@ void gpu_context_destroy(gpu_context *ctx)
     }
     if (ctx->device) {
         vkDeviceWaitIdle(ctx->device);
+        if (ctx->staging_buffer)
+            vkDestroyBuffer(ctx->device, ctx->staging_buffer, NULL);
+        if (ctx->staging_memory)
+            vkFreeMemory(ctx->device, ctx->staging_memory, NULL);
         if (ctx->fence)
             vkDestroyFence(ctx->device, ctx->fence, NULL);
         if (ctx->command_pool)

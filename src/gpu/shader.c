@@ -5,6 +5,7 @@
  * text reaches glslang. GL_GOOGLE_cpp_style_line_directive lets `#line N "file"` carry file
  * names into glslang's messages.
  */
+#define _POSIX_C_SOURCE 200809L /* strtok_r */
 #include "shader.h"
 
 #include <ctype.h>
@@ -59,9 +60,10 @@ static bool resolve_include(const char *from, const char *name, char *out, size_
     int folder = slash ? (int)(slash - from + 1) : 0;
     if (snprintf(joined, sizeof joined, "%.*s%s", folder, from, name) >= (int)sizeof joined)
         return false;
-    char *parts[64];
+    char *parts[64], *rest;
     int count = 0;
-    for (char *part = strtok(joined, "/"); part; part = strtok(NULL, "/")) {
+    /* strtok_r: kernels are expanded on several threads at once (render/renderer_kernels.c). */
+    for (char *part = strtok_r(joined, "/", &rest); part; part = strtok_r(NULL, "/", &rest)) {
         if (strcmp(part, ".") == 0)
             continue;
         if (strcmp(part, "..") == 0) {

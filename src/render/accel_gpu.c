@@ -148,28 +148,37 @@ static bool build_tree(const vkrt_accel_desc *desc, const bvh_build_desc *build,
     return true;
 }
 
-static bool build_bvh(vkrt_accel_arrays *a, const vkrt_accel_desc *desc, const float *positions,
-                      uint32_t n, vkrt_error *err)
+/* The tree of a BVH as desc asks (width, leaves, node cost, spatial splits), its reason appended
+ * to the stats' reason; build gets the settings the stats report. */
+static bool make_bvh(vkrt_accel_arrays *a, const vkrt_accel_desc *desc, const float *positions,
+                     uint32_t n, bvh *b, bvh_build_desc *build, vkrt_error *err)
 {
-    uint32_t width = desc->bvh_width;
     if (desc->bvh_max_leaf > BVH_LEAF_REF_MAX_COUNT)
         return vkrt_error_set(err, "BVH leaves of %u triangles: the GPU layouts hold at most %u",
                               desc->bvh_max_leaf, BVH_LEAF_REF_MAX_COUNT);
-    const bvh_build_desc build = {
+    if (desc->bvh_width != 2 && desc->bvh_width != 4)
+        return vkrt_error_set(err, "BVH width %u: the GPU layouts are 2 and 4 wide",
+                              desc->bvh_width);
+    *build = (bvh_build_desc){
         .max_leaf_size = desc->bvh_max_leaf,
         .traversal_cost = desc->bvh_traversal_cost,
     };
-    if (width != 2 && width != 4)
-        return vkrt_error_set(err, "BVH width %u: the GPU layouts are 2 and 4 wide", width);
-    bvh b;
     char why[160];
-    if (!build_tree(desc, &build, positions, n, &b, why, sizeof why, err))
+    if (!build_tree(desc, build, positions, n, b, why, sizeof why, err))
         return false;
     size_t used = strlen(a->stats.reason);
     snprintf(a->stats.reason + used, sizeof a->stats.reason - used, "; %s", why);
+    return true;
+}
+
+/* Lays b out in the GPU's nodes, into a's arrays; b is freed either way. */
+static bool bvh_arrays(vkrt_accel_arrays *a, const vkrt_accel_desc *desc,
+                       const bvh_build_desc *build, bvh *b, vkrt_error *err)
+{
+    uint32_t width = desc->bvh_width;
     double start = vkrt_clock_ms();
     gpu_layout g = {0};
-    bool ok = lay_out(&b, width, &g, err);
+    bool ok = lay_out(b, width, &g, err);
     double layout_ms = vkrt_clock_ms() - start;
     /* glsl/lib/traverse_bvh.glsl's stack; a tree needing more would lose subtrees. */
     if (ok && g.stack > VKRT_BVH_STACK_SIZE)
@@ -183,71 +192,139 @@ static bool build_bvh(vkrt_accel_arrays *a, const vkrt_accel_desc *desc, const f
         vkrt_accel_stats *s = &a->stats;
         s->bytes = g.bytes;
         s->nodes = g.count;
-        s->leaves = b.leaf_count;
-        s->triangles_per_leaf = b.leaf_count ? (double)b.prim_count / b.leaf_count : 0;
-        s->references = b.prim_count;
+        s->leaves = b->leaf_count;
+        s->triangles_per_leaf = b->leaf_count ? (double)b->prim_count / b->leaf_count : 0;
+        s->references = b->prim_count;
         s->max_depth = g.depth;
         s->bvh_width = width;
-        s->sah_cost = b.sah_cost;
-        s->bvh_max_leaf = build.max_leaf_size ? build.max_leaf_size : BVH_DEFAULT_MAX_LEAF;
+        s->sah_cost = b->sah_cost;
+        s->bvh_max_leaf = build->max_leaf_size ? build->max_leaf_size : BVH_DEFAULT_MAX_LEAF;
         s->bvh_traversal_cost =
-            build.traversal_cost > 0 ? build.traversal_cost : BVH_DEFAULT_TRAVERSAL_COST;
+            build->traversal_cost > 0 ? build->traversal_cost : BVH_DEFAULT_TRAVERSAL_COST;
         /* The binary build and its layout into the GPU's nodes. */
-        s->build_ms = b.build_ms + layout_ms;
-        a->prim_order = b.prim_order;
-        a->triangle_count = b.prim_count;
-        b.prim_order = NULL;
+        s->build_ms = b->build_ms + layout_ms;
+        a->prim_order = b->prim_order;
+        a->triangle_count = b->prim_count;
+        b->prim_order = NULL;
     }
     free(g.nodes);
-    bvh_free(&b);
+    bvh_free(b);
     return ok;
 }
 
-/* The kd-tree's root box goes in the grid frame's lo and hi (glsl/lib/traverse_kdtree.glsl). */
-static bool build_kdtree(vkrt_accel_arrays *a, const vkrt_accel_desc *desc,
-                         const float *positions, uint32_t n, vkrt_error *err)
+/* The kd-tree with desc's traversal cost (the ratio to a triangle test) in *ratio. */
+static bool make_kdtree(const vkrt_accel_desc *desc, const float *positions, uint32_t n,
+                        kdtree *t, float *ratio, vkrt_error *err)
 {
-    float ratio = desc->kd_traversal_cost > 0
-                      ? desc->kd_traversal_cost
-                      : KDTREE_DEFAULT_TRAVERSAL_COST / KDTREE_DEFAULT_INTERSECTION_COST;
+    *ratio = desc->kd_traversal_cost > 0
+                 ? desc->kd_traversal_cost
+                 : KDTREE_DEFAULT_TRAVERSAL_COST / KDTREE_DEFAULT_INTERSECTION_COST;
     const kdtree_build_desc build = {
-        .traversal_cost = ratio * KDTREE_DEFAULT_INTERSECTION_COST,
+        .traversal_cost = *ratio * KDTREE_DEFAULT_INTERSECTION_COST,
     };
-    kdtree t;
-    if (!kdtree_build(&t, positions, n, &build, err))
-        return false;
+    return kdtree_build(t, positions, n, &build, err);
+}
+
+/* t's arrays, taken into a; its root box goes in the grid frame's lo and hi
+ * (glsl/lib/traverse_kdtree.glsl). t is freed either way. */
+static bool kdtree_arrays(vkrt_accel_arrays *a, kdtree *t, float ratio, vkrt_error *err)
+{
     /* The walk's stack marks its entries in the top bit (glsl/lib/traverse_kdtree.glsl). */
-    if (t.node_count > 0x7FFFFFFFu) {
-        vkrt_error_set(err, "kd-tree of %u nodes: the GPU walk holds at most 2^31", t.node_count);
-        kdtree_free(&t);
+    if (t->node_count > 0x7FFFFFFFu) {
+        vkrt_error_set(err, "kd-tree of %u nodes: the GPU walk holds at most 2^31", t->node_count);
+        kdtree_free(t);
         return false;
     }
-    a->info = (GridInfo){.lo = {t.lo[0], t.lo[1], t.lo[2], 0}, .hi = {t.hi[0], t.hi[1], t.hi[2], 0}};
-    size_t node_bytes = (size_t)t.node_count * sizeof *t.nodes;
-    size_t ref_bytes = (size_t)t.ref_count * sizeof *t.refs;
+    a->info = (GridInfo){.lo = {t->lo[0], t->lo[1], t->lo[2], 0},
+                         .hi = {t->hi[0], t->hi[1], t->hi[2], 0}};
+    size_t node_bytes = (size_t)t->node_count * sizeof *t->nodes;
+    size_t ref_bytes = (size_t)t->ref_count * sizeof *t->refs;
     {
         vkrt_accel_stats *s = &a->stats;
         s->bytes = sizeof a->info + node_bytes + ref_bytes;
-        s->nodes = t.node_count;
-        s->leaves = t.leaf_count;
-        s->empty_leaves = t.empty_leaves;
-        s->references = t.ref_count;
-        uint32_t full = t.leaf_count - t.empty_leaves;
-        s->triangles_per_leaf = full ? (double)t.ref_count / full : 0;
-        s->max_depth = t.max_depth;
-        s->sah_cost = t.sah_cost;
+        s->nodes = t->node_count;
+        s->leaves = t->leaf_count;
+        s->empty_leaves = t->empty_leaves;
+        s->references = t->ref_count;
+        uint32_t full = t->leaf_count - t->empty_leaves;
+        s->triangles_per_leaf = full ? (double)t->ref_count / full : 0;
+        s->max_depth = t->max_depth;
+        s->sah_cost = t->sah_cost;
         s->kd_traversal_cost = ratio;
-        s->build_ms = t.build_ms;
+        s->build_ms = t->build_ms;
     }
-    a->nodes = t.nodes;
-    a->node_size = sizeof *t.nodes;
-    a->node_count = t.node_count;
-    a->refs = t.refs;
-    a->ref_count = t.ref_count;
-    t.nodes = NULL;
-    t.refs = NULL;
-    kdtree_free(&t);
+    a->nodes = t->nodes;
+    a->node_size = sizeof *t->nodes;
+    a->node_count = t->node_count;
+    a->refs = t->refs;
+    a->ref_count = t->ref_count;
+    t->nodes = NULL;
+    t->refs = NULL;
+    kdtree_free(t);
     return true;
+}
+
+static bool build_kdtree(vkrt_accel_arrays *a, const vkrt_accel_desc *desc,
+                         const float *positions, uint32_t n, vkrt_error *err)
+{
+    kdtree t;
+    float ratio;
+    return make_kdtree(desc, positions, n, &t, &ratio, err) && kdtree_arrays(a, &t, ratio, err);
+}
+
+/* The BVH; with `auto` on a GPU, held against the kd-tree where the BVH's SAH cost says its boxes
+ * overlap badly (accel_kdtree_worth_trying), and the kd-tree taken if it is much cheaper. */
+static bool build_bvh(vkrt_accel_arrays *a, const vkrt_accel_desc *desc, const float *positions,
+                      uint32_t n, bool weigh_kdtree, vkrt_error *err)
+{
+    bvh b;
+    bvh_build_desc build;
+    if (!make_bvh(a, desc, positions, n, &b, &build, err))
+        return false;
+    if (!weigh_kdtree || !accel_kdtree_worth_trying(n, b.sah_cost))
+        return bvh_arrays(a, desc, &build, &b, err);
+    kdtree t;
+    float ratio;
+    if (!make_kdtree(desc, positions, n, &t, &ratio, err)) {
+        bvh_free(&b);
+        return false;
+    }
+    vkrt_accel_stats *s = &a->stats;
+    double both_ms = b.build_ms + t.build_ms;
+    bool kd = accel_kdtree_wins(t.sah_cost, b.sah_cost);
+    size_t used = strlen(s->reason);
+    snprintf(s->reason + used, sizeof s->reason - used,
+             "; the BVH's SAH cost %.1f is high for %u triangles: kd-tree's %.1f, %s",
+             (double)b.sah_cost, n, (double)t.sah_cost, kd ? "kd-tree" : "BVH kept");
+    bool ok;
+    if (kd) {
+        bvh_free(&b);
+        s->kind = VKRT_ACCEL_KDTREE;
+        ok = kdtree_arrays(a, &t, ratio, err);
+    } else {
+        kdtree_free(&t);
+        ok = bvh_arrays(a, desc, &build, &b, err);
+    }
+    s->build_ms = both_ms;
+    return ok;
+}
+
+/* Which structures compete is the tuning's (tuning.c). */
+static accel_device choice_device(const vkrt_accel_desc *desc)
+{
+    return desc->grid_competes     ? ACCEL_DEVICE_CPU_STORAGE
+           : desc->kdtree_competes ? ACCEL_DEVICE_CPU_TEXELS
+                                   : ACCEL_DEVICE_GPU;
+}
+
+vkrt_accel_kind vkrt_accel_gpu_predict(const vkrt_accel_desc *desc, uint32_t triangle_count)
+{
+    if (desc->kind != VKRT_ACCEL_AUTO)
+        return desc->kind;
+    accel_device device = choice_device(desc);
+    if (accel_choice_needs_grid(triangle_count, device))
+        return VKRT_ACCEL_AUTO;
+    return accel_choose(triangle_count, device, NULL).kind;
 }
 
 bool vkrt_accel_build(const vkrt_accel_desc *desc, const float *positions,
@@ -263,12 +340,9 @@ bool vkrt_accel_build(const vkrt_accel_desc *desc, const float *positions,
     grid g = {0};
     bool have_grid = false;
     snprintf(s->reason, sizeof s->reason, "asked for");
+    accel_device device = choice_device(desc);
     if (kind == VKRT_ACCEL_AUTO) {
         double start = vkrt_clock_ms();
-        /* Which structures compete is the tuning's (tuning.c). */
-        accel_device device = desc->grid_competes     ? ACCEL_DEVICE_CPU_STORAGE
-                              : desc->kdtree_competes ? ACCEL_DEVICE_CPU_TEXELS
-                                                      : ACCEL_DEVICE_GPU;
         if (accel_choice_needs_grid(triangle_count, device)) {
             /* The rule's thresholds were measured at the default density. */
             if (!grid_build(&g, positions, triangle_count, NULL, err))
@@ -291,7 +365,8 @@ bool vkrt_accel_build(const vkrt_accel_desc *desc, const float *positions,
         if (ok)
             grid_arrays(&g, a);
     } else if (kind == VKRT_ACCEL_BVH) {
-        ok = build_bvh(a, desc, positions, triangle_count, err);
+        ok = build_bvh(a, desc, positions, triangle_count,
+                       desc->kind == VKRT_ACCEL_AUTO && device == ACCEL_DEVICE_GPU, err);
     } else if (kind == VKRT_ACCEL_KDTREE) {
         ok = build_kdtree(a, desc, positions, triangle_count, err);
     }

@@ -112,6 +112,12 @@ void vkrt_accel_arrays_free(vkrt_accel_arrays *a);
 bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc *desc,
                            const float *positions, uint32_t triangle_count, vkrt_error *err);
 
+/* The kind vkrt_accel_gpu_create will build for desc over triangle_count triangles, where that
+ * is known before building anything (asked for, or auto's rule needs no grid to choose);
+ * VKRT_ACCEL_AUTO where only the build can tell. On a GPU a BVH whose SAH cost turns out far too
+ * high may still give way to the kd-tree (choose.h): the renderer then compiles again. */
+vkrt_accel_kind vkrt_accel_gpu_predict(const vkrt_accel_desc *desc, uint32_t triangle_count);
+
 /* Frees buffers and the order. Safe on a zeroed struct. */
 void vkrt_accel_gpu_destroy(vkrt_accel_gpu *a, gpu_context *ctx);
 

@@ -12,6 +12,7 @@ bool profile_recorder_create(gpu_context *ctx, profile_recorder *p, uint32_t mar
     memset(p, 0, sizeof *p);
     p->marks = calloc(marks, sizeof *p->marks);
     p->frame_end = calloc(frames, sizeof *p->frame_end);
+    p->capacity = marks;
     if (!p->marks || !p->frame_end) {
         profile_recorder_destroy(ctx, p);
         return vkrt_error_set(err, "out of memory for a profile");
@@ -42,6 +43,12 @@ void profile_recorder_mark(VkCommandBuffer cmd, profile_recorder *p, uint32_t de
 {
     if (!p)
         return;
+    /* Past the room the query pool has, a timestamp would be written out of bounds (on the
+     * H200, a hung device): the read below reports it instead. */
+    if (p->count >= p->capacity) {
+        p->overflow = true;
+        return;
+    }
     p->marks[p->count] = (profile_mark){
         p->frame, (uint8_t)(depth < VKRT_PROFILE_DEPTHS ? depth : VKRT_PROFILE_DEPTHS - 1),
         (uint8_t)kernel};
@@ -76,6 +83,9 @@ bool profile_recorder_read(gpu_context *ctx, profile_recorder *p, vkrt_frame_pro
     bool ok = per_frame && values;
     if (!ok)
         vkrt_error_set(err, "out of memory for a profile");
+    if (ok && p->overflow)
+        ok = vkrt_error_set(err, "profile: more dispatches than the %u timestamps made room for",
+                            p->capacity);
     memset(out->kernel_ms, 0, sizeof out->kernel_ms);
     for (uint32_t i = 0; ok && i < p->count; ++i) {
         double ms;
@@ -104,8 +114,8 @@ bool profile_recorder_read(gpu_context *ctx, profile_recorder *p, vkrt_frame_pro
 
 void vkrt_frame_profile_print(FILE *out, const vkrt_frame_profile *p)
 {
-    static const char *const names[VKRT_KERNEL_KINDS] = {"raygen", "trace", "light", "count",
-                                                          "prepare", "shade"};
+    static const char *const names[VKRT_KERNEL_KINDS] = {"raygen", "trace",   "order", "light",
+                                                          "count",  "prepare", "shade"};
     fprintf(out, "vkrt: profile (GPU ms, summed over sample passes; median of %u frame%s back to "
                  "back after %u warm-up frame%s)\n  depth",
             p->frames, p->frames == 1 ? "" : "s", p->warmups, p->warmups == 1 ? "" : "s");

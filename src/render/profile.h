@@ -13,8 +13,8 @@
 #include "../gpu/timer.h"
 
 /* The kernels of a frame, for profiles. */
-enum { VKRT_KERNEL_RAYGEN, VKRT_KERNEL_TRACE, VKRT_KERNEL_LIGHT, VKRT_KERNEL_COUNT,
-       VKRT_KERNEL_PREPARE, VKRT_KERNEL_SHADE, VKRT_KERNEL_KINDS };
+enum { VKRT_KERNEL_RAYGEN, VKRT_KERNEL_TRACE, VKRT_KERNEL_ORDER, VKRT_KERNEL_LIGHT,
+       VKRT_KERNEL_COUNT, VKRT_KERNEL_PREPARE, VKRT_KERNEL_SHADE, VKRT_KERNEL_KINDS };
 /* Depths a profile tells apart; deeper ones are added to the last. */
 #define VKRT_PROFILE_DEPTHS 17
 
@@ -44,6 +44,8 @@ typedef struct profile_recorder {
     gpu_timer timer;
     profile_mark *marks;
     uint32_t count;           /* marks so far; timestamp 0 opens the first timed frame */
+    uint32_t capacity;        /* marks there is room for */
+    bool overflow;            /* a mark found no room (a miscount of the caller's: an error) */
     uint32_t frame;           /* the timed frame being recorded */
     uint32_t *frame_end;      /* per timed frame, its last timestamp */
 } profile_recorder;

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "renderer_private.h"
+#include "../clock.h"
 #include "../scene/colour.h"
 
 /* Timed frames of a profile unless the description asks for another number. */
@@ -51,6 +52,22 @@ static const char *first_emitter(const vkrt_scene_materials *mats)
 /* The integrator: asked for (desc, else the scene's `integrator`), or chosen from the scene's
  * lights. Light from geometry or from an environment map needs the path tracer; a scene lit by
  * point, spot and directional lights alone keeps Whitted's picture (and its speed). */
+/* How many different shaders the materials that triangles can have use (the environment's
+ * apart). */
+static uint32_t surface_shaders(const vkrt_scene_materials *mats)
+{
+    uint32_t count = 0;
+    for (uint32_t i = 0; i < mats->count; ++i) {
+        if (i == mats->environment)
+            continue;
+        bool seen = false;
+        for (uint32_t j = 0; j < i && !seen; ++j)
+            seen = j != mats->environment && mats->list[j].shader == mats->list[i].shader;
+        count += !seen;
+    }
+    return count;
+}
+
 static void choose_integrator(vkrt_renderer *r, const vkrt_render_desc *desc,
                               const vkrt_scene *scene, const vkrt_scene_materials *mats)
 {
@@ -74,6 +91,15 @@ static void choose_integrator(vkrt_renderer *r, const vkrt_render_desc *desc,
         snprintf(r->integrator_reason, sizeof r->integrator_reason,
                  "no emissive material and no environment map: whitted");
     }
+}
+
+/* Adds the ms since *at to *into and restarts *at; true, to sit in a chain of && steps. */
+static bool lap(double *at, double *into)
+{
+    double now = vkrt_clock_ms();
+    *into += now - *at;
+    *at = now;
+    return true;
 }
 
 /* The image's rays must fit one ray buffer the device allows. */
@@ -166,6 +192,9 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
     if (r->integrator == VKRT_INTEGRATOR_PATH)
         r->max_depth += 1;
     r->light_sampling = desc->light_sampling;
+    /* Grouping hits by shader pays only where hits of different shaders can share a subgroup. */
+    r->material_order = r->tuning.material_order && ok && surface_shaders(mats) > 1 &&
+                        r->max_depth >= VKRT_ORDER_FIRST_DEPTH;
     const vkrt_tuning *t = &r->tuning;
     const vkrt_accel_desc accel = {
         .kind = desc->accel,
@@ -181,21 +210,47 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
         .source = scene->config.geometry,
     };
     bool has_texcoords = mats->reads_texcoords && scene->mesh.texcoords;
+    bool has_normals = scene->mesh.normals != NULL;
+    vkrt_renderer_startup *times = &r->startup;
+    double at = vkrt_clock_ms();
+    /* The kernels compile on threads while the structure is built and the data uploaded, for
+     * the layout predicted now (renderer_kernels.c); where it cannot be told, after the build. */
+    renderer_data_layout layout;
+    renderer_kernel_plan plan;
     ok = ok && size_ray_buffers(r, desc, err) &&
          gpu_storage_set_create_texels(ctx, &r->set, VKRT_STORAGE_BINDINGS, VKRT_TEXEL_BINDINGS,
                                        sizeof(FrameParams), err) &&
-         vkrt_accel_gpu_create(&r->accel, ctx, &accel, scene->mesh.positions,
-                               scene->mesh.triangle_count, err) &&
          vkrt_material_kernel_create(&kernel, mats, ctx->float_atomics,
                                      r->integrator == VKRT_INTEGRATOR_PATH, err) &&
-         renderer_upload_geometry(r, &scene->mesh, mats, err) &&
-         renderer_create_texel_views(r, err) && renderer_upload_materials(r, mats, &kernel, err) &&
+         renderer_scan_materials(r, mats, err);
+    if (ok && renderer_data_layout_predict(r, &accel, &scene->mesh, mats, &layout)) {
+        renderer_kernel_plan_make(r, &layout, has_normals, has_texcoords, desc->traversal_stats,
+                                  &plan);
+        ok = renderer_kernels_start(r, &plan, &kernel, mats, err);
+    }
+    bool early = r->kernels != NULL, predicted = false;
+    ok = ok && lap(&at, &times->materials_ms) &&
+         vkrt_accel_gpu_create(&r->accel, ctx, &accel, scene->mesh.positions,
+                               scene->mesh.triangle_count, err) &&
+         lap(&at, &times->structure_ms) && renderer_upload_geometry(r, &scene->mesh, mats, err) &&
+         renderer_create_texel_views(r, err) && lap(&at, &times->geometry_ms) &&
+         renderer_upload_materials(r, mats, &kernel, err) && lap(&at, &times->materials_ms) &&
          renderer_upload_lights(r, &scene->config, err) &&
-         renderer_upload_light_sampling(r, scene, mats, err) &&
-         renderer_upload_split_addresses(r, err) &&
-         renderer_create_frame_buffers(r, err) &&
-         renderer_create_kernels(r, scene->mesh.normals != NULL, has_texcoords,
-                                 desc->traversal_stats, &kernel, mats, err);
+         renderer_upload_light_sampling(r, scene, mats, err) && lap(&at, &times->lights_ms) &&
+         renderer_upload_split_addresses(r, err) && renderer_create_frame_buffers(r, err) &&
+         lap(&at, &times->buffers_ms);
+    if (ok) {
+        renderer_data_layout_of(r, &layout);
+        renderer_kernel_plan_make(r, &layout, has_normals, has_texcoords, desc->traversal_stats,
+                                  &plan);
+        if (!r->kernels)
+            ok = renderer_kernels_start(r, &plan, &kernel, mats, err);
+        ok = ok && renderer_kernels_finish(r, &plan, &predicted, err) &&
+             lap(&at, &times->kernels_ms);
+        times->kernels_recompiled = !early || !predicted;
+    }
+    /* The compiles read kernel and mats: joined before they go. */
+    renderer_kernels_abandon(r);
     vkrt_material_kernel_destroy(&kernel);
     vkrt_scene_materials_free(&own);
     if (!ok) {
@@ -205,6 +260,11 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
     renderer_bind_all(r);
     *out = r;
     return true;
+}
+
+const vkrt_renderer_startup *vkrt_renderer_startup_times(const vkrt_renderer *r)
+{
+    return &r->startup;
 }
 
 vkrt_integrator vkrt_renderer_integrator(const vkrt_renderer *r, const char **reason)
@@ -263,7 +323,10 @@ void vkrt_renderer_destroy(vkrt_renderer *r)
 {
     if (!r)
         return;
-    gpu_pipeline *pipelines[] = {&r->adapt_dispatch, &r->adapt, &r->shade, &r->prepare, &r->count,
+    renderer_kernels_abandon(r);
+    free(r->material_cutouts);
+    gpu_pipeline *pipelines[] = {&r->order,     &r->adapt_dispatch, &r->adapt, &r->shade,
+                                 &r->prepare,   &r->count,
                                  &r->occlusion,      &r->light, &r->trace, &r->raygen};
     for (size_t i = 0; i < sizeof pipelines / sizeof *pipelines; ++i)
         gpu_pipeline_destroy(r->ctx, pipelines[i]);

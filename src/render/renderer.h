@@ -168,6 +168,18 @@ void vkrt_renderer_split_text(const vkrt_renderer *r, char *text, size_t size);
 const vkrt_tuning *vkrt_renderer_tuning(const vkrt_renderer *r);
 bool vkrt_renderer_texel_loads(const vkrt_renderer *r);
 
+/* Wall-clock ms of the steps of vkrt_renderer_create, for --verbose's start-up line (issue 20):
+ * the structure (build, layout and upload of its nodes), the per-triangle arrays' upload, the
+ * materials and textures, the lights and their sampling tables, the frame's buffers, and the
+ * wait for the kernels at the end (compiled on threads alongside the rest, renderer_kernels.c). */
+typedef struct vkrt_renderer_startup {
+    double structure_ms, geometry_ms, materials_ms, lights_ms, buffers_ms, kernels_ms;
+    bool kernels_recompiled; /* compiled for a layout the build did not make (or not known before
+                                it), so compiled again after it: the wait is their whole time */
+} vkrt_renderer_startup;
+
+const vkrt_renderer_startup *vkrt_renderer_startup_times(const vkrt_renderer *r);
+
 /* Frees everything the renderer created. Safe on NULL. */
 void vkrt_renderer_destroy(vkrt_renderer *r);
 

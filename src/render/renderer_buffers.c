@@ -22,7 +22,8 @@ uint32_t renderer_max_ray_capacity(const vkrt_renderer *r)
         if ((r->ctx->memory.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT) &&
             r->ctx->memory.memoryHeaps[i].size > heap)
             heap = r->ctx->memory.memoryHeaps[i].size;
-    uint64_t per_ray = 2 * sizeof(Ray) + sizeof(Hit) + 4 * words + 2 * sizeof(uint32_t);
+    uint64_t per_ray = 2 * sizeof(Ray) + sizeof(Hit) + 4 * words + 2 * sizeof(uint32_t) +
+                       (r->material_order ? sizeof(uint32_t) : 0);
     uint64_t by_memory = heap / ray_memory_share / per_ray;
     uint64_t cap = by_range < by_visibility ? by_range : by_visibility;
     cap = by_memory < cap ? by_memory : cap;
@@ -31,7 +32,8 @@ uint32_t renderer_max_ray_capacity(const vkrt_renderer *r)
 
 void renderer_destroy_ray_buffers(vkrt_renderer *r)
 {
-    gpu_buffer *buffers[] = {&r->rays, &r->rays_b, &r->hits, &r->visibility, &r->slots};
+    gpu_buffer *buffers[] = {&r->rays, &r->rays_b, &r->hits, &r->visibility, &r->slots,
+                             &r->order_buffer};
     for (size_t i = 0; i < sizeof buffers / sizeof *buffers; ++i)
         gpu_buffer_destroy(r->ctx, buffers[i]);
 }
@@ -43,6 +45,9 @@ static bool create_ray_buffers(vkrt_renderer *r, vkrt_error *err)
     size_t words = r->light_words ? r->light_words : 1;
     /* Two words per ray: the first slot and the number of the rays its material casts. */
     size_t slot_words = n * 2;
+    /* order.comp's bins (totals and cursors) per depth, then a place per ray. */
+    size_t order_words =
+        r->material_order ? ((size_t)r->max_depth + 1) * 2 * VKRT_ORDER_BINS + n : 1;
     char what[64];
     snprintf(what, sizeof what, "ray buffer (%zu rays)", n);
     return gpu_buffer_create(r->ctx, &r->rays, n * sizeof(Ray), what, err) &&
@@ -51,7 +56,9 @@ static bool create_ray_buffers(vkrt_renderer *r, vkrt_error *err)
            gpu_buffer_create(r->ctx, &r->visibility, n * words * sizeof(uint32_t),
                              "light visibility buffer", err) &&
            gpu_buffer_create(r->ctx, &r->slots, slot_words * sizeof(uint32_t), "ray slot buffer",
-                             err);
+                             err) &&
+           gpu_buffer_create(r->ctx, &r->order_buffer, order_words * sizeof(uint32_t),
+                             "material order buffer", err);
 }
 
 bool renderer_create_frame_buffers(vkrt_renderer *r, vkrt_error *err)
@@ -94,6 +101,7 @@ void renderer_bind_all(vkrt_renderer *r)
         [VKRT_BINDING_ACTIVE_PIXELS] = &r->active_pixels,
         [VKRT_BINDING_SAMPLE_LUMINANCE] = &r->sample_luminance,
         [VKRT_BINDING_SPLIT_ADDRESSES] = &r->split_addresses,
+        [VKRT_BINDING_MATERIAL_ORDER] = &r->order_buffer,
     };
     for (uint32_t i = 0; i < VKRT_STORAGE_BINDINGS; ++i)
         gpu_storage_set_bind(r->ctx, &r->set, i, bound[i]);

@@ -128,6 +128,14 @@ static void record_passes(vkrt_renderer *r, VkCommandBuffer cmd, FrameParams par
             VkDeviceSize wave = (VkDeviceSize)depth * sizeof(WaveState);
             renderer_record_trace(r, cmd, &params, false, 0, true);
             profile_recorder_mark(cmd, p, depth, VKRT_KERNEL_TRACE);
+            if (r->material_order && depth >= VKRT_ORDER_FIRST_DEPTH) {
+                FrameParams order = params;
+                order.range.x = VKRT_ORDER_COUNT;
+                gpu_dispatch_indirect(cmd, &r->order, &r->set, &order, &r->waves, wave);
+                order.range.x = VKRT_ORDER_PLACE;
+                gpu_dispatch_indirect(cmd, &r->order, &r->set, &order, &r->waves, wave);
+                profile_recorder_mark(cmd, p, depth, VKRT_KERNEL_ORDER);
+            }
             gpu_dispatch_indirect(cmd, &r->light, &r->set, &params, &r->waves, wave);
             profile_recorder_mark(cmd, p, depth, VKRT_KERNEL_LIGHT);
             if (depth < r->max_depth) {
@@ -159,7 +167,8 @@ static bool run_passes(vkrt_renderer *r, FrameParams params, uint32_t first, uin
     }
     profile_recorder profile, *p = NULL;
     if (r->profile && stats) {
-        uint32_t marks = timed * (end - first) * (1 + 5 * (r->max_depth + 1));
+        /* raygen's mark per pass, then one per kernel kind at each depth (record_passes). */
+        uint32_t marks = timed * (end - first) * (1 + (VKRT_KERNEL_KINDS - 1) * (r->max_depth + 1));
         if (!profile_recorder_create(r->ctx, &profile, marks, timed, err))
             return false;
         p = &profile;

@@ -10,12 +10,15 @@
 #include "material_kernel.h"
 #include "renderer.h"
 
+typedef struct renderer_kernels renderer_kernels;
+
 struct vkrt_renderer {
     gpu_context *ctx;
     vkrt_tuning tuning;       /* the device's settings, with the desc's overrides */
     gpu_storage_set set;
     vkrt_accel_gpu accel;     /* the structure, its statistics and the triangle order */
     gpu_pipeline raygen, trace, light, occlusion, count, prepare, shade;
+    gpu_pipeline order;       /* where material_order (order.comp) */
     gpu_pipeline adapt, adapt_dispatch; /* with a target error only (renderer_adaptive.c) */
     gpu_buffer rays, rays_b, hits, materials, lights, image, counters, waves, visibility, slots,
         texture_infos;
@@ -25,6 +28,8 @@ struct vkrt_renderer {
     gpu_array triangles, normals, texcoords, triangle_material, texels;
     gpu_buffer split_addresses;
     bool split;               /* an array is split: the kernels are compiled to read chunks */
+    bool material_order;      /* each bounce's hits grouped by shader (glsl/order.comp) */
+    gpu_buffer order_buffer;  /* its bins and the grouped order (minimal without it) */
     gpu_buffer emitters;      /* LightInfo, then the alias table over emissive triangles */
     gpu_buffer environment;   /* the environment map's sampling distribution */
     /* Adaptive sampling's PixelStats, ActivePixels and per-sample luminance (bindings.glsl);
@@ -56,6 +61,9 @@ struct vkrt_renderer {
     uint32_t *light_kinds;    /* VKRT_LIGHT_KIND_* per light, kept for the loop budget check */
     char **material_names;    /* per uploaded material, "name (file:line)", for messages */
     uint32_t material_count;
+    vkrt_renderer_startup startup; /* the steps of creation, timed */
+    renderer_kernels *kernels;     /* compiling, from creation's start to its end */
+    uint32_t *material_cutouts;    /* per material, VKRT_CUTOUT_* (renderer_scan_materials) */
 };
 
 /* renderer_upload.c: the scene's data in GPU buffers, in the structure's triangle order. */
@@ -109,10 +117,56 @@ void renderer_adaptive_record_raygen(vkrt_renderer *r, VkCommandBuffer cmd, Fram
 bool renderer_adaptive_render(vkrt_renderer *r, const vkrt_config_camera *camera,
                               uint32_t frame_index, vkrt_frame_stats *stats, vkrt_error *err);
 
-/* renderer_kernels.c: compiles the wave kernels, the material ones from the scene's materials. */
-bool renderer_create_kernels(vkrt_renderer *r, bool has_normals, bool has_texcoords,
-                             bool traversal_stats, const vkrt_material_kernel *kernel,
-                             const vkrt_scene_materials *mats, vkrt_error *err);
+/* What the structure and the uploads decide of the kernels: known after them, predicted before
+ * (renderer_data_layout_predict). */
+typedef struct renderer_data_layout {
+    vkrt_accel_kind kind;
+    uint32_t bvh_width;       /* the BVH's, else 0 */
+    bool texel_loads;         /* r->texel_loads */
+    bool emitter_light;       /* r->emitter_light */
+    uint32_t split_shift[VKRT_SPLIT_ARRAY_COUNT]; /* per VKRT_SPLIT_* array, 0: one buffer */
+} renderer_data_layout;
+
+/* renderer_upload.c: the layout the structure and the uploads made (after them), and the one
+ * predicted before them from the structure asked for (accel) and the counts: false where the
+ * kind cannot be told before the build (auto weighing the grid). */
+void renderer_data_layout_of(const vkrt_renderer *r, renderer_data_layout *layout);
+bool renderer_data_layout_predict(const vkrt_renderer *r, const vkrt_accel_desc *accel,
+                                  const vkrt_mesh *mesh, const vkrt_scene_materials *mats,
+                                  renderer_data_layout *layout);
+/* Each material's cut-out (VKRT_CUTOUT_*, into r->material_cutouts), r->has_cutouts and
+ * r->surface_maps: what the kernels are compiled for, before anything is uploaded. */
+bool renderer_scan_materials(vkrt_renderer *r, const vkrt_scene_materials *mats,
+                             vkrt_error *err);
+
+/* renderer_kernels.c: the wave kernels, the material ones from the scene's materials, each
+ * compiled on a thread of its own. What they are compiled for besides their sources: */
+enum { RENDERER_KERNEL_CONSTANTS = 23 };
+typedef struct renderer_kernel_plan {
+    bool split;               /* the preamble reads split arrays through device addresses */
+    bool path;                /* nee.comp (with the materials) for the light kernel */
+    bool adaptive;            /* adapt.comp and adapt_dispatch.comp too (a target error) */
+    bool material_order;      /* order.comp too (hits grouped by shader) */
+    uint32_t workgroup_size;
+    gpu_spec_constant constants[RENDERER_KERNEL_CONSTANTS];
+} renderer_kernel_plan;
+
+/* The plan from r's integrator, tuning and materials and the data's layout. */
+void renderer_kernel_plan_make(const vkrt_renderer *r, const renderer_data_layout *layout,
+                               bool has_normals, bool has_texcoords, bool traversal_stats,
+                               renderer_kernel_plan *plan);
+/* Starts compiling the kernels of plan on threads (r->kernels); kernel and mats must stay until
+ * renderer_kernels_finish or _abandon. False (out of memory) with err set. */
+bool renderer_kernels_start(vkrt_renderer *r, const renderer_kernel_plan *plan,
+                            const vkrt_material_kernel *kernel, const vkrt_scene_materials *mats,
+                            vkrt_error *err);
+/* Joins the compiles; where they were for plan, their pipelines become r's, else they are
+ * compiled again for plan (*predicted says which). On a compile error, err holds the first
+ * kernel's in compile order, and nothing is left. */
+bool renderer_kernels_finish(vkrt_renderer *r, const renderer_kernel_plan *plan, bool *predicted,
+                             vkrt_error *err);
+/* Joins the compiles, if any, and frees what they made (the error paths; destroy). */
+void renderer_kernels_abandon(vkrt_renderer *r);
 
 /* renderer_frame.c: records the closest-hit or any-hit trace of the rays params covers: `count`
  * of them, or with indirect set, the wave of params->wave.y; brute force in triangle blocks. */

@@ -10,6 +10,7 @@
 #include "../scene/emitters.h"
 #include "../scene/envmap.h"
 #include "../scene/colour.h"
+#include "../accel/bvh_threads.h"
 #include "renderer_private.h"
 
 /* What the per-triangle arrays are made from: each written straight into the staging buffers,
@@ -19,6 +20,9 @@ typedef struct geometry_source {
     const vkrt_renderer *r;
     const vkrt_mesh *mesh;
     const vkrt_scene_materials *mats;
+    /* The array being filled: what writes its elements, and their size. */
+    gpu_array_fill_fn *fill;
+    size_t element_size;
 } geometry_source;
 
 static void fill_triangles(void *user, size_t first, size_t count, void *dst)
@@ -68,14 +72,55 @@ static void fill_materials(void *user, size_t first, size_t count, void *dst)
                                                                          (uint32_t)(first + i))];
 }
 
+/* One thread's share of a piece (fill_on_every_core). */
+typedef struct fill_share {
+    const geometry_source *source;
+    size_t first, count;
+    unsigned char *dst;
+} fill_share;
+
+static void *fill_share_run(void *arg)
+{
+    const fill_share *s = arg;
+    if (s->count > 0)
+        s->source->fill((void *)s->source, s->first, s->count, s->dst);
+    return NULL;
+}
+
+/* The source's fill over every core: a piece is 64 MiB of gathers from the mesh in the
+ * structure's order, which one thread wrote at 40-60 ns a triangle and array on the H200's host
+ * (Lost Empire tiled 9 x 5, 10.1 M triangles: 0.42 s of the arrays' 0.55 s upload; 16 cores and
+ * the kept staging buffer, buffer.c: 0.12-0.14 s, research/results/coldstart-h200). The elements
+ * are independent, so the shares need no order. */
+static void fill_on_every_core(void *user, size_t first, size_t count, void *dst)
+{
+    const geometry_source *source = user;
+    /* Below this many elements a thread costs more than it saves. */
+    const size_t per_thread = 16384;
+    uint32_t threads = bvh_threads_default();
+    if (count / per_thread < threads)
+        threads = count / per_thread > 0 ? (uint32_t)(count / per_thread) : 1;
+    fill_share shares[BVH_MAX_THREADS];
+    size_t step = (count + threads - 1) / threads;
+    for (uint32_t t = 0; t < threads; ++t) {
+        size_t begin = (size_t)t * step < count ? (size_t)t * step : count;
+        size_t end = begin + step < count ? begin + step : count;
+        shares[t] = (fill_share){source, first + begin, end - begin,
+                                 (unsigned char *)dst + begin * source->element_size};
+    }
+    bvh_threads_run(threads, fill_share_run, shares, sizeof shares[0]);
+}
+
 /* Creates array a of count elements and fills it; an attribute no kernel reads (count 0) gets a
  * minimal buffer that keeps its binding valid. */
 static bool upload_array(vkrt_renderer *r, gpu_array *a, size_t element_size, size_t count,
                          gpu_array_fill_fn *fill, geometry_source *source, const char *what,
                          vkrt_error *err)
 {
+    source->fill = fill;
+    source->element_size = element_size;
     return gpu_array_create(r->ctx, a, element_size, count, what, err) &&
-           gpu_array_fill(r->ctx, a, fill, source, err);
+           gpu_array_fill(r->ctx, a, fill_on_every_core, source, err);
 }
 
 bool renderer_upload_geometry(vkrt_renderer *r, const vkrt_mesh *mesh,
@@ -85,7 +130,7 @@ bool renderer_upload_geometry(vkrt_renderer *r, const vkrt_mesh *mesh,
     size_t n = r->accel.triangle_count;
     r->triangle_count = r->accel.triangle_count;
     bool want_texcoords = mats->reads_texcoords && mesh->texcoords;
-    geometry_source source = {r, mesh, mats};
+    geometry_source source = {r, mesh, mats, NULL, 0};
     return upload_array(r, &r->triangles, sizeof(Triangle), n, fill_triangles, &source,
                         "triangles", err) &&
            upload_array(r, &r->triangle_material, sizeof(uint32_t), n, fill_materials, &source,
@@ -138,6 +183,20 @@ static uint32_t material_cutout(const vkrt_scene_materials *mats, uint32_t m)
     return VKRT_CUTOUT_NONE;
 }
 
+bool renderer_scan_materials(vkrt_renderer *r, const vkrt_scene_materials *mats,
+                             vkrt_error *err)
+{
+    r->material_cutouts = calloc(mats->count ? mats->count : 1, sizeof *r->material_cutouts);
+    if (!r->material_cutouts)
+        return vkrt_error_set(err, "out of memory");
+    for (uint32_t i = 0; i < mats->count; ++i) {
+        r->material_cutouts[i] = material_cutout(mats, i);
+        r->has_cutouts |= r->material_cutouts[i] != VKRT_CUTOUT_NONE;
+        r->surface_maps |= mats->list[i].maps;
+    }
+    return true;
+}
+
 bool renderer_upload_materials(vkrt_renderer *r, const vkrt_scene_materials *mats,
                                const vkrt_material_kernel *kernel, vkrt_error *err)
 {
@@ -158,12 +217,10 @@ bool renderer_upload_materials(vkrt_renderer *r, const vkrt_scene_materials *mat
         g->info = (uvec4){m->shader,
                           (kernel->shader_uses_lights[m->shader] ? VKRT_MATERIAL_USES_LIGHTS : 0) |
                               m->maps,
-                          m->texture_count, material_cutout(mats, i)};
+                          m->texture_count, r->material_cutouts[i]};
         float ke[3];
         renderer_material_ke(mats, i, ke);
-        g->maps = (vec4){(float)vkrt_luminance(ke), m->detail_multiplier, 0, 0};
-        r->has_cutouts |= g->info.w != VKRT_CUTOUT_NONE;
-        r->surface_maps |= m->maps;
+        g->maps = (vec4){(float)vkrt_luminance(ke), m->detail_multiplier, m->sheen, 0};
         size_t len = strlen(m->name) + strlen(m->referrer) + 8;
         r->material_names[i] = malloc(len);
         if (!r->material_names[i]) {
@@ -277,6 +334,72 @@ static const gpu_array *split_array(const vkrt_renderer *r, uint32_t k)
 uint32_t renderer_split_shift(const vkrt_renderer *r, uint32_t k)
 {
     return split_array(r, k)->shift;
+}
+
+void renderer_data_layout_of(const vkrt_renderer *r, renderer_data_layout *layout)
+{
+    memset(layout, 0, sizeof *layout);
+    layout->kind = r->accel.stats.kind;
+    layout->bvh_width = r->accel.stats.bvh_width;
+    layout->texel_loads = r->texel_loads;
+    layout->emitter_light = r->emitter_light;
+    for (uint32_t k = 0; k < VKRT_SPLIT_ARRAY_COUNT; ++k)
+        layout->split_shift[k] = renderer_split_shift(r, k);
+}
+
+/* Whether a texel view (16-byte texels) holds an array of bytes whole: one buffer, and within
+ * the device's texel count (renderer_create_texel_views decides the same after the upload). */
+static bool view_holds(const gpu_context *ctx, size_t bytes)
+{
+    return bytes <= ctx->split_bytes && bytes % 16 == 0 &&
+           bytes / 16 <= ctx->properties.limits.maxTexelBufferElements;
+}
+
+bool renderer_data_layout_predict(const vkrt_renderer *r, const vkrt_accel_desc *accel,
+                                  const vkrt_mesh *mesh, const vkrt_scene_materials *mats,
+                                  renderer_data_layout *layout)
+{
+    memset(layout, 0, sizeof *layout);
+    size_t n = mesh->triangle_count;
+    layout->kind = vkrt_accel_gpu_predict(accel, mesh->triangle_count);
+    if (layout->kind == VKRT_ACCEL_AUTO)
+        return false;
+    /* The structure's nodes: a guess where only the build knows their number (a BVH's leaves
+     * hold about two triangles, research/results/h200-1202), which matters only for arrays near
+     * a buffer's limit; spatial splits' extra triangles are left out alike. */
+    size_t node_size = sizeof(uint32_t), nodes = n, refs = 0;
+    if (layout->kind == VKRT_ACCEL_BVH) {
+        layout->bvh_width = accel->bvh_width;
+        node_size = accel->bvh_width == 2 ? sizeof(BvhPair) : sizeof(BvhQuad);
+        nodes = n / accel->bvh_width;
+    } else if (layout->kind == VKRT_ACCEL_KDTREE) {
+        node_size = sizeof(KdNode);
+        refs = n;
+    } else if (layout->kind == VKRT_ACCEL_GRID) {
+        refs = n;
+    } else {
+        nodes = 0;
+    }
+    const gpu_context *ctx = r->ctx;
+    bool texcoords = mats->reads_texcoords && mesh->texcoords;
+    uint32_t *shift = layout->split_shift;
+    shift[VKRT_SPLIT_TRIANGLES] = gpu_array_shift_for(ctx, sizeof(Triangle), n);
+    shift[VKRT_SPLIT_NORMALS] = gpu_array_shift_for(ctx, sizeof(TriangleNormals),
+                                                    mesh->normals ? n : 0);
+    shift[VKRT_SPLIT_TEXCOORDS] = gpu_array_shift_for(ctx, sizeof(TriangleTexcoords),
+                                                      texcoords ? n : 0);
+    shift[VKRT_SPLIT_TRIANGLE_MATERIAL] = gpu_array_shift_for(ctx, sizeof(uint32_t), n);
+    shift[VKRT_SPLIT_NODES] = gpu_array_shift_for(ctx, node_size, nodes);
+    shift[VKRT_SPLIT_REFS] = gpu_array_shift_for(ctx, sizeof(uint32_t), refs);
+    shift[VKRT_SPLIT_TEXELS] = gpu_array_shift_for(ctx, sizeof(uint32_t),
+                                                   mats->textures.count ? mats->textures.texel_words
+                                                                        : 0);
+    bool reads_nodes = layout->kind == VKRT_ACCEL_BVH || layout->kind == VKRT_ACCEL_KDTREE;
+    layout->texel_loads = r->tuning.texel_loads && view_holds(ctx, n * sizeof(Triangle)) &&
+                          (!reads_nodes || view_holds(ctx, nodes * node_size));
+    /* Cleared by the light upload where every emissive triangle has zero area: rare. */
+    layout->emitter_light = r->emitter_light;
+    return true;
 }
 
 void vkrt_renderer_split_text(const vkrt_renderer *r, char *text, size_t size)

@@ -4,6 +4,7 @@
 #include "tuning.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* 64 invocations fill two NVIDIA warps or one AMD wave64 and suit lavapipe's 8-wide SIMD. */
@@ -81,6 +82,15 @@ vkrt_tuning vkrt_tuning_choose(bool cpu_device, bool llvmpipe, const vkrt_tuning
     t.grid_competes = cpu_device && !t.texel_loads;
     /* The kd-tree outran the BVH on a CPU device reading texel buffers (src/accel/choose.c). */
     t.kdtree_competes = cpu_device && t.texel_loads;
+    /* Subgroups of hits of several shaders run each shader's code in turn: on the H200 the
+     * path tracer's light and shade kernels of Sponza with a glossy floor took 1.6 and 2.2 times
+     * as long at the first bounce as with every material glossy or every one diffuse
+     * (research/journal.md, "Hits grouped by shader"). The environment variable is for
+     * measurements and tests, which compare the two. */
+    t.material_order = !cpu_device;
+    const char *order = getenv("VKRT_MATERIAL_ORDER");
+    if (order && (order[0] == '0' || order[0] == '1') && order[1] == '\0')
+        t.material_order = order[0] == '1';
     return t;
 }
 

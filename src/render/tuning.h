@@ -64,6 +64,8 @@ typedef struct vkrt_tuning {
     uint32_t wave_rays;       /* camera rays a sample pass aims at: several samples per pixel go
                                  in one pass when the image has fewer pixels than this */
     double warmup_ms;         /* device time run before anything is timed (vkrt_warmup_runs) */
+    bool material_order;      /* group each bounce's hits by shader (glsl/order.comp) where a
+                                 scene has several; VKRT_MATERIAL_ORDER=0 or 1 overrides it */
 } vkrt_tuning;
 
 /* Whether ctx's device is a CPU implementation. */

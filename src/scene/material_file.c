@@ -23,7 +23,7 @@
 enum {
     MAX_TEXTURES = VKRT_MATERIAL_FILE_MAX_TEXTURES,
     MAX_PARAMS = VKRT_MATERIAL_FILE_MAX_PARAMS,
-    MAX_TOKENS = VKRT_TEXT_MAX_TOKENS, /* the longest valid line has 2 + 8 + 1 + 20 = 31 */
+    MAX_TOKENS = VKRT_TEXT_MAX_TOKENS, /* the longest valid line has 2 + 8 + 1 + 21 = 32 */
     /* Far more than a hand-written file holds, and what keeps a 64 MiB file of one-token lines
      * from costing gigabytes of definitions. */
     MAX_MATERIALS = 65536,

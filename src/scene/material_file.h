@@ -20,7 +20,7 @@
 
 enum {
     VKRT_MATERIAL_FILE_MAX_TEXTURES = 8,
-    VKRT_MATERIAL_FILE_MAX_PARAMS = 20,
+    VKRT_MATERIAL_FILE_MAX_PARAMS = 21, /* 0-19 the shader's param(i); 20 the rough built-ins' sheen */
 };
 
 typedef struct vkrt_material_def {

@@ -37,7 +37,10 @@ enum {
     SLOT_MAP_PM = 3,
     SLOT_DETAIL = VKRT_SLOT_DETAIL,     /* norm, or map_Bump */
     SLOT_MAP_KE = VKRT_SLOT_EMISSION,
+    SLOT_MAP_PS = VKRT_SLOT_SHEEN,
 };
+/* A material file's number that is not one of the 20 above: the sheen (Material.maps.z). */
+enum { NUMBER_SHEEN = 20 };
 
 /* Below this roughness the GGX built-ins are smooth (glsl/lib/microfacet.glsl's
  * MICROFACET_SMOOTH_ALPHA is its square): a PBR glass this smooth is the plain glass. */
@@ -194,12 +197,16 @@ static void mtl_params(const vkrt_mtl *m, float *p)
     p[PARAM_COAT_ROUGHNESS] = m->pcr;
 }
 
-/* VKRT_MATERIAL_COAT where the material's coat weight (number 18) is above 0: the scene's shaders
- * then compile the coat (glsl/lib/microfacet.glsl). */
-static void mark_coat(vkrt_scene_material *mat)
+/* The material's sheen weight clamped to [0, 1] (Blender's Sheen Weight's range), and
+ * VKRT_MATERIAL_COAT and _SHEEN where its coat weight (number 18) or sheen is above 0: the
+ * scene's shaders then compile the coat or the sheen (glsl/lib/microfacet.glsl). */
+static void mark_layers(vkrt_scene_material *mat, float sheen)
 {
+    mat->sheen = fminf(fmaxf(sheen, 0.0f), 1.0f);
     if (mat->params[PARAM_COAT] > 0.0f)
         mat->maps |= VKRT_MATERIAL_COAT;
+    if (mat->sheen > 0.0f)
+        mat->maps |= VKRT_MATERIAL_SHEEN;
 }
 
 static bool add_texture(vkrt_scene_materials *out, vkrt_scene_material *mat, uint32_t slot,
@@ -239,7 +246,7 @@ static bool from_definition(vkrt_scene_materials *out, vkrt_scene_material *mat,
     if (!init_material(mat, def->name, referrer, err))
         return false;
     memcpy(mat->params, def->params, sizeof mat->params);
-    mark_coat(mat);
+    mark_layers(mat, def->params[NUMBER_SHEEN]);
     char shader_referrer[1400];
     snprintf(shader_referrer, sizeof shader_referrer, "%s: material '%s'", referrer, def->name);
     bool builtin = def->shader[0] == '@';
@@ -259,13 +266,14 @@ static bool from_mtl(vkrt_scene_materials *out, vkrt_scene_material *mat, const 
     if (!init_material(mat, m->name, mtl, err))
         return false;
     mtl_params(m, mat->params);
-    mark_coat(mat);
+    /* Blender's importer reads Ps as Sheen Weight; a map replaces its number, as for Pr. */
+    mark_layers(mat, m->map_ps ? 1.0f : m->ps);
     char shader_referrer[1200];
     snprintf(shader_referrer, sizeof shader_referrer, "%s: material '%s'", mtl, m->name);
     if (!find_or_add_shader(out, mtl_builtin(m), NULL, shader_referrer, &mat->shader, err))
         return false;
-    /* Each map in its slot, named by its line for texture errors; roughness and metallic maps
-     * are data, read as they are stored (no sRGB decoding). */
+    /* Each map in its slot, named by its line for texture errors; roughness, metallic and sheen
+     * maps are data, read as they are stored (no sRGB decoding). */
     const struct {
         const char *path;
         int line;
@@ -276,6 +284,7 @@ static bool from_mtl(vkrt_scene_materials *out, vkrt_scene_material *mat, const 
         {m->map_d, m->map_d_line, SLOT_MAP_D, VKRT_TEXTURE_ALPHA},
         {m->map_pr, m->map_pr_line, SLOT_MAP_PR, VKRT_TEXTURE_DATA},
         {m->map_pm, m->map_pm_line, SLOT_MAP_PM, VKRT_TEXTURE_DATA},
+        {m->map_ps, m->map_ps_line, SLOT_MAP_PS, VKRT_TEXTURE_DATA},
         /* Normal and height maps are data too; norm wins over a map_Bump of the same material. */
         {m->norm ? m->norm : m->map_bump, m->norm ? m->norm_line : m->map_bump_line, SLOT_DETAIL,
          VKRT_TEXTURE_DATA},

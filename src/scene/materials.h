@@ -41,8 +41,10 @@ typedef struct vkrt_scene_material {
     float params[VKRT_MATERIAL_PARAM_COUNT];
     uint32_t textures[VKRT_MATERIAL_TEXTURE_SLOTS]; /* texture set indices or VKRT_SCENE_NO_TEXTURE */
     uint32_t texture_count;
-    uint32_t maps;           /* VKRT_MATERIAL_NORMAL_MAP, _BUMP_MAP, _EMISSION_MAP, _COAT
+    uint32_t maps;           /* VKRT_MATERIAL_NORMAL_MAP, _BUMP_MAP, _EMISSION_MAP, _COAT, _SHEEN
                                 (glsl/shared.h) */
+    float sheen;             /* the rough built-ins' sheen weight in [0, 1]: the .mtl's Ps (1 where
+                                a map_Ps replaces it), a material file's number 20 */
     float detail_multiplier; /* the normal or bump map's -bm, 1 by default */
 } vkrt_scene_material;
 

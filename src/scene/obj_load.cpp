@@ -151,9 +151,10 @@ struct MtlOrigin {
     std::string path;   /* the .mtl itself */
     bool kd = true, ks = true, ke = true, ns = true, ni = true, d = true, illum = true, tf = true;
     /* Unknown (the mirror disagreed): pbr only where maps say so. */
-    bool pr = false, pm = false, pc = false;
+    bool pr = false, pm = false, pc = false, ps = false;
     uint32_t pc_line = 0; /* the first Pc statement's */
-    uint32_t map_kd_line = 0, map_d_line = 0, map_pr_line = 0, map_pm_line = 0, unrendered_line = 0;
+    uint32_t ps_line = 0; /* the first Ps or map_Ps statement's */
+    uint32_t map_kd_line = 0, map_d_line = 0, map_pr_line = 0, map_pm_line = 0, map_ps_line = 0;
     uint32_t norm_line = 0, map_bump_line = 0, map_ke_line = 0;
 };
 
@@ -208,12 +209,14 @@ std::vector<MtlOrigin> scan_mtl_fields(const std::string &text, const std::strin
             cur.pc_line = walker.number;
         cur.map_pr_line = has_keyword(line, "map_Pr") ? walker.number : cur.map_pr_line;
         cur.map_pm_line = has_keyword(line, "map_Pm") ? walker.number : cur.map_pm_line;
+        cur.ps |= has_keyword(line, "Ps");
+        cur.map_ps_line = has_keyword(line, "map_Ps") ? walker.number : cur.map_ps_line;
         cur.norm_line = has_keyword(line, "norm") ? walker.number : cur.norm_line;
         if (has_keyword(line, "map_Bump") || has_keyword(line, "map_bump") || has_keyword(line, "bump"))
             cur.map_bump_line = walker.number;
         cur.map_ke_line = has_keyword(line, "map_Ke") ? walker.number : cur.map_ke_line;
-        if (!cur.unrendered_line && (has_keyword(line, "Ps") || has_keyword(line, "map_Ps")))
-            cur.unrendered_line = walker.number;
+        if (!cur.ps_line && (has_keyword(line, "Ps") || has_keyword(line, "map_Ps")))
+            cur.ps_line = walker.number;
     }
     out.push_back(cur);
     return out;
@@ -276,11 +279,14 @@ public:
         origins.insert(origins.end(), fields.begin(), fields.end());
         for (size_t k = 0; k < added; k++) { /* the line is 0 where there is nothing to say */
             const tinyobj::material_t &m = (*materials)[before + k];
-            obj_warnings::warn_unrendered_pbr(path, fields[k].unrendered_line, m.name, warnings_);
-            /* illum 3 and 5 are the mirror built-in, which has no coat (materials.c). */
+            /* illum 3 and 5 are the mirror built-in, which has no coat (materials.c); illum 3 to
+             * 7 are mirrors and glass, which have no sheen (the diffuse bases carry it). */
             bool mirror = m.illum == 3 || m.illum == 5;
             if (mirror && m.clearcoat_thickness > 0.0f)
                 obj_warnings::warn_uncoated_mirror(path, fields[k].pc_line, m.name, warnings_);
+            bool sheen = (fields[k].ps && m.sheen > 0.0f) || !m.sheen_texname.empty();
+            if (sheen && m.illum >= 3 && m.illum <= 7)
+                obj_warnings::warn_unrendered_sheen(path, fields[k].ps_line, m.name, warnings_);
         }
         return true;
     }
@@ -338,6 +344,7 @@ void convert_material(const tinyobj::material_t &m, const MtlOrigin &o, const st
     out->map_d_line = static_cast<int>(o.map_d_line);
     out->map_pr_line = static_cast<int>(o.map_pr_line);
     out->map_pm_line = static_cast<int>(o.map_pm_line);
+    out->map_ps_line = static_cast<int>(o.map_ps_line);
     auto map = [&](const std::string &name) -> char * {
         return name.empty() ? nullptr : copy_string(resolve_texture(name, o.folder, obj_folder));
     };
@@ -345,6 +352,7 @@ void convert_material(const tinyobj::material_t &m, const MtlOrigin &o, const st
     out->map_d = map(m.alpha_texname);
     out->map_pr = map(m.roughness_texname);
     out->map_pm = map(m.metallic_texname);
+    out->map_ps = map(m.sheen_texname);
     out->norm_line = static_cast<int>(o.norm_line);
     out->map_bump_line = static_cast<int>(o.map_bump_line);
     out->map_ke_line = static_cast<int>(o.map_ke_line);
@@ -355,9 +363,14 @@ void convert_material(const tinyobj::material_t &m, const MtlOrigin &o, const st
     const tinyobj::texture_option_t &bump = out->norm ? m.normal_texopt : m.bump_texopt;
     out->bump_multiplier = finite_or(bump.bump_multiplier, 1.0f);
     out->ke_given = o.ke;
-    /* A clear coat (Pc above 0) is the PBR extension's too: the GGX built-ins render it. */
+    /* A clear coat (Pc above 0) and a sheen (Ps above 0, or map_Ps) are the PBR extension's
+     * too: the GGX built-ins render them. Glass has no sheen, so a sheen alone leaves it the
+     * smooth glass (the loader warns). */
     bool coated = o.pc && finite_or(m.clearcoat_thickness, 0.0f) > 0.0f;
-    out->pbr = o.pr || o.pm || coated || out->map_pr || out->map_pm;
+    bool glass = out->illum == 4 || out->illum == 6 || out->illum == 7;
+    bool sheen = !glass && ((o.ps && finite_or(m.sheen, 0.0f) > 0.0f) || out->map_ps);
+    out->pbr = o.pr || o.pm || coated || sheen || out->map_pr || out->map_pm;
+    out->ps = o.ps ? finite_or(m.sheen, 0.0f) : 0.0f;
     out->pr = o.pr ? finite_or(m.roughness, 0.0f) : -1.0f;
     out->pm = o.pm ? finite_or(m.metallic, 0.0f) : 0.0f;
     out->pc = finite_or(m.clearcoat_thickness, 0.0f);
@@ -990,6 +1003,7 @@ extern "C" void vkrt_mesh_free(vkrt_mesh *mesh)
         free(mesh->materials[i].map_d);
         free(mesh->materials[i].map_pr);
         free(mesh->materials[i].map_pm);
+        free(mesh->materials[i].map_ps);
         free(mesh->materials[i].norm);
         free(mesh->materials[i].map_bump);
         free(mesh->materials[i].map_ke);

@@ -38,12 +38,12 @@ typedef struct vkrt_mtl {
                                     which wins), 0 if unknown: texture errors name it */
     /* The PBR extension (Blender's exporter): roughness Pr [-1: not given] and metallic Pm [0],
      * their maps (resolved as map_Kd, or NULL) and lines; clearcoat Pc and its roughness Pcr [0]
-     * (materials.c makes them the coat's weight and roughness); sheen Ps is read but not rendered
-     * (the loader warns). */
-    bool pbr;      /* the block has Pr, Pm, map_Pr or map_Pm, or a Pc above 0 */
-    float pr, pm, pc, pcr;
-    char *map_pr, *map_pm;
-    int map_pr_line, map_pm_line;
+     * (materials.c makes them the coat's weight and roughness); sheen Ps [0] and its map (the
+     * loader warns where they sit on a mirror or glass, which have no sheen). */
+    bool pbr;      /* the block has Pr, Pm, map_Pr or map_Pm, a Pc or Ps above 0, or a map_Ps */
+    float pr, pm, pc, pcr, ps;
+    char *map_pr, *map_pm, *map_ps;
+    int map_pr_line, map_pm_line, map_ps_line;
     /* Surface detail and emission maps (resolved as map_Kd, or NULL) and their lines: `norm` (a
      * tangent-space normal map), `map_Bump` or `bump` (a height map, or a normal map where the
      * image is one: docs/material-file.md) with its -bm multiplier [1], and `map_Ke`. */

@@ -295,11 +295,13 @@ void warn_material_has(const std::string &path, uint32_t line, const std::string
 
 } // namespace
 
-void warn_unrendered_pbr(const std::string &path, uint32_t line, const std::string &name,
-                         Warnings *out)
+void warn_unrendered_sheen(const std::string &path, uint32_t line, const std::string &name,
+                           Warnings *out)
 {
-    warn_material_has(path, line, name, "sheen (Ps, map_Ps), which vkrt does not render",
-                      ": the pbr built-in leaves it out", "", "unrendered-pbr", out);
+    warn_material_has(path, line, name,
+                      "a sheen (Ps, map_Ps) but illum 3 to 7, which vkrt renders as ",
+                      "a mirror or glass, without the sheen", "mirrors or glass, without the sheen",
+                      "unrendered-sheen", out);
 }
 
 void warn_uncoated_mirror(const std::string &path, uint32_t line, const std::string &name,

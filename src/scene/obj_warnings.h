@@ -109,10 +109,11 @@ void warn_dropped_references(const char *path, size_t normals, size_t texcoords,
  * the file's normal for them was not usable (not finite or zero). */
 void warn_unusable_normals(const char *path, size_t triangles, Warnings *out);
 
-/* Adds to *out that material `name` of the .mtl at path, from `line` on, has sheen (Ps,
- * map_Ps), which vkrt reads but does not render; folds per file. Nothing when line is 0. */
-void warn_unrendered_pbr(const std::string &path, uint32_t line, const std::string &name,
-                         Warnings *out);
+/* Adds to *out that material `name` of the .mtl at path has a sheen (Ps or map_Ps, at `line`)
+ * but illum 3 to 7, which make it a mirror or glass, which have no sheen; folds per file.
+ * Nothing when line is 0. */
+void warn_unrendered_sheen(const std::string &path, uint32_t line, const std::string &name,
+                           Warnings *out);
 
 /* Adds to *out that material `name` of the .mtl at path has a clear coat (Pc, at `line`) but
  * illum 3 or 5, which makes it the mirror built-in, which has no coat; folds per file. Nothing
