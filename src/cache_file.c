@@ -287,8 +287,8 @@ static bool make_dirs(char *path)
 bool vkrt_cache_writer_open(vkrt_cache_writer *w, vkrt_cache_kind kind, const char *what,
                             const uint64_t key[2], const char *ext)
 {
-    /* Entries written at once by threads of one process (device_pool.c's are processes) get
-     * names of their own as well. */
+    /* Entries written at once by threads of one process (the kernels are compiled on several,
+     * render/renderer_kernels.c) get names of their own as well as the process's id. */
     static atomic_uint serial;
     memset(w, 0, sizeof *w);
     w->what = what;
