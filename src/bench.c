@@ -24,6 +24,7 @@
 #include "bench_timing.h"
 #include "bench_rays.h"
 #include "gpu/context.h"
+#include "render/accel_cache.h"
 #include "render/renderer.h"
 #include "render/trace_api.h"
 #include "scene/scene.h"
@@ -272,6 +273,9 @@ static bool write_json(const char *path, const gpu_context *ctx, const bench_row
 int vkrt_bench_run(const vkrt_bench_options *opts)
 {
     vkrt_error err = {{0}};
+    /* Its build_ms is what research compares across builds and thread counts: every structure
+     * is built, none read from the structure cache. */
+    vkrt_accel_cache_disable();
     gpu_context ctx;
     gpu_context_desc ctx_desc = {.device_index = opts->common.device, .validation = opts->common.validation,
                                  .pipeline_statistics = opts->kernel_stats};

@@ -82,25 +82,27 @@ static void request_stop(int signal_number)
 
 static void print_accel_stats(FILE *out, const vkrt_accel_stats *s)
 {
+    /* A structure from the cache (render/accel_cache.h) was read, not built, in build_ms. */
+    const char *built = s->from_cache ? "read from the structure cache in" : "built in";
     fprintf(out, "vkrt: accel %s: %s\n", vkrt_accel_name(s->kind), s->reason);
     if (s->kind == VKRT_ACCEL_BVH)
         fprintf(out,
                 "vkrt: BVH: %u nodes, %u leaves, %u references, %.2f per leaf, depth %u, SAH cost "
-                "%.1f, %.2f MiB, built in %.1f ms\n",
+                "%.1f, %.2f MiB, %s %.1f ms\n",
                 s->nodes, s->leaves, s->references, s->triangles_per_leaf, s->max_depth,
-                s->sah_cost, s->bytes / 1048576.0, s->build_ms);
+                s->sah_cost, s->bytes / 1048576.0, built, s->build_ms);
     else if (s->kind == VKRT_ACCEL_KDTREE)
         fprintf(out,
                 "vkrt: kd-tree: %u nodes, %u leaves (%u empty), %.2f triangles per non-empty "
-                "leaf, %u references, depth %u, SAH cost %.1f, %.2f MiB, built in %.1f ms\n",
+                "leaf, %u references, depth %u, SAH cost %.1f, %.2f MiB, %s %.1f ms\n",
                 s->nodes, s->leaves, s->empty_leaves, s->triangles_per_leaf, s->references,
-                s->max_depth, s->sah_cost, s->bytes / 1048576.0, s->build_ms);
+                s->max_depth, s->sah_cost, s->bytes / 1048576.0, built, s->build_ms);
     else if (s->kind == VKRT_ACCEL_GRID)
         fprintf(out,
                 "vkrt: grid: %ux%ux%u = %u cells, %u occupied, %.2f triangles per occupied cell, "
-                "fullest cell %u, %.2f MiB, built in %.1f ms\n",
+                "fullest cell %u, %.2f MiB, %s %.1f ms\n",
                 s->grid_dims[0], s->grid_dims[1], s->grid_dims[2], s->nodes, s->leaves,
-                s->triangles_per_leaf, s->max_cell_refs, s->bytes / 1048576.0, s->build_ms);
+                s->triangles_per_leaf, s->max_cell_refs, s->bytes / 1048576.0, built, s->build_ms);
     if (s->choose_ms > 0)
         fprintf(out, "vkrt: choosing took %.1f ms\n", s->choose_ms);
 }
@@ -121,6 +123,23 @@ static void print_kernel_cache(FILE *out)
     else
         fprintf(out, "vkrt: kernels: %u compiled (no kernel cache: --no-cache, VKRT_CACHE_DIR is empty, or there is no HOME)\n",
                 compiled);
+}
+
+/* Where the mesh came from: the OBJ parsed, or the scene cache (scene/scene_cache.h). */
+static void print_scene_cache(FILE *out, const vkrt_scene_cache_report *c)
+{
+    if (c->outcome == VKRT_SCENE_CACHE_OFF)
+        return;
+    fprintf(out, "vkrt: scene cache: ");
+    if (c->rejected[0])
+        fprintf(out, "the entry found was not used (%s); ", c->rejected);
+    if (c->outcome == VKRT_SCENE_CACHE_HIT)
+        fprintf(out, "mesh read in %.0f ms", c->read_ms);
+    else if (c->outcome == VKRT_SCENE_CACHE_STORED)
+        fprintf(out, "OBJ parsed, mesh stored in %.0f ms", c->store_ms);
+    else
+        fprintf(out, "OBJ parsed, not stored: %s", c->why);
+    fprintf(out, "; the OBJ's key hashed in %.0f ms\n", c->hash_ms);
 }
 
 /* A flythrough's progress after a frame: frames done of the run's, frames per second and the
@@ -178,11 +197,12 @@ static void print_startup(FILE *out, const startup_clock *t, const vkrt_scene *s
 {
     fprintf(out,
             "vkrt: start-up: scene %.0f ms (OBJ %.0f ms), Vulkan %.0f ms, renderer %.0f ms "
-            "(structure %.0f ms, of which building %.0f; triangles' upload %.0f, materials %.0f, "
+            "(structure %.0f ms, of which %s %.0f; triangles' upload %.0f, materials %.0f, "
             "lights %.0f, buffers %.0f, %s %.0f), first frame %.0f ms, its image written %.0f "
             "ms; %.0f ms since main\n",
             t->scene - t->main, scene->obj_ms, t->vulkan - t->scene, t->renderer - t->vulkan,
-            steps->structure_ms, accel->build_ms + accel->choose_ms, steps->geometry_ms,
+            steps->structure_ms, accel->from_cache ? "reading it from the cache" : "building",
+            accel->build_ms + accel->choose_ms, steps->geometry_ms,
             steps->materials_ms, steps->lights_ms, steps->buffers_ms,
             steps->kernels_recompiled ? "kernels compiled after them"
                                       : "waiting for the kernels compiled alongside",
@@ -338,6 +358,7 @@ static bool frame_writer_start(frame_writer *w, int device, bool tell, vkrt_erro
         print_accel_stats(stderr, vkrt_renderer_accel_stats(w->renderer));
         fprintf(stderr, "vkrt: integrator %s: %s\n", vkrt_integrator_name(integrator), why);
         print_kernel_cache(stderr);
+        print_scene_cache(stderr, &w->scene->obj_cache);
         print_memory(stderr, w->renderer, &w->ctx, w->scene);
     }
     /* A profile's times, then what the driver says of each kernel, where it says anything. */

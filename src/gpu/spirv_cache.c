@@ -10,13 +10,12 @@
 #define _POSIX_C_SOURCE 200809L
 #include "spirv_cache.h"
 
-#include <errno.h>
+#include "../cache_file.h"
+
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <glslang/build_info.h>
 
@@ -41,8 +40,7 @@ typedef struct file_header {
 static const uint64_t BYTES_MAGIC = 0x3144435054524B56ull; /* "VKRTPCD1", little-endian */
 static const uint64_t MAX_BYTES = 1u << 26;
 
-static _Atomic uint32_t loaded_count, compiled_count, temp_serial;
-static atomic_bool disabled;
+static _Atomic uint32_t loaded_count, compiled_count;
 
 /* FNV-1a over bytes, from a given basis; 64 bits. */
 static uint64_t fnv1a(const void *data, size_t size, uint64_t h)
@@ -95,24 +93,12 @@ gpu_spirv_key gpu_spirv_key_of(const char *text, uint32_t target)
 
 void gpu_spirv_cache_disable(void)
 {
-    atomic_store(&disabled, true);
+    vkrt_cache_disable();
 }
 
 bool gpu_spirv_cache_dir(char *dir, size_t dir_size)
 {
-    const char *set = getenv("VKRT_CACHE_DIR");
-    int n;
-    if (atomic_load(&disabled))
-        n = -1;
-    else if (set)
-        n = set[0] ? snprintf(dir, dir_size, "%s", set) : -1;
-    else if (getenv("XDG_CACHE_HOME") && getenv("XDG_CACHE_HOME")[0] == '/')
-        n = snprintf(dir, dir_size, "%s/vkrt", getenv("XDG_CACHE_HOME"));
-    else if (getenv("HOME") && getenv("HOME")[0])
-        n = snprintf(dir, dir_size, "%s/.cache/vkrt", getenv("HOME"));
-    else
-        n = -1;
-    return n > 0 && (size_t)n < dir_size;
+    return vkrt_cache_dir(VKRT_CACHE_KERNELS, dir, dir_size);
 }
 
 gpu_spirv_key gpu_spirv_key_of_bytes(const void *data, size_t size)
@@ -120,18 +106,6 @@ gpu_spirv_key gpu_spirv_key_of_bytes(const void *data, size_t size)
     gpu_spirv_key key = {
         {fnv1a(data, size, 0xCBF29CE484222325ull), block_hash(data, size, 0x243F6A8885A308D3ull)}};
     return key;
-}
-
-/* The file of key with extension ext (".spv") in the cache directory; false when there is no
- * directory. */
-static bool key_path(const gpu_spirv_key *key, const char *ext, char *path, size_t size)
-{
-    char dir[4096];
-    if (!gpu_spirv_cache_dir(dir, sizeof dir))
-        return false;
-    int n = snprintf(path, size, "%s/%016llx%016llx%s", dir, (unsigned long long)key->h[0],
-                     (unsigned long long)key->h[1], ext);
-    return n > 0 && (size_t)n < size;
 }
 
 /* Reads key's file with extension ext: its header (magic, the key, count units of unit bytes,
@@ -142,7 +116,7 @@ static bool load_entry(const gpu_spirv_key *key, const char *ext, uint64_t magic
     *data = NULL;
     *count = 0;
     char path[4200];
-    if (!key_path(key, ext, path, sizeof path))
+    if (!vkrt_cache_entry_path(VKRT_CACHE_KERNELS, key->h, ext, path, sizeof path))
         return false;
     FILE *f = fopen(path, "rb");
     if (!f)
@@ -188,45 +162,20 @@ bool gpu_spirv_cache_load(const gpu_spirv_key *key, uint32_t **spirv, size_t *wo
     return true;
 }
 
-/* mkdir -p for the cache directory (and its parents, e.g. ~/.cache), private to the user. */
-static bool make_dirs(char *path)
-{
-    for (char *p = path + 1; *p; ++p) {
-        if (*p != '/')
-            continue;
-        *p = '\0';
-        bool made = mkdir(path, 0700) == 0 || errno == EEXIST;
-        *p = '/';
-        if (!made)
-            return false;
-    }
-    return mkdir(path, 0700) == 0 || errno == EEXIST;
-}
-
 /* Writes the header, size bytes of data and their hash to key's file with extension ext, whole
- * under a temporary name and then renamed; best effort. */
+ * under a temporary name and then renamed; best effort, and silent: a kernel is small and
+ * compiled again next time. */
 static void store_entry(const gpu_spirv_key *key, const char *ext, const file_header *h,
                         const void *data, size_t size)
 {
-    char dir[4096], path[4200], temp[4300];
-    if (!gpu_spirv_cache_dir(dir, sizeof dir) || !key_path(key, ext, path, sizeof path) ||
-        !make_dirs(dir))
-        return;
-    /* The process and a number of its own: the kernels are compiled on several threads at once
-     * (render/renderer_kernels.c), so the process id alone would not keep two writers apart. */
-    int n = snprintf(temp, sizeof temp, "%s.%ld.%u.tmp", path, (long)getpid(),
-                     atomic_fetch_add(&temp_serial, 1u));
-    if (n < 0 || (size_t)n >= sizeof temp)
-        return;
-    FILE *f = fopen(temp, "wb");
-    if (!f)
+    vkrt_cache_writer w;
+    if (!vkrt_cache_writer_open(&w, VKRT_CACHE_KERNELS, NULL, key->h, ext))
         return;
     uint64_t hash = block_hash(data, size, 0);
-    bool ok = fwrite(h, sizeof *h, 1, f) == 1 && fwrite(data, 1, size, f) == size &&
-              fwrite(&hash, sizeof hash, 1, f) == 1;
-    ok = fclose(f) == 0 && ok;
-    if (!ok || rename(temp, path) != 0)
-        remove(temp);
+    vkrt_cache_writer_put(&w, h, sizeof *h);
+    vkrt_cache_writer_put(&w, data, size);
+    vkrt_cache_writer_put(&w, &hash, sizeof hash);
+    vkrt_cache_writer_commit(&w);
 }
 
 void gpu_spirv_cache_store(const gpu_spirv_key *key, const uint32_t *spirv, size_t word_count)

@@ -8,9 +8,9 @@
  * module and the device's preamble), the stage and SPIR-V version, vkrt's version and glslang's.
  * A changed kernel, material or device has another key; nothing is ever invalidated by hand.
  *
- * Where: $VKRT_CACHE_DIR if set (empty: no cache), else $XDG_CACHE_HOME/vkrt, else
- * $HOME/.cache/vkrt (the XDG base directory convention, as Mesa's shader cache and Dr.Jit's
- * kernel cache keep theirs). The cache is a convenience: a directory that cannot be made or
+ * Where: the cache directory of cache_file.h ($VKRT_CACHE_DIR, else $XDG_CACHE_HOME/vkrt, else
+ * $HOME/.cache/vkrt, as Mesa's shader cache and Dr.Jit's kernel cache keep theirs), shared with
+ * the scene and structure caches. The cache is a convenience: a directory that cannot be made or
  * written, a file that is short, corrupt or of another format, are all a miss and the kernel is
  * compiled as without a cache. Files are written whole under a temporary name and renamed, so
  * two vkrt processes sharing the directory never read a half-written kernel.
@@ -31,7 +31,8 @@ typedef struct gpu_spirv_key {
  * version; the glslang and vkrt versions are added here). */
 gpu_spirv_key gpu_spirv_key_of(const char *text, uint32_t target);
 
-/* Turns the cache off for the rest of the process (--no-cache). */
+/* Turns the cache off for the rest of the process (--no-cache): vkrt_cache_disable, so the scene
+ * and structure caches too. */
 void gpu_spirv_cache_disable(void);
 
 /* The cache directory as above, written into dir (dir_size bytes); false when there is none

@@ -11,6 +11,7 @@
 #include "../accel/bvh_quads.h"
 #include "../accel/kdtree.h"
 #include "../clock.h"
+#include "accel_cache.h"
 
 _Static_assert(sizeof(bvh_quad) == sizeof(BvhQuad), "bvh_quad and BvhQuad must be the same bytes");
 _Static_assert(sizeof(bvh_pair) == sizeof(BvhPair), "bvh_pair and BvhPair must be the same bytes");
@@ -20,31 +21,32 @@ _Static_assert(KD_LEAF == VKRT_KD_LEAF, "one kd-tree leaf mark");
 _Static_assert(KDTREE_MAX_DEPTH == VKRT_KD_STACK_SIZE,
                "the kd-tree's stack holds its deepest path");
 
-static bool upload_grid(vkrt_accel_gpu *a, gpu_context *ctx, const grid *g, vkrt_error *err)
+/* The grid's arrays, taken from g (which is left empty). */
+static void grid_arrays(grid *g, vkrt_accel_arrays *out)
 {
-    GridInfo info = {
+    out->info = (GridInfo){
         .lo = {g->lo[0], g->lo[1], g->lo[2], 0},
         .hi = {g->hi[0], g->hi[1], g->hi[2], 0},
         .cell_size = {g->cell_size[0], g->cell_size[1], g->cell_size[2], 0},
         .dims = {g->dims[0], g->dims[1], g->dims[2], g->cell_count},
     };
-    size_t starts = ((size_t)g->cell_count + 1) * sizeof(uint32_t);
-    size_t refs = (size_t)g->ref_count * sizeof(uint32_t);
-    if (!gpu_buffer_create_from(ctx, &a->info, &info, sizeof info, "grid frame", err) ||
-        !gpu_array_create_from(ctx, &a->nodes, g->cell_start, sizeof(uint32_t),
-                               (size_t)g->cell_count + 1, "grid cells", err) ||
-        !gpu_array_create_from(ctx, &a->refs, g->refs, sizeof(uint32_t), g->ref_count,
-                               "grid references", err))
-        return false;
-    vkrt_accel_stats *s = &a->stats;
-    s->bytes = sizeof info + starts + refs;
+    vkrt_accel_stats *s = &out->stats;
+    s->bytes = sizeof out->info + ((size_t)g->cell_count + 1) * sizeof(uint32_t) +
+               (size_t)g->ref_count * sizeof(uint32_t);
     s->nodes = g->cell_count;
     s->leaves = g->occupied_cells;
     s->triangles_per_leaf = g->occupied_cells ? (double)g->ref_count / g->occupied_cells : 0;
     memcpy(s->grid_dims, g->dims, sizeof s->grid_dims);
     s->max_cell_refs = g->max_cell_refs;
     s->build_ms = g->build_ms;
-    return true;
+    out->nodes = g->cell_start;
+    out->node_size = sizeof(uint32_t);
+    out->node_count = (size_t)g->cell_count + 1;
+    out->refs = g->refs;
+    out->ref_count = g->ref_count;
+    g->cell_start = NULL;
+    g->refs = NULL;
+    grid_free(g);
 }
 
 /* The GPU layout of b, width children per node: its nodes (malloc'd), their count and bytes, and
@@ -148,7 +150,7 @@ static bool build_tree(const vkrt_accel_desc *desc, const bvh_build_desc *build,
 
 /* The tree of a BVH as desc asks (width, leaves, node cost, spatial splits), its reason appended
  * to the stats' reason; build gets the settings the stats report. */
-static bool make_bvh(vkrt_accel_gpu *a, const vkrt_accel_desc *desc, const float *positions,
+static bool make_bvh(vkrt_accel_arrays *a, const vkrt_accel_desc *desc, const float *positions,
                      uint32_t n, bvh *b, bvh_build_desc *build, vkrt_error *err)
 {
     if (desc->bvh_max_leaf > BVH_LEAF_REF_MAX_COUNT)
@@ -169,8 +171,8 @@ static bool make_bvh(vkrt_accel_gpu *a, const vkrt_accel_desc *desc, const float
     return true;
 }
 
-/* Lays b out in the GPU's nodes and uploads it; b is freed either way. */
-static bool upload_bvh(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc *desc,
+/* Lays b out in the GPU's nodes, into a's arrays; b is freed either way. */
+static bool bvh_arrays(vkrt_accel_arrays *a, const vkrt_accel_desc *desc,
                        const bvh_build_desc *build, bvh *b, vkrt_error *err)
 {
     uint32_t width = desc->bvh_width;
@@ -182,11 +184,11 @@ static bool upload_bvh(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_des
     if (ok && g.stack > VKRT_BVH_STACK_SIZE)
         ok = vkrt_error_set(err, "BVH needs a traversal stack of %u entries, more than %u",
                             g.stack, VKRT_BVH_STACK_SIZE);
-    GridInfo unused = {0};
-    ok = ok && gpu_buffer_create_from(ctx, &a->info, &unused, sizeof unused, "grid frame", err) &&
-         gpu_array_create_from(ctx, &a->nodes, g.nodes, g.node_size, g.count, "BVH nodes", err) &&
-         gpu_array_create(ctx, &a->refs, sizeof(uint32_t), 0, "grid references", err);
     if (ok) {
+        a->nodes = g.nodes;
+        a->node_size = g.node_size;
+        a->node_count = g.count;
+        g.nodes = NULL;
         vkrt_accel_stats *s = &a->stats;
         s->bytes = g.bytes;
         s->nodes = g.count;
@@ -223,10 +225,9 @@ static bool make_kdtree(const vkrt_accel_desc *desc, const float *positions, uin
     return kdtree_build(t, positions, n, &build, err);
 }
 
-/* Uploads t; its root box goes in the grid frame's lo and hi (glsl/lib/traverse_kdtree.glsl).
- * t is freed either way. */
-static bool upload_kdtree(vkrt_accel_gpu *a, gpu_context *ctx, kdtree *t, float ratio,
-                          vkrt_error *err)
+/* t's arrays, taken into a; its root box goes in the grid frame's lo and hi
+ * (glsl/lib/traverse_kdtree.glsl). t is freed either way. */
+static bool kdtree_arrays(vkrt_accel_arrays *a, kdtree *t, float ratio, vkrt_error *err)
 {
     /* The walk's stack marks its entries in the top bit (glsl/lib/traverse_kdtree.glsl). */
     if (t->node_count > 0x7FFFFFFFu) {
@@ -234,18 +235,13 @@ static bool upload_kdtree(vkrt_accel_gpu *a, gpu_context *ctx, kdtree *t, float 
         kdtree_free(t);
         return false;
     }
-    GridInfo box = {.lo = {t->lo[0], t->lo[1], t->lo[2], 0},
-                    .hi = {t->hi[0], t->hi[1], t->hi[2], 0}};
+    a->info = (GridInfo){.lo = {t->lo[0], t->lo[1], t->lo[2], 0},
+                         .hi = {t->hi[0], t->hi[1], t->hi[2], 0}};
     size_t node_bytes = (size_t)t->node_count * sizeof *t->nodes;
     size_t ref_bytes = (size_t)t->ref_count * sizeof *t->refs;
-    bool ok = gpu_buffer_create_from(ctx, &a->info, &box, sizeof box, "kd-tree box", err) &&
-              gpu_array_create_from(ctx, &a->nodes, t->nodes, sizeof *t->nodes, t->node_count,
-                                    "kd-tree nodes", err) &&
-              gpu_array_create_from(ctx, &a->refs, t->refs, sizeof *t->refs, t->ref_count,
-                                    "kd-tree references", err);
-    if (ok) {
+    {
         vkrt_accel_stats *s = &a->stats;
-        s->bytes = sizeof box + node_bytes + ref_bytes;
+        s->bytes = sizeof a->info + node_bytes + ref_bytes;
         s->nodes = t->node_count;
         s->leaves = t->leaf_count;
         s->empty_leaves = t->empty_leaves;
@@ -257,30 +253,36 @@ static bool upload_kdtree(vkrt_accel_gpu *a, gpu_context *ctx, kdtree *t, float 
         s->kd_traversal_cost = ratio;
         s->build_ms = t->build_ms;
     }
+    a->nodes = t->nodes;
+    a->node_size = sizeof *t->nodes;
+    a->node_count = t->node_count;
+    a->refs = t->refs;
+    a->ref_count = t->ref_count;
+    t->nodes = NULL;
+    t->refs = NULL;
     kdtree_free(t);
-    return ok;
+    return true;
 }
 
-static bool build_kdtree(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc *desc,
+static bool build_kdtree(vkrt_accel_arrays *a, const vkrt_accel_desc *desc,
                          const float *positions, uint32_t n, vkrt_error *err)
 {
     kdtree t;
     float ratio;
-    return make_kdtree(desc, positions, n, &t, &ratio, err) &&
-           upload_kdtree(a, ctx, &t, ratio, err);
+    return make_kdtree(desc, positions, n, &t, &ratio, err) && kdtree_arrays(a, &t, ratio, err);
 }
 
 /* The BVH; with `auto` on a GPU, held against the kd-tree where the BVH's SAH cost says its boxes
  * overlap badly (accel_kdtree_worth_trying), and the kd-tree taken if it is much cheaper. */
-static bool build_bvh(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc *desc,
-                      const float *positions, uint32_t n, bool weigh_kdtree, vkrt_error *err)
+static bool build_bvh(vkrt_accel_arrays *a, const vkrt_accel_desc *desc, const float *positions,
+                      uint32_t n, bool weigh_kdtree, vkrt_error *err)
 {
     bvh b;
     bvh_build_desc build;
     if (!make_bvh(a, desc, positions, n, &b, &build, err))
         return false;
     if (!weigh_kdtree || !accel_kdtree_worth_trying(n, b.sah_cost))
-        return upload_bvh(a, ctx, desc, &build, &b, err);
+        return bvh_arrays(a, desc, &build, &b, err);
     kdtree t;
     float ratio;
     if (!make_kdtree(desc, positions, n, &t, &ratio, err)) {
@@ -298,21 +300,13 @@ static bool build_bvh(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc
     if (kd) {
         bvh_free(&b);
         s->kind = VKRT_ACCEL_KDTREE;
-        ok = upload_kdtree(a, ctx, &t, ratio, err);
+        ok = kdtree_arrays(a, &t, ratio, err);
     } else {
         kdtree_free(&t);
-        ok = upload_bvh(a, ctx, desc, &build, &b, err);
+        ok = bvh_arrays(a, desc, &build, &b, err);
     }
     s->build_ms = both_ms;
     return ok;
-}
-
-static bool build_brute(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_error *err)
-{
-    GridInfo unused = {0};
-    return gpu_buffer_create_from(ctx, &a->info, &unused, sizeof unused, "grid frame", err) &&
-           gpu_array_create(ctx, &a->nodes, sizeof(BvhPair), 0, "BVH nodes", err) &&
-           gpu_array_create(ctx, &a->refs, sizeof(uint32_t), 0, "grid references", err);
 }
 
 /* Which structures compete is the tuning's (tuning.c). */
@@ -333,8 +327,8 @@ vkrt_accel_kind vkrt_accel_gpu_predict(const vkrt_accel_desc *desc, uint32_t tri
     return accel_choose(triangle_count, device, NULL).kind;
 }
 
-bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc *desc,
-                           const float *positions, uint32_t triangle_count, vkrt_error *err)
+bool vkrt_accel_build(const vkrt_accel_desc *desc, const float *positions,
+                      uint32_t triangle_count, vkrt_accel_arrays *a, vkrt_error *err)
 {
     vkrt_accel_kind kind = desc->kind;
     float grid_density = desc->grid_density;
@@ -361,29 +355,88 @@ bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel
         s->choose_ms = vkrt_clock_ms() - start;
     }
     s->kind = kind;
-    bool ok;
+    bool ok = true;
     if (kind == VKRT_ACCEL_GRID) {
         if (have_grid && grid_density > 0) {
             grid_free(&g);
             have_grid = false;
         }
-        if (!have_grid && !grid_build(&g, positions, triangle_count, &grid_desc, err))
-            return false;
-        have_grid = true;
-        ok = upload_grid(a, ctx, &g, err);
+        ok = have_grid || grid_build(&g, positions, triangle_count, &grid_desc, err);
+        if (ok)
+            grid_arrays(&g, a);
     } else if (kind == VKRT_ACCEL_BVH) {
-        ok = build_bvh(a, ctx, desc, positions, triangle_count,
+        ok = build_bvh(a, desc, positions, triangle_count,
                        desc->kind == VKRT_ACCEL_AUTO && device == ACCEL_DEVICE_GPU, err);
     } else if (kind == VKRT_ACCEL_KDTREE) {
-        ok = build_kdtree(a, ctx, desc, positions, triangle_count, err);
-    } else {
-        ok = build_brute(a, ctx, err);
+        ok = build_kdtree(a, desc, positions, triangle_count, err);
     }
-    if (have_grid)
-        grid_free(&g);
+    grid_free(&g);
+    if (!ok)
+        vkrt_accel_arrays_free(a);
+    return ok;
+}
+
+/* The names of a kind's three buffers, in messages. */
+static void buffer_names(vkrt_accel_kind kind, const char *names[3])
+{
+    names[0] = kind == VKRT_ACCEL_KDTREE ? "kd-tree box" : "grid frame";
+    names[1] = kind == VKRT_ACCEL_GRID     ? "grid cells"
+               : kind == VKRT_ACCEL_KDTREE ? "kd-tree nodes"
+                                           : "BVH nodes";
+    names[2] = kind == VKRT_ACCEL_KDTREE ? "kd-tree references" : "grid references";
+}
+
+/* Uploads the arrays of arr into a's buffers and takes its triangle order and statistics. */
+static bool upload(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_accel_arrays *arr, vkrt_error *err)
+{
+    const char *names[3];
+    buffer_names(arr->stats.kind, names);
+    /* A brute-force walk reads no nodes; the binding keeps a minimal buffer. */
+    size_t node_size = arr->node_size ? arr->node_size : sizeof(BvhPair);
+    bool ok =
+        gpu_buffer_create_from(ctx, &a->info, &arr->info, sizeof arr->info, names[0], err) &&
+        (arr->node_count
+             ? gpu_array_create_from(ctx, &a->nodes, arr->nodes, node_size, arr->node_count,
+                                     names[1], err)
+             : gpu_array_create(ctx, &a->nodes, node_size, 0, names[1], err)) &&
+        (arr->ref_count ? gpu_array_create_from(ctx, &a->refs, arr->refs, sizeof *arr->refs,
+                                                arr->ref_count, names[2], err)
+                        : gpu_array_create(ctx, &a->refs, sizeof(uint32_t), 0, names[2], err));
+    a->stats = arr->stats;
+    a->triangle_count = arr->triangle_count;
+    a->prim_order = arr->prim_order;
+    arr->prim_order = NULL;
+    return ok;
+}
+
+bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc *desc,
+                           const float *positions, uint32_t triangle_count, vkrt_error *err)
+{
+    memset(a, 0, sizeof *a);
+    /* The structure cache (accel_cache.h): try it, else build and store. */
+    vkrt_accel_cache_name name;
+    vkrt_accel_arrays arr;
+    bool cached = desc->kind != VKRT_ACCEL_BRUTE &&
+                  vkrt_accel_cache_name_of(desc, positions, triangle_count, &name);
+    if (!(cached && vkrt_accel_cache_load(&name, &arr))) {
+        if (!vkrt_accel_build(desc, positions, triangle_count, &arr, err))
+            return false;
+        if (cached && arr.stats.kind != VKRT_ACCEL_BRUTE)
+            vkrt_accel_cache_store(&name, &arr);
+    }
+    bool ok = upload(a, ctx, &arr, err);
+    vkrt_accel_arrays_free(&arr);
     if (!ok)
         vkrt_accel_gpu_destroy(a, ctx);
     return ok;
+}
+
+void vkrt_accel_arrays_free(vkrt_accel_arrays *a)
+{
+    free(a->nodes);
+    free(a->refs);
+    free(a->prim_order);
+    memset(a, 0, sizeof *a);
 }
 
 void vkrt_accel_gpu_destroy(vkrt_accel_gpu *a, gpu_context *ctx)

@@ -16,6 +16,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "../../glsl/shared.h"
 #include "../accel/choose.h"
 #include "../error.h"
 #include "../gpu/array.h"
@@ -45,6 +46,8 @@ typedef struct vkrt_accel_stats {
     uint32_t empty_leaves;      /* kd-tree */
     uint32_t bvh_max_leaf;      /* BVH: the build's largest leaf */
     float bvh_traversal_cost;   /* BVH: the build's SAH cost of a node against a triangle */
+    bool from_cache;            /* read from the structure cache (accel_cache.h): build_ms is the
+                                   time of reading it, choose_ms 0 */
 } vkrt_accel_stats;
 
 typedef struct vkrt_accel_gpu {
@@ -73,10 +76,39 @@ typedef struct vkrt_accel_desc {
     vkrt_bvh_splits bvh_splits; /* auto (0): both trees built (up to a size; the plain one only
                                    where the split one took a spatial split), the spatial
                                    splits' kept when its SAH cost is lower by a margin */
+    const char *source;       /* what the positions came from (the OBJ's path), or NULL: the
+                                 structure cache keeps one entry per source and settings
+                                 (accel_cache.h); the structure never depends on it */
 } vkrt_accel_desc;
 
-/* Builds the structure desc asks for over positions (9 floats per triangle) and uploads it. On
- * failure returns false with err set and nothing left allocated. */
+/* A structure built on the CPU in the form the upload takes (and the structure cache keeps,
+ * accel_cache.h): the frame of binding 9 (a grid's, the kd-tree's box, or zeroed), the nodes of
+ * binding 10 (node_count records of node_size bytes: BvhPair, BvhQuad, KdNode, or a grid's cell
+ * starts), the references of binding 11, the triangle order (NULL for the scene's own) and the
+ * statistics. */
+typedef struct vkrt_accel_arrays {
+    GridInfo info;
+    void *nodes;
+    size_t node_size, node_count;
+    uint32_t *refs;
+    size_t ref_count;
+    uint32_t *prim_order;
+    uint32_t triangle_count; /* triangles uploaded: the scene's, or more with spatial splits */
+    vkrt_accel_stats stats;
+} vkrt_accel_arrays;
+
+/* Builds the structure desc asks for over positions (9 floats per triangle) on the CPU, without
+ * the cache; a brute-force walk has no arrays. On failure returns false with err set and *a
+ * zeroed. */
+bool vkrt_accel_build(const vkrt_accel_desc *desc, const float *positions,
+                      uint32_t triangle_count, vkrt_accel_arrays *a, vkrt_error *err);
+
+/* Frees the arrays and zeroes *a. Safe on a zeroed struct. */
+void vkrt_accel_arrays_free(vkrt_accel_arrays *a);
+
+/* Takes the structure desc asks for over positions (9 floats per triangle) from the structure
+ * cache, or builds it (and stores it there), and uploads it. On failure returns false with err
+ * set and nothing left allocated. */
 bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel_desc *desc,
                            const float *positions, uint32_t triangle_count, vkrt_error *err);
 

@@ -207,6 +207,7 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
         .kd_traversal_cost = t->kd_traversal_cost,
         .grid_competes = t->grid_competes,
         .kdtree_competes = t->kdtree_competes,
+        .source = scene->config.geometry,
     };
     bool has_texcoords = mats->reads_texcoords && scene->mesh.texcoords;
     bool has_normals = scene->mesh.normals != NULL;

@@ -915,6 +915,11 @@ bool parse(const char *path, std::string *text_in, const std::string *mtl_folder
     convert_materials(p.materials, reader, obj_folder, mesh);
     obj_warnings::warn_unusable_normals(path, replaced, &warnings);
     obj_warnings::set_warnings(warnings, mesh);
+    std::string mtl_files;
+    for (const std::string &file : reader.libraries.loaded)
+        mtl_files += file + "\n";
+    mesh->mtl_files = mtl_files.empty() ? nullptr : copy_string(mtl_files);
+    mesh->mtl_missing = !reader.libraries.missing.empty();
     return true;
 }
 
@@ -1006,6 +1011,7 @@ extern "C" void vkrt_mesh_free(vkrt_mesh *mesh)
     }
     free(mesh->materials);
     free(mesh->warnings_all);
+    free(mesh->mtl_files);
     memset(mesh, 0, sizeof *mesh);
 }
 

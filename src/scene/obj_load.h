@@ -70,6 +70,10 @@ typedef struct vkrt_mesh {
     char warnings[1024];
     char *warnings_all;     /* the same unfolded: every warning on its own line (malloc'd), or NULL
                                when there are none */
+    /* What the load read besides the OBJ, for the scene cache (scene_cache.h): the .mtl files,
+     * one path a line (malloc'd, NULL when none), and whether an mtllib named one not found. */
+    char *mtl_files;
+    bool mtl_missing;
 } vkrt_mesh;
 
 /* Loads the OBJ at path with the .mtl files it names. On failure returns false with err set to

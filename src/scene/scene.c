@@ -11,7 +11,8 @@ bool vkrt_scene_load_geometry(const char *path, vkrt_scene *scene, vkrt_error *e
     if (!vkrt_config_load(path, &scene->config, err))
         return false;
     double start = vkrt_clock_ms();
-    bool loaded = vkrt_obj_load(scene->config.geometry, &scene->mesh, err);
+    bool loaded =
+        vkrt_scene_cache_obj_load(scene->config.geometry, &scene->mesh, &scene->obj_cache, err);
     scene->obj_ms = vkrt_clock_ms() - start;
     if (!loaded) {
         /* Say which scene file asked for the OBJ: the OBJ's own message follows. */

@@ -12,6 +12,7 @@
 #include "material_file.h"
 #include "materials.h"
 #include "obj_load.h"
+#include "scene_cache.h"
 
 typedef struct vkrt_scene {
     vkrt_config config;
@@ -19,6 +20,7 @@ typedef struct vkrt_scene {
     vkrt_material_file material_file;  /* empty when scene.cfg names none */
     vkrt_scene_materials materials;
     double obj_ms; /* wall-clock time of reading the OBJ and its .mtl files (--verbose) */
+    vkrt_scene_cache_report obj_cache; /* whether they came from the scene cache (--verbose) */
 } vkrt_scene;
 
 /* Loads the scene.cfg at path, the OBJ it names, the material file and every shader and texture
