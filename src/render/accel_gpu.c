@@ -299,7 +299,8 @@ static bool build_kdtree(vkrt_accel_arrays *a, const vkrt_accel_desc *desc,
 {
     kdtree t;
     float ratio;
-    return make_kdtree(desc, positions, n, &t, &ratio, err) && kdtree_arrays(a, &t, ratio, desc->kd_ropes, err);
+    return make_kdtree(desc, positions, n, &t, &ratio, err) &&
+           kdtree_arrays(a, &t, ratio, desc->kd_ropes, err);
 }
 
 /* The BVH; with `auto` on a GPU, held against the kd-tree where the BVH's SAH cost says its boxes
