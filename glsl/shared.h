@@ -99,7 +99,6 @@ typedef uint32_t uint;
 #define VKRT_SPEC_SPLIT_REFS 21
 #define VKRT_SPEC_SPLIT_TEXELS 22
 #define VKRT_SPEC_MATERIAL_ORDER 23
-#define VKRT_SPEC_KD_ROPES 24
 
 /* Integrators (VKRT_SPEC_INTEGRATOR): Whitted's (delta lights, ambient, the materials' own rays)
  * or the path tracer (next-event estimation with multiple importance sampling). */

@@ -26,7 +26,6 @@
 #include <cmocka.h>
 
 #include "accel/kdtree.h"
-#include "accel/kdtree_ropes.h"
 #include "scene/obj_load.h"
 
 enum { SOUP_RAYS = 2000, BUNNY_RAYS = 400 };
@@ -328,82 +327,6 @@ static void check_rays(const kdtree *t, const float *positions, uint32_t n, uint
     print_message("%u of %u rays hit; the kd-tree agrees on all\n", hits, rays);
 }
 
-/* Every node's box, by the test's own walk from the root. */
-static void node_boxes(const kdtree *t, uint32_t i, dbox b, dbox *boxes)
-{
-    boxes[i] = b;
-    const kd_node *nd = &t->nodes[i];
-    if (nd->axis == KD_LEAF)
-        return;
-    dbox l = b, r = b;
-    l.hi[nd->axis] = nd->split;
-    r.lo[nd->axis] = nd->split;
-    node_boxes(t, nd->a, l, boxes);
-    node_boxes(t, nd->b, r, boxes);
-}
-
-/* Whether box c lies across face f (2 axis + high) of box b and covers all of it. */
-static bool covers_face(const dbox *c, const dbox *b, int f)
-{
-    int k = f / 2;
-    if (f % 2 ? c->lo[k] != b->hi[k] : c->hi[k] != b->lo[k])
-        return false;
-    for (int j = 0; j < 3; ++j)
-        if (j != k && (c->lo[j] > b->lo[j] || c->hi[j] < b->hi[j]))
-            return false;
-    return true;
-}
-
-/* The ropes (kdtree_ropes.h), against boxes of the test's own: each leaf's record holds its box
- * and, across each face, KD_NO_ROPE on the root box's faces, else a node across the face that
- * covers all of it and has no child that does (Popov's optimisation went as far as it could), and
- * one across every face inside the root box;
- * each leaf's split says where its record lies. */
-static void check_ropes(kdtree *t)
-{
-    dbox *boxes = malloc(t->node_count * sizeof *boxes);
-    node_boxes(t, 0, root_box(t), boxes);
-    vkrt_error err = {{0}};
-    kd_rope_leaf *leaves = kdtree_ropes_build(t, &err);
-    if (!leaves)
-        fail_msg("ropes: %s", err.msg);
-    dbox root = root_box(t);
-    uint32_t leaf = 0, ropes = 0;
-    for (uint32_t i = 0; i < t->node_count; ++i) {
-        if (t->nodes[i].axis != KD_LEAF)
-            continue;
-        uint32_t at;
-        memcpy(&at, &t->nodes[i].split, sizeof at);
-        assert_int_equal(at, t->node_count + KD_ROPE_TEXELS * leaf);
-        const kd_rope_leaf *r = &leaves[leaf++];
-        for (int k = 0; k < 3; ++k)
-            assert_true(r->lo[k] == boxes[i].lo[k] && r->hi[k] == boxes[i].hi[k]);
-        for (int f = 0; f < 6; ++f) {
-            int k = f / 2;
-            bool outer = f % 2 ? boxes[i].hi[k] == root.hi[k] : boxes[i].lo[k] == root.lo[k];
-            uint32_t rope = r->rope[f];
-            /* On the root box's faces too where a flat cell lies in the face. */
-            if (rope == KD_NO_ROPE) {
-                assert_true(outer);
-                continue;
-            }
-            assert_true(rope < t->node_count);
-            if (!covers_face(&boxes[rope], &boxes[i], f))
-                fail_msg("leaf %u face %d: rope %u does not cover the face", i, f, rope);
-            const kd_node *nd = &t->nodes[rope];
-            if (nd->axis != KD_LEAF &&
-                (covers_face(&boxes[nd->a], &boxes[i], f) ||
-                 covers_face(&boxes[nd->b], &boxes[i], f)))
-                fail_msg("leaf %u face %d: rope %u has a child covering the face", i, f, rope);
-            ++ropes;
-        }
-    }
-    assert_int_equal(leaf, t->leaf_count);
-    print_message("ropes: %u leaves, %u ropes leading somewhere\n", leaf, ropes);
-    free(leaves);
-    free(boxes);
-}
-
 static void build_and_check(const char *name, const float *positions, uint32_t n, uint32_t rays)
 {
     kdtree t1, t4;
@@ -423,7 +346,6 @@ static void build_and_check(const char *name, const float *positions, uint32_t n
     assert_memory_equal(t1.refs, t4.refs, t1.ref_count * sizeof *t1.refs);
     check_tree(&t1, positions, n);
     check_rays(&t1, positions, n, rays);
-    check_ropes(&t1);
     kdtree_free(&t1);
     kdtree_free(&t4);
 }

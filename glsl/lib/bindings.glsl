@@ -119,10 +119,6 @@ layout(std430, set = 0, binding = VKRT_BINDING_SAMPLE_LUMINANCE) buffer SampleLu
  * scenes of several shaders: src/render/tuning.c): the light, count and shade kernels read their
  * rays in that order. */
 layout(constant_id = VKRT_SPEC_MATERIAL_ORDER) const bool MATERIAL_ORDER = false;
-
-/* The kd-tree walked by ropes (Popov et al. 2007), not the stack (glsl/lib/traverse_kdtree.glsl;
- * src/render/tuning.c, VKRT_KD_ROPES): the host uploads the leaves' ropes after the nodes. */
-layout(constant_id = VKRT_SPEC_KD_ROPES) const bool KD_ROPES = false;
 layout(std430, set = 0, binding = VKRT_BINDING_MATERIAL_ORDER) buffer MaterialOrderBuffer { uint material_order[]; };
 
 /* Which structure trace_closest and trace_any walk (VKRT_TRAVERSE_*). */

@@ -22,7 +22,7 @@ Hit trace_closest(vec3 origin, vec3 dir, float tmin, float tmax)
     if (ACCEL_KIND == VKRT_TRAVERSE_BVH)
         return bvh_traverse(s, dir, tmin, tmax, false);
     if (ACCEL_KIND == VKRT_TRAVERSE_KDTREE)
-        return kd_walk(s, dir, tmin, tmax, false);
+        return kd_traverse(s, dir, tmin, tmax, false);
     if (ACCEL_KIND == VKRT_TRAVERSE_GRID)
         return grid_traverse(s, dir, tmin, tmax, false);
     return brute_closest(s, tmin, tmax);
@@ -36,7 +36,7 @@ bool trace_any(vec3 origin, vec3 dir, float tmin, float tmax)
     if (ACCEL_KIND == VKRT_TRAVERSE_BVH)
         return bvh_traverse(s, dir, tmin, tmax, true).triangle != VKRT_NO_HIT;
     if (ACCEL_KIND == VKRT_TRAVERSE_KDTREE)
-        return kd_walk(s, dir, tmin, tmax, true).triangle != VKRT_NO_HIT;
+        return kd_traverse(s, dir, tmin, tmax, true).triangle != VKRT_NO_HIT;
     if (ACCEL_KIND == VKRT_TRAVERSE_GRID)
         return grid_traverse(s, dir, tmin, tmax, true).triangle != VKRT_NO_HIT;
     return brute_any(s, tmin, tmax);

@@ -50,16 +50,6 @@ KdNode load_kd_node(uint i)
     return kd_nodes[i];
 }
 
-/* Leaf n's triangles, counted; true when any_hit and one was hit. */
-bool kd_leaf(RayShear s, KdNode n, float tmin, bool any_hit, inout Hit hit)
-{
-    if (TRAVERSAL_STATS) {
-        traversal_tests += n.b;
-        ++traversal_leaves;
-    }
-    return test_references(s, n.a, n.a + n.b, tmin, any_hit, hit);
-}
-
 /* The closest hit (any_hit false) or the first hit found (any_hit true) in (tmin, tmax). */
 Hit kd_traverse(RayShear s, vec3 dir, float tmin, float tmax, bool any_hit)
 {
@@ -122,7 +112,12 @@ Hit kd_traverse(RayShear s, vec3 dir, float tmin, float tmax, bool any_hit)
             node = near;
             n = load_kd_node(node);
         }
-        if (kd_leaf(s, n, tmin, any_hit, hit))
+        /* The leaf's triangles. */
+        if (TRAVERSAL_STATS) {
+            traversal_tests += n.b;
+            ++traversal_leaves;
+        }
+        if (test_references(s, n.a, n.a + n.b, tmin, any_hit, hit))
             return hit;
         /* Done when the closest hit lies within this leaf's stretch, or nothing is left. */
         if (hit.triangle != VKRT_NO_HIT && hit.t <= t1 && !blocked)
@@ -138,110 +133,6 @@ Hit kd_traverse(RayShear s, vec3 dir, float tmin, float tmax, bool any_hit)
             break;
     }
     return hit;
-}
-
-/* A rope: none, the face lies on the root box (src/accel/kdtree_ropes.h KD_NO_ROPE). */
-const uint KD_NO_ROPE = 0xFFFFFFFFu;
-
-/* The rope walk (Popov, Günther, Seidel and Slusallek 2007), for rays with no direction component
- * 0: descend from a node to the leaf the ray is in at t, test its triangles, leave through the
- * exit face (the nearest of the leaf box's three faces ahead of the ray) and descend again from
- * the node across it, the rope (src/accel/kdtree_ropes.c). Hits are kept as in kd_traverse (any
- * hit closer than the best), and the walk ends after a leaf whose exit lies beyond the best hit.
- *
- * Robustness: the descent asks, at each plane, whether t has passed the plane's distance, computed
- * as the exit's is. The rope has already taken the walk across the face just left; a plane below
- * the rope in that face (a flat cell's, holding the triangles in the face) ties with t and goes to
- * the near side, so the flat cell is visited before the cell beyond. Each rope leads into the far child of the plane the face lies in, so
- * every leaf comes after the last in the tree's front-to-back order for the ray's octant: the walk
- * ends whatever rounding does. A hit within 2^-20 of the exit does not end the walk (the next
- * leaf may hold a tie on the face).
- *
- * Edges of cells: where the ray passes within the margin of a line where cells meet (two exit
- * faces within 2^-18 of each other, or a plane within 2^-20 of t on the way down), one path of
- * cells visits only some of those around the line, and a triangle touching the line from a cell
- * skipped is lost: a ray aimed at a vertex that perfect splits put on two planes leaked so (58 of
- * test_accel's 3,072 rays at the icosphere's vertices, 100 at the bunny's). There the stack walk
- * (kd_traverse) covers the stretch of 2^-18 either side, with its overlapping margins. */
-Hit kd_rope_traverse(RayShear s, vec3 dir, float tmin, float tmax, bool any_hit)
-{
-    Hit hit = Hit(tmax, 0.0, 0.0, VKRT_NO_HIT);
-    vec3 origin = s.origin;
-    vec3 inv_dir = 1.0 / dir;
-    vec2 span = slab_interval(grid.lo.xyz, grid.hi.xyz, origin, inv_dir, tmin, tmax);
-    float t = max(tmin, span.x - abs(span.x) * KD_MARGIN);
-    float t1 = min(tmax, span.y + abs(span.y) * KD_MARGIN);
-    if (!(t <= t1))
-        return hit;
-    bvec3 ahead = greaterThan(dir, vec3(0.0));
-    uint node = 0u;
-    while (true) {
-        /* The descent met a plane within the margin of t (see the top). */
-        bool corner = false;
-        KdNode n = load_kd_node(node);
-        while (n.axis != VKRT_KD_LEAF) {
-            if (TRAVERSAL_STATS)
-                ++traversal_steps;
-            float t_split = (n.split - origin[n.axis]) * inv_dir[n.axis];
-            bool near_side = t <= t_split;
-            corner = corner || abs(t - t_split) <= abs(t) * KD_MARGIN;
-            node = near_side == ahead[n.axis] ? n.a : n.b;
-            n = load_kd_node(node);
-        }
-        if (kd_leaf(s, n, tmin, any_hit, hit))
-            return hit;
-        /* The leaf's record: lo.xyz hi.x | hi.yz rope0 rope1 | rope2 .. rope5. */
-        uint at = floatBitsToUint(n.split);
-        KdNode r0 = load_kd_node(at), r1 = load_kd_node(at + 1u), r2 = load_kd_node(at + 2u);
-        vec3 lo = vec3(r0.split, uintBitsToFloat(r0.axis), uintBitsToFloat(r0.a));
-        vec3 hi = vec3(uintBitsToFloat(r0.b), r1.split, uintBitsToFloat(r1.axis));
-        vec3 t_face = (mix(lo, hi, ahead) - origin) * inv_dir;
-        float t_exit = t_face.x;
-        uvec2 ropes = uvec2(r1.a, r1.b);
-        bool up = ahead.x;
-        if (t_face.y < t_exit) {
-            t_exit = t_face.y;
-            ropes = uvec2(floatBitsToUint(r2.split), r2.axis);
-            up = ahead.y;
-        }
-        if (t_face.z < t_exit) {
-            t_exit = t_face.z;
-            ropes = uvec2(r2.a, r2.b);
-            up = ahead.z;
-        }
-        /* Near an edge of cells, where the one path misses a cell: the stack walk over the
-         * stretch there (see the top). */
-        float band = 4.0 * KD_MARGIN;
-        float reach = t_exit + abs(t_exit) * band;
-        bool exit_corner =
-            int(t_face.x <= reach) + int(t_face.y <= reach) + int(t_face.z <= reach) > 1;
-        if (corner || exit_corner) {
-            float lo_t = corner ? t - abs(t) * band : t_exit - abs(t_exit) * band;
-            float hi_t = exit_corner ? t_exit + abs(t_exit) * band : t + abs(t) * band;
-            Hit near = kd_traverse(s, dir, max(tmin, lo_t), min(hit.t, hi_t), any_hit);
-            if (near.triangle != VKRT_NO_HIT) {
-                hit = near;
-                if (any_hit)
-                    return hit;
-            }
-        }
-        if (hit.triangle != VKRT_NO_HIT && hit.t < t_exit - abs(t_exit) * KD_MARGIN)
-            break;
-        node = up ? ropes.y : ropes.x;
-        if (node == KD_NO_ROPE || t_exit > t1)
-            break;
-        t = max(t, t_exit);
-    }
-    return hit;
-}
-
-/* The kd-tree's walk: ropes where KD_ROPES asks for them and the ray has an octant (no direction
- * component 0, whose ray may run in a plane and need both its sides: the stack walk's case). */
-Hit kd_walk(RayShear s, vec3 dir, float tmin, float tmax, bool any_hit)
-{
-    if (KD_ROPES && all(notEqual(dir, vec3(0.0))) && !any(isinf(1.0 / dir)))
-        return kd_rope_traverse(s, dir, tmin, tmax, any_hit);
-    return kd_traverse(s, dir, tmin, tmax, any_hit);
 }
 
 #endif

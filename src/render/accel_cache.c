@@ -60,13 +60,12 @@ bool vkrt_accel_cache_name_of(const vkrt_accel_desc *desc, const float *position
         settings, sizeof settings,
         "vkrt structure layout %d, program %016llx, nodes %zu %zu %zu, stats %zu; kind %d, "
         "splits %d, grid density %a, BVH width %u, leaf %u, node cost %a, spatial budget %a, "
-        "kd-tree cost %a, kd-tree ropes %d, grid competes %d, kd-tree competes %d",
+        "kd-tree cost %a, grid competes %d, kd-tree competes %d",
         LAYOUT_VERSION, (unsigned long long)vkrt_cache_program_id(), sizeof(BvhPair),
         sizeof(BvhQuad), sizeof(KdNode), sizeof(vkrt_accel_stats), (int)desc->kind,
         (int)desc->bvh_splits, (double)desc->grid_density, desc->bvh_width, desc->bvh_max_leaf,
         (double)desc->bvh_traversal_cost, (double)desc->bvh_spatial_budget,
-        (double)desc->kd_traversal_cost, (int)desc->kd_ropes, (int)desc->grid_competes,
-        (int)desc->kdtree_competes);
+        (double)desc->kd_traversal_cost, (int)desc->grid_competes, (int)desc->kdtree_competes);
     if (n < 0 || (size_t)n >= sizeof settings)
         return false;
     uint64_t positions_hash =

@@ -10,7 +10,6 @@
 #include "../accel/bvh_pairs.h"
 #include "../accel/bvh_quads.h"
 #include "../accel/kdtree.h"
-#include "../accel/kdtree_ropes.h"
 #include "../clock.h"
 #include "accel_cache.h"
 
@@ -226,42 +225,13 @@ static bool make_kdtree(const vkrt_accel_desc *desc, const float *positions, uin
     return kdtree_build(t, positions, n, &build, err);
 }
 
-/* With ropes, t's nodes become its nodes followed by its leaves' rope records (kdtree_ropes.h)
- * as 16-byte texels, t->node_count of them all told (the statistics below read the leaves). */
-static bool add_ropes(kdtree *t, vkrt_error *err)
-{
-    kd_rope_leaf *leaves = kdtree_ropes_build(t, err);
-    if (!leaves)
-        return false;
-    uint32_t count = t->node_count + KD_ROPE_TEXELS * t->leaf_count;
-    kd_node *texels = realloc(t->nodes, count * sizeof *texels);
-    if (!texels) {
-        free(leaves);
-        return vkrt_error_set(err, "kd-tree: out of memory for %u nodes and ropes", count);
-    }
-    memcpy(texels + t->node_count, leaves, t->leaf_count * sizeof *leaves);
-    free(leaves);
-    t->nodes = texels;
-    t->node_count = count;
-    return true;
-}
-
-_Static_assert(sizeof(kd_rope_leaf) == KD_ROPE_TEXELS * sizeof(kd_node),
-               "a leaf's rope record is KD_ROPE_TEXELS nodes' bytes");
-
-/* t's arrays, taken into a, with ropes where the walk takes them; its root box goes in the grid
- * frame's lo and hi (glsl/lib/traverse_kdtree.glsl). t is freed either way. */
-static bool kdtree_arrays(vkrt_accel_arrays *a, kdtree *t, float ratio, bool ropes,
-                          vkrt_error *err)
+/* t's arrays, taken into a; its root box goes in the grid frame's lo and hi
+ * (glsl/lib/traverse_kdtree.glsl). t is freed either way. */
+static bool kdtree_arrays(vkrt_accel_arrays *a, kdtree *t, float ratio, vkrt_error *err)
 {
     /* The walk's stack marks its entries in the top bit (glsl/lib/traverse_kdtree.glsl). */
     if (t->node_count > 0x7FFFFFFFu) {
         vkrt_error_set(err, "kd-tree of %u nodes: the GPU walk holds at most 2^31", t->node_count);
-        kdtree_free(t);
-        return false;
-    }
-    uint32_t tree_nodes = t->node_count;
-    if (ropes && !add_ropes(t, err)) {
         kdtree_free(t);
         return false;
     }
@@ -272,7 +242,7 @@ static bool kdtree_arrays(vkrt_accel_arrays *a, kdtree *t, float ratio, bool rop
     {
         vkrt_accel_stats *s = &a->stats;
         s->bytes = sizeof a->info + node_bytes + ref_bytes;
-        s->nodes = tree_nodes;
+        s->nodes = t->node_count;
         s->leaves = t->leaf_count;
         s->empty_leaves = t->empty_leaves;
         s->references = t->ref_count;
@@ -299,8 +269,7 @@ static bool build_kdtree(vkrt_accel_arrays *a, const vkrt_accel_desc *desc,
 {
     kdtree t;
     float ratio;
-    return make_kdtree(desc, positions, n, &t, &ratio, err) &&
-           kdtree_arrays(a, &t, ratio, desc->kd_ropes, err);
+    return make_kdtree(desc, positions, n, &t, &ratio, err) && kdtree_arrays(a, &t, ratio, err);
 }
 
 /* The BVH; with `auto` on a GPU, held against the kd-tree where the BVH's SAH cost says its boxes
@@ -331,7 +300,7 @@ static bool build_bvh(vkrt_accel_arrays *a, const vkrt_accel_desc *desc, const f
     if (kd) {
         bvh_free(&b);
         s->kind = VKRT_ACCEL_KDTREE;
-        ok = kdtree_arrays(a, &t, ratio, desc->kd_ropes, err);
+        ok = kdtree_arrays(a, &t, ratio, err);
     } else {
         kdtree_free(&t);
         ok = bvh_arrays(a, desc, &build, &b, err);

@@ -71,7 +71,6 @@ typedef struct vkrt_accel_desc {
     float bvh_spatial_budget; /* bvh_build_desc.spatial_budget of a tree with spatial splits;
                                  0: accel_gpu.c's default */
     float kd_traversal_cost;  /* the kd-tree's K_T / K_I; 0: kdtree.h's default */
-    bool kd_ropes;            /* the kd-tree's leaves get ropes (kdtree_ropes.h) for the rope walk */
     bool grid_competes;       /* auto weighs the grid against the BVH (vkrt_tuning) */
     bool kdtree_competes;     /* auto takes the kd-tree for scenes it builds fast (vkrt_tuning) */
     vkrt_bvh_splits bvh_splits; /* auto (0): both trees built (up to a size; the plain one only

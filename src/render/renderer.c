@@ -205,7 +205,6 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
         .bvh_traversal_cost = t->bvh_traversal_cost,
         .bvh_spatial_budget = t->bvh_spatial_budget,
         .kd_traversal_cost = t->kd_traversal_cost,
-        .kd_ropes = t->kd_ropes,
         .grid_competes = t->grid_competes,
         .kdtree_competes = t->kdtree_competes,
         .source = scene->config.geometry,

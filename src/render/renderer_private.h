@@ -141,7 +141,7 @@ bool renderer_scan_materials(vkrt_renderer *r, const vkrt_scene_materials *mats,
 
 /* renderer_kernels.c: the wave kernels, the material ones from the scene's materials, each
  * compiled on a thread of its own. What they are compiled for besides their sources: */
-enum { RENDERER_KERNEL_CONSTANTS = 24 };
+enum { RENDERER_KERNEL_CONSTANTS = 23 };
 typedef struct renderer_kernel_plan {
     bool split;               /* the preamble reads split arrays through device addresses */
     bool path;                /* nee.comp (with the materials) for the light kernel */

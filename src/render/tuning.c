@@ -91,10 +91,6 @@ vkrt_tuning vkrt_tuning_choose(bool cpu_device, bool llvmpipe, const vkrt_tuning
     const char *order = getenv("VKRT_MATERIAL_ORDER");
     if (order && (order[0] == '0' || order[0] == '1') && order[1] == '\0')
         t.material_order = order[0] == '1';
-    /* The kd-tree's rope walk (Popov et al. 2007) against its stack walk: an experiment, for
-     * benches and tests (docs/kdtree.md). */
-    const char *ropes = getenv("VKRT_KD_ROPES");
-    t.kd_ropes = ropes && strcmp(ropes, "1") == 0;
     return t;
 }
 

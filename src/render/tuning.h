@@ -66,7 +66,6 @@ typedef struct vkrt_tuning {
     double warmup_ms;         /* device time run before anything is timed (vkrt_warmup_runs) */
     bool material_order;      /* group each bounce's hits by shader (glsl/order.comp) where a
                                  scene has several; VKRT_MATERIAL_ORDER=0 or 1 overrides it */
-    bool kd_ropes;            /* the kd-tree walked by ropes, not the stack (VKRT_KD_ROPES=1) */
 } vkrt_tuning;
 
 /* Whether ctx's device is a CPU implementation. */
