@@ -290,7 +290,8 @@ static bool build_bvh(vkrt_accel_arrays *a, const vkrt_accel_desc *desc, const f
         return false;
     }
     vkrt_accel_stats *s = &a->stats;
-    double both_ms = b.build_ms + t.build_ms;
+    /* The time of the tree not kept, added to the kept one's below. */
+    double other_ms = 0;
     bool kd = accel_kdtree_wins(t.sah_cost, b.sah_cost);
     size_t used = strlen(s->reason);
     snprintf(s->reason + used, sizeof s->reason - used,
@@ -298,14 +299,16 @@ static bool build_bvh(vkrt_accel_arrays *a, const vkrt_accel_desc *desc, const f
              (double)b.sah_cost, n, (double)t.sah_cost, kd ? "kd-tree" : "BVH kept");
     bool ok;
     if (kd) {
+        other_ms = b.build_ms;
         bvh_free(&b);
         s->kind = VKRT_ACCEL_KDTREE;
         ok = kdtree_arrays(a, &t, ratio, err);
     } else {
+        other_ms = t.build_ms;
         kdtree_free(&t);
         ok = bvh_arrays(a, desc, &build, &b, err);
     }
-    s->build_ms = both_ms;
+    s->build_ms += other_ms;
     return ok;
 }
 

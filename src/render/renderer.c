@@ -56,16 +56,19 @@ static const char *first_emitter(const vkrt_scene_materials *mats)
  * apart). */
 static uint32_t surface_shaders(const vkrt_scene_materials *mats)
 {
+    bool *seen = calloc(mats->shader_count ? mats->shader_count : 1, sizeof *seen);
     uint32_t count = 0;
-    for (uint32_t i = 0; i < mats->count; ++i) {
-        if (i == mats->environment)
+    for (uint32_t i = 0; seen && i < mats->count; ++i) {
+        uint32_t shader = mats->list[i].shader;
+        if (i == mats->environment || shader >= mats->shader_count || seen[shader])
             continue;
-        bool seen = false;
-        for (uint32_t j = 0; j < i && !seen; ++j)
-            seen = j != mats->environment && mats->list[j].shader == mats->list[i].shader;
-        count += !seen;
+        seen[shader] = true;
+        ++count;
     }
-    return count;
+    bool counted = seen != NULL;
+    free(seen);
+    /* Out of memory: count two, so that the grouping stays on (it is only faster, or the same). */
+    return counted ? count : 2;
 }
 
 static void choose_integrator(vkrt_renderer *r, const vkrt_render_desc *desc,
