@@ -137,6 +137,8 @@ static void print_scene_cache(FILE *out, const vkrt_scene_cache_report *c)
         fprintf(out, "mesh read in %.0f ms", c->read_ms);
     else if (c->outcome == VKRT_SCENE_CACHE_STORED)
         fprintf(out, "OBJ parsed, mesh stored in %.0f ms", c->store_ms);
+    else if (c->outcome == VKRT_SCENE_CACHE_STORING)
+        fprintf(out, "OBJ parsed, mesh being stored on a thread");
     else
         fprintf(out, "OBJ parsed, not stored: %s", c->why);
     fprintf(out, "; the OBJ's key hashed in %.0f ms\n", c->hash_ms);
@@ -807,6 +809,8 @@ static int run_render(const vkrt_render_options *opts, double main_ms)
     signal(SIGINT, request_stop);
     signal(SIGTERM, request_stop);
     if (opts->devices) {
+        /* The workers are forked: none of them has the storing thread to wait for. */
+        vkrt_scene_cache_finish(&scene.obj_cache);
         int status = render_on_devices(opts, &scene, output, &list);
         free(list.frames);
         vkrt_scene_free(&scene);
@@ -841,6 +845,11 @@ static int run_render(const vkrt_render_options *opts, double main_ms)
                 totals.seconds > 0 ? totals.rays / totals.seconds * 1e-6 : 0.0);
         if (opts->common.verbose && clock.image)
             print_startup(stderr, &clock, &scene, &totals.accel, &totals.startup);
+        if (opts->common.verbose && scene.obj_cache.outcome == VKRT_SCENE_CACHE_STORING) {
+            /* Said "being stored" before the first frame: now how it ended. */
+            vkrt_scene_cache_finish(&scene.obj_cache);
+            print_scene_cache(stderr, &scene.obj_cache);
+        }
         if (!opts->common.verbose) {
             fprintf(stderr, "vkrt: accel %s: %s\n", vkrt_accel_name(totals.accel.kind),
                     totals.accel.reason);

@@ -83,6 +83,8 @@ static void load(const char *path, vkrt_mesh *mesh, vkrt_scene_cache_report *rep
 {
     vkrt_error err = {{0}};
     bool ok = vkrt_scene_cache_obj_load(path, mesh, report, &err);
+    /* The entry is written on a thread: the report is complete once it is done. */
+    vkrt_scene_cache_finish(report);
     if (!ok)
         print_error("load failed: %s\n", err.msg);
     assert_true(ok);

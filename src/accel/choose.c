@@ -87,6 +87,11 @@ bool accel_kdtree_wins(float kdtree_sah_cost, float bvh_sah_cost)
     return kdtree_sah_cost < kdtree_cost_share * bvh_sah_cost;
 }
 
+double accel_kdtree_cost_share(void)
+{
+    return kdtree_cost_share;
+}
+
 bool accel_choice_needs_grid(uint32_t triangle_count, accel_device device)
 {
     return device == ACCEL_DEVICE_CPU_STORAGE && triangle_count > brute_force_limit;

@@ -47,6 +47,8 @@ bool accel_kdtree_worth_trying(uint32_t triangle_count, float bvh_sah_cost);
 
 /* Whether the kd-tree of that SAH cost replaces the BVH of this one. */
 bool accel_kdtree_wins(float kdtree_sah_cost, float bvh_sah_cost);
+/* The share of the BVH's SAH cost the kd-tree's must be under to win (for the reason's words). */
+double accel_kdtree_cost_share(void);
 
 /* True when the choice for this scene and device needs the grid's statistics: above the brute
  * force limit on a CPU device reading storage buffers. (Elsewhere the grid loses either way, so

@@ -25,7 +25,7 @@
 
 typedef struct vkrt_accel_stats {
     vkrt_accel_kind kind;       /* what was built (never auto) */
-    char reason[256];           /* why: the auto rule's sentence, or "asked for" */
+    char reason[384];           /* why: the auto rule's sentence, or "asked for" */
     uint32_t triangles;         /* the scene's triangles it was built over */
     double build_ms;            /* CPU build time */
     double choose_ms;           /* time to decide (the grid built for auto's statistics) */

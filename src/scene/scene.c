@@ -43,6 +43,7 @@ bool vkrt_scene_load(const char *path, vkrt_scene *scene, vkrt_error *err)
 
 void vkrt_scene_free(vkrt_scene *scene)
 {
+    vkrt_scene_cache_finish(&scene->obj_cache); /* its thread reads the mesh */
     vkrt_scene_materials_free(&scene->materials);
     vkrt_material_file_free(&scene->material_file);
     vkrt_mesh_free(&scene->mesh);

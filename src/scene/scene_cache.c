@@ -11,6 +11,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "scene_cache.h"
 
+#include <pthread.h>
+
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -379,6 +381,47 @@ static bool same_file(const vkrt_file_identity *a, const char *path)
            (int64_t)st.st_mtim.tv_sec * 1000000000 + st.st_mtim.tv_nsec == a->mtime_ns;
 }
 
+/* An entry written on a thread (vkrt_scene_cache_obj_load with a report). */
+struct scene_cache_store {
+    pthread_t thread;
+    uint64_t key[2];
+    char ext[32];
+    const vkrt_mesh *mesh;
+    bool stored;
+    const char *why;
+    double ms;
+};
+
+static void *store_thread(void *arg)
+{
+    struct scene_cache_store *st = arg;
+    double start = vkrt_clock_ms();
+    st->why = "";
+    st->stored = store_entry(st->key, st->ext, st->mesh, &st->why);
+    st->ms = vkrt_clock_ms() - start;
+    return NULL;
+}
+
+/* Starts the store on a thread; false (nothing started) when no thread could be made. */
+static bool store_in_background(const uint64_t key[2], const char *ext, const vkrt_mesh *mesh,
+                                vkrt_scene_cache_report *report)
+{
+    struct scene_cache_store *st = calloc(1, sizeof *st);
+    if (!st)
+        return false;
+    st->key[0] = key[0];
+    st->key[1] = key[1];
+    snprintf(st->ext, sizeof st->ext, "%s", ext);
+    st->mesh = mesh;
+    if (pthread_create(&st->thread, NULL, store_thread, st) != 0) {
+        free(st);
+        return false;
+    }
+    report->outcome = VKRT_SCENE_CACHE_STORING;
+    report->store = st;
+    return true;
+}
+
 bool vkrt_scene_cache_obj_load(const char *path, vkrt_mesh *mesh,
                                vkrt_scene_cache_report *report, vkrt_error *err)
 {
@@ -416,11 +459,24 @@ bool vkrt_scene_cache_obj_load(const char *path, vkrt_mesh *mesh,
         report->why = "an mtllib names a file not found";
     else if (!same_file(&id, path))
         report->why = "the OBJ changed while it was read";
-    else {
+    else if (report == &own || !store_in_background(key, ext, mesh, report)) {
         start = vkrt_clock_ms();
         if (store_entry(key, ext, mesh, &report->why))
             report->outcome = VKRT_SCENE_CACHE_STORED;
         report->store_ms = vkrt_clock_ms() - start;
     }
     return true;
+}
+
+void vkrt_scene_cache_finish(vkrt_scene_cache_report *report)
+{
+    struct scene_cache_store *st = report->store;
+    if (!st)
+        return;
+    pthread_join(st->thread, NULL);
+    report->outcome = st->stored ? VKRT_SCENE_CACHE_STORED : VKRT_SCENE_CACHE_SKIPPED;
+    report->why = st->why;
+    report->store_ms = st->ms;
+    report->store = NULL;
+    free(st);
 }
