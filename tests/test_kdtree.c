@@ -359,6 +359,17 @@ static void test_random_soup(void **state)
     free(p);
 }
 
+/* Enough triangles that nodes spawn subtrees on threads (SPAWN_MIN_TRIANGLES, 4096), below the
+ * root's first splits too, so the thread-count check above compares threaded builds. */
+static void test_large_soup(void **state)
+{
+    (void)state;
+    rng_state = 6;
+    float *p = random_soup(16000, 0.05f);
+    build_and_check("large soup", p, 16000, SOUP_RAYS / 4);
+    free(p);
+}
+
 static void test_plane_soup(void **state)
 {
     (void)state;
@@ -430,7 +441,8 @@ static void test_bunny(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_random_soup),     cmocka_unit_test(test_plane_soup),
+        cmocka_unit_test(test_random_soup),     cmocka_unit_test(test_large_soup),
+        cmocka_unit_test(test_plane_soup),
         cmocka_unit_test(test_degenerate_soup), cmocka_unit_test(test_small_inputs),
         cmocka_unit_test(test_bunny),
     };

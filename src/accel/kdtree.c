@@ -21,9 +21,11 @@
  *  4. Perfect splits: the events come from the triangle clipped to the node's box (in double,
  *     rounded outward to float), not from its whole box, so a plane is tried exactly where the
  *     triangle's part in the node ends.
- *  5. Subtrees of large nodes in the top levels are built by threads of their own, each into its
- *     own arrays, which are then appended in depth-first order: the tree and its layout are the
- *     same for any thread count.
+ *  5. Subtrees of large nodes are built into arrays of their own, which are then appended in
+ *     depth-first order; which of them get a thread depends only on how many are running, so
+ *     the tree and its layout are the same for any thread count. Any large node may spawn, not
+ *     just the top levels': long thin triangles (tools/sliver_cylinder.py) put nearly all the
+ *     work under one child of the root's first splits, which cut off empty space.
  *
  * Planes at a node's own face are allowed only to cut off a flat cell holding the triangles in
  * that face (the side that keeps the node's whole box would otherwise keep all its triangles and
@@ -35,6 +37,7 @@
 
 #include <math.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -48,9 +51,9 @@ enum { EVENT_END = 0, EVENT_PLANAR = 1, EVENT_START = 2 };
 /* Which side of the chosen plane a triangle goes to. */
 enum { SIDE_BOTH = 0, SIDE_LEFT = 1, SIDE_RIGHT = 2 };
 
-/* The top levels' nodes of at least this many triangles build their two subtrees in parallel: a
- * thread start costs about what a few thousand triangles' events do. */
-enum { SPAWN_MIN_TRIANGLES = 4096, SPAWN_LEVELS = 4, DEFAULT_MAX_THREADS = 16 };
+/* Nodes of at least this many triangles build their two subtrees apart, the left in a thread when
+ * one is free: a thread start costs about what a few thousand triangles' events do. */
+enum { SPAWN_MIN_TRIANGLES = 4096, DEFAULT_MAX_THREADS = 16 };
 
 typedef struct box {
     float lo[3], hi[3];
@@ -195,7 +198,8 @@ typedef struct build_params {
     float traversal_cost, intersection_cost, empty_bonus;
     uint32_t max_depth;
     float root_area;
-    bool threaded;
+    uint32_t max_threads;     /* threads at once, this one included */
+    atomic_uint *running;     /* threads started and not yet joined */
 } build_params;
 
 /* One builder's output: the whole tree's, or a subtree's built by a thread of its own. */
@@ -419,13 +423,23 @@ static void builder_free(builder *b)
     memset(b, 0, sizeof *b);
 }
 
+/* Whether another thread may start: the first thread and those running stay within max_threads. */
+static bool take_thread(const build_params *p)
+{
+    unsigned n = atomic_load(p->running);
+    while (n + 1 < p->max_threads)
+        if (atomic_compare_exchange_weak(p->running, &n, n + 1))
+            return true;
+    return false;
+}
+
 /* Builds both children: in subtrees of their own (the left in a thread when there are threads)
  * for large nodes of the top levels, else depth first in b. */
 static void build_children(builder *b, uint32_t node, const box child[2], const uint32_t count[2],
                            event_list lists[2][3], uint32_t depth)
 {
     const build_params *p = b->p;
-    bool spawn = depth < SPAWN_LEVELS && count[0] + count[1] >= SPAWN_MIN_TRIANGLES;
+    bool spawn = count[0] + count[1] >= SPAWN_MIN_TRIANGLES;
     if (!spawn) {
         uint32_t left = push_node(b);
         if (!b->failed)
@@ -450,12 +464,18 @@ static void build_children(builder *b, uint32_t node, const box child[2], const 
         s[c].b.failed = !s[c].b.side;
     }
     pthread_t thread;
-    bool started = p->threaded && pthread_create(&thread, NULL, build_subtree, &s[0]) == 0;
+    bool started = take_thread(p);
+    if (started && pthread_create(&thread, NULL, build_subtree, &s[0]) != 0) {
+        atomic_fetch_sub(p->running, 1);
+        started = false;
+    }
     if (!started)
         build_subtree(&s[0]);
     build_subtree(&s[1]);
-    if (started)
+    if (started) {
         pthread_join(thread, NULL);
+        atomic_fetch_sub(p->running, 1);
+    }
     s[1].b.side = NULL;
     uint32_t left = append_subtree(b, &s[0].b);
     uint32_t right = append_subtree(b, &s[1].b);
@@ -571,6 +591,7 @@ bool kdtree_build(kdtree *out, const float *positions, uint32_t n, const kdtree_
 {
     memset(out, 0, sizeof *out);
     double start = vkrt_clock_ms();
+    atomic_uint running = 0;
     kdtree_build_desc d = desc ? *desc : (kdtree_build_desc){0};
     if (n > (UINT32_MAX >> 2))
         return vkrt_error_set(err, "kd-tree: %u triangles, at most %u", n, UINT32_MAX >> 2);
@@ -581,7 +602,8 @@ bool kdtree_build(kdtree *out, const float *positions, uint32_t n, const kdtree_
         .intersection_cost =
             d.intersection_cost > 0 ? d.intersection_cost : KDTREE_DEFAULT_INTERSECTION_COST,
         .empty_bonus = d.empty_bonus > 0 ? d.empty_bonus : KDTREE_DEFAULT_EMPTY_BONUS,
-        .threaded = (d.threads ? d.threads : default_threads()) > 1,
+        .max_threads = d.threads ? d.threads : default_threads(),
+        .running = &running,
     };
     uint32_t havran = (uint32_t)lrint(8.0 + 1.3 * log2(n > 1 ? (double)n : 1.0));
     p.max_depth = d.max_depth ? d.max_depth : havran;
