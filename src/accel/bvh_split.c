@@ -74,7 +74,10 @@ void bvh_split_bins_bounds(const bvh_split_scratch *s, const bvh_bin_split *b, u
 }
 
 /* Sweeps one axis's bins: right-to-left areas first, then left to right for the costs.
- * Strict < keeps the first of equal costs, so the choice is reproducible. */
+ * Strict < keeps the first of equal costs, so the choice is reproducible. An empty bin changes
+ * neither side's box nor count, so the plane after it costs what the plane before it did: the
+ * sweeps copy or skip it rather than compute the same area again (small nodes' bins are mostly
+ * empty: a node of n triangles has n bins). */
 static void sweep_axis(bvh_split_scratch *s, int a, bvh_bin_split *best)
 {
     const uint32_t nb = best->bins;
@@ -84,6 +87,11 @@ static void sweep_axis(bvh_split_scratch *s, int a, bvh_bin_split *best)
     aabb_empty(&acc);
     uint32_t cnt = 0;
     for (uint32_t k = nb - 1; k > 0; k--) {
+        if (counts[k] == 0 && k < nb - 1) {
+            s->right_count[k] = s->right_count[k + 1];
+            s->right_area[k] = s->right_area[k + 1];
+            continue;
+        }
         aabb_grow(&acc, &bins[k]);
         cnt += counts[k];
         s->right_count[k] = cnt;
@@ -92,9 +100,11 @@ static void sweep_axis(bvh_split_scratch *s, int a, bvh_bin_split *best)
     aabb_empty(&acc);
     cnt = 0;
     for (uint32_t k = 1; k < nb; k++) {
+        if (counts[k - 1] == 0)
+            continue;
         aabb_grow(&acc, &bins[k - 1]);
         cnt += counts[k - 1];
-        if (cnt == 0 || s->right_count[k] == 0)
+        if (s->right_count[k] == 0)
             continue;
         float cost = aabb_half_area(&acc) * (float)cnt + s->right_area[k] * (float)s->right_count[k];
         if (cost < best->cost) {
@@ -215,6 +225,61 @@ void bvh_split_median(const prim_ref *refs, uint32_t begin, uint32_t end, bvh_sp
     bvh_split_range_bounds(refs, out->mid, end, &out->bounds[1], &out->cbounds[1]);
 }
 
+/* bvh_split_node for a node of two records, without bins (half the nodes of a tree with leaves
+ * of 2 hold two triangles). Its bins hold one record or none, so on an axis where the two fall
+ * into different bins every plane between them has one record on each side and costs
+ * A(r0) * 1 + A(r1) * 1, whichever axis it is: the sweep keeps the first such axis and the first
+ * plane past the lower record's bin, which goes left. Same decision, same floats. */
+static void split_pair(const bvh_split_params *p, prim_ref *refs, uint32_t begin,
+                       const aabb *bounds, const aabb *cbounds, bvh_split_result *out)
+{
+    bool active[3];
+    const bvh_bin_map map = make_bin_map(cbounds, bin_count(p, 2), active);
+    ref_lanes l[2] = {ref_load(&refs[begin]), ref_load(&refs[begin + 1])};
+    uint32_t k[2][4];
+    bvh_bins_of(&map, l[0].c, k[0]);
+    bvh_bins_of(&map, l[1].c, k[1]);
+    int axis = -1;
+    for (int a = 0; a < 3 && axis < 0; a++) {
+        if (active[a] && k[0][a] != k[1][a])
+            axis = a;
+    }
+    aabb box[2];
+    for (int i = 0; i < 2; i++) {
+        aabb_empty(&box[i]);
+        aabb_grow_box(&box[i], l[i].lo, l[i].hi);
+    }
+    /* Both orders of the sum are the same float; a cost that is not below infinity (boxes too
+     * large for float areas) never wins the sweep. */
+    float cost = aabb_half_area(&box[0]) * 1.0f + aabb_half_area(&box[1]) * 1.0f;
+    if (!(cost < INFINITY))
+        axis = -1;
+    bool must_split = 2 > p->max_leaf;
+    float area = aabb_half_area(bounds);
+    bool worth = axis >= 0 && p->traversal_cost * area + cost < 2.0f * area;
+    out->split = false;
+    out->spatial = false;
+    out->right_end = begin + 2;
+    if (axis >= 0 && (must_split || worth)) {
+        int left = k[0][axis] < k[1][axis] ? 0 : 1; /* Hoare's partition swaps a pair in order */
+        if (left == 1) {
+            prim_ref tmp = refs[begin];
+            refs[begin] = refs[begin + 1];
+            refs[begin + 1] = tmp;
+        }
+        out->split = true;
+        out->mid = begin + 1;
+        for (int side = 0; side < 2; side++) {
+            const ref_lanes *r = &l[side == 0 ? left : 1 - left];
+            out->bounds[side] = box[side == 0 ? left : 1 - left];
+            aabb_empty(&out->cbounds[side]);
+            aabb_grow_point(&out->cbounds[side], r->c);
+        }
+    } else if (must_split) {
+        bvh_split_median(refs, begin, begin + 2, out);
+    }
+}
+
 void bvh_split_node(const bvh_split_params *p, bvh_split_scratch *s, prim_ref *refs,
                     uint32_t begin, uint32_t end, const aabb *bounds, const aabb *cbounds,
                     bvh_split_result *out)
@@ -224,6 +289,10 @@ void bvh_split_node(const bvh_split_params *p, bvh_split_scratch *s, prim_ref *r
     out->spatial = false;
     if (count <= ALWAYS_LEAF_PRIMS)
         return;
+    if (count == 2) {
+        split_pair(p, refs, begin, bounds, cbounds, out);
+        return;
+    }
     bvh_bin_split b;
     bvh_split_bins_init(p, count, cbounds, &b);
     bvh_split_bins_fill(s, refs, begin, end, &b);

@@ -29,11 +29,17 @@ typedef struct bvh_split_params {
     float traversal_cost; /* of one node visit, in triangle tests */
 } bvh_split_params;
 
+/* Bins per axis in bvh_split_scratch's arrays beyond the most a build uses, so that an axis's
+ * bins start 8 KiB + 64 bytes after the previous axis's rather than 8 KiB: binning updates bin k
+ * of all three axes for most records, and x86 cores stall a load that lies a multiple of 4 KiB
+ * from a store still in flight as if the two overlapped (4K aliasing). */
+enum { BVH_SPLIT_BIN_PAD = 2 };
+
 /* One thread's bins, about 40 KiB: one per thread, reused for every node it splits. The spatial
  * bins (bvh_spatial.h) count in counts the references that start in each bin and in exits those
  * that end there. */
 typedef struct bvh_split_scratch {
-    aabb bins[3][BVH_SPLIT_MAX_BINS];
+    aabb bins[3][BVH_SPLIT_MAX_BINS + BVH_SPLIT_BIN_PAD];
     uint32_t counts[3][BVH_SPLIT_MAX_BINS];
     float right_area[BVH_SPLIT_MAX_BINS];
     uint32_t right_count[BVH_SPLIT_MAX_BINS];
