@@ -36,6 +36,8 @@ static inline vec4 v4_sub(vec4 a, vec4 b) { return _mm_sub_ps(a, b); }
 static inline vec4 v4_mul(vec4 a, vec4 b) { return _mm_mul_ps(a, b); }
 /* Lanes truncated to integers; the caller keeps them in [0, 2^31). */
 static inline void v4_to_u32(vec4 a, uint32_t out[4]) { _mm_storeu_si128((__m128i *)out, _mm_cvttps_epi32(a)); }
+/* Lanes 0..2 of a, lane 3 zero (+0). */
+static inline vec4 v4_xyz(vec4 a) { return _mm_and_ps(a, _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0))); }
 #else
 typedef struct vec4 {
     float f[4];
@@ -63,6 +65,11 @@ static inline void v4_to_u32(vec4 a, uint32_t out[4])
     for (int k = 0; k < 4; k++)
         out[k] = (uint32_t)a.f[k];
 }
+static inline vec4 v4_xyz(vec4 a)
+{
+    a.f[3] = 0.0f;
+    return a;
+}
 #endif
 
 /* ------------------------------------------------------------------------ boxes and records */
@@ -72,8 +79,8 @@ typedef struct aabb {
     vec4 lo, hi;
 } aabb;
 
-/* One triangle's exact bounds and original index, 32 bytes; the build permutes these. Loaded as
- * 4 lanes, lo's lane 3 is the index (meaningless as a float) and hi's is zero. */
+/* One triangle's exact bounds and original index, 32 bytes; the build permutes these. In memory
+ * lo's lane 3 is the index and hi's is zero; ref_load clears the index's lane. */
 typedef struct prim_ref {
     float lo[3];
     uint32_t index;
@@ -132,11 +139,17 @@ static inline float aabb_half_area(const aabb *b)
 
 /* A ref's bounds and centroid. Every centroid of the build comes from here (the centroid bounds,
  * the binning, the partitioning), so they agree bit for bit. Halving before adding keeps huge
- * coordinates from overflowing. */
+ * coordinates from overflowing. lo's lane 3, the index, is cleared: read as a float, an index
+ * below 2^23 is subnormal, and halving it (and one above, below 2^24) makes a subnormal. Without
+ * flush-to-zero, Intel cores finish a multiplication that makes a subnormal in a microcode assist
+ * of over a hundred cycles (Intel's optimization manual, "floating-point assists"), which the
+ * centroid and the binning paid once or more per record and pass: the likely reason the H200
+ * host's Xeon built 5 times slower per core than the AMD machine of the tests (research/journal.md,
+ * "A faster BVH build"). On the AMD machine clearing it cut 10-15% of the build. */
 static inline ref_lanes ref_load(const prim_ref *r)
 {
     ref_lanes l;
-    l.lo = v4_load((const char *)r + offsetof(prim_ref, lo));
+    l.lo = v4_xyz(v4_load((const char *)r + offsetof(prim_ref, lo)));
     l.hi = v4_load((const char *)r + offsetof(prim_ref, hi));
     vec4 half = v4_set1(0.5f);
     l.c = v4_add(v4_mul(l.lo, half), v4_mul(l.hi, half));
