@@ -22,6 +22,9 @@ STARTUP_CPU = f"{RESULTS}/startup-lavapipe"
 GLOSSY = f"{RESULTS}/glossy-dof-h200"
 # The BVH build before and after the parallel top levels, on this session's 2-core machine.
 FASTBUILD = f"{RESULTS}/bvh-build-fast-2core.txt"
+# The build with the index lane cleared and the small-node shortcuts (branch bvhbuild), the same
+# machine, 2026-12-03.
+SUBNORMAL = f"{RESULTS}/bvh-build-subnormal-2core.txt"
 # Issue 21's table after the spatial splits (research/gpu-run vs-driver, one call), and the
 # 104 M triangle render (research/gpu-run huge quick), 2026-12-02.
 SPLITS = f"{RESULTS}/h200-1202b"
@@ -652,6 +655,32 @@ What stays serial is the stitch's walk over the jobs, each top level's choice an
 and freeing the scratch: about 2% of the work. By Amdahl's law that allows about 13x on 16 cores
 (an estimate, not a measurement: memory bandwidth may allow less), where the old build's serial
 top held 10 M triangles to 4.7-5.2 s on the H200 host.
+
+**Per core.** That H200 host then built the 10 M tiles in 33.4 s on one thread (3.3 us a
+triangle), this 2-core AMD machine in 7.4-7.7 s of processor time, the same tree: the records'
+stage 2.0x slower there, the subtrees 4.9x. The likely cause was a subnormal float: a record
+keeps its triangle's index in the fourth lane of its lower corner, and halving the corners for
+the centroid made a subnormal of every index below 2^24, which Intel cores (not AMD's) finish in a
+microcode assist of a hundred cycles or more, once or twice per record in every pass. The
+builder now clears that lane (src/accel/bvh_lanes.h, `ref_load`), decides nodes of two triangles
+without bins and skips empty bins in the SAH sweep: the same tree, byte for byte (bvh-bench's
+tree hash, every public scene and both tiles, leaves of 1, 2, 4 and 8, 1 to 3 threads, with and
+without spatial splits). On this machine (`{SUBNORMAL}`, processor ms of the build, the least of
+interleaved runs at load average 14-18; callgrind: 634 -> 569 M instructions for Lost Empire):
+
+| scene (triangles) | threads | before | now | before / now |
+|---|---:|---:|---:|---:|
+| bunny (69,451) | 1 | 40.6 | 33.6 | 1.21 |
+| Sponza (66,450) | 1 | 27.6 | 23.6 | 1.17 |
+| Sibenik (75,284) | 1 | 33.0 | 28.7 | 1.15 |
+| Lost Empire (224,998) | 1 | 94.3 | 83.0 | 1.14 |
+| Lost Empire 3 x 3 (2,024,982) | 1 | 1,128 | 912 | 1.24 |
+| Lost Empire 3 x 3 | 2 | 1,269 | 941 | 1.35 |
+| Lost Empire 9 x 5 (10,124,910) | 1 | 7,457 | 4,856 | 1.54 |
+
+On the H200 host the gain should be larger if the assists were the cause: `research/gpu-run
+bvh-build` runs the old and new builds under `perf stat` for floating-point assists, and at 10 M
+with 1, 4, 8 and 16 threads (to be measured).
 
 ## Glossy and out of focus (issue 19)
 
