@@ -57,6 +57,7 @@
 #include <new>
 #include <streambuf>
 #include <string>
+#include <string_view>
 #include <vector>
 
 extern "C" {
@@ -412,7 +413,7 @@ struct Face {
 };
 
 /* The text of one index as written, for messages: corner `corner` of the f line, part 0/1/2. */
-std::string written_index(const std::string &text, const FaceLine &face, uint32_t corner, int part)
+std::string written_index(std::string_view text, const FaceLine &face, uint32_t corner, int part)
 {
     LineWalker walker(text.data() + face.offset, text.data() + text.size());
     Span line, token;
@@ -442,7 +443,7 @@ const IndexKind VERTEX_INDEX = {"face index", "vertices", 0};
 const IndexKind TEXCOORD_INDEX = {"face texture coordinate index", "texture coordinates", 1};
 const IndexKind NORMAL_INDEX = {"face normal index", "normals", 2};
 
-bool fail_index(const char *path, const std::string &text, const FaceLine &face, uint32_t corner,
+bool fail_index(const char *path, std::string_view text, const FaceLine &face, uint32_t corner,
                 const IndexKind &kind, size_t total, uint32_t before, vkrt_error *err)
 {
     std::string n = written_index(text, face, corner, kind.part);
@@ -462,7 +463,7 @@ bool index_ok(int index, size_t count, bool optional)
     return index >= 0 && static_cast<size_t>(index) < count;
 }
 
-bool validate_face(const char *path, const std::string &text, const Parsed &p, const FaceLine &face, const Corner *corners, vkrt_error *err)
+bool validate_face(const char *path, std::string_view text, const Parsed &p, const FaceLine &face, const Corner *corners, vkrt_error *err)
 {
     size_t nv = p.geometry.vertices.size() / 3, nt = p.geometry.texcoords.size() / 2, nn = p.geometry.normals.size() / 3;
     for (uint32_t c = 0; c < face.corners; c++) {
@@ -526,7 +527,7 @@ bool is_zero(const std::string &s)
 
 /* tinyobjloader's "Failed parse `f' line(e.g. zero value for face index. line N.)" in our words:
  * which index of line N it refused, and why. */
-bool fail_face_line(const char *path, const std::string &text, size_t start, uint32_t number,
+bool fail_face_line(const char *path, std::string_view text, size_t start, uint32_t number,
                     vkrt_error *err)
 {
     LineWalker walker(text.data() + start, text.data() + text.size());
@@ -562,7 +563,7 @@ bool mismatch(const char *path, const char *what, vkrt_error *err)
 
 /* Validates every index of every face, in file order, and gives each face the material of the
  * last usemtl before it. */
-bool collect_faces(const char *path, const std::string &text, const Parsed &p, std::vector<Face> *faces,
+bool collect_faces(const char *path, std::string_view text, const Parsed &p, std::vector<Face> *faces,
                    vkrt_error *err)
 {
     for (const obj_geometry::Chunk &chunk : p.geometry.chunks)
@@ -785,7 +786,7 @@ size_t write_triangles(const Parsed &p, const std::vector<Face> &faces, unsigned
 
 /* tinyobjloader's error is one or more "...\n" lines; the first one is the cause. The failures it
  * knows (an f, l or p record with an index of 0 or not a number) are put in our words. */
-bool fail_tinyobj(const char *path, const std::string &text, size_t start, const std::string &message,
+bool fail_tinyobj(const char *path, std::string_view text, size_t start, const std::string &message,
                   vkrt_error *err)
 {
     std::string first = message.substr(0, message.find('\n'));
@@ -828,7 +829,7 @@ void renumber_lines(std::string *message, const std::vector<uint32_t> &line_of)
  * the usemtl chose (rc10 looks the name up among the materials of the mtllib records read so far),
  * so p->usemtl_material holds one per usemtl record. Its errors (an f, l or p record it refuses)
  * and warnings come with the file's line numbers. */
-bool read_other_lines(const char *path, const std::string &text, size_t start, Parsed *p,
+bool read_other_lines(const char *path, std::string_view text, size_t start, Parsed *p,
                       MtlReader *reader, std::string *warnings, vkrt_error *err)
 {
     std::string lines;
@@ -871,18 +872,16 @@ const char *why_no_triangles(const obj_geometry::Geometry &g)
     return " (no f records)";
 }
 
-/* The common path of vkrt_obj_load and vkrt_obj_parse: *text_in is the whole OBJ (the caller's own
- * copy: ignored records are blanked in it), path names it in messages, mtl_folder is where
- * mtllib files are looked up (nullptr: .mtl files are not read), and split says how the geometry
- * is read in parallel. */
-bool parse(const char *path, std::string *text_in, const std::string *mtl_folder, obj_geometry::Split split,
+/* The common path of vkrt_obj_load and vkrt_obj_parse: text is the whole OBJ, path names it in
+ * messages, mtl_folder is where mtllib files are looked up (nullptr: .mtl files are not read),
+ * and split says how the geometry is read in parallel. */
+bool parse(const char *path, std::string_view text, const std::string *mtl_folder, obj_geometry::Split split,
            vkrt_mesh *mesh, vkrt_error *err)
 {
-    const std::string &text = *text_in;
     size_t start = 0;
     Parsed p;
     if (!check_encoding(path, text, &start, err) ||
-        !obj_geometry::parse_geometry(path, &(*text_in)[0], start, text.size(), split, &p.geometry, err))
+        !obj_geometry::parse_geometry(path, text.data(), start, text.size(), split, &p.geometry, err))
         return false;
     const ObjScan &scan = p.geometry.summary;
 
@@ -925,11 +924,13 @@ bool parse(const char *path, std::string *text_in, const std::string *mtl_folder
 
 bool load(const char *path, vkrt_mesh *mesh, vkrt_error *err)
 {
-    std::string text;
-    if (!read_whole_file(path, "Wavefront OBJ file", &text, err))
+    char *bytes;
+    size_t size;
+    if (!vkrt_text_read_file(path, OBJ_MAX_FILE_BYTES, "Wavefront OBJ file", &bytes, &size, err))
         return false;
+    std::unique_ptr<char, void (*)(void *)> owned(bytes, free);
     std::string folder = folder_of(path);
-    return parse(path, &text, &folder, obj_geometry::Split{0, 0}, mesh, err);
+    return parse(path, std::string_view(bytes, size), &folder, obj_geometry::Split{0, 0}, mesh, err);
 }
 
 /* Runs body (a load or parse into mesh) with every C++ exception turned into a message about name,
@@ -981,11 +982,9 @@ extern "C" bool vkrt_obj_parse_split(const char *text, size_t size, const char *
     if (!text && size > 0)
         return vkrt_error_set(err, "%s: no OBJ text given", name);
     return guarded(name, mesh, err, [&] {
-        /* One copy: ignored records are blanked in it. */
-        std::string copy(size ? text : "", size);
         std::string folder = base_dir ? base_dir : "";
-        return parse(name, &copy, base_dir ? &folder : nullptr, obj_geometry::Split{chunk_bytes, threads},
-                     mesh, err);
+        return parse(name, std::string_view(size ? text : "", size), base_dir ? &folder : nullptr,
+                     obj_geometry::Split{chunk_bytes, threads}, mesh, err);
     });
 }
 
