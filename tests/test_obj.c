@@ -26,6 +26,7 @@
 
 #include "scene/obj_load.h"
 #include "scene/text_file.h"
+#include "shared_scenes.h"
 #include "temp_dir.h"
 
 /* ------------------------------------------------------------------------ helpers */
@@ -843,17 +844,6 @@ static void mtl_texture_lines_and_tf(void **state)
 
 /* ------------------------------------------------------------------------ shared scenes */
 
-static const char *scenes_dir(void)
-{
-    const char *dir = getenv("VKRT_SCENES_DIR");
-    struct stat st;
-    if (!dir || !*dir || stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
-        printf("VKRT_SCENES_DIR %s; skipping shared-scene tests\n", dir ? "is not a folder" : "unset");
-        return NULL;
-    }
-    return dir;
-}
-
 typedef struct path_list {
     char **items;
     size_t count, cap;
@@ -990,7 +980,7 @@ static int check_suite_file(const char *suite, const char *path)
 
 static void run_suite(const char *name)
 {
-    const char *dir = scenes_dir();
+    const char *dir = shared_scenes_dir();
     if (!dir)
         skip();
     char suite[1024];
@@ -1028,7 +1018,7 @@ static int material_named(const vkrt_mesh *m, const char *name)
 static void cornell_box(void **state)
 {
     (void)state;
-    const char *dir = scenes_dir();
+    const char *dir = shared_scenes_dir();
     if (!dir)
         skip();
     char path[1024];
@@ -1054,7 +1044,7 @@ static void cornell_box(void **state)
 static void stanford_bunny(void **state)
 {
     (void)state;
-    const char *dir = scenes_dir();
+    const char *dir = shared_scenes_dir();
     if (!dir)
         skip();
     char path[1024];
