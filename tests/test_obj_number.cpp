@@ -9,7 +9,9 @@
  *   1. numbers: tokens of every shape rc10's grammar knows, and of shapes it half-reads ("3.1+e2",
  *      "-.", "1e"), read by obj_number::parse_real against the vertex LoadObj reads from a
  *      "v A B C" line of them;
- *   2. files: every OBJ of the shared scenes that the geometry read accepts (both parser suites,
+ *   2. faces: 20,000 of random corners in every form rc10 reads (relative, "+1", "007", indices
+ *      of 10 to 12 digits that atoi wraps), their indices against LoadObj's;
+ *   3. files: every OBJ of the shared scenes that the geometry read accepts (both parser suites,
  *      the bunny, Lost Empire, ...): its arrays of v, vt and vn numbers (usable or not), and the
  *      corners of every face, against LoadObj's attributes and indices.
  */
@@ -216,6 +218,68 @@ void assert_same_numbers(const std::string &path, const char *what, const std::v
                      double(got[i]), double(want[i]));
 }
 
+/* Every face corner of the geometry read against LoadObj's, in file order. */
+void assert_same_corners(const std::string &name, const obj_geometry::Geometry &g, const Reference &ref)
+{
+    size_t k = 0;
+    for (const obj_geometry::Chunk &c : g.chunks)
+        for (const obj_scan::Corner &corner : c.scan.corners) {
+            if (k >= ref.corners.size())
+                fail_msg("%s: more face corners than tinyobjloader's %zu", name.c_str(), ref.corners.size());
+            const tinyobj::index_t &want = ref.corners[k++];
+            if (corner.v != want.vertex_index || corner.vt != want.texcoord_index ||
+                corner.vn != want.normal_index)
+                fail_msg("%s: corner %zu is %d/%d/%d, tinyobjloader's %d/%d/%d", name.c_str(), k - 1,
+                         corner.v, corner.vt, corner.vn, want.vertex_index, want.texcoord_index,
+                         want.normal_index);
+        }
+    if (k != ref.corners.size())
+        fail_msg("%s: %zu face corners, tinyobjloader %zu", name.c_str(), k, ref.corners.size());
+}
+
+/* An index rc10 accepts, in one of the ways files write it: plain, negative (relative), with a
+ * '+' or leading zeros, or of 10 to 12 digits (atoi's int then wraps, never to 0 here). */
+std::string random_index(Random *r)
+{
+    static const char *const PREFIXES[] = {"", "", "", "", "-", "+", "00", "-0"};
+    std::string s = PREFIXES[r->next(8)];
+    uint32_t digits = r->next(8) == 0 ? 10 + r->next(3) : 1 + r->next(3);
+    s += static_cast<char>('1' + r->next(9));
+    for (uint32_t i = 1; i < digits; i++)
+        s += static_cast<char>('0' + r->next(10));
+    return s;
+}
+
+/* Faces of 3 to 6 corners in every form rc10 reads (v, v/t, v//n, v/t/n), blanks of spaces and
+ * tabs, among v, vt and vn records, read by the geometry read against LoadObj. */
+void faces_match_tinyobjloader(void **)
+{
+    static const char *const BLANKS[] = {" ", " ", "\t", "  ", " \t "};
+    Random r{1203};
+    std::string text;
+    for (int i = 0; i < 20000; i++) {
+        if (r.next(4) == 0)
+            text += r.next(3) == 0 ? "v 1 2 3\n" : r.next(2) ? "vt 0.5 0.25\n" : "vn 0 0 1\n";
+        text += "f";
+        for (uint32_t c = 0, n = 3 + r.next(4); c < n; c++) {
+            text += BLANKS[r.next(5)] + random_index(&r);
+            switch (r.next(4)) {
+            case 1: text += "/" + random_index(&r); break;
+            case 2: text += "//" + random_index(&r); break;
+            case 3: text += "/" + random_index(&r) + "/" + random_index(&r); break;
+            }
+        }
+        text += r.next(8) == 0 ? " \n" : "\n";
+    }
+    obj_geometry::Geometry g;
+    vkrt_error err = {{0}};
+    if (!obj_geometry::parse_geometry("faces.obj", text.data(), 0, text.size(), obj_geometry::Split{4096, 2}, &g, &err))
+        fail_msg("%s", err.msg);
+    Reference ref = load_reference(text);
+    assert_true(ref.ok);
+    assert_same_corners("faces.obj", g, ref);
+}
+
 /* Returns whether the file was compared (the geometry read and LoadObj both accept it). */
 bool compare_file(const std::string &path)
 {
@@ -238,20 +302,7 @@ bool compare_file(const std::string &path)
     assert_same_numbers(path, "v", g.vertices, ref.attrib.vertices);
     assert_same_numbers(path, "vt", g.texcoords, ref.attrib.texcoords);
     assert_same_numbers(path, "vn", g.normals, ref.attrib.normals);
-    size_t k = 0;
-    for (const obj_geometry::Chunk &c : g.chunks)
-        for (const obj_scan::Corner &corner : c.scan.corners) {
-            if (k >= ref.corners.size())
-                fail_msg("%s: more face corners than tinyobjloader's %zu", path.c_str(), ref.corners.size());
-            const tinyobj::index_t &want = ref.corners[k++];
-            if (corner.v != want.vertex_index || corner.vt != want.texcoord_index ||
-                corner.vn != want.normal_index)
-                fail_msg("%s: corner %zu is %d/%d/%d, tinyobjloader's %d/%d/%d", path.c_str(), k - 1,
-                         corner.v, corner.vt, corner.vn, want.vertex_index, want.texcoord_index,
-                         want.normal_index);
-        }
-    if (k != ref.corners.size())
-        fail_msg("%s: %zu face corners, tinyobjloader %zu", path.c_str(), k, ref.corners.size());
+    assert_same_corners(path, g, ref);
     return true;
 }
 
@@ -276,6 +327,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(numbers_match_tinyobjloader),
         cmocka_unit_test(short_decimals_are_plain),
+        cmocka_unit_test(faces_match_tinyobjloader),
         cmocka_unit_test(files_match_tinyobjloader),
     };
     return cmocka_run_group_tests(tests, nullptr, nullptr);

@@ -429,9 +429,9 @@ bool read_plain_index(const char **p, const char *e, int *value)
     bool negative = q < e && *q == '-';
     q += negative;
     int v = 0, digits = 0;
-    for (; q < e && *q >= '0' && *q <= '9' && digits < 10; q++, digits++)
+    for (; q < e && *q >= '0' && *q <= '9' && digits < 9; q++, digits++)
         v = 10 * v + (*q - '0');
-    if (digits == 0 || digits > 9 || v == 0 || (q < e && *q != '/' && !is_blank(*q)))
+    if (digits == 0 || v == 0 || (q < e && *q != '/' && !is_blank(*q))) /* a 10th digit too */
         return false;
     *value = negative ? -v : v;
     *p = q;
