@@ -118,8 +118,12 @@ bool LineWalker::next(Span *line)
     if (p >= end)
         return false;
     line->b = p;
-    while (p < end && *p != '\n' && *p != '\r')
-        p++;
+    /* memchr is vectorised: the line's '\n', then any '\r' before it (a CRLF or a lone CR). */
+    const char *nl = static_cast<const char *>(memchr(p, '\n', static_cast<size_t>(end - p)));
+    if (!nl)
+        nl = end;
+    const char *cr = static_cast<const char *>(memchr(p, '\r', static_cast<size_t>(nl - p)));
+    p = cr ? cr : nl;
     line->e = p;
     if (p < end) {
         char ending = *p++;
@@ -129,8 +133,6 @@ bool LineWalker::next(Span *line)
     number++;
     return true;
 }
-
-bool is_blank(char c) { return c == ' ' || c == '\t'; }
 
 /* Next blank-separated token of *rest, or false at the end of the line. */
 bool next_token(Span *rest, Span *token)

@@ -48,7 +48,10 @@ struct LineWalker {
 };
 
 /* Space or tab: the only separators tinyobjloader knows. */
-bool is_blank(char c);
+inline bool is_blank(char c)
+{
+    return c == ' ' || c == '\t';
+}
 
 /* The next blank-separated token of *rest in *token, and *rest moved past it; false at the end
  * of the line. */
