@@ -403,6 +403,10 @@ struct Parsed {
     obj_geometry::Geometry geometry;
     std::vector<tinyobj::material_t> materials;
     std::vector<int> usemtl_material;
+    /* Each vn record as the triangles get it (unit_normals, 3 floats) and whether it is usable
+     * (finite and not of zero length), computed once per record rather than per corner. */
+    std::vector<float> unit_normals;
+    std::vector<char> normal_usable;
 };
 
 /* One polygon after validation: its corners, 0-based (-1: not given). */
@@ -561,21 +565,74 @@ bool mismatch(const char *path, const char *what, vkrt_error *err)
     return vkrt_error_set(err, "%s: cannot load: tinyobjloader and the line scan disagree on %s", path, what);
 }
 
-/* Validates every index of every face, in file order, and gives each face the material of the
- * last usemtl before it. */
-bool collect_faces(const char *path, std::string_view text, const Parsed &p, std::vector<Face> *faces,
-                   vkrt_error *err)
+struct OutputPlan {
+    size_t triangles = 0;
+    bool any_normals = false, any_texcoords = false;
+};
+
+/* collect_faces on every core: each chunk validates its own faces into its part of *faces. */
+struct CollectPass {
+    const char *path;
+    std::string_view text;
+    const Parsed *p;
+    std::vector<size_t> first_face;                     /* per chunk, in *faces */
+    std::vector<OutputPlan> plans;                      /* per chunk */
+    std::vector<vkrt_error> errors;                     /* per chunk: its first bad face */
+    std::unique_ptr<bool[]> failed;                     /* per chunk */
+    std::vector<Face> *faces;
+};
+
+void collect_chunk(void *context, size_t i)
 {
-    for (const obj_geometry::Chunk &chunk : p.geometry.chunks)
-        for (const FaceLine &face : chunk.scan.faces) {
-            const Corner *corners = &chunk.scan.corners[face.first_corner];
-            if (!validate_face(path, text, p, face, corners, err))
-                return false;
-            int mat = face.usemtl_before ? p.usemtl_material[face.usemtl_before - 1] : -1;
-            if (mat < 0 || static_cast<size_t>(mat) >= p.materials.size())
-                mat = -1;
-            faces->push_back(Face{corners, face.corners, mat});
+    CollectPass *c = static_cast<CollectPass *>(context);
+    const Parsed &p = *c->p;
+    const obj_geometry::Chunk &chunk = p.geometry.chunks[i];
+    OutputPlan &plan = c->plans[i];
+    Face *out = c->faces->data() + c->first_face[i];
+    for (const FaceLine &face : chunk.scan.faces) {
+        const Corner *corners = &chunk.scan.corners[face.first_corner];
+        if (!validate_face(c->path, c->text, p, face, corners, &c->errors[i])) {
+            c->failed[i] = true;
+            return;
         }
+        int mat = face.usemtl_before ? p.usemtl_material[face.usemtl_before - 1] : -1;
+        if (mat < 0 || static_cast<size_t>(mat) >= p.materials.size())
+            mat = -1;
+        *out++ = Face{corners, face.corners, mat};
+        plan.triangles += face.corners - 2;
+        for (uint32_t k = 0; k < face.corners; k++) {
+            plan.any_normals |= corners[k].vn >= 0;
+            plan.any_texcoords |= corners[k].vt >= 0;
+        }
+    }
+}
+
+/* Validates every index of every face and gives each face the material of the last usemtl before
+ * it, in file order in *faces, on every core; fails with the first bad face of the file. *plan
+ * says how many triangles the faces make and whether any corner names a normal or texture
+ * coordinate. */
+bool collect_faces(const char *path, std::string_view text, const Parsed &p, unsigned threads,
+                   std::vector<Face> *faces, OutputPlan *plan, vkrt_error *err)
+{
+    const std::vector<obj_geometry::Chunk> &chunks = p.geometry.chunks;
+    size_t n = chunks.size(), total = 0;
+    CollectPass c{path, text, &p, std::vector<size_t>(n), std::vector<OutputPlan>(n),
+                  std::vector<vkrt_error>(n), std::unique_ptr<bool[]>(new bool[n]()), faces};
+    for (size_t i = 0; i < n; i++) {
+        c.first_face[i] = total;
+        total += chunks[i].scan.faces.size();
+    }
+    faces->resize(total);
+    obj_geometry::run_parallel(n, threads, collect_chunk, &c);
+    for (size_t i = 0; i < n; i++) {
+        if (c.failed[i]) {
+            *err = c.errors[i];
+            return false;
+        }
+        plan->triangles += c.plans[i].triangles;
+        plan->any_normals |= c.plans[i].any_normals;
+        plan->any_texcoords |= c.plans[i].any_texcoords;
+    }
     return true;
 }
 
@@ -642,18 +699,43 @@ Vec3 geometric_normal(const Vec3 &a, const Vec3 &b, const Vec3 &c)
 }
 
 /* The file's normal for a corner, if it has a usable one. */
-bool file_normal(const Parsed &p, const Corner &corner, Vec3 *out)
+bool file_normal(const Parsed &p, const Corner &corner, const float **out)
 {
     int i = corner.vn;
-    if (i < 0 || !p.geometry.summary.vn_usable[static_cast<size_t>(i)])
+    if (i < 0 || !p.normal_usable[static_cast<size_t>(i)])
         return false;
-    const float *n = &p.geometry.normals[3 * static_cast<size_t>(i)];
-    Vec3 v{n[0], n[1], n[2]};
-    double len2 = v.x * v.x + v.y * v.y + v.z * v.z;
-    if (!(len2 > 0.0) || !std::isfinite(len2))
-        return false;
-    *out = normalized_or_z(v);
+    *out = &p.unit_normals[3 * static_cast<size_t>(i)];
     return true;
+}
+
+/* Normals per task of unit_normals_task. */
+constexpr size_t NORMALS_PER_TASK = size_t(1) << 16;
+
+void unit_normals_task(void *context, size_t task)
+{
+    Parsed *p = static_cast<Parsed *>(context);
+    size_t count = p->geometry.normals.size() / 3, end = std::min(count, (task + 1) * NORMALS_PER_TASK);
+    for (size_t i = task * NORMALS_PER_TASK; i < end; i++) {
+        const float *n = &p->geometry.normals[3 * i];
+        Vec3 v{n[0], n[1], n[2]};
+        double len2 = v.x * v.x + v.y * v.y + v.z * v.z;
+        p->normal_usable[i] = p->geometry.summary.vn_usable[i] && len2 > 0.0 && std::isfinite(len2);
+        if (p->normal_usable[i]) {
+            Vec3 u = normalized_or_z(v);
+            p->unit_normals[3 * i] = static_cast<float>(u.x);
+            p->unit_normals[3 * i + 1] = static_cast<float>(u.y);
+            p->unit_normals[3 * i + 2] = static_cast<float>(u.z);
+        }
+    }
+}
+
+/* Parsed::unit_normals and normal_usable, on every core. */
+void compute_unit_normals(Parsed *p, unsigned threads)
+{
+    size_t count = p->geometry.normals.size() / 3;
+    p->unit_normals.assign(3 * count, 0.0f);
+    p->normal_usable.assign(count, 0);
+    obj_geometry::run_parallel((count + NORMALS_PER_TASK - 1) / NORMALS_PER_TASK, threads, unit_normals_task, p);
 }
 
 void store3(float *dst, const Vec3 &v)
@@ -661,24 +743,6 @@ void store3(float *dst, const Vec3 &v)
     dst[0] = static_cast<float>(v.x);
     dst[1] = static_cast<float>(v.y);
     dst[2] = static_cast<float>(v.z);
-}
-
-struct OutputPlan {
-    size_t triangles = 0;
-    bool any_normals = false, any_texcoords = false;
-};
-
-OutputPlan plan_output(const std::vector<Face> &faces)
-{
-    OutputPlan plan;
-    for (const Face &f : faces) {
-        plan.triangles += f.count - 2;
-        for (uint32_t c = 0; c < f.count; c++) {
-            plan.any_normals |= f.corners[c].vn >= 0;
-            plan.any_texcoords |= f.corners[c].vt >= 0;
-        }
-    }
-    return plan;
 }
 
 void *checked_alloc(size_t count, size_t size)
@@ -718,28 +782,40 @@ bool write_triangle(const Parsed &p, const Corner *tri[3], int32_t material, siz
         }
     if (!mesh->normals)
         return false;
-    Vec3 n[3];
+    const float *n[3];
     bool all = file_normal(p, *tri[0], &n[0]) && file_normal(p, *tri[1], &n[1]) && file_normal(p, *tri[2], &n[2]);
     bool some = tri[0]->vn >= 0 || tri[1]->vn >= 0 || tri[2]->vn >= 0;
-    if (!all)
-        n[0] = n[1] = n[2] = geometric_normal(pos[0], pos[1], pos[2]);
-    for (int k = 0; k < 3; k++)
-        store3(&mesh->normals[9 * t + 3 * k], n[k]);
+    float *out = &mesh->normals[9 * t];
+    if (all)
+        for (int k = 0; k < 3; k++)
+            memcpy(out + 3 * k, n[k], 3 * sizeof(float));
+    else
+        for (int k = 0; k < 3; k++)
+            store3(out + 3 * k, geometric_normal(pos[0], pos[1], pos[2]));
     return !all && some;
 }
 
-void compute_bounds(vkrt_mesh *mesh)
+/* The box of `vertices` points (3 floats each, at least one), in one pass in order: where -0 and
+ * +0 tie, the first seen is kept, so boxes of consecutive runs merged in order (merge_bounds) are
+ * the box of the whole to the bit. */
+void bounds_of(const float *positions, size_t vertices, float min[3], float max[3])
+{
+    for (int a = 0; a < 3; a++)
+        min[a] = max[a] = positions[a];
+    for (size_t i = 0; i < vertices; i++)
+        for (int a = 0; a < 3; a++) {
+            float v = positions[3 * i + a];
+            min[a] = v < min[a] ? v : min[a];
+            max[a] = v > max[a] ? v : max[a];
+        }
+}
+
+void merge_bounds(const float min[3], const float max[3], float into_min[3], float into_max[3])
 {
     for (int a = 0; a < 3; a++) {
-        mesh->bounds_min[a] = mesh->positions[a];
-        mesh->bounds_max[a] = mesh->positions[a];
+        into_min[a] = min[a] < into_min[a] ? min[a] : into_min[a];
+        into_max[a] = max[a] > into_max[a] ? max[a] : into_max[a];
     }
-    for (size_t i = 0; i < static_cast<size_t>(mesh->triangle_count) * 3; i++)
-        for (int a = 0; a < 3; a++) {
-            float v = mesh->positions[3 * i + a];
-            mesh->bounds_min[a] = v < mesh->bounds_min[a] ? v : mesh->bounds_min[a];
-            mesh->bounds_max[a] = v > mesh->bounds_max[a] ? v : mesh->bounds_max[a];
-        }
 }
 
 /* Faces written by one task of write_triangles. */
@@ -748,7 +824,8 @@ constexpr size_t FACES_PER_TASK = size_t(1) << 16;
 struct WritePass {
     const Parsed *p;
     const std::vector<Face> *faces;
-    std::vector<size_t> first_triangle, replaced; /* per task */
+    std::vector<size_t> first_triangle, replaced; /* per task, and one past the last task */
+    std::vector<float> bounds;                    /* per task: min xyz, max xyz */
     vkrt_mesh *mesh;
 };
 
@@ -763,20 +840,37 @@ void write_task(void *context, size_t task)
             w->replaced[task] += write_triangle(*w->p, tri, f.material, t, w->mesh);
         }
     }
+    size_t first = w->first_triangle[task];
+    if (t > first)
+        bounds_of(&w->mesh->positions[9 * first], 3 * (t - first), &w->bounds[6 * task], &w->bounds[6 * task + 3]);
 }
 
-/* Fans every face (v0, vi, vi+1) into the output arrays, on every core; returns the triangles
- * given the geometric normal in place of an unusable file normal. */
+/* Fans every face (v0, vi, vi+1) into the output arrays and sets the mesh's bounds, on every
+ * core; returns the triangles given the geometric normal in place of an unusable file normal. */
 size_t write_triangles(const Parsed &p, const std::vector<Face> &faces, unsigned threads, vkrt_mesh *mesh)
 {
     size_t tasks = (faces.size() + FACES_PER_TASK - 1) / FACES_PER_TASK, triangles = 0, replaced = 0;
-    WritePass w{&p, &faces, std::vector<size_t>(tasks), std::vector<size_t>(tasks), mesh};
+    WritePass w{&p, &faces, std::vector<size_t>(tasks + 1), std::vector<size_t>(tasks),
+                std::vector<float>(6 * tasks), mesh};
     for (size_t k = 0; k < faces.size(); k++) {
         if (k % FACES_PER_TASK == 0)
             w.first_triangle[k / FACES_PER_TASK] = triangles;
         triangles += faces[k].count - 2;
     }
+    w.first_triangle[tasks] = triangles;
     obj_geometry::run_parallel(tasks, threads, write_task, &w);
+    bool first = true;
+    for (size_t task = 0; task < tasks; task++) {
+        if (w.first_triangle[task + 1] == w.first_triangle[task])
+            continue;
+        const float *b = &w.bounds[6 * task];
+        if (first) {
+            memcpy(mesh->bounds_min, b, 3 * sizeof(float));
+            memcpy(mesh->bounds_max, b + 3, 3 * sizeof(float));
+        }
+        merge_bounds(b, b + 3, mesh->bounds_min, mesh->bounds_max);
+        first = false;
+    }
     for (size_t r : w.replaced)
         replaced += r;
     return replaced;
@@ -898,10 +992,9 @@ bool parse(const char *path, std::string_view text, const std::string *mtl_folde
                                          mtl_folder ? &reader.libraries : nullptr, &warnings);
     obj_warnings::warn_short_faces(path, scan, &warnings);
     drop_references_to_absent_attributes(path, &p, &warnings);
-    if (!collect_faces(path, text, p, &faces, err))
+    OutputPlan plan;
+    if (!collect_faces(path, text, p, split.threads, &faces, &plan, err))
         return false;
-
-    OutputPlan plan = plan_output(faces);
     if (plan.triangles == 0)
         return vkrt_error_set(err, "%s: no triangles%s", path, why_no_triangles(p.geometry));
     if (plan.triangles > UINT32_MAX / 9) /* 9 floats per triangle must stay addressable by uint32 */
@@ -909,8 +1002,8 @@ bool parse(const char *path, std::string_view text, const std::string *mtl_folde
 
     mesh->triangle_count = static_cast<uint32_t>(plan.triangles);
     allocate_output(plan, mesh);
+    compute_unit_normals(&p, split.threads);
     size_t replaced = write_triangles(p, faces, split.threads, mesh);
-    compute_bounds(mesh);
     convert_materials(p.materials, reader, obj_folder, mesh);
     obj_warnings::warn_unusable_normals(path, replaced, &warnings);
     obj_warnings::set_warnings(warnings, mesh);
