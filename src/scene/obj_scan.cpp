@@ -492,20 +492,27 @@ bool read_coordinates(const char *path, uint32_t number, Span rest, int count,
     return true;
 }
 
+/* has_keyword for a word known at compile time, whose memcmp the compiler inlines: the scan asks
+ * it of every line. */
+template <size_t N> bool is_record(const Span &line, const char (&word)[N])
+{
+    return line.len() > N - 1 && memcmp(line.b, word, N - 1) == 0 && is_blank(line.b[N - 1]);
+}
+
 /* Classifies one line (leading blanks already skipped) and records what it is. */
 bool scan_line(const char *path, const char *text, uint32_t number, Span line, ObjScan *scan,
                vkrt_error *err)
 {
-    if (has_keyword(line, "v")) {
+    if (is_record(line, "v")) {
         scan->v_line.push_back(number);
         return read_coordinates(path, number, Span{line.b + 2, line.e}, 3, scan_vertex, &scan->v, err);
     }
-    if (has_keyword(line, "vt")) {
+    if (is_record(line, "vt")) {
         scan->vt_line.push_back(number);
         return read_coordinates(path, number, Span{line.b + 3, line.e}, 2, scan_texcoord, &scan->vt,
                                 err);
     }
-    if (has_keyword(line, "vn")) {
+    if (is_record(line, "vn")) {
         Span rest{line.b + 3, line.e};
         bool usable = read_short_decimals(rest, 3, 3, &scan->vn);
         if (!usable) {
@@ -525,7 +532,7 @@ bool scan_line(const char *path, const char *text, uint32_t number, Span line, O
         scan->short_faces.push_back(number);
         return true;
     }
-    if (has_keyword(line, "f")) {
+    if (is_record(line, "f")) {
         size_t first = scan->corners.size();
         uint32_t corners = read_plain_corners(Span{line.b + 2, line.e}, &scan->corners);
         if (corners == 0) { /* not plain: as rc10 reads it */
