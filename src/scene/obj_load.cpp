@@ -1,28 +1,31 @@
 /*
  * obj_load.cpp: the C interface of obj_load.h over tinyobjloader (2.0.0rc10, float build).
  *
- * tinyobjloader does the parsing (faces, negative indices, mtllib/usemtl, the .mtl syntax), but it
- * is lenient in ways a renderer cannot afford and it keeps no line numbers, so this file wraps it:
+ * tinyobjloader defines what is accepted and how it reads (faces, negative indices, mtllib/usemtl,
+ * the .mtl syntax), but it is lenient in ways a renderer cannot afford, it keeps no line numbers,
+ * and its istream reading is slow (about 25 MB/s per core), so this file wraps it:
  *
- *  1. The file is read once into memory (or the caller's text is copied).
+ *  1. The file is read once into memory and parsed from that buffer (vkrt_obj_parse: from the
+ *     caller's text, not copied).
  *  2. The geometry is read in parallel (obj_geometry.h): the text is cut into chunks at line ends,
  *     and on every core the pre-scan of obj_scan.h walks a chunk's lines exactly as tinyobjloader
  *     does, checks the numbers of v/vt/vn records with a strict grammar (rc10 reads "nan" or "abc"
- *     as 0 without a word), records the line of every v, vn, vt and f record and reads the corners
- *     of every face as rc10's parseTriple does (atoi), while tinyobjloader's own number parser
- *     (LoadObjWithCallback) reads the chunk's v, vt and vn numbers, so each float is the one its
- *     LoadObj gives. Line numbers, record counts and relative indices are then put together over
- *     the chunks. UTF-16 and NUL bytes are refused first (a UTF-8 BOM is skipped). A vn that is
- *     not three finite numbers, or has zero length, is treated as absent: the triangles using it
- *     get their geometric normal and a warning is recorded. Records vkrt ignores and rc10 parses
- *     unsafely ("vw", "t") are blanked in place so tinyobjloader never reads them.
+ *     as 0 without a word), records the line of every v, vn, vt and f record, reads the corners
+ *     of every face as rc10's parseTriple does (atoi) and the v, vt and vn numbers as its
+ *     tryParseDouble does (obj_number.h, the same operations in the same order), so each float and
+ *     index is the one its LoadObj gives (tests/test_obj_number.cpp holds them to the library).
+ *     Line numbers, record counts and relative indices are then put together over the chunks.
+ *     UTF-16 and NUL bytes are refused first (a UTF-8 BOM is skipped). A vn that is not three
+ *     finite numbers, or has zero length, is treated as absent: the triangles using it get their
+ *     geometric normal and a warning is recorded. Records vkrt ignores and rc10 parses unsafely
+ *     ("vw", "t") are skipped, so tinyobjloader never reads them.
  *  3. tinyobjloader's LoadObj reads the remaining lines (usemtl, mtllib, g, o, s, l, p, faces it
  *     refuses or drops) in file order, with a one-triangle face after each usemtl, whose material
  *     is the one that usemtl chose: the materials, the material of each face, the errors for
  *     an index of 0 and the warnings are its own, and their line numbers are put back to the
  *     file's. Faces of more than 255 corners keep them all (rc10 counts in an unsigned char).
  *  4. Every index is validated against the attribute sizes, and polygons become fans
- *     (v0, vi, vi+1), written on every core. Out-of-range indices are "path:LINE: face index N
+ *     (v0, vi, vi+1), both on every core (the bounds too, per group of faces, merged in order). Out-of-range indices are "path:LINE: face index N
  *     out of range (...)", except that vt/vn references in a file with no vt/vn records at all
  *     are dropped with a warning.
  *
