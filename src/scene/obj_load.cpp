@@ -2,8 +2,9 @@
  * obj_load.cpp: the C interface of obj_load.h over tinyobjloader (2.0.0rc10, float build).
  *
  * tinyobjloader defines what is accepted and how it reads (faces, negative indices, mtllib/usemtl,
- * the .mtl syntax), but it is lenient in ways a renderer cannot afford, it keeps no line numbers,
- * and its istream reading is slow (about 25 MB/s per core), so this file wraps it:
+ * the .mtl syntax), but it is lenient in ways a renderer cannot afford and it keeps no line
+ * numbers, so this file wraps it, and reads the geometry itself as tinyobjloader reads it, in one
+ * pass over the text with the checks:
  *
  *  1. The file is read once into memory and parsed from that buffer (vkrt_obj_parse: from the
  *     caller's text, not copied).
