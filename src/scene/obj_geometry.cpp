@@ -1,11 +1,12 @@
 /*
  * obj_geometry.cpp: the parallel read of an OBJ's geometry (obj_geometry.h).
  *
- * Three passes over the chunks, each on every core: the pre-scan with line numbers counted from
- * the chunk's start, then (after the counts of the chunks before each one are summed) the fix-up
- * of line numbers and the resolution of relative indices, with the numbers read in the first
- * pass (as tinyobjloader reads them: obj_number.h). A chunk that fails its pre-scan is
- * scanned again once the lines before it are known, so its message names the file's line.
+ * Two passes over the chunks, each on every core: the pre-scan with line numbers counted from
+ * the chunk's start, which also reads the numbers (as tinyobjloader reads them: obj_number.h) and
+ * the face corners, then (after the counts of the chunks before each one are summed) the fix-up
+ * of line numbers, the numbers moved to the whole file's arrays and the resolution of relative
+ * indices. A chunk that fails its pre-scan is scanned again once the lines before it are known,
+ * so its message names the file's line.
  */
 #include "obj_geometry.h"
 

@@ -790,12 +790,14 @@ bool write_triangle(const Parsed &p, const Corner *tri[3], int32_t material, siz
     bool all = file_normal(p, *tri[0], &n[0]) && file_normal(p, *tri[1], &n[1]) && file_normal(p, *tri[2], &n[2]);
     bool some = tri[0]->vn >= 0 || tri[1]->vn >= 0 || tri[2]->vn >= 0;
     float *out = &mesh->normals[9 * t];
-    if (all)
+    if (all) {
         for (int k = 0; k < 3; k++)
             memcpy(out + 3 * k, n[k], 3 * sizeof(float));
-    else
+    } else {
+        Vec3 g = geometric_normal(pos[0], pos[1], pos[2]);
         for (int k = 0; k < 3; k++)
-            store3(out + 3 * k, geometric_normal(pos[0], pos[1], pos[2]));
+            store3(out + 3 * k, g);
+    }
     return !all && some;
 }
 
