@@ -26,6 +26,7 @@
 
 #include "scene/obj_load.h"
 #include "scene/text_file.h"
+#include "shared_scenes.h"
 #include "temp_dir.h"
 
 /* ------------------------------------------------------------------------ helpers */
@@ -83,6 +84,25 @@ static void assert_same_floats(const float *a, const float *b, size_t n, const c
         fail_msg("%s: %s differ between the serial and the split parse", name, what);
 }
 
+/* The mesh's bounds are those of its positions, taken in one pass in order (the loader computes
+ * them per group of faces on every core and merges them). */
+static void assert_bounds_of_positions(const vkrt_mesh *m, const char *name)
+{
+    float lo[3], hi[3];
+    for (int a = 0; a < 3; a++)
+        lo[a] = hi[a] = m->positions[a];
+    for (size_t i = 0; i < (size_t)m->triangle_count * 3; i++)
+        for (int a = 0; a < 3; a++) {
+            float v = m->positions[3 * i + a];
+            lo[a] = v < lo[a] ? v : lo[a];
+            hi[a] = v > hi[a] ? v : hi[a];
+        }
+    if (memcmp(lo, m->bounds_min, sizeof lo) != 0 || memcmp(hi, m->bounds_max, sizeof hi) != 0)
+        fail_msg("%s: bounds (%g %g %g)-(%g %g %g) are not those of the positions", name,
+                 (double)m->bounds_min[0], (double)m->bounds_min[1], (double)m->bounds_min[2],
+                 (double)m->bounds_max[0], (double)m->bounds_max[1], (double)m->bounds_max[2]);
+}
+
 /* The two parses of one text agree on everything: the error, or the mesh and its warnings. */
 static void assert_same_parse(bool ok_a, const vkrt_mesh *a, const vkrt_error *err_a, bool ok_b,
                               const vkrt_mesh *b, const vkrt_error *err_b, const char *name,
@@ -98,6 +118,8 @@ static void assert_same_parse(bool ok_a, const vkrt_mesh *a, const vkrt_error *e
         fail_msg("%s cut every %zu bytes: %u triangles against %zu", name, chunk, b->triangle_count,
                  n);
     assert_same_floats(a->positions, b->positions, 9 * n, "positions", name);
+    assert_bounds_of_positions(a, name);
+    assert_bounds_of_positions(b, name);
     assert_same_floats(a->normals, b->normals, 9 * n, "normals", name);
     assert_same_floats(a->texcoords, b->texcoords, 6 * n, "texture coordinates", name);
     if (memcmp(a->material, b->material, n * sizeof *a->material) != 0)
@@ -843,17 +865,6 @@ static void mtl_texture_lines_and_tf(void **state)
 
 /* ------------------------------------------------------------------------ shared scenes */
 
-static const char *scenes_dir(void)
-{
-    const char *dir = getenv("VKRT_SCENES_DIR");
-    struct stat st;
-    if (!dir || !*dir || stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
-        printf("VKRT_SCENES_DIR %s; skipping shared-scene tests\n", dir ? "is not a folder" : "unset");
-        return NULL;
-    }
-    return dir;
-}
-
 typedef struct path_list {
     char **items;
     size_t count, cap;
@@ -990,7 +1001,7 @@ static int check_suite_file(const char *suite, const char *path)
 
 static void run_suite(const char *name)
 {
-    const char *dir = scenes_dir();
+    const char *dir = shared_scenes_dir();
     if (!dir)
         skip();
     char suite[1024];
@@ -1028,7 +1039,7 @@ static int material_named(const vkrt_mesh *m, const char *name)
 static void cornell_box(void **state)
 {
     (void)state;
-    const char *dir = scenes_dir();
+    const char *dir = shared_scenes_dir();
     if (!dir)
         skip();
     char path[1024];
@@ -1054,13 +1065,14 @@ static void cornell_box(void **state)
 static void stanford_bunny(void **state)
 {
     (void)state;
-    const char *dir = scenes_dir();
+    const char *dir = shared_scenes_dir();
     if (!dir)
         skip();
     char path[1024];
     snprintf(path, sizeof path, "%s/stanford-bunny/stanford-bunny.obj", dir);
     vkrt_mesh m = load_ok(path);
     assert_int_equal(m.triangle_count, 69451);
+    assert_bounds_of_positions(&m, path); /* its faces span two of the loader's write tasks */
     assert_null(m.normals);
     for (size_t i = 0; i < (size_t)m.triangle_count * 9; i++)
         assert_true(isfinite(m.positions[i]));

@@ -1,26 +1,19 @@
 /*
  * obj_geometry.cpp: the parallel read of an OBJ's geometry (obj_geometry.h).
  *
- * Three passes over the chunks, each on every core: the pre-scan with line numbers counted from
- * the chunk's start, then (after the counts of the chunks before each one are summed) the fix-up
- * of line numbers and the resolution of relative indices, with the numbers read by
- * tinyobjloader's LoadObjWithCallback in the first pass. A chunk that fails its pre-scan is
- * scanned again once the lines before it are known, so its message names the file's line.
+ * Two passes over the chunks, each on every core: the pre-scan with line numbers counted from
+ * the chunk's start, which also reads the numbers (as tinyobjloader reads them: obj_number.h) and
+ * the face corners, then (after the counts of the chunks before each one are summed) the fix-up
+ * of line numbers, the numbers moved to the whole file's arrays and the resolution of relative
+ * indices. A chunk that fails its pre-scan is scanned again once the lines before it are known,
+ * so its message names the file's line.
  */
 #include "obj_geometry.h"
-
-/* The fuzz build compiles tinyobjloader's implementation into its sources
- * (-DTINYOBJLOADER_IMPLEMENTATION, fuzz/meson.build) to put it under coverage: obj_load.cpp holds
- * it, this file only its declarations. */
-#undef TINYOBJLOADER_IMPLEMENTATION
-#include <tiny_obj_loader.h>
 
 #include <algorithm>
 #include <atomic>
 #include <exception>
-#include <istream>
 #include <mutex>
-#include <streambuf>
 #include <thread>
 
 namespace obj_geometry {
@@ -30,16 +23,6 @@ namespace {
 /* Big enough that a thread's start costs nothing against its chunk, small enough that 16 cores
  * share a 400 MB file evenly (chunks are handed out as threads come free). */
 constexpr size_t DEFAULT_CHUNK_BYTES = size_t(4) << 20;
-
-/* Read-only std::streambuf over one chunk, for tinyobjloader. */
-class ChunkBuffer : public std::streambuf {
-public:
-    ChunkBuffer(const char *data, size_t size)
-    {
-        char *p = const_cast<char *>(data); /* only read through the get area */
-        setg(p, p, p + size);
-    }
-};
 
 /* Chunks of about chunk_bytes, each ending just after a '\n' (so a "\r\n" stays whole) or at the
  * end of the text. A file whose lines end in a lone '\r' is one chunk. */
@@ -59,42 +42,9 @@ std::vector<Chunk> split_at_lines(const char *text, size_t start, size_t size, s
     return chunks;
 }
 
-void on_vertex(void *user, tinyobj::real_t x, tinyobj::real_t y, tinyobj::real_t z, tinyobj::real_t)
-{
-    std::vector<float> *v = &static_cast<Chunk *>(user)->v;
-    v->insert(v->end(), {x, y, z});
-}
-
-void on_normal(void *user, tinyobj::real_t x, tinyobj::real_t y, tinyobj::real_t z)
-{
-    std::vector<float> *vn = &static_cast<Chunk *>(user)->vn;
-    vn->insert(vn->end(), {x, y, z});
-}
-
-void on_texcoord(void *user, tinyobj::real_t x, tinyobj::real_t y, tinyobj::real_t)
-{
-    std::vector<float> *vt = &static_cast<Chunk *>(user)->vt;
-    vt->insert(vt->end(), {x, y});
-}
-
-/* The v, vt and vn numbers of a chunk, by tinyobjloader's parser (the one LoadObj uses). */
-void read_numbers(const char *text, Chunk *c)
-{
-    tinyobj::callback_t callbacks;
-    callbacks.vertex_cb = on_vertex;
-    callbacks.normal_cb = on_normal;
-    callbacks.texcoord_cb = on_texcoord;
-    c->v.reserve(3 * c->scan.v_line.size());
-    c->vt.reserve(2 * c->scan.vt_line.size());
-    c->vn.reserve(3 * c->scan.vn_line.size());
-    ChunkBuffer buffer(text + c->begin, c->end - c->begin);
-    std::istream stream(&buffer);
-    tinyobj::LoadObjWithCallback(stream, callbacks, c, nullptr, nullptr, nullptr);
-}
-
 struct ScanPass {
     const char *path;
-    char *text;
+    const char *text;
     std::vector<Chunk> *chunks;
 };
 
@@ -106,8 +56,6 @@ void scan_chunk(void *context, size_t i)
         c->failed = true;
         return;
     }
-    obj_scan::blank_ignored_records(pass->text, c->begin, c->end);
-    read_numbers(pass->text, c);
 }
 
 /* rc10's fixIndex: 1-based, or relative to the records before the face (-1 is "one back");
@@ -132,10 +80,10 @@ void fix_up_chunk(void *context, size_t i)
 {
     Geometry *g = static_cast<Geometry *>(context);
     Chunk *c = &g->chunks[i];
-    move_numbers(&c->v, &g->vertices, 3 * size_t(c->v_before));
-    move_numbers(&c->vt, &g->texcoords, 2 * size_t(c->vt_before));
-    move_numbers(&c->vn, &g->normals, 3 * size_t(c->vn_before));
     obj_scan::ObjScan &s = c->scan;
+    move_numbers(&s.v, &g->vertices, 3 * size_t(c->v_before));
+    move_numbers(&s.vt, &g->texcoords, 2 * size_t(c->vt_before));
+    move_numbers(&s.vn, &g->normals, 3 * size_t(c->vn_before));
     uint32_t lines = c->lines_before;
     for (std::vector<uint32_t> *v : {&s.v_line, &s.vt_line, &s.vn_line, &s.short_faces})
         for (uint32_t &line : *v)
@@ -201,7 +149,7 @@ void run_parallel(size_t count, unsigned threads, void (*body)(void *context, si
         std::rethrow_exception(failure);
 }
 
-bool parse_geometry(const char *path, char *text, size_t start, size_t size, Split split,
+bool parse_geometry(const char *path, const char *text, size_t start, size_t size, Split split,
                     Geometry *out, vkrt_error *err)
 {
     out->chunks = split_at_lines(text, start, size, split.chunk_bytes ? split.chunk_bytes : DEFAULT_CHUNK_BYTES);
@@ -219,10 +167,6 @@ bool parse_geometry(const char *path, char *text, size_t start, size_t size, Spl
             return vkrt_error_set(err, "%s: cannot load: the pre-scan of one piece of the file failed "
                                        "only once (%s)", path, c.err.msg);
         }
-        if (c.v.size() != 3 * c.scan.v_line.size() || c.vt.size() != 2 * c.scan.vt_line.size() ||
-            c.vn.size() != 3 * c.scan.vn_line.size())
-            return vkrt_error_set(err, "%s: cannot load: tinyobjloader and the line scan disagree on "
-                                       "the number of v/vt/vn records", path);
         c.lines_before = lines;
         c.v_before = static_cast<uint32_t>(out->v_count);
         c.vt_before = static_cast<uint32_t>(out->vt_count);

@@ -2,9 +2,9 @@
  * obj_geometry.h: an OBJ's geometry records read in parallel (internal to obj_load.cpp).
  *
  * The text is split into chunks at line ends and each chunk is read on its own thread: the
- * pre-scan of obj_scan.h (checks, line numbers, the corners of every face as written) and the
- * numbers of its v, vt and vn records, which tinyobjloader's own number parser reads (its
- * LoadObjWithCallback), so every coordinate is the float tinyobjloader's LoadObj gives. What
+ * pre-scan of obj_scan.h (checks, line numbers, the corners of every face as written, and the
+ * numbers of its v, vt and vn records read as tinyobjloader's own number parser reads them,
+ * obj_number.h), so every coordinate is the float tinyobjloader's LoadObj gives. What
  * crosses chunks is put together afterwards: line numbers and record counts are summed over the
  * chunks before (a prefix sum), relative indices are resolved against the counts before their
  * face in the whole file, and each face's material is that of the last usemtl before it.
@@ -25,15 +25,14 @@ extern "C" {
 
 namespace obj_geometry {
 
-/* One chunk of the text: its bytes [begin, end), what the pre-scan found there (line numbers of
+/* One chunk of the text: its bytes [begin, end) and what the pre-scan found there (line numbers of
  * the whole file; v_before, vt_before, vn_before and usemtl_before counted over the whole file once
- * parse_geometry returns), and the numbers of its records. */
+ * parse_geometry returns; its numbers moved to Geometry's arrays). */
 struct Chunk {
     size_t begin = 0, end = 0;
     uint32_t lines_before = 0, lines = 0;
     uint32_t v_before = 0, vt_before = 0, vn_before = 0, usemtl_before = 0;
     obj_scan::ObjScan scan;
-    std::vector<float> v, vt, vn; /* 3, 2 and 3 floats per record */
     bool failed = false;
     vkrt_error err = {{0}};
 };
@@ -56,12 +55,11 @@ struct Split {
     unsigned threads;
 };
 
-/* Reads text[start, size) into *out. text is the caller's own copy: the records vkrt ignores are
- * blanked in it (obj_scan::blank_ignored_records). Fails with the first pre-scan error of the
+/* Reads text[start, size) into *out. Fails with the first pre-scan error of the
  * file in err ("path:LINE: ..."), as a serial pre-scan would. The corners of the faces come back
  * 0-based as rc10's fixIndex makes them (relative ones against the records before the face in
  * the whole file), -1 where a texture coordinate or normal is not given. */
-bool parse_geometry(const char *path, char *text, size_t start, size_t size, Split split,
+bool parse_geometry(const char *path, const char *text, size_t start, size_t size, Split split,
                     Geometry *out, vkrt_error *err);
 
 /* The line of record `index` (0-based over the file) of v (kind 0), vt (1) or vn (2). */

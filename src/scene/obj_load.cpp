@@ -1,28 +1,32 @@
 /*
  * obj_load.cpp: the C interface of obj_load.h over tinyobjloader (2.0.0rc10, float build).
  *
- * tinyobjloader does the parsing (faces, negative indices, mtllib/usemtl, the .mtl syntax), but it
- * is lenient in ways a renderer cannot afford and it keeps no line numbers, so this file wraps it:
+ * tinyobjloader defines what is accepted and how it reads (faces, negative indices, mtllib/usemtl,
+ * the .mtl syntax), but it is lenient in ways a renderer cannot afford and it keeps no line
+ * numbers, so this file wraps it, and reads the geometry itself as tinyobjloader reads it, in one
+ * pass over the text with the checks:
  *
- *  1. The file is read once into memory (or the caller's text is copied).
+ *  1. The file is read once into memory and parsed from that buffer (vkrt_obj_parse: from the
+ *     caller's text, not copied).
  *  2. The geometry is read in parallel (obj_geometry.h): the text is cut into chunks at line ends,
  *     and on every core the pre-scan of obj_scan.h walks a chunk's lines exactly as tinyobjloader
  *     does, checks the numbers of v/vt/vn records with a strict grammar (rc10 reads "nan" or "abc"
- *     as 0 without a word), records the line of every v, vn, vt and f record and reads the corners
- *     of every face as rc10's parseTriple does (atoi), while tinyobjloader's own number parser
- *     (LoadObjWithCallback) reads the chunk's v, vt and vn numbers, so each float is the one its
- *     LoadObj gives. Line numbers, record counts and relative indices are then put together over
- *     the chunks. UTF-16 and NUL bytes are refused first (a UTF-8 BOM is skipped). A vn that is
- *     not three finite numbers, or has zero length, is treated as absent: the triangles using it
- *     get their geometric normal and a warning is recorded. Records vkrt ignores and rc10 parses
- *     unsafely ("vw", "t") are blanked in place so tinyobjloader never reads them.
+ *     as 0 without a word), records the line of every v, vn, vt and f record, reads the corners
+ *     of every face as rc10's parseTriple does (atoi) and the v, vt and vn numbers as its
+ *     tryParseDouble does (obj_number.h, the same operations in the same order), so each float and
+ *     index is the one its LoadObj gives (tests/test_obj_number.cpp holds them to the library).
+ *     Line numbers, record counts and relative indices are then put together over the chunks.
+ *     UTF-16 and NUL bytes are refused first (a UTF-8 BOM is skipped). A vn that is not three
+ *     finite numbers, or has zero length, is treated as absent: the triangles using it get their
+ *     geometric normal and a warning is recorded. Records vkrt ignores and rc10 parses unsafely
+ *     ("vw", "t") are skipped, so tinyobjloader never reads them.
  *  3. tinyobjloader's LoadObj reads the remaining lines (usemtl, mtllib, g, o, s, l, p, faces it
  *     refuses or drops) in file order, with a one-triangle face after each usemtl, whose material
  *     is the one that usemtl chose: the materials, the material of each face, the errors for
  *     an index of 0 and the warnings are its own, and their line numbers are put back to the
  *     file's. Faces of more than 255 corners keep them all (rc10 counts in an unsigned char).
  *  4. Every index is validated against the attribute sizes, and polygons become fans
- *     (v0, vi, vi+1), written on every core. Out-of-range indices are "path:LINE: face index N
+ *     (v0, vi, vi+1), both on every core (the bounds too, per group of faces, merged in order). Out-of-range indices are "path:LINE: face index N
  *     out of range (...)", except that vt/vn references in a file with no vt/vn records at all
  *     are dropped with a warning.
  *
@@ -57,6 +61,7 @@
 #include <new>
 #include <streambuf>
 #include <string>
+#include <string_view>
 #include <vector>
 
 extern "C" {
@@ -402,6 +407,10 @@ struct Parsed {
     obj_geometry::Geometry geometry;
     std::vector<tinyobj::material_t> materials;
     std::vector<int> usemtl_material;
+    /* Each vn record as the triangles get it (unit_normals, 3 floats) and whether it is usable
+     * (finite and not of zero length), computed once per record rather than per corner. */
+    std::vector<float> unit_normals;
+    std::vector<char> normal_usable;
 };
 
 /* One polygon after validation: its corners, 0-based (-1: not given). */
@@ -412,7 +421,7 @@ struct Face {
 };
 
 /* The text of one index as written, for messages: corner `corner` of the f line, part 0/1/2. */
-std::string written_index(const std::string &text, const FaceLine &face, uint32_t corner, int part)
+std::string written_index(std::string_view text, const FaceLine &face, uint32_t corner, int part)
 {
     LineWalker walker(text.data() + face.offset, text.data() + text.size());
     Span line, token;
@@ -442,7 +451,7 @@ const IndexKind VERTEX_INDEX = {"face index", "vertices", 0};
 const IndexKind TEXCOORD_INDEX = {"face texture coordinate index", "texture coordinates", 1};
 const IndexKind NORMAL_INDEX = {"face normal index", "normals", 2};
 
-bool fail_index(const char *path, const std::string &text, const FaceLine &face, uint32_t corner,
+bool fail_index(const char *path, std::string_view text, const FaceLine &face, uint32_t corner,
                 const IndexKind &kind, size_t total, uint32_t before, vkrt_error *err)
 {
     std::string n = written_index(text, face, corner, kind.part);
@@ -462,7 +471,7 @@ bool index_ok(int index, size_t count, bool optional)
     return index >= 0 && static_cast<size_t>(index) < count;
 }
 
-bool validate_face(const char *path, const std::string &text, const Parsed &p, const FaceLine &face, const Corner *corners, vkrt_error *err)
+bool validate_face(const char *path, std::string_view text, const Parsed &p, const FaceLine &face, const Corner *corners, vkrt_error *err)
 {
     size_t nv = p.geometry.vertices.size() / 3, nt = p.geometry.texcoords.size() / 2, nn = p.geometry.normals.size() / 3;
     for (uint32_t c = 0; c < face.corners; c++) {
@@ -526,7 +535,7 @@ bool is_zero(const std::string &s)
 
 /* tinyobjloader's "Failed parse `f' line(e.g. zero value for face index. line N.)" in our words:
  * which index of line N it refused, and why. */
-bool fail_face_line(const char *path, const std::string &text, size_t start, uint32_t number,
+bool fail_face_line(const char *path, std::string_view text, size_t start, uint32_t number,
                     vkrt_error *err)
 {
     LineWalker walker(text.data() + start, text.data() + text.size());
@@ -560,21 +569,74 @@ bool mismatch(const char *path, const char *what, vkrt_error *err)
     return vkrt_error_set(err, "%s: cannot load: tinyobjloader and the line scan disagree on %s", path, what);
 }
 
-/* Validates every index of every face, in file order, and gives each face the material of the
- * last usemtl before it. */
-bool collect_faces(const char *path, const std::string &text, const Parsed &p, std::vector<Face> *faces,
-                   vkrt_error *err)
+struct OutputPlan {
+    size_t triangles = 0;
+    bool any_normals = false, any_texcoords = false;
+};
+
+/* collect_faces on every core: each chunk validates its own faces into its part of *faces. */
+struct CollectPass {
+    const char *path;
+    std::string_view text;
+    const Parsed *p;
+    std::vector<size_t> first_face;                     /* per chunk, in *faces */
+    std::vector<OutputPlan> plans;                      /* per chunk */
+    std::vector<vkrt_error> errors;                     /* per chunk: its first bad face */
+    std::unique_ptr<bool[]> failed;                     /* per chunk */
+    std::vector<Face> *faces;
+};
+
+void collect_chunk(void *context, size_t i)
 {
-    for (const obj_geometry::Chunk &chunk : p.geometry.chunks)
-        for (const FaceLine &face : chunk.scan.faces) {
-            const Corner *corners = &chunk.scan.corners[face.first_corner];
-            if (!validate_face(path, text, p, face, corners, err))
-                return false;
-            int mat = face.usemtl_before ? p.usemtl_material[face.usemtl_before - 1] : -1;
-            if (mat < 0 || static_cast<size_t>(mat) >= p.materials.size())
-                mat = -1;
-            faces->push_back(Face{corners, face.corners, mat});
+    CollectPass *c = static_cast<CollectPass *>(context);
+    const Parsed &p = *c->p;
+    const obj_geometry::Chunk &chunk = p.geometry.chunks[i];
+    OutputPlan &plan = c->plans[i];
+    Face *out = c->faces->data() + c->first_face[i];
+    for (const FaceLine &face : chunk.scan.faces) {
+        const Corner *corners = &chunk.scan.corners[face.first_corner];
+        if (!validate_face(c->path, c->text, p, face, corners, &c->errors[i])) {
+            c->failed[i] = true;
+            return;
         }
+        int mat = face.usemtl_before ? p.usemtl_material[face.usemtl_before - 1] : -1;
+        if (mat < 0 || static_cast<size_t>(mat) >= p.materials.size())
+            mat = -1;
+        *out++ = Face{corners, face.corners, mat};
+        plan.triangles += face.corners - 2;
+        for (uint32_t k = 0; k < face.corners; k++) {
+            plan.any_normals |= corners[k].vn >= 0;
+            plan.any_texcoords |= corners[k].vt >= 0;
+        }
+    }
+}
+
+/* Validates every index of every face and gives each face the material of the last usemtl before
+ * it, in file order in *faces, on every core; fails with the first bad face of the file. *plan
+ * says how many triangles the faces make and whether any corner names a normal or texture
+ * coordinate. */
+bool collect_faces(const char *path, std::string_view text, const Parsed &p, unsigned threads,
+                   std::vector<Face> *faces, OutputPlan *plan, vkrt_error *err)
+{
+    const std::vector<obj_geometry::Chunk> &chunks = p.geometry.chunks;
+    size_t n = chunks.size(), total = 0;
+    CollectPass c{path, text, &p, std::vector<size_t>(n), std::vector<OutputPlan>(n),
+                  std::vector<vkrt_error>(n), std::unique_ptr<bool[]>(new bool[n]()), faces};
+    for (size_t i = 0; i < n; i++) {
+        c.first_face[i] = total;
+        total += chunks[i].scan.faces.size();
+    }
+    faces->resize(total);
+    obj_geometry::run_parallel(n, threads, collect_chunk, &c);
+    for (size_t i = 0; i < n; i++) {
+        if (c.failed[i]) {
+            *err = c.errors[i];
+            return false;
+        }
+        plan->triangles += c.plans[i].triangles;
+        plan->any_normals |= c.plans[i].any_normals;
+        plan->any_texcoords |= c.plans[i].any_texcoords;
+    }
     return true;
 }
 
@@ -641,18 +703,43 @@ Vec3 geometric_normal(const Vec3 &a, const Vec3 &b, const Vec3 &c)
 }
 
 /* The file's normal for a corner, if it has a usable one. */
-bool file_normal(const Parsed &p, const Corner &corner, Vec3 *out)
+bool file_normal(const Parsed &p, const Corner &corner, const float **out)
 {
     int i = corner.vn;
-    if (i < 0 || !p.geometry.summary.vn_usable[static_cast<size_t>(i)])
+    if (i < 0 || !p.normal_usable[static_cast<size_t>(i)])
         return false;
-    const float *n = &p.geometry.normals[3 * static_cast<size_t>(i)];
-    Vec3 v{n[0], n[1], n[2]};
-    double len2 = v.x * v.x + v.y * v.y + v.z * v.z;
-    if (!(len2 > 0.0) || !std::isfinite(len2))
-        return false;
-    *out = normalized_or_z(v);
+    *out = &p.unit_normals[3 * static_cast<size_t>(i)];
     return true;
+}
+
+/* Normals per task of unit_normals_task. */
+constexpr size_t NORMALS_PER_TASK = size_t(1) << 16;
+
+void unit_normals_task(void *context, size_t task)
+{
+    Parsed *p = static_cast<Parsed *>(context);
+    size_t count = p->geometry.normals.size() / 3, end = std::min(count, (task + 1) * NORMALS_PER_TASK);
+    for (size_t i = task * NORMALS_PER_TASK; i < end; i++) {
+        const float *n = &p->geometry.normals[3 * i];
+        Vec3 v{n[0], n[1], n[2]};
+        double len2 = v.x * v.x + v.y * v.y + v.z * v.z;
+        p->normal_usable[i] = p->geometry.summary.vn_usable[i] && len2 > 0.0 && std::isfinite(len2);
+        if (p->normal_usable[i]) {
+            Vec3 u = normalized_or_z(v);
+            p->unit_normals[3 * i] = static_cast<float>(u.x);
+            p->unit_normals[3 * i + 1] = static_cast<float>(u.y);
+            p->unit_normals[3 * i + 2] = static_cast<float>(u.z);
+        }
+    }
+}
+
+/* Parsed::unit_normals and normal_usable, on every core. */
+void compute_unit_normals(Parsed *p, unsigned threads)
+{
+    size_t count = p->geometry.normals.size() / 3;
+    p->unit_normals.assign(3 * count, 0.0f);
+    p->normal_usable.assign(count, 0);
+    obj_geometry::run_parallel((count + NORMALS_PER_TASK - 1) / NORMALS_PER_TASK, threads, unit_normals_task, p);
 }
 
 void store3(float *dst, const Vec3 &v)
@@ -660,24 +747,6 @@ void store3(float *dst, const Vec3 &v)
     dst[0] = static_cast<float>(v.x);
     dst[1] = static_cast<float>(v.y);
     dst[2] = static_cast<float>(v.z);
-}
-
-struct OutputPlan {
-    size_t triangles = 0;
-    bool any_normals = false, any_texcoords = false;
-};
-
-OutputPlan plan_output(const std::vector<Face> &faces)
-{
-    OutputPlan plan;
-    for (const Face &f : faces) {
-        plan.triangles += f.count - 2;
-        for (uint32_t c = 0; c < f.count; c++) {
-            plan.any_normals |= f.corners[c].vn >= 0;
-            plan.any_texcoords |= f.corners[c].vt >= 0;
-        }
-    }
-    return plan;
 }
 
 void *checked_alloc(size_t count, size_t size)
@@ -717,28 +786,42 @@ bool write_triangle(const Parsed &p, const Corner *tri[3], int32_t material, siz
         }
     if (!mesh->normals)
         return false;
-    Vec3 n[3];
+    const float *n[3];
     bool all = file_normal(p, *tri[0], &n[0]) && file_normal(p, *tri[1], &n[1]) && file_normal(p, *tri[2], &n[2]);
     bool some = tri[0]->vn >= 0 || tri[1]->vn >= 0 || tri[2]->vn >= 0;
-    if (!all)
-        n[0] = n[1] = n[2] = geometric_normal(pos[0], pos[1], pos[2]);
-    for (int k = 0; k < 3; k++)
-        store3(&mesh->normals[9 * t + 3 * k], n[k]);
+    float *out = &mesh->normals[9 * t];
+    if (all) {
+        for (int k = 0; k < 3; k++)
+            memcpy(out + 3 * k, n[k], 3 * sizeof(float));
+    } else {
+        Vec3 g = geometric_normal(pos[0], pos[1], pos[2]);
+        for (int k = 0; k < 3; k++)
+            store3(out + 3 * k, g);
+    }
     return !all && some;
 }
 
-void compute_bounds(vkrt_mesh *mesh)
+/* The box of `vertices` points (3 floats each, at least one), in one pass in order: where -0 and
+ * +0 tie, the first seen is kept, so boxes of consecutive runs merged in order (merge_bounds) are
+ * the box of the whole to the bit. */
+void bounds_of(const float *positions, size_t vertices, float min[3], float max[3])
+{
+    for (int a = 0; a < 3; a++)
+        min[a] = max[a] = positions[a];
+    for (size_t i = 0; i < vertices; i++)
+        for (int a = 0; a < 3; a++) {
+            float v = positions[3 * i + a];
+            min[a] = v < min[a] ? v : min[a];
+            max[a] = v > max[a] ? v : max[a];
+        }
+}
+
+void merge_bounds(const float min[3], const float max[3], float into_min[3], float into_max[3])
 {
     for (int a = 0; a < 3; a++) {
-        mesh->bounds_min[a] = mesh->positions[a];
-        mesh->bounds_max[a] = mesh->positions[a];
+        into_min[a] = min[a] < into_min[a] ? min[a] : into_min[a];
+        into_max[a] = max[a] > into_max[a] ? max[a] : into_max[a];
     }
-    for (size_t i = 0; i < static_cast<size_t>(mesh->triangle_count) * 3; i++)
-        for (int a = 0; a < 3; a++) {
-            float v = mesh->positions[3 * i + a];
-            mesh->bounds_min[a] = v < mesh->bounds_min[a] ? v : mesh->bounds_min[a];
-            mesh->bounds_max[a] = v > mesh->bounds_max[a] ? v : mesh->bounds_max[a];
-        }
 }
 
 /* Faces written by one task of write_triangles. */
@@ -747,7 +830,8 @@ constexpr size_t FACES_PER_TASK = size_t(1) << 16;
 struct WritePass {
     const Parsed *p;
     const std::vector<Face> *faces;
-    std::vector<size_t> first_triangle, replaced; /* per task */
+    std::vector<size_t> first_triangle, replaced; /* per task, and one past the last task */
+    std::vector<float> bounds;                    /* per task: min xyz, max xyz */
     vkrt_mesh *mesh;
 };
 
@@ -762,20 +846,37 @@ void write_task(void *context, size_t task)
             w->replaced[task] += write_triangle(*w->p, tri, f.material, t, w->mesh);
         }
     }
+    size_t first = w->first_triangle[task];
+    if (t > first)
+        bounds_of(&w->mesh->positions[9 * first], 3 * (t - first), &w->bounds[6 * task], &w->bounds[6 * task + 3]);
 }
 
-/* Fans every face (v0, vi, vi+1) into the output arrays, on every core; returns the triangles
- * given the geometric normal in place of an unusable file normal. */
+/* Fans every face (v0, vi, vi+1) into the output arrays and sets the mesh's bounds, on every
+ * core; returns the triangles given the geometric normal in place of an unusable file normal. */
 size_t write_triangles(const Parsed &p, const std::vector<Face> &faces, unsigned threads, vkrt_mesh *mesh)
 {
     size_t tasks = (faces.size() + FACES_PER_TASK - 1) / FACES_PER_TASK, triangles = 0, replaced = 0;
-    WritePass w{&p, &faces, std::vector<size_t>(tasks), std::vector<size_t>(tasks), mesh};
+    WritePass w{&p, &faces, std::vector<size_t>(tasks + 1), std::vector<size_t>(tasks),
+                std::vector<float>(6 * tasks), mesh};
     for (size_t k = 0; k < faces.size(); k++) {
         if (k % FACES_PER_TASK == 0)
             w.first_triangle[k / FACES_PER_TASK] = triangles;
         triangles += faces[k].count - 2;
     }
+    w.first_triangle[tasks] = triangles;
     obj_geometry::run_parallel(tasks, threads, write_task, &w);
+    bool first = true;
+    for (size_t task = 0; task < tasks; task++) {
+        if (w.first_triangle[task + 1] == w.first_triangle[task])
+            continue;
+        const float *b = &w.bounds[6 * task];
+        if (first) {
+            memcpy(mesh->bounds_min, b, 3 * sizeof(float));
+            memcpy(mesh->bounds_max, b + 3, 3 * sizeof(float));
+        }
+        merge_bounds(b, b + 3, mesh->bounds_min, mesh->bounds_max);
+        first = false;
+    }
     for (size_t r : w.replaced)
         replaced += r;
     return replaced;
@@ -785,7 +886,7 @@ size_t write_triangles(const Parsed &p, const std::vector<Face> &faces, unsigned
 
 /* tinyobjloader's error is one or more "...\n" lines; the first one is the cause. The failures it
  * knows (an f, l or p record with an index of 0 or not a number) are put in our words. */
-bool fail_tinyobj(const char *path, const std::string &text, size_t start, const std::string &message,
+bool fail_tinyobj(const char *path, std::string_view text, size_t start, const std::string &message,
                   vkrt_error *err)
 {
     std::string first = message.substr(0, message.find('\n'));
@@ -828,7 +929,7 @@ void renumber_lines(std::string *message, const std::vector<uint32_t> &line_of)
  * the usemtl chose (rc10 looks the name up among the materials of the mtllib records read so far),
  * so p->usemtl_material holds one per usemtl record. Its errors (an f, l or p record it refuses)
  * and warnings come with the file's line numbers. */
-bool read_other_lines(const char *path, const std::string &text, size_t start, Parsed *p,
+bool read_other_lines(const char *path, std::string_view text, size_t start, Parsed *p,
                       MtlReader *reader, std::string *warnings, vkrt_error *err)
 {
     std::string lines;
@@ -871,18 +972,16 @@ const char *why_no_triangles(const obj_geometry::Geometry &g)
     return " (no f records)";
 }
 
-/* The common path of vkrt_obj_load and vkrt_obj_parse: *text_in is the whole OBJ (the caller's own
- * copy: ignored records are blanked in it), path names it in messages, mtl_folder is where
- * mtllib files are looked up (nullptr: .mtl files are not read), and split says how the geometry
- * is read in parallel. */
-bool parse(const char *path, std::string *text_in, const std::string *mtl_folder, obj_geometry::Split split,
+/* The common path of vkrt_obj_load and vkrt_obj_parse: text is the whole OBJ, path names it in
+ * messages, mtl_folder is where mtllib files are looked up (nullptr: .mtl files are not read),
+ * and split says how the geometry is read in parallel. */
+bool parse(const char *path, std::string_view text, const std::string *mtl_folder, obj_geometry::Split split,
            vkrt_mesh *mesh, vkrt_error *err)
 {
-    const std::string &text = *text_in;
     size_t start = 0;
     Parsed p;
     if (!check_encoding(path, text, &start, err) ||
-        !obj_geometry::parse_geometry(path, &(*text_in)[0], start, text.size(), split, &p.geometry, err))
+        !obj_geometry::parse_geometry(path, text.data(), start, text.size(), split, &p.geometry, err))
         return false;
     const ObjScan &scan = p.geometry.summary;
 
@@ -899,10 +998,9 @@ bool parse(const char *path, std::string *text_in, const std::string *mtl_folder
                                          mtl_folder ? &reader.libraries : nullptr, &warnings);
     obj_warnings::warn_short_faces(path, scan, &warnings);
     drop_references_to_absent_attributes(path, &p, &warnings);
-    if (!collect_faces(path, text, p, &faces, err))
+    OutputPlan plan;
+    if (!collect_faces(path, text, p, split.threads, &faces, &plan, err))
         return false;
-
-    OutputPlan plan = plan_output(faces);
     if (plan.triangles == 0)
         return vkrt_error_set(err, "%s: no triangles%s", path, why_no_triangles(p.geometry));
     if (plan.triangles > UINT32_MAX / 9) /* 9 floats per triangle must stay addressable by uint32 */
@@ -910,8 +1008,8 @@ bool parse(const char *path, std::string *text_in, const std::string *mtl_folder
 
     mesh->triangle_count = static_cast<uint32_t>(plan.triangles);
     allocate_output(plan, mesh);
+    compute_unit_normals(&p, split.threads);
     size_t replaced = write_triangles(p, faces, split.threads, mesh);
-    compute_bounds(mesh);
     convert_materials(p.materials, reader, obj_folder, mesh);
     obj_warnings::warn_unusable_normals(path, replaced, &warnings);
     obj_warnings::set_warnings(warnings, mesh);
@@ -925,11 +1023,13 @@ bool parse(const char *path, std::string *text_in, const std::string *mtl_folder
 
 bool load(const char *path, vkrt_mesh *mesh, vkrt_error *err)
 {
-    std::string text;
-    if (!read_whole_file(path, "Wavefront OBJ file", &text, err))
+    char *bytes;
+    size_t size;
+    if (!vkrt_text_read_file(path, OBJ_MAX_FILE_BYTES, "Wavefront OBJ file", &bytes, &size, err))
         return false;
+    std::unique_ptr<char, void (*)(void *)> owned(bytes, free);
     std::string folder = folder_of(path);
-    return parse(path, &text, &folder, obj_geometry::Split{0, 0}, mesh, err);
+    return parse(path, std::string_view(bytes, size), &folder, obj_geometry::Split{0, 0}, mesh, err);
 }
 
 /* Runs body (a load or parse into mesh) with every C++ exception turned into a message about name,
@@ -981,11 +1081,9 @@ extern "C" bool vkrt_obj_parse_split(const char *text, size_t size, const char *
     if (!text && size > 0)
         return vkrt_error_set(err, "%s: no OBJ text given", name);
     return guarded(name, mesh, err, [&] {
-        /* One copy: ignored records are blanked in it. */
-        std::string copy(size ? text : "", size);
         std::string folder = base_dir ? base_dir : "";
-        return parse(name, &copy, base_dir ? &folder : nullptr, obj_geometry::Split{chunk_bytes, threads},
-                     mesh, err);
+        return parse(name, std::string_view(size ? text : "", size), base_dir ? &folder : nullptr,
+                     obj_geometry::Split{chunk_bytes, threads}, mesh, err);
     });
 }
 

@@ -4,7 +4,8 @@
  * rc10's parser turns anything it cannot parse ("nan", "inf", "1.#IND", "abc") into 0 without a
  * word, and stops at the first bad character ("3.1+e2" becomes 3.1). The lines are walked exactly
  * as tinyobjloader walks them (LF, CRLF and lone CR all end a line; leading blanks skipped), and
- * the numbers of v/vt/vn records are checked with a strict grammar. Decisions:
+ * the numbers of v/vt/vn records are checked with a strict grammar, then read as rc10 reads them
+ * (obj_number.h). Decisions:
  *   - v: all three coordinates must be plain decimal numbers that fit a float; otherwise
  *     "path:LINE: vertex coordinate is not finite (...)" or "... is not a number" is an error.
  *     A coordinate outside +-VKRT_COORDINATE_LIMIT (coordinate_limit.h says why) is an error too:
@@ -15,13 +16,16 @@
  *   - any number of a v, vt or vn record whose exponent has more than 9 significant digits is
  *     an error: rc10 would overflow an int reading it (undefined behaviour, found by fuzzing).
  * Before all that, files that start like an image or another binary format, UTF-16 and NUL bytes
- * are refused (a NUL would cut a line short), and after it, "vw" and "t" records are blanked in
- * place so tinyobjloader never reads them. The lines of usemtl, mtllib and too-short f records are
+ * are refused (a NUL would cut a line short); "vw" and "t" records are skipped, so tinyobjloader
+ * never reads them. The common line of a big file (a v, vt or vn of short decimals such as
+ * "-36.9531") passes every check by its shape alone and runs none of them: the checks' strtod
+ * calls were most of the scan's time. The lines of usemtl, mtllib and too-short f records are
  * kept only so the loader's warnings can name them.
  */
 #include "obj_scan.h"
 
 #include "coordinate_limit.h"
+#include "obj_number.h"
 
 #include <cctype>
 #include <cfloat>
@@ -37,7 +41,7 @@ namespace obj_scan {
 namespace {
 
 /* UTF-16 text without a BOM shows as NUL bytes on every other position. */
-bool looks_like_bomless_utf16(const std::string &text)
+bool looks_like_bomless_utf16(std::string_view text)
 {
     size_t n = text.size() < 4096 ? text.size() : 4096;
     size_t nul_even = 0, nul_odd = 0;
@@ -78,7 +82,7 @@ const Signature SIGNATURES[] = {
     {"PK\x03\x04", 4, "a ZIP archive; unpack it first"},
 };
 
-const Signature *known_signature(const std::string &text, size_t start)
+const Signature *known_signature(std::string_view text, size_t start)
 {
     for (const Signature &s : SIGNATURES)
         if (text.size() - start >= s.size && memcmp(text.data() + start, s.bytes, s.size) == 0)
@@ -89,7 +93,7 @@ const Signature *known_signature(const std::string &text, size_t start)
 } // namespace
 
 /* Refuses what is not 8-bit text; returns in *start how many leading bytes to skip (a BOM). */
-bool check_encoding(const char *path, const std::string &text, size_t *start, vkrt_error *err)
+bool check_encoding(const char *path, std::string_view text, size_t *start, vkrt_error *err)
 {
     *start = 0;
     const unsigned char *u = reinterpret_cast<const unsigned char *>(text.data());
@@ -114,8 +118,12 @@ bool LineWalker::next(Span *line)
     if (p >= end)
         return false;
     line->b = p;
-    while (p < end && *p != '\n' && *p != '\r')
-        p++;
+    /* memchr is vectorised: the line's '\n', then any '\r' before it (a CRLF or a lone CR). */
+    const char *nl = static_cast<const char *>(memchr(p, '\n', static_cast<size_t>(end - p)));
+    if (!nl)
+        nl = end;
+    const char *cr = static_cast<const char *>(memchr(p, '\r', static_cast<size_t>(nl - p)));
+    p = cr ? cr : nl;
     line->e = p;
     if (p < end) {
         char ending = *p++;
@@ -125,8 +133,6 @@ bool LineWalker::next(Span *line)
     number++;
     return true;
 }
-
-bool is_blank(char c) { return c == ' ' || c == '\t'; }
 
 /* Next blank-separated token of *rest, or false at the end of the line. */
 bool next_token(Span *rest, Span *token)
@@ -306,8 +312,8 @@ bool scan_exponents(const char *path, uint32_t line, Span rest, vkrt_error *err)
 
 /* Records vkrt has no use for, which rc10 parses unsafely: "vw" skin weights (a joint id such as
  * 8.9e9 is cast from float to int, undefined behaviour) and "t" tags (their numbers go through
- * the same exponent parser as above, unchecked). Blanking them in place keeps every offset and line
- * number while tinyobjloader sees only empty lines. */
+ * the same exponent parser as above, unchecked). They are skipped: neither the scan nor
+ * tinyobjloader (which reads only the lines in ObjScan::other) reads them. */
 bool is_ignored_record(const Span &line) { return has_keyword(line, "vw") || has_keyword(line, "t"); }
 
 /* What glibc's atoi reads from [p, e): strtol's value (white space skipped, a sign, digits,
@@ -385,25 +391,137 @@ uint32_t read_corners(Span rest, std::vector<Corner> *out)
     return n;
 }
 
+/* Where every token of rest is a short decimal (obj_number.h) and there are at least `least`,
+ * the first `count` as rc10's parseReal reads them (0 where missing), appended to *out, and true:
+ * the record passes every check of the slow path, which the common line skips. Else false, and
+ * *out as it was. */
+bool read_short_decimals(Span rest, int least, int count, std::vector<float> *out)
+{
+    float values[3] = {0.0f, 0.0f, 0.0f};
+    Span t;
+    int n = 0;
+    for (; next_token(&rest, &t); n++) {
+        if (!obj_number::is_short_decimal(t.b, t.e))
+            return false;
+        if (n < count)
+            values[n] = obj_number::parse_real(t.b, t.e, 0.0);
+    }
+    if (n < least)
+        return false;
+    out->insert(out->end(), values, values + count);
+    return true;
+}
+
+/* The first `count` numbers of rest as rc10's parseReal reads them (defaults: 0), appended to *out. */
+void read_numbers(Span rest, int count, std::vector<float> *out)
+{
+    Span t;
+    for (int i = 0; i < count; i++) {
+        if (!next_token(&rest, &t))
+            t = Span{rest.e, rest.e};
+        out->push_back(obj_number::parse_real(t.b, t.e, 0.0));
+    }
+}
+
+/* An index as the common file writes it: [-] 1 to 9 digits, not 0, ending at '/', a blank or the
+ * line's end. atoi reads it as its digits say, so *value is what read_corner would read. */
+bool read_plain_index(const char **p, const char *e, int *value)
+{
+    const char *q = *p;
+    bool negative = q < e && *q == '-';
+    q += negative;
+    int v = 0, digits = 0;
+    for (; q < e && *q >= '0' && *q <= '9' && digits < 9; q++, digits++)
+        v = 10 * v + (*q - '0');
+    if (digits == 0 || v == 0 || (q < e && *q != '/' && !is_blank(*q))) /* a 10th digit too */
+        return false;
+    *value = negative ? -v : v;
+    *p = q;
+    return true;
+}
+
+/* The corners of an f record (rest: the line after "f ") whose every corner is v, v/t, v//n or
+ * v/t/n of plain indices, appended to *out; their number, or 0 (with *out partly written) where a
+ * corner is anything else and read_corners must read the line. Then both read the same corners
+ * and count the same tokens: a plain corner is one token that parseTriple reads to its end. */
+uint32_t read_plain_corners(Span rest, std::vector<Corner> *out)
+{
+    const char *p = rest.b, *e = rest.e;
+    uint32_t n = 0;
+    for (;;) {
+        while (p < e && is_blank(*p))
+            p++;
+        if (p == e)
+            return n;
+        Corner c{0, 0, 0};
+        if (!read_plain_index(&p, e, &c.v))
+            return 0;
+        if (p < e && *p == '/') {
+            p++;
+            if (p < e && *p == '/') {
+                p++;
+                if (!read_plain_index(&p, e, &c.vn))
+                    return 0;
+            } else {
+                if (!read_plain_index(&p, e, &c.vt))
+                    return 0;
+                if (p < e && *p == '/' && (++p, !read_plain_index(&p, e, &c.vn)))
+                    return 0;
+            }
+        }
+        if (p < e && !is_blank(*p))
+            return 0;
+        out->push_back(c);
+        n++;
+    }
+}
+
+/* The numbers of a v record (count 3, check scan_vertex) or a vt record (2, scan_texcoord) after
+ * their checks, appended to *out: short decimals need none; anything else gets `check` and
+ * scan_exponents, which fail with the record's message. */
+bool read_coordinates(const char *path, uint32_t number, Span rest, int count,
+                      bool (*check)(const char *, uint32_t, Span, vkrt_error *), std::vector<float> *out,
+                      vkrt_error *err)
+{
+    int least = count == 3 ? 3 : 0; /* a v needs all three; a vt's missing numbers are 0 */
+    if (read_short_decimals(rest, least, count, out))
+        return true;
+    if (!check(path, number, rest, err) || !scan_exponents(path, number, rest, err))
+        return false;
+    read_numbers(rest, count, out);
+    return true;
+}
+
+/* has_keyword for a word known at compile time, whose memcmp the compiler inlines: the scan asks
+ * it of every line. */
+template <size_t N> bool is_record(const Span &line, const char (&word)[N])
+{
+    return line.len() > N - 1 && memcmp(line.b, word, N - 1) == 0 && is_blank(line.b[N - 1]);
+}
+
 /* Classifies one line (leading blanks already skipped) and records what it is. */
 bool scan_line(const char *path, const char *text, uint32_t number, Span line, ObjScan *scan,
                vkrt_error *err)
 {
-    if (has_keyword(line, "v")) {
+    if (is_record(line, "v")) {
         scan->v_line.push_back(number);
-        return scan_vertex(path, number, Span{line.b + 2, line.e}, err) &&
-               scan_exponents(path, number, Span{line.b + 2, line.e}, err);
+        return read_coordinates(path, number, Span{line.b + 2, line.e}, 3, scan_vertex, &scan->v, err);
     }
-    if (has_keyword(line, "vt")) {
+    if (is_record(line, "vt")) {
         scan->vt_line.push_back(number);
-        return scan_texcoord(path, number, Span{line.b + 3, line.e}, err) &&
-               scan_exponents(path, number, Span{line.b + 3, line.e}, err);
+        return read_coordinates(path, number, Span{line.b + 3, line.e}, 2, scan_texcoord, &scan->vt,
+                                err);
     }
-    if (has_keyword(line, "vn")) {
-        if (!scan_exponents(path, number, Span{line.b + 3, line.e}, err))
-            return false;
+    if (is_record(line, "vn")) {
+        Span rest{line.b + 3, line.e};
+        bool usable = read_short_decimals(rest, 3, 3, &scan->vn);
+        if (!usable) {
+            if (!scan_exponents(path, number, rest, err))
+                return false;
+            usable = normal_is_usable(rest);
+            read_numbers(rest, 3, &scan->vn);
+        }
         scan->vn_line.push_back(number);
-        bool usable = normal_is_usable(Span{line.b + 3, line.e});
         scan->vn_usable.push_back(usable);
         scan->unusable_normals += !usable;
         return true;
@@ -414,10 +532,15 @@ bool scan_line(const char *path, const char *text, uint32_t number, Span line, O
         scan->short_faces.push_back(number);
         return true;
     }
-    if (has_keyword(line, "f")) {
-        uint32_t corners = count_tokens(Span{line.b + 2, line.e});
+    if (is_record(line, "f")) {
         size_t first = scan->corners.size();
-        if (corners >= 3 && read_corners(Span{line.b + 2, line.e}, &scan->corners) == corners) {
+        uint32_t corners = read_plain_corners(Span{line.b + 2, line.e}, &scan->corners);
+        if (corners == 0) { /* not plain: as rc10 reads it */
+            scan->corners.resize(first);
+            corners = count_tokens(Span{line.b + 2, line.e});
+        }
+        if (corners >= 3 && (scan->corners.size() > first ||
+                             read_corners(Span{line.b + 2, line.e}, &scan->corners) == corners)) {
             scan->faces.push_back(FaceLine{static_cast<size_t>(line.b - text), number, corners,
                                            static_cast<uint32_t>(scan->v_line.size()),
                                            static_cast<uint32_t>(scan->vt_line.size()),
@@ -465,18 +588,6 @@ bool prescan(const char *path, const char *text, size_t begin, size_t end, uint3
     }
     *lines = walker.number - lines_before;
     return true;
-}
-
-void blank_ignored_records(char *text, size_t begin, size_t end)
-{
-    LineWalker walker(text + begin, text + end);
-    Span line;
-    while (walker.next(&line)) {
-        while (line.b < line.e && is_blank(*line.b))
-            line.b++;
-        if (is_ignored_record(line))
-            memset(text + (line.b - text), ' ', line.len());
-    }
 }
 
 } // namespace obj_scan

@@ -5,9 +5,11 @@
  * as a coordinate becomes 0, "3.1+e2" becomes 3.1, a NUL byte cuts a line short. It parses some
  * input unsafely (an exponent of ten digits, "vw" and "t" records: undefined behaviour, found by
  * fuzzing), and it keeps no line numbers. The pre-scan walks the lines exactly as tinyobjloader
- * does, refuses those cases with "path:LINE: ..." messages, blanks the records it would misread,
- * and records the line of every v, vt, vn and f record, so the loader can name the line when it
- * validates what tinyobjloader returns. C++ only; nothing here needs tinyobjloader.
+ * does, refuses those cases with "path:LINE: ..." messages, keeps the records it would misread
+ * from it, records the line of every v, vt, vn and f record, so the loader can name the line when it
+ * validates the faces, and reads the numbers of v, vt and vn records exactly as tinyobjloader
+ * does (obj_number.h) and the corners of faces as its parseTriple does. C++ only; nothing here
+ * needs tinyobjloader.
  */
 #ifndef VKRT_OBJ_SCAN_H
 #define VKRT_OBJ_SCAN_H
@@ -15,6 +17,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 extern "C" {
@@ -45,7 +48,10 @@ struct LineWalker {
 };
 
 /* Space or tab: the only separators tinyobjloader knows. */
-bool is_blank(char c);
+inline bool is_blank(char c)
+{
+    return c == ' ' || c == '\t';
+}
 
 /* The next blank-separated token of *rest in *token, and *rest moved past it; false at the end
  * of the line. */
@@ -91,6 +97,7 @@ struct NameLine {
 /* What prescan records, in file order. */
 struct ObjScan {
     std::vector<uint32_t> v_line, vt_line, vn_line; /* line of each record, by index */
+    std::vector<float> v, vt, vn; /* their numbers as rc10 reads them (obj_number.h): 3, 2, 3 each */
     std::vector<char> vn_usable;                    /* the vn record holds three finite numbers */
     std::vector<FaceLine> faces;
     std::vector<Corner> corners; /* of the faces, in order */
@@ -105,21 +112,18 @@ struct ObjScan {
  * NUL byte; and UTF-16 text (with a BOM, or without one, seen as interleaved NULs) with a
  * "save it as UTF-8" message. On success *start is how many leading bytes to skip: 3 for a UTF-8
  * BOM, else 0. */
-bool check_encoding(const char *path, const std::string &text, size_t *start, vkrt_error *err);
+bool check_encoding(const char *path, std::string_view text, size_t *start, vkrt_error *err);
 
 /* Walks the lines of text[begin, end) (begin at the start of a line, end after a line's end or
  * at the end of the text) and fills *scan (empty on entry): line numbers count on from
  * lines_before, record counts (v_before, ...) from 0, offsets from text. Fails with
  * "path:LINE: ..." in err at the first v or vt record with a coordinate that is missing, not a
  * plain decimal or not a finite float, or a v/vt/vn number with an exponent of more than 9 digits.
- * A vn that is not three finite numbers is only marked unusable. *lines is set to the number of
- * lines walked. */
+ * A vn that is not three finite numbers is only marked unusable. The numbers of v, vt and vn
+ * records are read into scan->v, vt and vn as rc10's LoadObj reads them. *lines is set to the
+ * number of lines walked. */
 bool prescan(const char *path, const char *text, size_t begin, size_t end, uint32_t lines_before,
              ObjScan *scan, uint32_t *lines, vkrt_error *err);
-
-/* Overwrites with spaces, in place in text[begin, end), the records vkrt ignores and rc10 parses
- * unsafely ("vw" skin weights, "t" tags); every offset and line number stays as it was. */
-void blank_ignored_records(char *text, size_t begin, size_t end);
 
 } // namespace obj_scan
 
