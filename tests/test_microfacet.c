@@ -12,7 +12,10 @@
  * a grid warped by GGX's own cumulative distribution (no sampling, no shader code): the test
  * writes the model's formulas again in C, from the papers (Walter et al. 2007, Heitz 2014 and
  * 2018), and checks the renderer against them. It prints the energy each BSDF loses: single
- * scattering drops the light that would bounce again between microfacets.
+ * scattering drops the light that would bounce again between microfacets. The plastic is
+ * Mitsuba 3's roughplastic (its base under the rough coat's tabulated transmittance, furnace.h),
+ * and its integral is held to Mitsuba's own albedo as well; a row of more plastics checks a
+ * roughness map (the table's rows of roughness), another index and a smooth coat.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>

@@ -28,23 +28,27 @@ typedef struct plastic_key {
     uint32_t rows, offset;
 } plastic_key;
 
-/* One row to fill: its coat and where it goes. */
+/* One row to fill: its coat, where it goes, and its cosines' shares of Ri. */
 typedef struct plastic_job {
     float alpha, eta;
     float *row;
+    double internal[VKRT_PLASTIC_COSINES];
 } plastic_job;
 
-/* A thread's rows: jobs[first], jobs[first + step], ... */
+/* A thread's share of the rows' cosines: entries first, first + step, ... of rows x cosines. */
 typedef struct plastic_share {
-    const plastic_job *jobs;
+    plastic_job *jobs;
     uint32_t first, step, count;
 } plastic_share;
 
-static void *fill_rows(void *arg)
+static void *fill_entries(void *arg)
 {
     const plastic_share *s = arg;
-    for (uint32_t j = s->first; j < s->count; j += s->step)
-        vkrt_plastic_row(s->jobs[j].alpha, s->jobs[j].eta, s->jobs[j].row);
+    for (uint32_t e = s->first; e < s->count; e += s->step) {
+        plastic_job *j = &s->jobs[e / VKRT_PLASTIC_COSINES];
+        int k = (int)(e % VKRT_PLASTIC_COSINES);
+        vkrt_plastic_entry(j->alpha, j->eta, k, j->row, &j->internal[k]);
+    }
     return NULL;
 }
 
@@ -107,21 +111,24 @@ bool renderer_upload_plastic_tables(vkrt_renderer *r, const vkrt_scene_materials
         for (uint32_t row = 0; row < n; ++row) {
             float roughness =
                 n > 1 ? keys[k].roughness * (float)row / (float)(n - 1) : keys[k].roughness;
-            jobs[job++] =
-                (plastic_job){roughness * roughness, keys[k].eta,
-                              t + VKRT_PLASTIC_HEADER_FLOATS + row * VKRT_PLASTIC_ROW_FLOATS};
+            jobs[job++] = (plastic_job){.alpha = roughness * roughness,
+                                        .eta = keys[k].eta,
+                                        .row = t + VKRT_PLASTIC_HEADER_FLOATS +
+                                               row * VKRT_PLASTIC_ROW_FLOATS};
         }
     }
-    /* About 10 ms a row: the rows of all tables over the cores. */
-    uint32_t threads = bvh_threads_default();
-    if (threads > rows)
-        threads = rows > 0 ? rows : 1;
+    /* About 10 ms of one core a row: the rows' cosines over the cores. */
+    uint32_t entries = rows * VKRT_PLASTIC_COSINES, threads = bvh_threads_default();
+    if (threads > entries)
+        threads = entries > 0 ? entries : 1;
     plastic_share shares[BVH_MAX_THREADS];
     for (uint32_t t = 0; t < threads; ++t)
-        shares[t] = (plastic_share){jobs, t, threads, rows};
+        shares[t] = (plastic_share){jobs, t, threads, entries};
     vkrt_plastic_rules_init();
-    if (rows)
-        bvh_threads_run(threads, fill_rows, shares, sizeof shares[0]);
+    if (entries)
+        bvh_threads_run(threads, fill_entries, shares, sizeof shares[0]);
+    for (uint32_t j = 0; j < rows; ++j)
+        vkrt_plastic_finish(jobs[j].row, jobs[j].internal);
     bool ok = floats ? gpu_buffer_create_from(r->ctx, &r->plastic_tables, table,
                                               floats * sizeof *table, "plastic tables", err)
                      : gpu_buffer_create(r->ctx, &r->plastic_tables, 0, "plastic tables", err);

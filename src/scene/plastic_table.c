@@ -155,14 +155,31 @@ double vkrt_plastic_reflectance(double cos_i, double alpha, double eta)
     return visible_integral(cos_i, alpha, eta, false, &internal_rule);
 }
 
+double vkrt_plastic_cosine(int k)
+{
+    /* Mitsuba's cosines: k / 63, the first nudged off the horizon. */
+    return fmax(1e-6, k / (double)(VKRT_PLASTIC_COSINES - 1));
+}
+
+void vkrt_plastic_entry(double alpha, double eta, int k, float *row, double *internal)
+{
+    double mu = vkrt_plastic_cosine(k);
+    row[1 + k] = (float)vkrt_plastic_transmittance(mu, alpha, eta);
+    *internal = vkrt_plastic_reflectance(mu, alpha, 1 / eta) * mu;
+}
+
+void vkrt_plastic_finish(float *row, const double *internal)
+{
+    double sum = 0;
+    for (int k = 0; k < VKRT_PLASTIC_COSINES; ++k)
+        sum += internal[k];
+    row[0] = (float)(2 * sum / VKRT_PLASTIC_COSINES);
+}
+
 void vkrt_plastic_row(double alpha, double eta, float *row)
 {
-    double internal = 0;
-    for (int k = 0; k < VKRT_PLASTIC_COSINES; ++k) {
-        /* Mitsuba's cosines: k / 63, the first nudged off the horizon. */
-        double mu = fmax(1e-6, k / (double)(VKRT_PLASTIC_COSINES - 1));
-        row[1 + k] = (float)vkrt_plastic_transmittance(mu, alpha, eta);
-        internal += vkrt_plastic_reflectance(mu, alpha, 1 / eta) * mu;
-    }
-    row[0] = (float)(2 * internal / VKRT_PLASTIC_COSINES);
+    double internal[VKRT_PLASTIC_COSINES];
+    for (int k = 0; k < VKRT_PLASTIC_COSINES; ++k)
+        vkrt_plastic_entry(alpha, eta, k, row, &internal[k]);
+    vkrt_plastic_finish(row, internal);
 }

@@ -30,8 +30,16 @@ void vkrt_plastic_rules_init(void);
 
 /* Fills row (VKRT_PLASTIC_ROW_FLOATS floats) for a GGX coat of alpha (roughness squared) and
  * relative index eta (not 1) over the base: Ri, then T(k / 63) for k = 0..63. About 10 ms
- * (300 000 integrand evaluations). */
+ * (300 000 integrand evaluations) on one core. */
 void vkrt_plastic_row(double alpha, double eta, float *row);
+
+/* The row in pieces, for threads: vkrt_plastic_entry fills T at cosine k (row[1 + k]) and sets
+ * *internal to cosine k's share of Ri; vkrt_plastic_finish, given all 64 shares, sets row[0]. */
+void vkrt_plastic_entry(double alpha, double eta, int k, float *row, double *internal);
+void vkrt_plastic_finish(float *row, const double *internal);
+
+/* Cosine k of the table: k / 63, the first 1e-6. */
+double vkrt_plastic_cosine(int k);
 
 /* The coat's transmittance into the plastic at cos (above 0) and its reflectance for light
  * arriving at cos from the index-1 side, integrated as for the row (for the tests). */
