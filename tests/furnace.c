@@ -92,7 +92,7 @@ static double reflected_term(const furnace_facet *f, double alpha, void *ctx)
 
 void furnace_plastic_coat(double alpha, double eta, double t[FURNACE_PLASTIC_COSINES], double *ri)
 {
-    const int n = 160;
+    const int n = 100;
     double inside = 1 / eta, sum = 0;
     for (int k = 0; k < FURNACE_PLASTIC_COSINES; ++k) {
         double mu = fmax(1e-6, k / (double)(FURNACE_PLASTIC_COSINES - 1));

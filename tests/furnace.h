@@ -55,10 +55,10 @@ double furnace_integrate_tails(v3 o, double alpha, double eta, int n,
  * its source: its base of albedo kd is kd / (pi eta^2 (1 - Ri)) T(cos_i) T(cos_o) cos_o, T the
  * rough coat's transmittance at 64 cosines k / 63 (the first 1e-6), interpolated linearly between
  * them, and Ri the coat's internal reflectance, a plain mean over the same cosines of 2 R(mu) mu.
- * furnace_plastic_coat integrates both over microfacet normals (furnace_integrate_tails, 160 x
- * 160; not the renderer's Gauss-Legendre rule over visible normals): T the refracted energy that
- * the refracted light's masking lets through, R the reflected energy from inside (index 1 / eta,
- * total internal reflection included). A second a call. */
+ * furnace_plastic_coat integrates both over microfacet normals (furnace_integrate_tails, 100 x
+ * 100, within 1e-5 of 160 x 160; not the renderer's Gauss-Legendre rule over visible normals): T
+ * the refracted energy that the refracted light's masking lets through, R the reflected energy from
+ * inside (index 1 / eta, total internal reflection included). 0.15 s a call. */
 enum { FURNACE_PLASTIC_COSINES = 64 };
 void furnace_plastic_coat(double alpha, double eta, double t[FURNACE_PLASTIC_COSINES], double *ri);
 
