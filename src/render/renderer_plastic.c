@@ -124,7 +124,6 @@ bool renderer_upload_plastic_tables(vkrt_renderer *r, const vkrt_scene_materials
     plastic_share shares[BVH_MAX_THREADS];
     for (uint32_t t = 0; t < threads; ++t)
         shares[t] = (plastic_share){jobs, t, threads, entries};
-    vkrt_plastic_rules_init();
     if (entries)
         bvh_threads_run(threads, fill_entries, shares, sizeof shares[0]);
     for (uint32_t j = 0; j < rows; ++j)

@@ -2,6 +2,7 @@
 #include "plastic_table.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdbool.h>
 
 static const double pi = 3.14159265358979323846;
@@ -132,15 +133,20 @@ static double visible_integral(double cos_i, double alpha, double eta, bool tran
     return sum;
 }
 
-/* The two rules, made by vkrt_plastic_rules_init. */
+/* The two rules, made once by whichever thread first needs them (renderers may be created on
+ * several threads at once: a device pool). */
 static disk_rule transmit_rule, internal_rule;
+static pthread_once_t rules_once = PTHREAD_ONCE_INIT;
+
+static void rules_make(void)
+{
+    disk_rule_init(&internal_rule, NODES_INTERNAL);
+    disk_rule_init(&transmit_rule, NODES_TRANSMIT);
+}
 
 void vkrt_plastic_rules_init(void)
 {
-    if (transmit_rule.count)
-        return;
-    disk_rule_init(&internal_rule, NODES_INTERNAL);
-    disk_rule_init(&transmit_rule, NODES_TRANSMIT);
+    pthread_once(&rules_once, rules_make);
 }
 
 double vkrt_plastic_transmittance(double cos_i, double alpha, double eta)

@@ -23,9 +23,8 @@
 
 #include "../../glsl/shared.h" /* VKRT_PLASTIC_COSINES, VKRT_PLASTIC_ROW_FLOATS: a row's layout */
 
-/* Makes the quadrature rules the functions below use (once; later calls return at once). Not
- * thread-safe: call it before rows are filled on several threads; the functions below call it
- * themselves. */
+/* Makes the quadrature rules the functions below use, once (later calls return at once; any
+ * thread may call it); the functions below call it themselves. */
 void vkrt_plastic_rules_init(void);
 
 /* Fills row (VKRT_PLASTIC_ROW_FLOATS floats) for a GGX coat of alpha (roughness squared) and
