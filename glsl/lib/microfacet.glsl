@@ -179,29 +179,28 @@ uint plastic_table_of_material()
     return start >= 0.0 ? uint(start) : PLASTIC_NO_TABLE;
 }
 
-/* Number `entry` of a table row (0: Ri; 1 + k: T at cosine k / 63) at the material's roughness,
- * where cos_t >= 0 interpolates T over the cosines (entry 1), as Mitsuba's lerp_gather. */
-float plastic_row_value(uint row, uint entry, float cos_t)
+/* Of the table row at `row`: T at cos_t, linear between the cosines as Mitsuba's lerp_gather;
+ * or, where cos_t < 0, Ri. */
+float plastic_row_value(uint row, float cos_t)
 {
     if (cos_t < 0.0)
-        return plastic_tables[row + entry];
-    float x = clamp(cos_t, 0.0, 1.0) * float(VKRT_PLASTIC_COSINES - 1);
+        return plastic_tables[row];
+    float x = min(cos_t, 1.0) * float(VKRT_PLASTIC_COSINES - 1);
     uint k = min(uint(x), uint(VKRT_PLASTIC_COSINES - 2));
     return mix(plastic_tables[row + 1u + k], plastic_tables[row + 2u + k], x - float(k));
 }
 
-/* The table's value at the material's roughness: between the two rows about it. */
-float plastic_table_value(RoughMaterial m, uint entry, float cos_t)
+/* The same at the material's roughness: between the two rows about it (one row: its own). */
+float plastic_table_value(RoughMaterial m, float cos_t)
 {
     uint rows = uint(plastic_tables[m.table]);
     float x = clamp(sqrt(m.alpha) * plastic_tables[m.table + 1u], 0.0, float(rows - 1u));
     uint r0 = rows > 1u ? min(uint(x), rows - 2u) : 0u;
     uint row = m.table + uint(VKRT_PLASTIC_HEADER_FLOATS) + r0 * uint(VKRT_PLASTIC_ROW_FLOATS);
-    float v = plastic_row_value(row, entry, cos_t);
+    float v = plastic_row_value(row, cos_t);
     if (rows == 1u)
         return v;
-    return mix(v, plastic_row_value(row + uint(VKRT_PLASTIC_ROW_FLOATS), entry, cos_t),
-               x - float(r0));
+    return mix(v, plastic_row_value(row + uint(VKRT_PLASTIC_ROW_FLOATS), cos_t), x - float(r0));
 }
 
 /* Whether the base sees the rough coat's tables: a rough @roughplastic (at a roughness below
@@ -217,7 +216,7 @@ bool plastic_tabulated(RoughMaterial m)
 float plastic_transmittance(RoughMaterial m, float cos_t)
 {
     if (plastic_tabulated(m))
-        return plastic_table_value(m, 1u, max(cos_t, 0.0));
+        return plastic_table_value(m, max(cos_t, 0.0));
     return 1.0 - fresnel_dielectric(cos_t, m.eta);
 }
 
@@ -272,7 +271,7 @@ vec3 plastic_diffuse(RoughMaterial m, vec3 o, vec3 i)
 {
     float through = plastic_transmittance(m, o.z) * plastic_transmittance(m, i.z);
     float inside = plastic_tabulated(m)
-                       ? m.eta * m.eta * (1.0 - plastic_table_value(m, 0u, -1.0))
+                       ? m.eta * m.eta * (1.0 - plastic_table_value(m, -1.0))
                        : 1.0 - fresnel_diffuse_reflectance(m.eta);
     return m.diffuse * (through * i.z / (PI * inside));
 }

@@ -2,9 +2,9 @@
  * renderer_plastic.c: @roughplastic's coat tables (glsl/shared.h VKRT_BINDING_PLASTIC_TABLES,
  * src/scene/plastic_table.h), one per index and roughness of the scene's rough plastics, and
  * each such material's Material.maps.w pointing at its table. A material of one roughness gets
- * one row, made at exactly its roughness; one with a roughness map (map_Pr) a row every 1/32 of
- * roughness up to its number 16, between which the shader interpolates (within 2.5e-3 of T at
- * any cosine, 1.5e-4 at cos 0.5). A smooth coat (roughness below 0.02, what the shader treats as
+ * one row, made at exactly its roughness; one with a roughness map (map_Pr, texture slot 2) a
+ * row every 1/32 of roughness from 0 to 1, between which the shader interpolates (within 2.5e-3
+ * of T at any cosine, 1.5e-4 at cos 0.5). A smooth coat (roughness below 0.02, what the shader treats as
  * a delta mirror) and an index of 1 (no coat: the base is Lambertian) need none.
  */
 #include <math.h>
