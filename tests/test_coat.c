@@ -8,10 +8,10 @@
  * tiles: a coat of weight 1 at roughness 0.05, 0.2 and 0.5, of weight 0.5 at 0.2, and a smooth
  * one (roughness 0, a delta lobe), over four white bases of roughness 0.5: a conductor of F0 1,
  * a Lambertian (@roughplastic with Ks 0 and Ni 1: no coat of its own), a plastic (Kd 1 under its
- * own coat of index 1.5) and a glass of index 1.5; and over a black base, where the picture is
- * the coat's reflection alone (the white bases are nearly as bright with as without a coat at
- * this angle: the model conserves energy). A row of .mtl materials takes Pc and Pcr through the
- * pbr and roughdielectric built-ins (Blender's Coat Weight = Pc / 4).
+ * own coat of index 1.5: Mitsuba's roughplastic, furnace.h) and a glass of index 1.5; and over a
+ * black base, where the picture is the coat's reflection alone (the white bases are nearly as
+ * bright with as without a coat at this angle: the model conserves energy). A row of .mtl materials
+ * takes Pc and Pcr through the pbr and roughdielectric built-ins (Blender's Coat Weight = Pc / 4).
  *
  * The reference writes the layer model again from its description (docs/materials.md), not from
  * the shader: the coat's reflection w F(i.h) D G / (4 cos_o), the base under it scaled by
