@@ -148,8 +148,11 @@ struct RoughMaterial {
     float alpha;    /* GGX alpha of every lobe */
     bool dielectric;
     float sheen;    /* the plastic's sheen weight, in [0, 1] (the .mtl's Ps; "The sheen", below) */
-    uint table;     /* the plastic's coat table (@roughplastic: "The rough coat's tables", below), or
-                       PLASTIC_NO_TABLE: the smooth coat's Fresnel layering (@pbr, or no coat) */
+    uint table;      /* where the plastic's coat table row at its roughness starts
+                        (@roughplastic: plastic_find_row, "The rough coat's tables", below), or
+                        PLASTIC_NO_TABLE: the smooth coat's Fresnel layering (@pbr, no coat, or
+                        a smooth coat) */
+    float table_mix; /* the share of the next row (a roughness map's rows); 0: this row alone */
 };
 
 /* Whether the material has a delta (smooth) specular lobe instead of a GGX one. */
@@ -172,13 +175,6 @@ layout(std430, set = 0, binding = VKRT_BINDING_PLASTIC_TABLES) readonly buffer P
 };
 const uint PLASTIC_NO_TABLE = 0xFFFFFFFFu;
 
-/* The coat table of the material being shaded (Material.maps.w), or PLASTIC_NO_TABLE. */
-uint plastic_table_of_material()
-{
-    float start = materials[vkrt_material].maps.w;
-    return start >= 0.0 ? uint(start) : PLASTIC_NO_TABLE;
-}
-
 /* Of the table row at `row`: T at cos_t, linear between the cosines as Mitsuba's lerp_gather;
  * or, where cos_t < 0, Ri. */
 float plastic_row_value(uint row, float cos_t)
@@ -190,25 +186,38 @@ float plastic_row_value(uint row, float cos_t)
     return mix(plastic_tables[row + 1u + k], plastic_tables[row + 2u + k], x - float(k));
 }
 
-/* The same at the material's roughness: between the two rows about it (one row: its own). */
-float plastic_table_value(RoughMaterial m, float cos_t)
+/* Finds m's rows in the table of the material being shaded (Material.maps.w) at m's roughness:
+ * the row about it below, and the next one's share (a table of one row is the material's own
+ * roughness). Once per material, so that the lobes read the header once. A smooth coat (below
+ * roughness 0.02, which a roughness map may reach) has none: Mitsuba's smooth `plastic` is its
+ * limit, the Fresnel layering below. */
+void plastic_find_row(inout RoughMaterial m)
 {
-    uint rows = uint(plastic_tables[m.table]);
-    float x = clamp(sqrt(m.alpha) * plastic_tables[m.table + 1u], 0.0, float(rows - 1u));
+    float start = materials[vkrt_material].maps.w;
+    m.table = PLASTIC_NO_TABLE;
+    m.table_mix = 0.0;
+    if (start < 0.0 || rough_is_smooth(m))
+        return;
+    uint table = uint(start), rows = uint(plastic_tables[table]);
+    float x = clamp(sqrt(m.alpha) * plastic_tables[table + 1u], 0.0, float(rows - 1u));
     uint r0 = rows > 1u ? min(uint(x), rows - 2u) : 0u;
-    uint row = m.table + uint(VKRT_PLASTIC_HEADER_FLOATS) + r0 * uint(VKRT_PLASTIC_ROW_FLOATS);
-    float v = plastic_row_value(row, cos_t);
-    if (rows == 1u)
-        return v;
-    return mix(v, plastic_row_value(row + uint(VKRT_PLASTIC_ROW_FLOATS), cos_t), x - float(r0));
+    m.table = table + uint(VKRT_PLASTIC_HEADER_FLOATS) + r0 * uint(VKRT_PLASTIC_ROW_FLOATS);
+    m.table_mix = x - float(r0);
 }
 
-/* Whether the base sees the rough coat's tables: a rough @roughplastic (at a roughness below
- * 0.02, which a roughness map may reach, the coat is smooth and Mitsuba's smooth `plastic` is the
- * limit: the Fresnel layering below, with the same numbers). */
+/* T at cos_t (or Ri where cos_t < 0) at m's roughness: its row, mixed with the next. */
+float plastic_table_value(RoughMaterial m, float cos_t)
+{
+    float v = plastic_row_value(m.table, cos_t);
+    if (m.table_mix > 0.0)
+        v = mix(v, plastic_row_value(m.table + uint(VKRT_PLASTIC_ROW_FLOATS), cos_t), m.table_mix);
+    return v;
+}
+
+/* Whether the base sees the rough coat's tables (a rough @roughplastic). */
 bool plastic_tabulated(RoughMaterial m)
 {
-    return m.table != PLASTIC_NO_TABLE && !rough_is_smooth(m);
+    return m.table != PLASTIC_NO_TABLE;
 }
 
 /* What the coat lets into the base from the direction at cos_t: the rough coat's T, or the

@@ -19,7 +19,7 @@ RoughMaterial pbr_material(Surface s)
     float ni = param(11u) > 1.0 ? param(11u) : 1.5;
     return RoughMaterial(base, vec3(1.0), base, vec3(1.0), metallic, ni,
                          ggx_alpha(mtl_roughness(s)), false, mtl_sheen(s),
-                         PLASTIC_NO_TABLE);
+                         PLASTIC_NO_TABLE, 0.0);
 }
 
 ROUGH_BUILTIN(pbr_material)

@@ -16,9 +16,11 @@
 RoughMaterial roughplastic_material(Surface s)
 {
     float ni = param(11u) > 0.0 ? param(11u) : 1.5;
-    return RoughMaterial(mtl_diffuse(s), param3(4u), vec3(0.0), vec3(1.0), 0.0, ni,
-                         ggx_alpha(mtl_roughness(s)), false, mtl_sheen(s),
-                         plastic_table_of_material());
+    RoughMaterial m = RoughMaterial(mtl_diffuse(s), param3(4u), vec3(0.0), vec3(1.0), 0.0, ni,
+                                    ggx_alpha(mtl_roughness(s)), false, mtl_sheen(s),
+                                    PLASTIC_NO_TABLE, 0.0);
+    plastic_find_row(m);
+    return m;
 }
 
 ROUGH_BUILTIN(roughplastic_material)
