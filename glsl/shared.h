@@ -50,9 +50,10 @@ typedef uint32_t uint;
 #define VKRT_BINDING_SAMPLE_LUMINANCE 23
 #define VKRT_BINDING_SPLIT_ADDRESSES 24   /* the chunks of split arrays (below) */
 #define VKRT_BINDING_MATERIAL_ORDER 25    /* hits grouped by shader (order.comp); else minimal */
-#define VKRT_STORAGE_BINDINGS 26
-#define VKRT_BINDING_TRIANGLE_TEXELS 26
-#define VKRT_BINDING_NODE_TEXELS 27
+#define VKRT_BINDING_PLASTIC_TABLES 26    /* @roughplastic's coat tables (below); else minimal */
+#define VKRT_STORAGE_BINDINGS 27
+#define VKRT_BINDING_TRIANGLE_TEXELS 27
+#define VKRT_BINDING_NODE_TEXELS 28
 #define VKRT_TEXEL_BINDINGS 2
 
 /* Arrays larger than one buffer holds (issue 20; src/gpu/array.h): each is split into chunks of
@@ -212,8 +213,23 @@ VKRT_STRUCT(Material) {
     vec4 maps;        /* x: the luminance light sampling weighs the emission by, luminance(Ke
                          times the mean of map_Ke) (lib/emitters.glsl); y: the detail map's
                          multiplier (-bm); z: the sheen weight of the rough built-ins (the
-                         .mtl's Ps, a material file's number 20); w: 0 */
+                         .mtl's Ps, a material file's number 20); w: where @roughplastic's coat
+                         table starts in the plastic tables (a whole number; -1: none, a smooth
+                         or index-1 coat, and every other shader) */
 };
+
+/* @roughplastic's coat tables (binding VKRT_BINDING_PLASTIC_TABLES, floats; src/scene/
+ * plastic_table.h says what the numbers are, lib/microfacet.glsl reads them): one table per
+ * index and roughness of the scene's rough plastics, each
+ *     [0]                    its row count R (1 for a material of one roughness)
+ *     [1]                    (R - 1) / the roughness of its last row (0 for one row): the first
+ *                            row is roughness 0 where R > 1, the rows equally spaced
+ *     [2 + r * ROW_FLOATS]   row r: the coat's internal reflectance Ri, then its transmittance
+ *                            T at the cosines k / (VKRT_PLASTIC_COSINES - 1), k = 0, 1, ...
+ * A scene without a rough plastic uploads none (a minimal buffer). */
+#define VKRT_PLASTIC_COSINES 64
+#define VKRT_PLASTIC_ROW_FLOATS (1 + VKRT_PLASTIC_COSINES)
+#define VKRT_PLASTIC_HEADER_FLOATS 2
 
 /* A light in GPU form. Spot lights fall off linearly in angle from beam_angle (full intensity)
  * to cutoff_angle (zero), as Mitsuba's spot light does. */

@@ -36,14 +36,17 @@ double smith_g1(v3 w, v3 m, double alpha)
     return 2 / (1 + sqrt(1 + alpha * alpha * tan2));
 }
 
-double furnace_integrate(v3 o, double alpha, double eta, int n,
-                         double (*term)(const furnace_facet *f, double alpha, void *ctx), void *ctx)
+/* furnace_integrate's grid, or with tails: u = 1 - s^2 on a midpoint grid in s, weighted 2 s. */
+static double integrate_grid(v3 o, double alpha, double eta, int n, bool tails,
+                             double (*term)(const furnace_facet *f, double alpha, void *ctx),
+                             void *ctx)
 {
     const double pi = 3.14159265358979323846;
     double sum = 0;
     for (int a = 0; a < n; ++a)
         for (int b = 0; b < n; ++b) {
-            double u = (a + 0.5) / n, phi = 2 * pi * (b + 0.5) / n;
+            double s = (a + 0.5) / n, phi = 2 * pi * (b + 0.5) / n;
+            double u = tails ? 1 - s * s : s, weight = tails ? 2 * s : 1;
             double theta = atan(alpha * sqrt(u / (1 - u)));
             furnace_facet f;
             f.m = (v3){sin(theta) * cos(phi), sin(theta) * sin(phi), cos(theta)};
@@ -57,9 +60,54 @@ double furnace_integrate(v3 o, double alpha, double eta, int n,
             f.t = k2 > 0 ? (v3){(c - k) * f.m.x - o.x / eta, (c - k) * f.m.y - o.y / eta,
                                 (c - k) * f.m.z - o.z / eta}
                          : (v3){0, 0, 0};
-            sum += term(&f, alpha, ctx);
+            sum += weight * term(&f, alpha, ctx);
         }
     return sum / ((double)n * n);
+}
+
+double furnace_integrate(v3 o, double alpha, double eta, int n,
+                         double (*term)(const furnace_facet *f, double alpha, void *ctx), void *ctx)
+{
+    return integrate_grid(o, alpha, eta, n, false, term, ctx);
+}
+
+double furnace_integrate_tails(v3 o, double alpha, double eta, int n,
+                               double (*term)(const furnace_facet *f, double alpha, void *ctx),
+                               void *ctx)
+{
+    return integrate_grid(o, alpha, eta, n, true, term, ctx);
+}
+
+static double transmitted_term(const furnace_facet *f, double alpha, void *ctx)
+{
+    double eta = *(const double *)ctx, fr = fresnel(f->om, eta);
+    return fr < 1 && f->t.z < 0 ? (1 - fr) * smith_g1(f->t, f->m, alpha) * f->common : 0;
+}
+
+static double reflected_term(const furnace_facet *f, double alpha, void *ctx)
+{
+    double eta = *(const double *)ctx;
+    return f->r.z > 0 ? fresnel(f->om, eta) * smith_g1(f->r, f->m, alpha) * f->common : 0;
+}
+
+void furnace_plastic_coat(double alpha, double eta, double t[FURNACE_PLASTIC_COSINES], double *ri)
+{
+    const int n = 100;
+    double inside = 1 / eta, sum = 0;
+    for (int k = 0; k < FURNACE_PLASTIC_COSINES; ++k) {
+        double mu = fmax(1e-6, k / (double)(FURNACE_PLASTIC_COSINES - 1));
+        v3 o = {sqrt(1 - mu * mu), 0, mu};
+        t[k] = furnace_integrate_tails(o, alpha, eta, n, transmitted_term, &eta);
+        sum += furnace_integrate_tails(o, alpha, inside, n, reflected_term, &inside) * mu;
+    }
+    *ri = 2 * sum / FURNACE_PLASTIC_COSINES;
+}
+
+double furnace_plastic_lerp(const double t[FURNACE_PLASTIC_COSINES], double mu)
+{
+    double x = mu * (FURNACE_PLASTIC_COSINES - 1);
+    int k = (int)x < FURNACE_PLASTIC_COSINES - 2 ? (int)x : FURNACE_PLASTIC_COSINES - 2;
+    return t[k] + (t[k + 1] - t[k]) * (x - k);
 }
 
 void furnace_write_tile(FILE *obj, int columns, int rows, int row, int column)

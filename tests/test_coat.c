@@ -8,10 +8,10 @@
  * tiles: a coat of weight 1 at roughness 0.05, 0.2 and 0.5, of weight 0.5 at 0.2, and a smooth
  * one (roughness 0, a delta lobe), over four white bases of roughness 0.5: a conductor of F0 1,
  * a Lambertian (@roughplastic with Ks 0 and Ni 1: no coat of its own), a plastic (Kd 1 under its
- * own coat of index 1.5) and a glass of index 1.5; and over a black base, where the picture is
- * the coat's reflection alone (the white bases are nearly as bright with as without a coat at
- * this angle: the model conserves energy). A row of .mtl materials takes Pc and Pcr through the
- * pbr and roughdielectric built-ins (Blender's Coat Weight = Pc / 4).
+ * own coat of index 1.5: Mitsuba's roughplastic, furnace.h) and a glass of index 1.5; and over a
+ * black base, where the picture is the coat's reflection alone (the white bases are nearly as
+ * bright with as without a coat at this angle: the model conserves energy). A row of .mtl materials
+ * takes Pc and Pcr through the pbr and roughdielectric built-ins (Blender's Coat Weight = Pc / 4).
  *
  * The reference writes the layer model again from its description (docs/materials.md), not from
  * the shader: the coat's reflection w F(i.h) D G / (4 cos_o), the base under it scaled by
@@ -44,22 +44,38 @@
 
 static const double coat_eta = 1.5, base_eta = 1.5, base_roughness = 0.5;
 
+/* The plastic base's rough coat (furnace.h, furnace_plastic_coat: Mitsuba's roughplastic), its
+ * transmittance at the 64 cosines and internal reflectance, integrated once. */
+static const double *plastic_coat(double *ri)
+{
+    static double t[FURNACE_PLASTIC_COSINES], internal;
+    static bool done;
+    if (!done)
+        furnace_plastic_coat(base_roughness * base_roughness, base_eta, t, &internal);
+    done = true;
+    *ri = internal;
+    return t;
+}
+
 /* 2 int_0^1 g(mu) mu dmu by a 4000-point midpoint rule; g of the kind asked: the coat's
- * Fresnel (Fdr), or the plastic's transmission times the coat's. */
+ * Fresnel (0: Fdr), or the plastic's transmission times the coat's (1: the rough coat's T,
+ * Mitsuba's roughplastic; 2: the smooth coat's 1 - F, @pbr's). */
 static double hemispherical(int kind, double w)
 {
     const int n = 4000;
-    double sum = 0;
+    double ri, sum = 0;
+    const double *t = kind == 1 ? plastic_coat(&ri) : NULL;
     for (int k = 0; k < n; ++k) {
         double mu = (k + 0.5) / n;
-        double g = kind == 0 ? fresnel(mu, coat_eta)
-                             : (1 - fresnel(mu, base_eta)) * (1 - w * fresnel(mu, coat_eta));
+        double g = kind == 0   ? fresnel(mu, coat_eta)
+                   : kind == 1 ? furnace_plastic_lerp(t, mu) * (1 - w * fresnel(mu, coat_eta))
+                               : (1 - fresnel(mu, base_eta)) * (1 - w * fresnel(mu, coat_eta));
         sum += g * mu;
     }
     return 2 * sum / n;
 }
 
-enum base { CONDUCTOR, LAMBERT, PLASTIC, GLASS, BLACK, COLUMNS };
+enum base { CONDUCTOR, LAMBERT, PLASTIC, GLASS, BLACK, COLUMNS, PBR_PLASTIC = COLUMNS };
 
 typedef struct {
     double w;     /* coat weight */
@@ -90,7 +106,7 @@ static double coat_term(const furnace_facet *f, double alpha, void *ctx)
         term = x->c.w * fresnel(f->om, coat_eta) * g_r;
     else if (x->kind == CONDUCTOR)
         term = g_r * x->to * transmission(x->c, f->r.z) / x->inside;
-    else if (x->kind == PLASTIC)
+    else if (x->kind == PLASTIC || x->kind == PBR_PLASTIC)
         term = fresnel(f->om, base_eta) * g_r * x->to * transmission(x->c, f->r.z) / x->inside;
     else
         term = fresnel(f->om, base_eta) * g_r * x->to * transmission(x->c, f->r.z);
@@ -111,7 +127,7 @@ static double coated_albedo(enum base kind, coat c, double mu, double *seen)
 {
     const int n = 500;
     v3 o = {sqrt(1 - mu * mu), 0, mu};
-    double fdr = hemispherical(0, 0); /* the coat's, and the plastic's (both of index 1.5) */
+    double fdr = hemispherical(0, 0); /* the coat's */
     coat_term_ctx x = {kind, c, 0, transmission(c, mu), 1 - c.w * fdr, 0};
     double energy = 0, shown = 0;
     if (c.alpha == 0) {
@@ -126,12 +142,20 @@ static double coated_albedo(enum base kind, coat c, double mu, double *seen)
         energy += furnace_integrate(o, base_roughness * base_roughness, base_eta, n, coat_term, &x);
         shown += x.seen / ((double)n * n);
     }
-    if (kind == LAMBERT || kind == PLASTIC) {
-        /* The diffuse base: Kd / pi (1 - F_b(o)) (1 - F_b(i)) / (1 - Fdr_b) for the plastic (1
-         * for the Lambertian), under the coat's two transmissions and 1 / (1 - w Fdr). */
-        double d = kind == LAMBERT ? x.to * (1 - c.w * fdr) / x.inside
-                                   : (1 - fresnel(mu, base_eta)) * x.to * hemispherical(1, c.w) /
-                                         ((1 - fdr) * x.inside);
+    if (kind == LAMBERT || kind == PLASTIC || kind == PBR_PLASTIC) {
+        /* The diffuse base: Kd / (pi eta^2 (1 - Ri)) T(o) T(i) for the plastic, Kd / pi
+         * (1 - F_b(o)) (1 - F_b(i)) / (1 - Fdr_b) for @pbr's (Kd / pi for the Lambertian), under
+         * the coat's two transmissions and 1 / (1 - w Fdr). */
+        double d = x.to * (1 - c.w * fdr) / x.inside;
+        if (kind == PLASTIC) {
+            double ri;
+            const double *t = plastic_coat(&ri);
+            d = furnace_plastic_lerp(t, mu) * x.to * hemispherical(1, c.w) /
+                (base_eta * base_eta * (1 - ri) * x.inside);
+        } else if (kind == PBR_PLASTIC) {
+            /* Both of index 1.5: Fdr_b is the coat's. */
+            d = (1 - fresnel(mu, base_eta)) * x.to * hemispherical(2, c.w) / ((1 - fdr) * x.inside);
+        }
         energy += d;
         shown += d;
     }
@@ -172,7 +196,7 @@ static const char *const mtl_names[COLUMNS] = {"metal, Pc 2 Pcr 0.2", "plastic, 
                                                "black, Pc 1 Pcr 0.05"};
 static const coat mtl_coat[COLUMNS] = {
     {0.5, 0.04}, {1, 0.04}, {1, 0.25}, {1, 0.04}, {0.25, 0.0025}};
-static const enum base mtl_base[COLUMNS] = {CONDUCTOR, PLASTIC, PLASTIC, GLASS, BLACK};
+static const enum base mtl_base[COLUMNS] = {CONDUCTOR, PBR_PLASTIC, PBR_PLASTIC, GLASS, BLACK};
 
 static void write_tiles(void)
 {
@@ -219,7 +243,7 @@ static bool furnace_agrees(vkrt_integrator integrator, uint32_t mode)
         for (int column = 0; column < COLUMNS; ++column) {
             enum base kind = row < 5 ? (enum base)column : mtl_base[column];
             coat c = row < 5 ? row_coat[row] : mtl_coat[column];
-            if (whitted && (kind == LAMBERT || kind == PLASTIC))
+            if (whitted && (kind == LAMBERT || kind == PLASTIC || kind == PBR_PLASTIC))
                 continue;
             double mean, se, seen;
             furnace_tile_mean(rgb, COLUMNS, TILE, MARGIN, row, column, &mean, &se);

@@ -460,6 +460,14 @@ def rough_bsdf(m, kind, albedo, notes):
         return two_sided(coated(m, sheened(m, {"type": "diffuse", "reflectance": albedo})))
     r = min(max(m.roughness, 0.0), 1.0)
     ggx = {"distribution": "ggx", "alpha": max(r * r, 1e-4), "sample_visible": True}
+    plastic = {"int_ior": m.ni if m.ni > 0 else 1.5, "ext_ior": 1.0,
+               "diffuse_reflectance": albedo, "nonlinear": False,
+               "specular_reflectance": reflectance(m.ks)}
+    if kind == "roughplastic" and r < 0.02:
+        # vkrt's smooth coat is Mitsuba's smooth `plastic` (its base under the smooth Fresnel);
+        # Mitsuba's roughplastic does not tend to it (its internal reflectance is a mean over 64
+        # cosines: 0.981 at cos 0.5 for Kd 1, Ni 1.5 and roughness 0.01, `plastic` 1.001).
+        return two_sided(coated(m, sheened(m, {"type": "plastic", **plastic})))
     if r < 0.02:
         notes.append(f"material '{m.name}': roughness {r} is smooth in vkrt (a delta lobe); "
                      "Mitsuba gets GGX of alpha 1e-4")
@@ -475,12 +483,8 @@ def rough_bsdf(m, kind, albedo, notes):
         tint = m.tf if any(m.tf) else [1.0, 1.0, 1.0]
         return coated(m, {"type": "roughdielectric", "int_ior": m.ni if m.ni > 0 else 1.5,
                           "ext_ior": 1.0, "specular_transmittance": reflectance(tint), **ggx})
-    # vkrt's base sees the coat's smooth Fresnel transmission, 1 - F(cos); Mitsuba's
-    # roughplastic a table of the rough coat's: the same as the roughness goes to 0.
-    return two_sided(coated(m, sheened(m, {"type": "roughplastic",
-                                           "int_ior": m.ni if m.ni > 0 else 1.5, "ext_ior": 1.0,
-                                           "diffuse_reflectance": albedo, "nonlinear": False,
-                                           "specular_reflectance": reflectance(m.ks), **ggx})))
+    # vkrt's @roughplastic is Mitsuba's roughplastic, its coat tables made the same way.
+    return two_sided(coated(m, sheened(m, {"type": "roughplastic", **plastic, **ggx})))
 
 
 def sheened(m, base):

@@ -15,6 +15,9 @@
  * - Reflection and refraction through rough dielectrics: Walter, Marschner, Li and Torrance 2007,
  *   "Microfacet Models for Refraction through Rough Surfaces" (eq. 21 for the BTDF, 17 for the
  *   refracted half-vector's Jacobian), carrying radiance (the 1 / eta^2 of the smooth glass).
+ * - The plastic's base (@roughplastic) under its rough coat: Mitsuba 3's roughplastic, from
+ *   tables of the coat's transmittance and internal reflectance the host makes at scene load
+ *   ("The rough coat's tables", below; src/scene/plastic_table.h).
  * Directions in the local frame have z along the shading normal, which faces the arriving ray.
  * Single scattering: light that would bounce between microfacets is lost, a few percent at
  * roughness 0.5 and more at 1 (tests/test_microfacet.c measures how much).
@@ -145,7 +148,86 @@ struct RoughMaterial {
     float alpha;    /* GGX alpha of every lobe */
     bool dielectric;
     float sheen;    /* the plastic's sheen weight, in [0, 1] (the .mtl's Ps; "The sheen", below) */
+    uint table;      /* where the plastic's coat table row at its roughness starts
+                        (@roughplastic: plastic_find_row, "The rough coat's tables", below), or
+                        PLASTIC_NO_TABLE: the smooth coat's Fresnel layering (@pbr, no coat, or
+                        a smooth coat) */
+    float table_mix; /* the share of the next row (a roughness map's rows); 0: this row alone */
 };
+
+/* Whether the material has a delta (smooth) specular lobe instead of a GGX one. */
+bool rough_is_smooth(RoughMaterial m)
+{
+    return m.alpha < MICROFACET_SMOOTH_ALPHA;
+}
+
+/* ---- The rough coat's tables ---------------------------------------------------------------- */
+
+/* @roughplastic follows Mitsuba 3's `roughplastic` (nonlinear false): its base sees the rough
+ * coat's transmittance T(cos), what the GGX dielectric's visible microfacets refract in and the
+ * refracted light's masking lets through, and 1 / (1 - Ri), Ri the coat's reflectance from inside
+ * averaged as Mitsuba averages it. Both come from tables made on the host at scene load for the
+ * indices and roughnesses the scene's rough plastics use (src/scene/plastic_table.h, layout in
+ * glsl/shared.h), interpolated linearly in the cosine over Mitsuba's 64 cosines, as Mitsuba
+ * does, and between rows of roughness where a map varies it. */
+layout(std430, set = 0, binding = VKRT_BINDING_PLASTIC_TABLES) readonly buffer PlasticTableBuffer {
+    float plastic_tables[];
+};
+const uint PLASTIC_NO_TABLE = 0xFFFFFFFFu;
+
+/* Of the table row at `row`: T at cos_t, linear between the cosines as Mitsuba's lerp_gather;
+ * or, where cos_t < 0, Ri. */
+float plastic_row_value(uint row, float cos_t)
+{
+    if (cos_t < 0.0)
+        return plastic_tables[row];
+    float x = min(cos_t, 1.0) * float(VKRT_PLASTIC_COSINES - 1);
+    uint k = min(uint(x), uint(VKRT_PLASTIC_COSINES - 2));
+    return mix(plastic_tables[row + 1u + k], plastic_tables[row + 2u + k], x - float(k));
+}
+
+/* Finds m's rows in the table of the material being shaded (Material.maps.w) at m's roughness:
+ * the row about it below, and the next one's share (a table of one row is the material's own
+ * roughness). Once per material, so that the lobes read the header once. A smooth coat (below
+ * roughness 0.02, which a roughness map may reach) has none: Mitsuba's smooth `plastic` is its
+ * limit, the Fresnel layering below. */
+void plastic_find_row(inout RoughMaterial m)
+{
+    float start = materials[vkrt_material].maps.w;
+    m.table = PLASTIC_NO_TABLE;
+    m.table_mix = 0.0;
+    if (start < 0.0 || rough_is_smooth(m))
+        return;
+    uint table = uint(start), rows = uint(plastic_tables[table]);
+    float x = clamp(sqrt(m.alpha) * plastic_tables[table + 1u], 0.0, float(rows - 1u));
+    uint r0 = rows > 1u ? min(uint(x), rows - 2u) : 0u;
+    m.table = table + uint(VKRT_PLASTIC_HEADER_FLOATS) + r0 * uint(VKRT_PLASTIC_ROW_FLOATS);
+    m.table_mix = x - float(r0);
+}
+
+/* T at cos_t (or Ri where cos_t < 0) at m's roughness: its row, mixed with the next. */
+float plastic_table_value(RoughMaterial m, float cos_t)
+{
+    float v = plastic_row_value(m.table, cos_t);
+    if (m.table_mix > 0.0)
+        v = mix(v, plastic_row_value(m.table + uint(VKRT_PLASTIC_ROW_FLOATS), cos_t), m.table_mix);
+    return v;
+}
+
+/* Whether the base sees the rough coat's tables (a rough @roughplastic). */
+bool plastic_tabulated(RoughMaterial m)
+{
+    return m.table != PLASTIC_NO_TABLE;
+}
+
+/* What the coat lets into the base from the direction at cos_t: the rough coat's T, or the
+ * smooth coat's 1 - F. */
+float plastic_transmittance(RoughMaterial m, float cos_t)
+{
+    if (plastic_tabulated(m))
+        return plastic_table_value(m, max(cos_t, 0.0));
+    return 1.0 - fresnel_dielectric(cos_t, m.eta);
+}
 
 /* ---- The sheen ------------------------------------------------------------------------------ */
 
@@ -185,34 +267,34 @@ float sheen_albedo(RoughMaterial m, float cos_o)
     return m.sheen * (2.588e-4 + x * (6.3485e-3 + x * (2.92702e-2 + x * (2.44559e-2 + x * 2.81456e-2))));
 }
 
-/* The plastic's diffuse lobe (f cos), the coat's transmission in and out with smooth-surface
- * Fresnel: kd / pi (1 - F(cos_i)) (1 - F(cos_o)) / (1 - Fdr), Fdr the hemispherical average
- * reflectance of the coat from outside. Fdr's normalisation counts the light the coat reflects
- * back down again (internally) until it comes out: for kd = 1 the lobe's albedo is exactly
- * 1 - F(cos_o), what the coat lets in. It equals Mitsuba's `plastic` (nonlinear false), whose
- * inv_eta^2 / (1 - internal reflectance) is the same number (1 - Fdr_in = (1 - Fdr) / eta^2). */
+/* The plastic's diffuse lobe (f cos): Mitsuba's `plastic` and `roughplastic` (nonlinear false),
+ * kd / (pi eta^2 (1 - Ri)) T(cos_i) T(cos_o) cos_i with the coat's transmittance T both ways and
+ * 1 / (1 - Ri) for the light the coat reflects back down (internally) until it comes out.
+ * Through a rough coat T and Ri are the tables' (above), and a white base returns less than the
+ * coat lets in: Mitsuba's model loses the coat's single scattering on every crossing (Kd 1, Ni
+ * 1.5, cos 0.5: albedo 0.982, 0.966, 0.725, 0.260 at roughness 0.05, 0.2, 0.5, 1). Through a
+ * smooth coat (and for @pbr's base at any roughness) T = 1 - F and 1 - Ri = (1 - Fdr) / eta^2,
+ * Fdr the coat's hemispherical average reflectance from outside: then the lobe's albedo for
+ * kd = 1 is exactly 1 - F(cos_o), what the coat lets in. */
 vec3 plastic_diffuse(RoughMaterial m, vec3 o, vec3 i)
 {
-    float fo = fresnel_dielectric(o.z, m.eta), fi = fresnel_dielectric(i.z, m.eta);
-    float inside = 1.0 - fresnel_diffuse_reflectance(m.eta);
-    return m.diffuse * ((1.0 - fo) * (1.0 - fi) * i.z / (PI * inside));
+    float through = plastic_transmittance(m, o.z) * plastic_transmittance(m, i.z);
+    float inside = plastic_tabulated(m)
+                       ? m.eta * m.eta * (1.0 - plastic_table_value(m, -1.0))
+                       : 1.0 - fresnel_diffuse_reflectance(m.eta);
+    return m.diffuse * (through * i.z / (PI * inside));
 }
 
 /* Probability that the plastic samples its coat rather than its diffuse base (and the sheen,
- * which shares the base's cosine sampling): the coat's Fresnel at the viewing angle against what
- * the base gets, each by luminance, and the sheen's albedo. */
+ * which shares the base's cosine sampling): what the coat does not let through at the viewing
+ * angle against what it does, each by luminance, and the sheen's albedo (Mitsuba's choice,
+ * luminance for its channel mean). */
 float plastic_coat_probability(RoughMaterial m, vec3 o)
 {
-    float f = fresnel_dielectric(o.z, m.eta);
-    float ws = luminance(m.specular) * f;
-    float wd = luminance(m.diffuse) * (1.0 - f) + sheen_albedo(m, o.z);
+    float t = plastic_transmittance(m, o.z);
+    float ws = luminance(m.specular) * (1.0 - t);
+    float wd = luminance(m.diffuse) * t + sheen_albedo(m, o.z);
     return ws + wd > 0.0 ? ws / (ws + wd) : 1.0;
-}
-
-/* Whether the material has a delta (smooth) specular lobe instead of a GGX one. */
-bool rough_is_smooth(RoughMaterial m)
-{
-    return m.alpha < MICROFACET_SMOOTH_ALPHA;
 }
 
 /* The reflectance of the mixture's specular lobes at a microfacet seen at cos_h: the conductor's

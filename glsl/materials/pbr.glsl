@@ -18,7 +18,8 @@ RoughMaterial pbr_material(Surface s)
     /* The .mtl's Ni defaults to 1, which would be no coat at all: a coat needs an index above 1. */
     float ni = param(11u) > 1.0 ? param(11u) : 1.5;
     return RoughMaterial(base, vec3(1.0), base, vec3(1.0), metallic, ni,
-                         ggx_alpha(mtl_roughness(s)), false, mtl_sheen(s));
+                         ggx_alpha(mtl_roughness(s)), false, mtl_sheen(s),
+                         PLASTIC_NO_TABLE, 0.0);
 }
 
 ROUGH_BUILTIN(pbr_material)

@@ -11,7 +11,8 @@
 RoughMaterial roughconductor_material(Surface s)
 {
     return RoughMaterial(vec3(0.0), vec3(0.0), param3(4u), vec3(1.0), 1.0, 1.5,
-                         ggx_alpha(mtl_roughness(s)), false, 0.0);
+                         ggx_alpha(mtl_roughness(s)), false, 0.0, PLASTIC_NO_TABLE,
+                         0.0);
 }
 
 ROUGH_BUILTIN(roughconductor_material)

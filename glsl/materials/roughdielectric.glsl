@@ -12,7 +12,8 @@
 RoughMaterial roughdielectric_material(Surface s)
 {
     return RoughMaterial(vec3(0.0), vec3(0.0), vec3(0.0), mtl_transmission_filter(), 0.0,
-                         mtl_dielectric_eta(s), ggx_alpha(mtl_roughness(s)), true, 0.0);
+                         mtl_dielectric_eta(s), ggx_alpha(mtl_roughness(s)), true, 0.0,
+                         PLASTIC_NO_TABLE, 0.0);
 }
 
 ROUGH_BUILTIN(roughdielectric_material)

@@ -306,7 +306,7 @@ vkrt_renderer_memory vkrt_renderer_memory_use(const vkrt_renderer *r)
         .image = r->image.device_bytes,
         .other = r->materials.device_bytes + r->lights.device_bytes + r->counters.device_bytes +
                  r->waves.device_bytes + r->emitters.device_bytes + r->environment.device_bytes +
-                 r->split_addresses.device_bytes,
+                 r->plastic_tables.device_bytes + r->split_addresses.device_bytes,
     };
     m.total = m.triangles + m.nodes + m.textures + m.rays + m.image + m.other;
     return m;
@@ -340,7 +340,8 @@ void vkrt_renderer_destroy(vkrt_renderer *r)
     renderer_adaptive_destroy_buffers(r);
     gpu_buffer *buffers[] = {&r->split_addresses, &r->counters,      &r->image,
                              &r->waves,           &r->lights,        &r->materials,
-                             &r->texture_infos,   &r->emitters,      &r->environment};
+                             &r->texture_infos,   &r->emitters,      &r->environment,
+                             &r->plastic_tables};
     for (size_t i = 0; i < sizeof buffers / sizeof *buffers; ++i)
         gpu_buffer_destroy(r->ctx, buffers[i]);
     gpu_array *arrays[] = {&r->triangle_material, &r->normals, &r->texcoords, &r->triangles,

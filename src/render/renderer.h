@@ -12,10 +12,11 @@
  * of it they get through the functions below (and trace_api.h for bench and tests).
  *
  * Where each part lives: renderer.c (create, destroy), renderer_upload.c (scene to GPU buffers),
- * renderer_buffers.c (ray buffers: sizing, growth, binding), renderer_kernels.c (kernel
- * compilation, specialization), renderer_frame.c (recording and running a frame),
- * profile.c (GPU timestamps of a frame), trace_api.c (tracing given rays), camera_frame.c (the
- * camera's frame for raygen), tuning.c (device-dependent defaults).
+ * renderer_plastic.c (@roughplastic's coat tables), renderer_buffers.c (ray buffers: sizing,
+ * growth, binding), renderer_kernels.c (kernel compilation, specialization), renderer_frame.c
+ * (recording and running a frame), profile.c (GPU timestamps of a frame), trace_api.c (tracing
+ * given rays), camera_frame.c (the camera's frame for raygen), tuning.c (device-dependent
+ * defaults).
  */
 #ifndef VKRT_RENDERER_H
 #define VKRT_RENDERER_H

@@ -102,6 +102,7 @@ void renderer_bind_all(vkrt_renderer *r)
         [VKRT_BINDING_SAMPLE_LUMINANCE] = &r->sample_luminance,
         [VKRT_BINDING_SPLIT_ADDRESSES] = &r->split_addresses,
         [VKRT_BINDING_MATERIAL_ORDER] = &r->order_buffer,
+        [VKRT_BINDING_PLASTIC_TABLES] = &r->plastic_tables,
     };
     for (uint32_t i = 0; i < VKRT_STORAGE_BINDINGS; ++i)
         gpu_storage_set_bind(r->ctx, &r->set, i, bound[i]);

@@ -32,6 +32,7 @@ struct vkrt_renderer {
     gpu_buffer order_buffer;  /* its bins and the grouped order (minimal without it) */
     gpu_buffer emitters;      /* LightInfo, then the alias table over emissive triangles */
     gpu_buffer environment;   /* the environment map's sampling distribution */
+    gpu_buffer plastic_tables; /* @roughplastic's coat tables (minimal without one) */
     /* Adaptive sampling's PixelStats, ActivePixels and per-sample luminance (bindings.glsl);
      * minimal buffers without a target error. */
     gpu_buffer pixel_stats, active_pixels, sample_luminance;
@@ -72,6 +73,11 @@ bool renderer_upload_geometry(vkrt_renderer *r, const vkrt_mesh *mesh,
 bool renderer_upload_materials(vkrt_renderer *r, const vkrt_scene_materials *mats,
                                const vkrt_material_kernel *kernel, vkrt_error *err);
 bool renderer_upload_lights(vkrt_renderer *r, const vkrt_config *cfg, vkrt_error *err);
+/* renderer_plastic.c: the coat tables of the scene's @roughplastic materials (binding
+ * VKRT_BINDING_PLASTIC_TABLES; a minimal buffer without one), and where each material's table
+ * starts in materials[m].maps.w (-1: none). */
+bool renderer_upload_plastic_tables(vkrt_renderer *r, const vkrt_scene_materials *mats,
+                                    Material *materials, vkrt_error *err);
 /* The radiance material m emits as an area light (the .mtl's Ke for the built-ins that emit it,
  * times the mean of its map_Ke, else 0): what the integrator's choice and the path tracer's light
  * sampling go by. */

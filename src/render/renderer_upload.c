@@ -229,8 +229,9 @@ bool renderer_upload_materials(vkrt_renderer *r, const vkrt_scene_materials *mat
         }
         snprintf(r->material_names[i], len, "'%s' (%s)", m->name, m->referrer);
     }
-    bool ok = gpu_buffer_create_from(r->ctx, &r->materials, materials, mats->count * sizeof *materials, "materials",
-                     err);
+    bool ok = renderer_upload_plastic_tables(r, mats, materials, err) &&
+              gpu_buffer_create_from(r->ctx, &r->materials, materials,
+                                     mats->count * sizeof *materials, "materials", err);
     free(materials);
     const vkrt_texture_set *tex = &mats->textures;
     if (ok && tex->count) {
