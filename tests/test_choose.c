@@ -1,6 +1,6 @@
 /*
  * test_choose.c: the `accel auto` rule on grids built from known layouts: a handful of triangles
- * gets brute force on every device; an even soup gets the grid on a CPU device reading storage
+ * gets brute force on a CPU device and the BVH on a GPU; an even soup gets the grid on a CPU device reading storage
  * buffers, the kd-tree on one reading texel buffers and the BVH on a GPU; a dense cluster inside
  * a sparse shell (a small teapot-in-a-stadium) gets the BVH where the grid is weighed; past
  * accel_kdtree_limit a CPU device reading texel buffers gets the BVH. On a GPU, the kd-tree is
@@ -60,13 +60,17 @@ static accel_choice choose(uint32_t n, uint32_t dense, accel_device device)
     return c;
 }
 
+/* A handful of triangles: brute force on a CPU device; on a GPU the BVH even so (the H200 traced
+ * a 36-triangle box's camera rays 3.3x faster through it than by brute force). */
 static void test_handful_is_brute_force(void **state)
 {
     (void)state;
-    for (accel_device d = ACCEL_DEVICE_GPU; d <= ACCEL_DEVICE_CPU_STORAGE; ++d) {
+    for (accel_device d = ACCEL_DEVICE_GPU + 1; d <= ACCEL_DEVICE_CPU_STORAGE; ++d) {
         assert_int_equal(choose(accel_brute_force_limit(), 0, d).kind, VKRT_ACCEL_BRUTE);
         assert_int_not_equal(choose(accel_brute_force_limit() + 1, 0, d).kind, VKRT_ACCEL_BRUTE);
     }
+    assert_int_equal(choose(36, 0, ACCEL_DEVICE_GPU).kind, VKRT_ACCEL_BVH);
+    assert_int_equal(choose(1, 0, ACCEL_DEVICE_GPU).kind, VKRT_ACCEL_BVH);
 }
 
 static void test_even_soup(void **state)

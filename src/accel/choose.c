@@ -42,8 +42,14 @@
 #include <math.h>
 #include <stdio.h>
 
-/* Below this, building and walking any structure costs more than testing every triangle: a ray
- * against 64 triangles is a few hundred instructions, about one traversal's overhead. */
+/* On a CPU device, below this, building and walking any structure costs about what testing
+ * every triangle does: a ray against 64 triangles is a few hundred instructions, about one
+ * traversal's overhead (lavapipe's whole frames of the 36-triangle CornellBox-Original: brute
+ * force 98 ms, BVH 100, grid 72; docs/speed-vs-accuracy/rays-vs-triangles.csv). Not on GPUs: on
+ * the H200 the BVH traced that box's camera rays at 31,700 million a second against brute
+ * force's 9,600 and the driver's 12,800 (research/results/h200-1203/auto-vs-driver/, h200-1202b),
+ * and won whole frames of the 30- and 36-triangle boxes on the H100 and the H200 (the scaling
+ * charts): there even a handful of triangles gets the BVH. */
 static const uint32_t brute_force_limit = 64;
 
 /* Up to this many triangles a CPU device reading texel buffers gets the kd-tree (above). */
@@ -100,10 +106,10 @@ bool accel_choice_needs_grid(uint32_t triangle_count, accel_device device)
 accel_choice accel_choose(uint32_t triangle_count, accel_device device, const grid *g)
 {
     accel_choice c = {0};
-    if (triangle_count <= brute_force_limit) {
+    if (triangle_count == 0 || (device != ACCEL_DEVICE_GPU && triangle_count <= brute_force_limit)) {
         c.kind = VKRT_ACCEL_BRUTE;
-        snprintf(c.reason, sizeof c.reason, "%u triangles (at most %u): brute force", triangle_count,
-                 brute_force_limit);
+        snprintf(c.reason, sizeof c.reason, "%u triangles (at most %u, on a CPU device): brute force",
+                 triangle_count, brute_force_limit);
         return c;
     }
     if (device == ACCEL_DEVICE_CPU_TEXELS && triangle_count <= kdtree_limit) {
