@@ -131,20 +131,10 @@ static void coat_numbers_and_flag(void **state)
                         "file_coat 0 @roughconductor 0 0 0 0  1 1 1 0  0 0 0  0  0 0 0  0  0.4  0  "
                         "0.5 0.2\n"
                         "file_bare 0 @roughconductor 0 0 0 0  1 1 1 0  0 0 0  0  0 0 0  0  0.4\n");
-    char obj[512] = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n";
     const char *names[] = {"varnish", "lacquer", "bottle", "plain", "file_coat", "file_bare"};
-    for (size_t i = 0; i < sizeof names / sizeof *names; ++i) {
-        strcat(obj, "usemtl ");
-        strcat(obj, names[i]);
-        strcat(obj, "\nf 1 2 3\n");
-    }
-    temp_dir_write_text(fx, "m.obj", obj);
-    const char *cfg = temp_dir_write_text(fx, "scene.cfg",
-                                          "geometry m.obj\nmaterials m.mat\n"
-                                          "camera eye 0 0 3 look 0 0 0 up 0 1 0 fov 40\n");
     vkrt_scene scene;
     vkrt_error err = {{0}};
-    if (!vkrt_scene_load(cfg, &scene, &err))
+    if (!load_triangles(fx, names, sizeof names / sizeof *names, &scene, &err))
         fail_msg("load: %s", err.msg);
 
     const vkrt_scene_material *varnish = find(&scene, "varnish");
