@@ -93,8 +93,8 @@ static uint32_t layout_rows_of(const vkrt_scene_materials *mats, uint32_t *table
 static uint32_t layout_rows(vkrt_scene_material *list, uint32_t count, uint32_t *tables)
 {
     vkrt_shader_source shader = {.builtin = "roughplastic"};
-    vkrt_scene_materials mats = {.list = list, .count = count, .shaders = &shader,
-                                 .shader_count = 1};
+    vkrt_scene_materials mats = {
+        .list = list, .count = count, .shaders = &shader, .shader_count = 1};
     return layout_rows_of(&mats, tables);
 }
 
@@ -145,8 +145,8 @@ static void layout_of_many_plastics_is_bounded(void **state)
         list[m] = plastic(etas[m % 3], 0.02f + 0.98f * (float)k / COUNT, false);
     }
     uint32_t tables, rows = layout_rows(list, COUNT, &tables);
-    print_message("%d plastics of distinct roughness over 3 indices: %u rows in %u tables\n",
-                  COUNT, rows, tables);
+    print_message("%d plastics of distinct roughness over 3 indices: %u rows in %u tables\n", COUNT,
+                  rows, tables);
     assert_int_equal(rows, 3 * 33);
     assert_int_equal(tables, 3);
     free(list);
@@ -216,13 +216,13 @@ static void shared_table_renders_as_exact_rows(void **state)
 {
     (void)state;
     assert_int_equal(write_tiles(0, TILES), 33);
-    float *shared = furnace_render(COLUMNS, ROWS, TILE, SPP, VKRT_INTEGRATOR_PATH,
-                                   VKRT_SAMPLING_MIS);
+    float *shared =
+        furnace_render(COLUMNS, ROWS, TILE, SPP, VKRT_INTEGRATOR_PATH, VKRT_SAMPLING_MIS);
     float *exact[2];
     for (int half = 0; half < 2; ++half) {
         assert_int_equal(write_tiles(half * TILES / 2, TILES / 2), TILES / 2);
-        exact[half] = furnace_render(COLUMNS, ROWS, TILE, SPP, VKRT_INTEGRATOR_PATH,
-                                     VKRT_SAMPLING_MIS);
+        exact[half] =
+            furnace_render(COLUMNS, ROWS, TILE, SPP, VKRT_INTEGRATOR_PATH, VKRT_SAMPLING_MIS);
     }
     bool all = true;
     double worst = 0;

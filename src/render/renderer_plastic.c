@@ -103,6 +103,13 @@ static uint32_t add_table(renderer_plastic_layout *layout, float eta, float roug
     return offset;
 }
 
+/* Whether sorted need[i] is a plain roughness that the needs before it do not have. */
+static bool new_plain_roughness(const plastic_need *need, uint32_t i)
+{
+    return !need[i].mapped &&
+           (i == 0 || need[i - 1].mapped || need[i].roughness != need[i - 1].roughness);
+}
+
 /* Lays out the tables of the needs of one index, need[0..n), sorted: a mapped table where one is
  * mapped; a row at each plain roughness while there are at most as many as the mapped table has
  * rows, else one table of as many rows for them all, from 0 to the largest (the closer the
@@ -112,8 +119,7 @@ static void lay_out_index(renderer_plastic_layout *layout, const plastic_need *n
 {
     uint32_t distinct = 0;
     for (uint32_t i = 0; i < n; ++i)
-        distinct += !need[i].mapped && (i == 0 || need[i - 1].mapped ||
-                                        need[i].roughness != need[i - 1].roughness);
+        distinct += new_plain_roughness(need, i);
     bool fold = distinct > MAPPED_ROWS;
     uint32_t mapped = 0, folded = 0, exact = 0;
     if (need[0].mapped)
@@ -121,11 +127,10 @@ static void lay_out_index(renderer_plastic_layout *layout, const plastic_need *n
     if (fold)
         folded = add_table(layout, need[0].eta, need[n - 1].roughness, MAPPED_ROWS);
     for (uint32_t i = 0; i < n; ++i) {
-        if (!need[i].mapped && !fold &&
-            (i == 0 || need[i - 1].mapped || need[i].roughness != need[i - 1].roughness))
+        if (!fold && new_plain_roughness(need, i))
             exact = add_table(layout, need[i].eta, need[i].roughness, 1);
-        materials[need[i].material].maps.w =
-            (float)(need[i].mapped ? mapped : fold ? folded : exact);
+        uint32_t plain = fold ? folded : exact;
+        materials[need[i].material].maps.w = (float)(need[i].mapped ? mapped : plain);
     }
 }
 
