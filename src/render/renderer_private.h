@@ -78,6 +78,23 @@ bool renderer_upload_lights(vkrt_renderer *r, const vkrt_config *cfg, vkrt_error
  * starts in materials[m].maps.w (-1: none). */
 bool renderer_upload_plastic_tables(vkrt_renderer *r, const vkrt_scene_materials *mats,
                                     Material *materials, vkrt_error *err);
+/* One coat table: its index, its rows (1: exactly at roughness; more: evenly from 0 to
+ * roughness), and where it starts in the floats. */
+typedef struct renderer_plastic_table {
+    float eta, roughness;
+    uint32_t rows, offset;
+} renderer_plastic_table;
+/* The tables the scene's rough plastics need, before any row is made: the tables, and the rows
+ * and floats they take in all. */
+typedef struct renderer_plastic_layout {
+    renderer_plastic_table *tables;
+    uint32_t count, rows, floats;
+} renderer_plastic_layout;
+/* Lays out the tables (renderer_upload_plastic_tables fills what it lays out) and sets
+ * materials[m].maps.w to where material m's starts (-1: none). Pure CPU, for the tests too. */
+bool renderer_plastic_layout_make(const vkrt_scene_materials *mats, Material *materials,
+                                  renderer_plastic_layout *layout, vkrt_error *err);
+void renderer_plastic_layout_free(renderer_plastic_layout *layout);
 /* The radiance material m emits as an area light (the .mtl's Ke for the built-ins that emit it,
  * times the mean of its map_Ke, else 0): what the integrator's choice and the path tracer's light
  * sampling go by. */
