@@ -30,7 +30,7 @@ camera eye 0 {eye_y:.3f} {eye_z:.3f}  look 0 0 {look_z:.3f}  up 0 1 0  fov 45
 
 
 def main():
-    if len(sys.argv) not in (2, 3):
+    if len(sys.argv) not in (2, 3) or sys.argv[1].startswith("-"):
         sys.exit(__doc__)
     out, count = sys.argv[1], int(sys.argv[2]) if len(sys.argv) == 3 else 500
     columns = math.ceil(math.sqrt(count * 1.6))
