@@ -466,7 +466,13 @@ settings were tried on the 10 M scene's shadow rays (Mrays/s, the driver 2,678):
 5,033; leaves of 1 5,147 (1.92x); leaves of 4 at node cost 1 5,050; 4-wide nodes 4,207;
 workgroups of 128 5,059, of 32 4,912; spatial splits forced on 5,042 (none taken). None reaches
 2x; the shadow rays of the tiled scene lose more to its size than the driver's do (Lost Empire
-alone: 12,987 against 5,239, 2.48x).
+alone: 12,987 against 5,239, 2.48x): a shadow ray starts on a surface and walks the boxes down to
+its own leaf, 22.4 nodes against a camera ray's 12.8 there (`--stats`). The closest candidate,
+4-wide nodes of float boxes (`research/variants/float-quads.patch`), halves those steps and
+reaches 5,353-5,375, 1.98-1.99x the driver's 2,703-2,705, but costs the same scene's camera and
+bounce rays 5% and 7% and every smaller scene more (Lost Empire's camera rays 0.69x), so it is not
+shipped; no order of a node's children helped
+(`research/results/h200-1203b/shadow-order/`, research/journal.md).
 
 ### vkrt against the driver's pipeline, same rays
 
