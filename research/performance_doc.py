@@ -229,6 +229,49 @@ def tiled_size_table(folder=f"{RESULTS}/h200-1203c/shadow-size"):
                     ["---", "---", "---:", "---:", "---:"])
 
 
+def memory_rows(path, machine, label):
+    """Rows of `--verbose`'s device and host memory lines in a start-up log: label(header) names
+    each run from its "== " line (None skips it)."""
+    rows, name = [], None
+    device = re.compile(r"device memory: triangles ([\d.]+) MiB, nodes ([\d.]+) MiB, textures "
+                        r"([\d.]+) MiB, rays ([\d.]+) MiB, image ([\d.]+) MiB, other [\d.]+ MiB: "
+                        r"([\d.]+) MiB of the device's ([\d.]+) MiB")
+    host = re.compile(r"host memory: mesh ([\d.]+) MiB .*peak resident ([\d.]+) MiB")
+    parts = None
+    for line in load(path).splitlines():
+        if line.startswith("== "):
+            name = label(line[3:])
+        elif (m := device.search(line)) and name:
+            parts = m.groups()
+        elif (m := host.search(line)) and name and parts:
+            rows.append([machine, name[0], name[1]] +
+                        [f"{float(x):,.1f}" for x in parts[5:6] + parts[:5]] +
+                        [f"{float(m.group(1)):,.1f}", f"{float(m.group(2)):,.1f}"])
+            parts = None
+    return rows
+
+
+def memory_table():
+    def final(header):
+        scene, _, rest = header.partition(" ")
+        names = {"scenes/cornell/scene.cfg": "Cornell box", "scenes/shared/bunny.cfg": "bunny (69 k)",
+                 "/tmp/tiled-9x5/scene.cfg": "Lost Empire 9 x 5 (10.1 M)"}
+        return (names.get(scene, scene), rest.split(":")[0]) if scene in names else None
+
+    def huge(header):
+        return ("Lost Empire 21 x 22 (104 M)", "kernels cold") if header.startswith("lost-empire 21x22") else None
+
+    def lavapipe(header):
+        return ("Lost Empire 3 x 3 (2.0 M), 640x360", header.split()[1]) if header.startswith("quiet ") else None
+
+    rows = (memory_rows(f"{RESULTS}/h200-1203/final-after/final-log.txt", "H200", final) +
+            memory_rows(f"{RESULTS}/h200-1202b/huge-log.txt", "H200", huge) +
+            memory_rows(f"{STARTUP_CPU}/tiled-3x3-1203-log.txt", "lavapipe", lavapipe))
+    return markdown(["device", "scene", "caches", "device MiB", "triangles", "nodes", "textures",
+                     "rays", "image", "host: mesh MiB", "host: peak resident MiB"], rows,
+                    ["---", "---", "---"] + ["---:"] * 8)
+
+
 def stats_table():
     rows = by_scene(f"{FINAL}/vkrt-stats.json")
     return markdown(["scene"] + [f"{k}: nodes, triangles, SIMD" for k in KINDS],
@@ -712,6 +755,22 @@ before), the structure 1.31 s, and lavapipe making its pipelines most of the fir
 the largest stage left:
 
 {tiled_now}
+
+### Memory (issue 20)
+
+`--verbose` prints what the renderer holds on the device and the host; from the start-up runs
+above (`research/results/h200-1203/final-after/final-log.txt`, Whitted, each scene at its own
+size; `research/results/h200-1202b/huge-log.txt`, `research/gpu-run huge quick`;
+`research/results/startup-lavapipe/tiled-3x3-1203-log.txt` on this 2-core machine at 640x360).
+"rays" are the wavefront's ray and hit buffers (sized from the image and grown when a frame needs
+more), "textures" the scene's texture images as uploaded (Lost Empire's terrain atlas), "host:
+mesh" the triangles' arrays, and the peak the process's largest resident set (`getrusage`), which
+on a cold run includes the OBJ parse and the build:
+
+{memory_table()}
+
+The 104 M scene's triangles (13,086 MiB) pass the device's largest allocation (4,292,870,144
+bytes), so they and its normals go into two buffers each (docs/architecture.md).
 
 ## A flythrough on the H200 (issue 22)
 
