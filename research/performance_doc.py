@@ -453,6 +453,7 @@ def main():
     coldstart = coldstart_table()
     final_startup = final_startup_table(f"{RESULTS}/h200-1203/final-after/final-log.txt")
     final_startup_before = final_startup_table(f"{RESULTS}/h200-1203/final/final-log.txt")
+    final_startup_head = final_startup_table(f"{RESULTS}/h200-1203c/final-head/final-log.txt")
     startup_cpu = startup_section(STARTUP_CPU)
     tiled_cpu = tiled_startup_section()
     tiled_quiet = tiled_startup_section(f"{STARTUP_CPU}/tiled-3x3-quiet-log.txt")
@@ -664,6 +665,13 @@ and store (0.41 s of the structure's 1.22 s) and the scene stage's 0.19 s beside
 same run's flythrough (`scenes/shared/sponza-flight.cfg`, 25 frames of 1080p at 16 spp, the
 writer pool of issue 22): **18.0 frames/s** Whitted and **3.66 frames/s** path from process
 start (0.98 and 0.83 before the writer pool).
+
+The same entry again at the end of December 3 (`research/results/h200-1203c/final-head/final-log.txt`,
+main at 1b80245: src/ as at 62845bd, the plastic tables merged; a freshly started machine, load
+under 0.3): the targets hold, the Cornell box 0.21-0.25 s and the bunny 0.22-0.23 s warm, the
+10 M scene 2.59 s cold and 0.95-1.19 s warm; the flythrough 19.9 and 3.75 frames/s:
+
+{final_startup_head}
 
 The same entry that morning (`research/results/h200-1203/final/final-log.txt`, main at
 05a047b: the old OBJ read and BVH build, the mesh stored in the foreground):
