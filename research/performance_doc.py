@@ -540,8 +540,8 @@ resident subgroups, and the walks that end last weigh on them: vkrt's shadow ray
 shadow target retired; "the figure to keep is throughput on dispatches of at least 2 million
 rays"), and by that figure the 10 M scene meets the 2x on every ray kind: camera rays at 1080p
 (2.07 M rays) 2.43x, shadow and bounce rays at 4K (2.94 M rays) 2.32x and 3.17x. At 1080p its
-shadow rays stay at 1.88x. What was tried for them is in research/journal.md ("Issue 20's last miss" and the two sections
-after it): no layout or walk tried gained on them without losing more on other rays or scenes.
+shadow rays stay at 1.88x. What was tried for them, and what each did to the other rays and scenes, is in
+research/journal.md ("Issue 20's last miss" and the two sections after it).
 
 ### What the trace does per ray
 
