@@ -19,9 +19,7 @@ LAVAPIPE6 = f"{RESULTS}/lavapipe-pass6"
 BUILD = f"{RESULTS}/bvh-build-2core-pass5.txt"
 # The path tracer's record on the H200 (research/gpu-run path).
 PATH = f"{RESULTS}/path-h200-final"
-STARTUP = f"{RESULTS}/startup-h200"
 STARTUP_CPU = f"{RESULTS}/startup-lavapipe"
-GLOSSY = f"{RESULTS}/glossy-dof-h200"
 # The BVH build before and after the parallel top levels, on this session's 2-core machine.
 FASTBUILD = f"{RESULTS}/bvh-build-fast-2core.txt"
 # The build with the index lane cleared and the small-node shortcuts (branch bvhbuild), the same
@@ -344,24 +342,9 @@ def path_section():
     return table, ratios
 
 
-def startup_section(folder=STARTUP):
-    """Start-up (research/gpu-run startup, or its loop run here): per scene the cold run and the
-    median of the warm ones, from process start to the PNG written."""
-    log = load(f"{folder}/startup-log.txt")
-    runs = {}
-    for m in re.finditer(r"== (\S+(?: \(\d+x\d+\))?) (cold|warm): exit 0, ([0-9.]+) s", log):
-        runs.setdefault(m.group(1), {}).setdefault(m.group(2), []).append(float(m.group(3)))
-    rows = []
-    for scene, r in runs.items():
-        warm = sorted(r["warm"])[len(r["warm"]) // 2]
-        rows.append([scene, f"{r['cold'][0]:.2f}", f"{warm:.2f}"])
-    return markdown(["scene (its own size and spp)", "cold cache, s", "warm cache (median of 3), s"],
-                    rows, ["---", "---:", "---:"])
-
-
-def tiled_startup_section(path=f"{STARTUP_CPU}/tiled-3x3-log.txt"):
-    """Lost Empire tiled 3 x 3 on this machine, before and after the parallel OBJ read: per run
-    the wall and user CPU seconds, and the --verbose start-up stages where the build prints them."""
+def tiled_startup_section(path):
+    """Lost Empire tiled 3 x 3 on lavapipe: per run the wall and user CPU seconds, and the
+    --verbose start-up stages where the build prints them."""
     log = load(path)
     rows = []
     for block in log.split("\n== ")[1:]:
@@ -377,23 +360,6 @@ def tiled_startup_section(path=f"{STARTUP_CPU}/tiled-3x3-log.txt"):
         rows.append([name, t.group(1), t.group(2)] + stages)
     return markdown(["run", "wall, s", "user CPU, s", "scene", "OBJ", "Vulkan", "renderer", "BVH",
                      "first frame", "PNG"], rows, ["---"] + ["---:"] * 9)
-
-
-def coldstart_table(path=f"{RESULTS}/coldstart-h200/coldstart-log.txt"):
-    """Process start to PNG on the H200 before and after the kernels compiled alongside the build
-    (research/gpu-run coldstart): cold (vkrt's and the driver's caches empty) and warm runs."""
-    runs = {}
-    for m in re.finditer(r"^== (\S+) (\S+) (cold|warm): exit 0, ([0-9.]+) s", load(path), re.M):
-        scene, binary, cache, secs = m.groups()
-        runs.setdefault((scene, "/before/" in binary, cache), []).append(float(secs))
-    names = {"scenes/cornell/scene.cfg": "Cornell box", "scenes/shared/bunny.cfg": "bunny (69k)",
-             "/tmp/tiled-3x3/scene.cfg": "Lost Empire 3 x 3 (2.0 M)",
-             "/tmp/tiled-9x5/scene.cfg": "Lost Empire 9 x 5 (10.1 M)"}
-    span = lambda v: f"{min(v):.2f}" if len(v) == 1 else f"{min(v):.2f}-{max(v):.2f}"
-    rows = [[label] + [span(runs[(scene, before, cache)]) for cache in ("cold", "warm")
-                       for before in (True, False)] for scene, label in names.items()]
-    return markdown(["scene (Whitted, its own size)", "cold, before", "cold, now", "warm, before",
-                     "warm, now"], rows, ["---"] + ["---:"] * 4)
 
 
 def final_startup_table(path):
@@ -416,8 +382,8 @@ def final_startup_table(path):
                     ["---", "---"] + ["---:"] * 8)
 
 
-def glossy_section(path=f"{RESULTS}/h200-1203/material-order/material-order-log.txt"):
-    """Issue 19's speed case and the grouping of hits by shader: each frame's time with
+def glossy_section(path=f"{RESULTS}/h200-1203/material-order-after/material-order-log.txt"):
+    """The glossy, out-of-focus frame and the grouping of hits by shader: each frame's time with
     VKRT_MATERIAL_ORDER 0 and 1, and the glossy, out-of-focus frame over the diffuse pinhole one."""
     frames = {}
     for block in load(path).split("== ")[1:]:
@@ -449,18 +415,10 @@ def main():
                       for n in SCENES)
     lavapipe, lavapipe_ratio, lavapipe_machine = lavapipe_table()
     path_frames, path_equal = path_section()
-    startup = startup_section()
-    coldstart = coldstart_table()
     final_startup = final_startup_table(f"{RESULTS}/h200-1203/final-after/final-log.txt")
-    final_startup_before = final_startup_table(f"{RESULTS}/h200-1203/final/final-log.txt")
     final_startup_head = final_startup_table(f"{RESULTS}/h200-1203c/final-head/final-log.txt")
-    startup_cpu = startup_section(STARTUP_CPU)
-    tiled_cpu = tiled_startup_section()
-    tiled_quiet = tiled_startup_section(f"{STARTUP_CPU}/tiled-3x3-quiet-log.txt")
-    tiled_cached = tiled_startup_section(f"{STARTUP_CPU}/scene-cache-3x3-log.txt")
     tiled_now = tiled_startup_section(f"{STARTUP_CPU}/tiled-3x3-1203-log.txt")
-    glossy_table, glossy_ratio = glossy_section()
-    glossy_after, glossy_after_ratio = glossy_section(f"{RESULTS}/h200-1203/material-order-after/material-order-log.txt")
+    glossy_after, glossy_after_ratio = glossy_section()
     embree = load(EMBREE)
     m = embree["machine"]
     text = f"""<!-- Generated by research/performance_doc.py from research/results/: edit that. -->
@@ -469,7 +427,8 @@ def main():
 Where vkrt's speed stands now. Every number is copied by `research/performance_doc.py` from the
 result files named with each table, under `research/results/`; how they came to be, and the
 experiments that lost, are in `research/journal.md`; how to run the measurements again is in
-`research/README.md`. A timing never decides a test.
+`research/README.md`. A timing never decides a test. The page goes by topic: trace speed, path
+tracing and whole frames, start-up, memory, and the CPU device.
 
 ## How it is measured
 
@@ -481,9 +440,9 @@ median of 11 runs back to back after 300 ms of warm-up. `rtpipe-bench` (research
 traces the very same rays with the driver's own VK_KHR_ray_tracing_pipeline; `embree-bench` does
 on the CPU with Embree 3. Hits and blocked counts agree to a ray or two, so all traced the same work.
 
-## The GPU: an NVIDIA H200
+## Trace speed
 
-The machine: {device['device']} (Vulkan {device['api_version']}; driver {driver}), no RT cores, so
+The GPU machine: {device['device']} (Vulkan {device['api_version']}; driver {driver}), no RT cores, so
 the driver's pipeline traverses in software too. The commands, on that machine, with the bundle of
 `tools/bundle` (research/README.md):
 
@@ -497,12 +456,12 @@ research/gpu-run yardsticks final    # writes what research/results/issue8-h200-
 
 ### Where the targets stand
 
-Issue 8's targets on its four scenes (`{FINAL}/`: vkrt.json, rtpipe.json, vkrt-4k.json,
+The trace targets on the four big scenes (`{FINAL}/`: vkrt.json, rtpipe.json, vkrt-4k.json,
 whitted.txt; the build: `{BUILD}`; lavapipe against Embree: `{EMBREE}`):
 
 {targets_table(frame_ms, over)}
 
-Two decisions of issue 21, from the speed issue's last pass, with no more work on either:
+Two decisions, with no more work on either:
 - **The bunny's shadow target at 1080p is retired.** Its 514k shadow rays do not fill an H200;
   the same kernels pass 6,000 Mrays/s at 3840x2160 (6,932, the table further down). The figure
   kept is throughput on dispatches of at least 2 million rays, which every other row meets.
@@ -512,7 +471,7 @@ Two decisions of issue 21, from the speed issue's last pass, with no more work o
 The four scenes were run once more in the same call (vkrt-again.json): {again}. A later call of the
 same kernels (`{PASS6}/committed*.json`) read shadow Mrays/s {pass6}.
 
-### Where it stands: `auto` against the driver's pipeline (December 3)
+### `auto` against the driver's pipeline
 
 `research/gpu-run auto-vs-driver` (`research/results/h200-1203/auto-vs-driver/`, H200, driver
 580.159.04, main at 9b264e7 (the plastic merged; auto's brute force on GPUs not yet changed)): `vkrt bench --accel auto` against
@@ -529,34 +488,7 @@ the same kind of run (`research/results/h200-1203/shadow-10m/shadow-10m-log.txt`
 21,110 / 8,195, 2.45x / 2.28x / 1.80x the driver; the changed rule itself was not run on the
 H200 (test_choose holds it).
 
-Issue 20's 2x on the 10 M scene, at three sizes (`research/gpu-run shadow-size`,
-`research/results/h200-1203c/shadow-size/`, the BVH as shipped and the driver's pipeline on the
-same rays, two interleaved rounds, Mrays/s; the ratio is vkrt's lower reading over the driver's
-higher one):
-
-{tiled_size_table()}
-
-At 1080p the shadow and bounce dispatches hold 734 k rays, under five fillings of the H200's
-resident subgroups, and the walks that end last weigh on them: vkrt's shadow rays gain 1.50x from
-1080p to 4K and the driver's 1.21x. Issue 21 settled how such a dispatch counts (the bunny's 1080p
-shadow target retired; "the figure to keep is throughput on dispatches of at least 2 million
-rays"), and by that figure the 10 M scene meets the 2x on every ray kind: camera rays at 1080p
-(2.07 M rays) 2.43x, shadow and bounce rays at 4K (2.94 M rays) 2.32x and 3.17x. At 1080p its
-shadow rays stay at 1.88x. What was tried for them, on the H200 (research/journal.md, "Issue 20's
-last miss" and the two sections after it; Mrays/s of shadow rays at 1080p, the driver
-2,678-2,705): leaves of 1 5,147-5,165; leaves of 4 at node cost 1 5,050; node costs 0.25 and 1
-5,076-5,104; 4-wide quantized nodes 4,207; workgroups of 32, 128, 256 4,912-5,110; texel loads
-4,507-4,512; spatial splits forced on 5,042 (none taken); child orders 5,033-5,058 and pair
-records with the larger box first 4,655-4,663; fewer registers through the source (the shear
-made at each leaf: 55 registers instead of 51, 4,912-4,920); the nested walk 5,201-5,225 (but
-15-20% slower on every public scene); 4-wide nodes of float boxes
-(`research/variants/float-quads.patch`) 5,312-5,375, 1.98-1.99x, but the same scene's camera and
-bounce rays 5% and 7% slower and every smaller scene more (Lost Empire's camera rays 0.69x). A
-shadow ray starts on a surface and walks the boxes down to its own leaf, 22.4 nodes against a
-camera ray's 12.8 there (`--stats`); only the 4-wide layouts halve that walk, and they cost more
-per step than they save.
-
-### vkrt against the driver's pipeline, same rays
+### The BVH against the driver's pipeline, same rays
 
 Mrays/s at 1920x1080 (`{FINAL}/vkrt.json`, `rtpipe.json`); "below target" marks a missed target:
 
@@ -574,7 +506,7 @@ own did not repeat it: research/journal.md, fifth pass, "An outlier".)
 
 (`research/chart-rays {FINAL}/vkrt.json {FINAL}/rtpipe.json --out docs/images/rays-vs-triangles-h200-pass5`)
 
-### After the spatial splits (issue 21), eight scenes
+### Spatial splits, eight scenes
 
 `research/gpu-run vs-driver` (`{SPLITS}/`, driver 580.159.04, one round each, 1920x1080): the
 BVH as `accel bvh` builds it (`bvh-splits auto`: spatial splits kept where they lower the SAH cost
@@ -591,7 +523,25 @@ overlap threshold (`research/gpu-run extras-1202` measures lower thresholds; not
 Sponza the splits trade shadow rays (-13%) for primary (+34%) and diffuse (+31%) ones. Where auto
 took no splits the two runs traced the same tree, and their ratio (0.98-1.01x) is the run-to-run
 noise. Building with auto costs 1.9-3.0x the plain build (it builds the split tree first, and the
-plain one too where the split tree took any spatial split, to compare), within issue 21's 3x; Sibenik is at the edge.
+plain one too where the split tree took any spatial split, to compare), within the 3x allowed; Sibenik is at the edge.
+
+### The 10 M triangle scene at three sizes
+
+The target of 2x the driver on the 10 M scene, at three sizes (`research/gpu-run shadow-size`,
+`research/results/h200-1203c/shadow-size/`, the BVH as shipped and the driver's pipeline on the
+same rays, two interleaved rounds, Mrays/s; the ratio is vkrt's lower reading over the driver's
+higher one):
+
+{tiled_size_table()}
+
+At 1080p the shadow and bounce dispatches hold 734 k rays, under five fillings of the H200's
+resident subgroups, and the walks that end last weigh on them: vkrt's shadow rays gain 1.50x from
+1080p to 4K and the driver's 1.21x. A dispatch counts by its throughput (the bunny's 1080p
+shadow target retired; "the figure to keep is throughput on dispatches of at least 2 million
+rays"), and by that figure the 10 M scene meets the 2x on every ray kind: camera rays at 1080p
+(2.07 M rays) 2.43x, shadow and bounce rays at 4K (2.94 M rays) 2.32x and 3.17x. At 1080p its
+shadow rays stay at 1.88x. What was tried for them, and what each did to the other rays and scenes, is in
+research/journal.md ("Issue 20's last miss" and the two sections after it).
 
 ### What the trace does per ray
 
@@ -600,33 +550,19 @@ the share of lanes with work (SIMD utilisation), in a separate untimed run (`{FI
 
 {stats_table()}
 
-### The Whitted frame
+## Path tracing and whole frames
 
-The Whitted Sponza frame at 1920x1080 (`{FINAL}/whitted.txt`):
+### The path tracer
 
-```
-{profile}
-```
-
-## The path tracer on the H200
-
-`research/gpu-run path-scenes` (`{PATH}/`, research/results/README-round2.md, the last
-call), with the
-stratified sampler (lib/sampler.glsl):
-`vkrt render --profile-repeat 3` (5 for the 1-spp Sponza and the Cornell box) of every scene of
-issue 25: Sponza and Lost Empire under sun and sky (scenes/shared/sponza-path.cfg, max-depth 8;
+`research/gpu-run path-scenes` (`{PATH}/`; research/results/README-round2.md says how that
+round ran), with the stratified sampler (lib/sampler.glsl):
+`vkrt render --profile-repeat 3` (5 for the 1-spp Sponza and the Cornell box) of every path
+scene: Sponza and Lost Empire under sun and sky (scenes/shared/sponza-path.cfg, max-depth 8;
 lost-empire-path.cfg, max-depth 6, cut-out leaves), the Mori knob under an environment map
 (mori-sky.cfg), CornellBox-Original lit by its lamp (cornell-original.cfg, max-depth 16) and the
 glass spheres' Cornell box lit by its lamp (scenes/cornell-spheres/lamp.cfg): the median GPU time
 of a warm frame, the paths (camera samples) per second it makes, and the frame's time over its
-tracing's (closest hits, and the shadow rays of next-event estimation). Sponza's 16 spp took
-176.3 ms before the sampler (188 M paths/s, 1.15x; `research/results/path-h200/`), 184.5 ms with
-it (`path-h200-sampler/`: the sampler costs 4.7%), 221.5 ms after Russian roulette moved from
-depth 3 to 4 (Mitsuba's default; fewer fireflies through glass, more rays per path) and the
-constant environment's light samples were fixed (they had read the hit material's numbers;
-`path-h200-rr4/`: 149.8 M paths/s), and 220.0 ms now that the sampler reverses bits with one
-instruction (this table: 150.8 M paths/s at 16 spp, 150.9 M at 1 spp; the issue asks 150 M). The
-Mori knob's frame no longer drops NaN (`path-h200-rr4/` has the two it dropped).
+tracing's (closest hits, and the shadow rays of next-event estimation). On Sponza at 16 spp that is 150.8 M paths/s (the target 150 M).
 
 {path_frames}
 
@@ -642,171 +578,87 @@ since Mitsuba has no frame that short:
 
 {path_equal}
 
-## Start-up on the H200
+### The Whitted frame
 
-**Where it stands.** `research/gpu-run final-1203` (`research/results/h200-1203/final-after/final-log.txt`,
-H200, 16 cores, driver 580.159.04, main at 796a131: the faster OBJ read and BVH build merged,
-before the plastic): seconds from process start to the PNG written, `vkrt render SCENE
---integrator whitted --verbose`, each scene once with vkrt's caches (kernels, mesh, structure)
-and the driver's shader cache emptied, then twice with them filled; the stages are `--verbose`'s
-(the Vulkan context is made on a thread while the scene loads, so "Vulkan" is what was left to
-wait for; the kernels compile on threads during the renderer's stage; the mesh cache's entry is
-written on a thread beside the renderer):
+The Whitted Sponza frame at 1920x1080 (`{FINAL}/whitted.txt`):
 
-{final_startup}
+```
+{profile}
+```
 
-Issue 20's targets, all **met**: a small scene under 0.3 s warm (the Cornell box 0.26 s, the
-bunny 0.26-0.27 s; cold 0.69 and 0.71 s, most of it glslang and the driver compiling the kernels);
-Lost Empire at 10 M triangles under 5 s cold (**3.18 s**: the OBJ 0.91 s, the BVH build 0.80 s)
-and under 2 s warm (1.36-1.41 s: the mesh and the BVH read from the scene cache in 0.12 and
-0.04 s). What is left of the 10 M cold start: the renderer's serial passes over the triangles
-(materials 0.21 s, the emitter table 0.23 s, the triangles' upload 0.16 s), the structure's key
-and store (0.41 s of the structure's 1.22 s) and the scene stage's 0.19 s beside the OBJ. The
-same run's flythrough (`scenes/shared/sponza-flight.cfg`, 25 frames of 1080p at 16 spp, the
-writer pool of issue 22): **18.0 frames/s** Whitted and **3.66 frames/s** path from process
-start (0.98 and 0.83 before the writer pool).
+### Glossy and out of focus
 
-The same entry again at the end of December 3 (`research/results/h200-1203c/final-head/final-log.txt`,
-main at 1b80245: src/ as at 62845bd, the plastic tables merged; a freshly started machine, load
-under 0.3): the targets hold, the Cornell box 0.21-0.25 s and the bunny 0.22-0.23 s warm, the
-10 M scene 2.59 s cold and 0.95-1.19 s warm; the flythrough 19.9 and 3.75 frames/s:
+The target: Sponza at 1080p with a glossy floor (`Pr 0.2`) and depth of field cost at most
+1.3x the same frame with diffuse materials through a pinhole, at equal spp. `research/gpu-run
+material-order` on the H200 (driver 580.159.04, `research/results/h200-1203/material-order-after/`,
+main at 9b264e7; 16 spp, max-depth 8, sun and sky, medians of 3 profiled frames, one round; the floor is made
+glossy in a copy of sponza.mtl, so that it keeps its bump map as the diffuse frame's floor does):
+the glossy frame through the lens takes **{glossy_after_ratio:.2f}x** the diffuse pinhole frame
+(the target 1.3x). The grouping by shader (below) on and off:
+
+{glossy_after}
+
+What the glossy floor had cost was not its arithmetic but its company: subgroups of 32 hits of
+the first bounce and after, some on the glossy floor and some on diffuse walls, ran both shaders'
+code one after the other. With every material glossy (one shader) the light and shade kernels
+cost per bounce what the diffuse frame's did, where the floor alone had made them 1.6 and 2.2
+times dearer (`research/gpu-run glossy-cause`, `research/results/h200-1203/glossy-cause-log.txt`).
+The hits of every bounce after the camera's are grouped by shader (glsl/order.comp: a
+counting and a placing pass over the wave, 9 ms of the glossy frame's 165) before the light,
+count and shade kernels, on GPUs, where a scene has more than one shader. Scenes of one shader
+skip it (the all-glossy row: no change). The journal ("Hits grouped by shader") has the
+per-kernel numbers and what came before (the plastic's Fresnel integral, 1.55x to 1.25x; the
+bump maps, which made the diffuse frame 11% cheaper and the ratio 1.38x).
+
+### A flythrough
+
+A frame's floats become PNG bytes through an exact sRGB table (src/output/srgb8.h) and ISA-L's
+igzip at level 1 with the Up filter (src/output/png_encode.h), and writer threads
+(src/output/write_pool.h) write frame N while frame N+1 renders. On the H200 (`research/gpu-run final-1203`,
+`research/results/h200-1203c/final-head/final-log.txt`) Sponza's flythrough
+(scenes/shared/sponza-flight.cfg, 25 frames of 1080p at 16 spp, PNG) takes from process start
+**19.9 frames/s** Whitted and **3.75 frames/s** path: the writing is hidden behind the rendering.
+
+## Start-up
+
+### On the H200
+
+`research/gpu-run final-1203` (`research/results/h200-1203c/final-head/final-log.txt`, H200, 16
+cores, driver 580.159.04, main at 1b80245; a freshly started machine, load under 0.3): seconds
+from process start to the PNG written, `vkrt render SCENE --integrator whitted --verbose`, each
+scene once with vkrt's caches (kernels, mesh, structure) and the driver's shader cache emptied,
+then twice with them filled; the stages are `--verbose`'s (the Vulkan context is made on a thread
+while the scene loads, so "Vulkan" is what was left to wait for; the kernels compile on threads
+during the renderer's stage; the mesh cache's entry is written on a thread beside the renderer):
 
 {final_startup_head}
 
-The same entry that morning (`research/results/h200-1203/final/final-log.txt`, main at
-05a047b: the old OBJ read and BVH build, the mesh stored in the foreground):
+The start-up targets are **met**: a small scene under 0.3 s warm (the Cornell box 0.21-0.25 s,
+the bunny 0.22-0.23 s; cold 0.93 and 0.57 s, most of it glslang and the driver compiling the
+kernels); Lost Empire at 10 M triangles under 5 s cold (**2.59 s**) and under 2 s warm
+(0.95-1.19 s: the mesh and the BVH read from the scene cache). Where the 10 M cold start goes,
+from the same entry at 796a131 (`research/results/h200-1203/final-after/final-log.txt`, 3.18 s
+cold): the OBJ 0.91 s, the BVH build 0.80 s, the renderer's serial passes over the triangles
+(materials 0.21 s, the emitter table 0.23 s, the triangles' upload 0.16 s), the structure's key
+and store (0.41 s of the structure's 1.22 s) and the scene stage's 0.19 s beside the OBJ.
 
-{final_startup_before}
+The largest scene: {huge_line()} The start-up is the OBJ read and the build (9.4 s on 16 cores,
+no spatial splits past 2 M triangles).
 
-Before, `research/gpu-run coldstart BEFORE/vkrt .bundle/vkrt`
-(`research/results/coldstart-h200/coldstart-log.txt`): "before" is main before the kernels
-compiled on threads while the structure builds and the data uploads (src/render/
-renderer_kernels.c), "now" with them (and the staging buffers filled on every core), neither
-with the scene cache, the early Vulkan context or ISA-L's PNG encoder. The load average rose
-from 0.2 to 8 during the runs (the runs' own threads).
+### On lavapipe
 
-{coldstart}
-
-The history of these numbers follows.
-
-`research/gpu-run startup` (`{STARTUP}/`): `vkrt render SCENE --verbose` timed from process start
-to the PNG written, first with an empty kernel cache (glslang compiles the seven kernels), then
-three times with it filled (src/gpu/spirv_cache.c). Each scene at its own size: the Cornell box
-and the bunny small, Sponza and Lost Empire at 1080p (their textures decoded, a 1080p PNG
-written).
-
-{startup}
-
-Lost Empire tiled 9 x 5 (10,124,910 triangles, a 384 MB OBJ made by tools/tile_obj.py;
-`research/gpu-run big-startup`, `{STARTUP}/big-startup-log.txt`), `--integrator whitted`: 22.9 s
-with an empty kernel cache, 19.5 and 19.4 s with it filled; the BVH build takes 4.7-5.2 s of
-that on 16 cores and the frame 8.5 ms, the rest is reading the OBJ. Issue 20 asks for under 5 s
-cold and 2 s warm: the loader and the build are what is left.
-
-After the parallel OBJ read, the parallel top levels of the BVH build and the pipeline cache
-(issue 20; `research/gpu-run big-startup`, `research/results/h200-1202/big-startup-log.txt`,
-driver 580.159.04, 16 cores): the same scene starts in **11.3 s** cold and **8.8 s, 7.8 s** warm
-(was 22.9 and 19.4 s). `--verbose`'s stages, warm: scene 2.35 s (the OBJ 2.17 s, was about
-15 s), Vulkan 0.16 s, renderer 4.7-5.4 s (the structure 2.4-2.6 s, was 4.7-5.2 s; the rest is
-ordering and uploading 10.1 M triangles, 1,275 MiB of them, serial), first frame 0.06-0.08 s,
-PNG 0.4-0.6 s. Device memory 2,035 MiB of 143,771; host peak 3.1 GiB. Issue 20's 5 s cold and
-2 s warm are not met: the upload's serial triangle reordering and the build are what is left.
-The build alone (`research/gpu-run bvh-build`, `bvh-build-log.txt`, bvh-bench, leaves of 2):
-2.53 s on 16 threads, 4.88 s on 8, 9.61 s on 4, 33.4 s on 1 (13x from 1 to 16 threads), the
-same tree for every count.
-
-{huge_line()} Issue 20's "100 million triangles: renders" is met; the start-up
-is the OBJ read and the build (9.4 s on 16 cores, no spatial splits past 2 M triangles).
-
-On lavapipe (this session's 2-core machine, Mesa 22.3.6; `{STARTUP_CPU}/`, the same loop as
-`run_startup` run by hand; Sponza at 960x540, since lavapipe's buffers do not hold 1080p's rays),
-where the frame itself takes most of the time, the cache saves the compile (1.1-2.3 s):
-
-{startup_cpu}
-
-Lost Empire tiled 3 x 3 (2,024,982 triangles, an 80 MB OBJ) on the same machine, before (main at
-51dfdb0, the serial loader) and after the OBJ's geometry is read on every core
-(`{STARTUP_CPU}/tiled-3x3-log.txt`, with the command): `vkrt render tiled/scene.cfg --integrator
-whitted --width 640 --height 360 --verbose`, stages in seconds from `--verbose`'s start-up line
-(the build before prints only the BVH's). Other sessions kept the load average at 25-34 on the
-two cores throughout, so the wall times are mostly waiting and say nothing about either loader;
-the CPU time does: the OBJ read alone took 3.77 s of user CPU before and 3.57 s after, the same
-work, now cut into chunks of 4 MiB that any number of cores share (identical meshes: test_obj).
-What it gains on 16 free cores is `research/gpu-run big-startup`'s to say.
-
-{tiled_cpu}
-
-The same scene and command on a quiet machine (load average under 1; main after the split
-arrays and the spatial splits, `{STARTUP_CPU}/tiled-3x3-quiet-log.txt`): 4.95 s cold and
-3.8-4.0 s warm from start to PNG; the OBJ 1.1-1.25 s on the two cores, the BVH 0.76-0.86 s, the
-rest of the renderer (uploads, and lavapipe making its pipelines) 1.2-2.1 s:
-
-{tiled_quiet}
-
-With the scene cache (the mesh and the BVH kept beside the kernels, docs/architecture.md,
-"Decisions"; `{STARTUP_CPU}/scene-cache-3x3-log.txt`, load average 7-8 throughout, so the wall
-times are mostly waiting): "cold" has every cache empty, "warm" reads kernels, mesh and BVH,
-"entries-removed" reads the kernels but parses the OBJ and builds the BVH (the warm start before
-the scene cache). The scene stage falls from 4.7 s to 0.5-0.9 s (the OBJ's hash 45-95 ms, the
-mesh read and checked 233-374 ms), the structure from 4.1 s to 0.05-0.14 s; peak resident
-memory 779 MB warm against 804-819 MB parsing. The H200's numbers are `research/gpu-run
-scene-cache`'s to give.
-
-{tiled_cached}
-
-**Where it stands on lavapipe** (`{STARTUP_CPU}/tiled-3x3-1203-log.txt`, the same command, a
-quiet machine, load average under 0.5; main with the faster OBJ read and BVH build and the mesh
-stored on a thread): 4.48 s cold, 1.38-1.59 s warm (4.95 s and 3.8-4.0 s on the quiet run
-above, before the scene cache). Cold, the OBJ takes 0.56 s on the two cores (1.1-1.25 s
-before), the structure 1.31 s, and lavapipe making its pipelines most of the first frame's
+Lost Empire tiled 3 x 3 (2,024,982 triangles, an 80 MB OBJ made by tools/tile_obj.py;
+`vkrt render tiled/scene.cfg --integrator whitted --width 640 --height 360 --verbose`, stages in
+seconds from `--verbose`'s start-up line; `{STARTUP_CPU}/tiled-3x3-1203-log.txt`, a
+quiet 2-core machine, load average under 0.5, Mesa 22.3.6): 4.48 s cold, 1.38-1.59 s warm. Cold, the OBJ takes 0.56 s on the two cores, the structure 1.31 s, and lavapipe making its pipelines most of the first frame's
 1.79 s; warm, the mesh and BVH come from the caches and the triangles' upload (0.28-0.36 s) is
 the largest stage left:
 
 {tiled_now}
 
-### Memory (issue 20)
+### The BVH build
 
-`--verbose` prints what the renderer holds on the device and the host; from the start-up runs
-above (`research/results/h200-1203/final-after/final-log.txt`, Whitted, each scene at its own
-size; `research/results/h200-1202b/huge-log.txt`, `research/gpu-run huge quick`;
-`research/results/startup-lavapipe/tiled-3x3-1203-log.txt` on this 2-core machine at 640x360).
-"rays" are the wavefront's ray and hit buffers (sized from the image and grown when a frame needs
-more), "textures" the scene's texture images as uploaded (Lost Empire's terrain atlas), "host:
-mesh" the triangles' arrays, and the peak the process's largest resident set (`getrusage`), which
-on a cold run includes the OBJ parse and the build:
-
-{memory_table()}
-
-The 104 M scene's triangles (13,086 MiB) pass the device's largest allocation (4,292,870,144
-bytes), so they and its normals go into two buffers each (docs/architecture.md).
-
-## A flythrough on the H200 (issue 22)
-
-`research/gpu-run flythrough-fps` (`research/results/h200-1202/flythrough-fps-log.txt`): Sponza's
-flythrough (scenes/shared/sponza-flight.cfg, 25 frames) at 1920x1080 and 16 spp, PNG frames,
-one H200, timed from process start: Whitted **0.98 frames/s** (25.6 s) in the plain loop and
-0.91 frames/s through `--devices 0` (27.5 s: the worker process starts its own Vulkan device
-and renderer); the path tracer (max-depth 8) 0.83 and 0.77 frames/s. The two runs' frames are
-byte-identical, all 25 of each integrator.
-
-The GPU rendered those frames in 84 ms (Whitted) and 236 ms (path); the rest was the host
-writing each PNG before the next frame: stb_image_write's encoder (about a second at 1080p) and
-a pow() per value for the sRGB curve (135-175 ms). Now an exact table converts (src/output/srgb8.h)
-and ISA-L's igzip at level 1 with the Up filter deflates (src/output/png_encode.h): on 1600x900
-renders here, a frame's floats to PNG bytes 15-58 ms against 625-1291 ms before, files 0.71-0.90x
-stb's, the same pixels (research/journal.md, "A faster PNG writer"). And writer threads
-(src/output/write_pool.h) write frame N while frame N+1 renders. On the H200 (`research/gpu-run final-1203`,
-research/results/h200-1203/final/final-log.txt) the 25 frames of 1080p Sponza at 16 spp now take
-1.33 s Whitted and 7.21 s path from process start: 18.8 and 3.47 frames/s, against 0.98 and 0.83
-before (frames of 21.9 and 191.6 ms: the writing is hidden behind the rendering). The old
-encoder's build was not run beside it (`research/gpu-run writer` does that with `.bundle-old`).
-
-## The BVH build (issue 20)
-
-Issue 20 asks for a BVH over 10 M triangles in well under a second. The build was a job pool in
-which a node over 2048 triangles was split by one thread: the root's records binned and
-partitioned serially, then 2 nodes, 4, ..., while the other threads waited. Now, with more than
-one thread, every node over max(32768, n / (8 threads)) triangles is split by all threads at once,
+The target: a BVH over 10 M triangles in well under a second. With more than one thread, every node over max(32768, n / (8 threads)) triangles is split by all threads at once,
 a level at a time (src/accel/bvh_top.c): chunks of 16384 records binned apart and their bins added
 up, the records partitioned in parallel into the order the serial partition leaves. The tree is
 the same bytes for any thread count (tests/test_bvh.c builds with 1 to 4 threads, the bunny and
@@ -822,7 +674,7 @@ the processor time and say nothing; the processor time (all threads) is the work
 |---|---:|---:|---:|
 | this machine (2 cores, shared) | 1 | 1,627 / 1,976 | 1,917 / 1,871 |
 | this machine (2 cores, shared) | 2 | 1,524 / 1,526 | 1,681 / 1,607 |
-| H200 host (16 cores), Lost Empire 9 x 5, 10.1 M | 1 / 16 | 33.4 s / 2.5 s of wall time (`research/gpu-run bvh-build`, December 2) | below |
+| H200 host (16 cores), Lost Empire 9 x 5, 10.1 M | 1 / 16 | 33.4 s / 2.5 s of wall time (`research/gpu-run bvh-build`) | below |
 
 On one thread the work is the same: callgrind counts 595.9 M instructions in bvh_build for Lost
 Empire (225k triangles) before and 609.6 M now (+2.3%). On two threads the top levels cost
@@ -872,43 +724,27 @@ pairs layout, wall ms, least of the runs, the same tree (hash ee9f7dc26b03934a a
 
 10.6x from 1 to 16 threads now (the top levels 169 ms and the records 64 ms of the 721 are what
 scales least). The same tree traces the same rays at the same speed; the log's
-bench of the four big scenes ran on the new build only (no old vkrt was bundled). Issue 20's "well under a second" for 10 M triangles: 0.72 s on 16 cores.
+bench of the four big scenes ran on the new build only (no old vkrt was bundled). The target, "well under a second" for 10 M triangles: 0.72 s on 16 cores.
 
-## Glossy and out of focus (issue 19)
+## Memory
 
-Issue 19 asks that Sponza at 1080p with a glossy floor (`Pr 0.2`) and depth of field cost at most
-1.3x the same frame with diffuse materials through a pinhole, at equal spp. `research/gpu-run
-material-order` on the H200 (driver 580.159.04, `research/results/h200-1203/material-order/`;
-16 spp, max-depth 8, sun and sky, medians of 3 profiled frames, one round; the floor is made
-glossy in a copy of sponza.mtl, so that it keeps its bump map as the diffuse frame's floor does):
-the glossy frame through the lens takes **{glossy_ratio:.2f}x** the diffuse pinhole frame.
+`--verbose` prints what the renderer holds on the device and the host; from the start-up runs
+above (`research/results/h200-1203/final-after/final-log.txt`, Whitted, each scene at its own
+size; `research/results/h200-1202b/huge-log.txt`, `research/gpu-run huge quick`;
+`research/results/startup-lavapipe/tiled-3x3-1203-log.txt` on this 2-core machine at 640x360).
+"rays" are the wavefront's ray and hit buffers (sized from the image and grown when a frame needs
+more), "textures" the scene's texture images as uploaded (Lost Empire's terrain atlas), "host:
+mesh" the triangles' arrays, and the peak the process's largest resident set (`getrusage`), which
+on a cold run includes the OBJ parse and the build:
 
-{glossy_table}
+{memory_table()}
 
-After `@roughplastic` came to follow Mitsuba's roughplastic (its base reads the rough coat's
-tables: issue 19's agreement, docs/speed-vs-accuracy.md), the same entry again
-(`research/results/h200-1203/material-order-after/`, main at 9b264e7 (the plastic merged; auto's brute force on GPUs not yet changed)):
+The 104 M scene's triangles (13,086 MiB) pass the device's largest allocation (4,292,870,144
+bytes), so they and its normals go into two buffers each (docs/architecture.md).
 
-{glossy_after}
+## The CPU device: lavapipe against Embree 3
 
-The glossy, out-of-focus frame is now {glossy_after_ratio:.2f}x the diffuse pinhole one (the
-target 1.3x).
-
-What the glossy floor had cost was not its arithmetic but its company: subgroups of 32 hits of
-the first bounce and after, some on the glossy floor and some on diffuse walls, ran both shaders'
-code one after the other. With every material glossy (one shader) the light and shade kernels
-cost per bounce what the diffuse frame's did, where the floor alone had made them 1.6 and 2.2
-times dearer (`research/gpu-run glossy-cause`, `research/results/h200-1203/glossy-cause-log.txt`).
-Since then the hits of every bounce after the camera's are grouped by shader (glsl/order.comp: a
-counting and a placing pass over the wave, 9 ms of the glossy frame's 165) before the light,
-count and shade kernels, on GPUs, where a scene has more than one shader. Scenes of one shader
-skip it (the all-glossy row: no change). The journal ("Hits grouped by shader") has the
-per-kernel numbers and what came before (the plastic's Fresnel integral, 1.55x to 1.25x; the
-bump maps, which made the diffuse frame 11% cheaper and the ratio 1.38x).
-
-## The CPU: lavapipe against Embree 3
-
-Issue 8 asks for at least half Embree 3's primary rays per second from vkrt on lavapipe. The last
+The old target, now a recorded ratio: at least half Embree 3's primary rays per second from vkrt on lavapipe. The last
 full comparison (`research/cpu-run embree`, `{EMBREE}` and `.txt`) ran on {m['cpu']}, {m['nproc']}
 cores, Mesa {m['mesa']}, Embree {embree['embree_version']}, {embree['embree_threads']} threads; its
 ratios are in the table of targets above. The latest lavapipe record (`research/cpu-run

@@ -54,8 +54,8 @@ typedef struct bvh_stage_time {
     double wall_ms, cpu_ms;
 } bvh_stage_time;
 
-/* The largest spatial_budget a build takes: on Sponza and Sibenik +100% allowed used under +30%,
- * and the GPU's leaf references address at most 2^27 triangles. */
+/* The largest spatial_budget a build takes: a budget this large is not used up by the scenes'
+ * spatial splits, and the GPU's leaf references address at most 2^27 triangles. */
 #define BVH_MAX_SPATIAL_BUDGET 1.0f
 
 typedef struct bvh {

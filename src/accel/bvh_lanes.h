@@ -141,11 +141,9 @@ static inline float aabb_half_area(const aabb *b)
  * the binning, the partitioning), so they agree bit for bit. Halving before adding keeps huge
  * coordinates from overflowing. lo's lane 3, the index, is cleared: read as a float, an index
  * below 2^23 is subnormal, and halving it (and one above, below 2^24) makes a subnormal. Without
- * flush-to-zero, Intel cores finish a multiplication that makes a subnormal in a microcode
+ * flush-to-zero, some x86 cores finish a multiplication that makes a subnormal in a microcode
  * assist of over a hundred cycles (what VTune counts as "FP Assists"), which the centroid and the
- * binning paid once or more per record and pass: the likely reason the H200 host's Xeon built 5
- * times slower per core than the AMD machine of the tests (research/journal.md, "A faster BVH
- * build"). On the AMD machine clearing it cut 10-15% of the build. */
+ * binning would pay once or more per record and pass. */
 static inline ref_lanes ref_load(const prim_ref *r)
 {
     ref_lanes l;

@@ -2,8 +2,8 @@
  * bvh_pairs.h: the binary BVH re-laid for GPU traversal, one record per inner node holding both
  * children's float boxes (Aila and Laine, "Understanding the Efficiency of Ray Traversal on
  * GPUs", HPG 2009): a traversal step is one 64-byte fetch, where the 32-byte nodes of bvh.h need
- * the parent and then its two children. The 4-wide layout (bvh_quads.h) is the alternative;
- * research/journal.md has the measurements that chose between them.
+ * the parent and then its two children. It is the GPUs' default layout; the 4-wide layout
+ * (bvh_quads.h) is the CPU devices'.
  */
 #ifndef VKRT_BVH_PAIRS_H
 #define VKRT_BVH_PAIRS_H

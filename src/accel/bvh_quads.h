@@ -5,10 +5,9 @@
  * instead of 8). The binary tree of bvh.h is collapsed: a node takes its two children, and the
  * inner child of largest surface area is replaced by its own two until there are 4 or only
  * leaves remain. One 64-byte fetch then tests 4 boxes instead of the 2 of bvh_pairs.h, which
- * halves the nodes a ray visits. On an H200 it was nonetheless slower, the decoding and sorting
- * costing more than the fetches it saves (research/journal.md): the kernel is bound by its
- * instructions, not by its loads. It stays as `vkrt bench --bvh-width 4`, the experiment that
- * showed this, with its test.
+ * halves the nodes a ray visits. It is the default on CPU devices, where a fetch costs more than
+ * decoding the node; on GPUs the binary pairs are the default, since there the decoding and
+ * sorting cost more than the fetches they save (`--bvh-width` chooses either).
  *
  * Quantization is conservative: the decoded box of a child, origin + q * scale evaluated in float
  * exactly as the kernel does, always contains the child's float box, so the slab test still

@@ -2,15 +2,13 @@
  * choose.h: which acceleration structure a scene needs (`accel auto`).
  *
  * The choice looks at the scene and the kind of device, not at a clock. Brute force for a handful
- * of triangles. Above that, how unevenly the triangles fill space, read off the uniform grid's
- * occupancy (O(n) to build): a scene with much of its geometry in a few crowded cells (the
- * teapot in a stadium) gets the BVH everywhere. An evenly spread scene gets the grid on a CPU
- * device whose traversal reads storage buffers, where it traced about as fast as the BVH (each
- * ahead on some scenes) and builds two to three times faster, and the BVH otherwise: on a GPU it
- * traced 1.2 to 2.1 times faster than the grid on every scene measured. On a CPU device reading
- * texel buffers (lavapipe's default) the kd-tree outran both (choose.c says by how much), up to
- * a size past which its slower build would eat the gain. On a GPU, a BVH whose SAH cost is far
- * above its triangle count's norm is weighed against the kd-tree.
+ * of triangles on a CPU device. Above that, how unevenly the triangles fill space, read off the
+ * uniform grid's occupancy (O(n) to build): a scene with much of its geometry in a few crowded
+ * cells (the teapot in a stadium) gets the BVH. An evenly spread scene gets the grid on a CPU
+ * device whose traversal reads storage buffers, where the grid traces about as fast as the BVH
+ * and builds faster. A CPU device reading texel buffers gets the kd-tree, up to a size past which
+ * its slower build would eat the gain. A GPU gets the BVH, and a BVH whose SAH cost is far above
+ * its triangle count's norm is weighed against the kd-tree. choose.c says why each branch.
  */
 #ifndef VKRT_ACCEL_CHOOSE_H
 #define VKRT_ACCEL_CHOOSE_H
@@ -22,8 +20,8 @@
 #include "grid.h"
 
 /* The kind of device the structure is for, as far as the choice is concerned: a GPU; a CPU device
- * (lavapipe) whose traversal reads texel buffers (its default); a CPU device reading storage
- * buffers (`--loads storage`). */
+ * (a software Vulkan driver) whose traversal reads texel buffers (its default); a CPU device
+ * reading storage buffers (`--loads storage`). */
 typedef enum accel_device {
     ACCEL_DEVICE_GPU,
     ACCEL_DEVICE_CPU_TEXELS,

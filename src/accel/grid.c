@@ -48,10 +48,9 @@
  * cell_start pair) it moves to 4..8, and 2 is 7% (lost empire) to 14% (bunny) above it, at a
  * quarter of the cell memory of 8 (4 bytes per cell). The CPU sweep's wall time per ray is lowest
  * at 0.5..1 (its steps recompute boundaries with divisions, so c_step is large there). Hence 2,
- * a middle value to start from. Measured since (`vkrt bench --grid-density`, research/journal.md):
- * on the H100, 4 traces 2% to 30% faster than 2 on five scenes and 8 faster still on most, at 1.5
- * and 2.5 times the memory; but `accel auto` picks the grid only on CPU devices (the BVH wins on
- * GPUs), where 2 is the measured configuration, so 2 stays the default. */
+ * a middle value. Denser grids trace faster on GPUs at more memory, but `accel auto` picks the
+ * grid only on CPU devices, where 2 is the configuration it was chosen for, so 2 stays the
+ * default. */
 #define GRID_DEFAULT_DENSITY 2.0f
 #define GRID_DEFAULT_MAX_CELLS (1u << 24)
 
