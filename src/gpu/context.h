@@ -20,7 +20,7 @@ typedef struct gpu_context_desc {
     bool validation;     /* enable VK_LAYER_KHRONOS_validation; every message is counted */
     bool quiet_validation; /* count validation messages without printing them */
     double timeout_seconds; /* how long one submission may run before the watchdog gives up on
-                               it; 0: VKRT_GPU_TIMEOUT from the environment, else 300 s */
+                               it; 0: VKRT_TEST_GPU_TIMEOUT from the environment, else 300 s */
     /* For a window (vkrt view); left zero, the context is headless and needs no display. */
     const char *const *instance_extensions; /* more instance extensions (a window system's) */
     uint32_t instance_extension_count;
@@ -62,7 +62,7 @@ typedef struct gpu_context {
                                       none of them is enabled), or NULL */
     bool pipeline_statistics;    /* desc.pipeline_statistics asked and the device has them */
     bool subgroup_arithmetic;    /* compute shaders have subgroup basic, ballot, vote and arithmetic
-                                    operations (Vulkan 1.1); VKRT_NO_SUBGROUPS=1 turns them off */
+                                    operations (Vulkan 1.1); VKRT_TEST_NO_SUBGROUPS=1 turns them off */
     uint64_t timeout_ns;         /* the watchdog's limit per submission */
     bool lost;                   /* a submission timed out or the device was lost: the device is
                                     not waited for again, only left to the process's exit */
@@ -70,12 +70,12 @@ typedef struct gpu_context {
      * more than the device-local heap has left is refused with the sizes (buffer.c), not left to
      * the driver's VK_ERROR_OUT_OF_DEVICE_MEMORY. */
     VkDeviceSize max_allocation;   /* maxMemoryAllocationSize (Vulkan 1.1), else no limit */
-    VkDeviceSize memory_limit;     /* the device-local heap's size, or VKRT_DEVICE_MEMORY_LIMIT
+    VkDeviceSize memory_limit;     /* the device-local heap's size, or VKRT_TEST_DEVICE_MEMORY_LIMIT
                                       (bytes; to test the message) where that is smaller */
     VkDeviceSize memory_used;      /* device-local memory allocated by gpu_buffer_* now */
     /* The largest buffer vkrt makes: maxStorageBufferRange, or maxMemoryAllocationSize where
      * smaller. Arrays larger than split_bytes are split over several buffers (gpu/array.h):
-     * max_buffer_bytes, or VKRT_MAX_BUFFER_BYTES (bytes, at least 128) where that is smaller, so
+     * max_buffer_bytes, or VKRT_TEST_MAX_BUFFER_BYTES (bytes, at least 128) where that is smaller, so
      * that tests split small scenes. */
     VkDeviceSize max_buffer_bytes;
     VkDeviceSize split_bytes;

@@ -7,6 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../test_hooks.h"
+
 /* 64 invocations fill two NVIDIA warps or one AMD wave64 and suit lavapipe's 8-wide SIMD. */
 enum { default_workgroup_size = 64 };
 
@@ -88,9 +90,9 @@ vkrt_tuning vkrt_tuning_choose(bool cpu_device, bool llvmpipe, const vkrt_tuning
      * (research/journal.md, "Hits grouped by shader"). The environment variable is for
      * measurements and tests, which compare the two. */
     t.material_order = !cpu_device;
-    const char *order = getenv("VKRT_MATERIAL_ORDER");
-    if (order && (order[0] == '0' || order[0] == '1') && order[1] == '\0')
-        t.material_order = order[0] == '1';
+    int forced_order = vkrt_test_hooks_get()->material_order;
+    if (forced_order >= 0)
+        t.material_order = forced_order == 1;
     return t;
 }
 

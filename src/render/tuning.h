@@ -65,7 +65,7 @@ typedef struct vkrt_tuning {
                                  in one pass when the image has fewer pixels than this */
     double warmup_ms;         /* device time run before anything is timed (vkrt_warmup_runs) */
     bool material_order;      /* group each bounce's hits by shader (glsl/order.comp) where a
-                                 scene has several; VKRT_MATERIAL_ORDER=0 or 1 overrides it */
+                                 scene has several; VKRT_TEST_MATERIAL_ORDER=0 or 1 overrides it */
 } vkrt_tuning;
 
 /* Whether ctx's device is a CPU implementation. */
