@@ -8,6 +8,7 @@
 #define VKRT_BINDINGS_GLSL
 
 #include "../shared.h"
+#include "ray_record.glsl"
 
 layout(local_size_x_id = VKRT_SPEC_WORKGROUP_SIZE) in;
 
@@ -56,7 +57,7 @@ layout(constant_id = VKRT_SPEC_TEXEL_LOADS) const bool TEXEL_LOADS = false;
  * (lib/traverse_bvh.glsl, bvh_traverse_nested): on CPU devices, by default. */
 layout(constant_id = VKRT_SPEC_NESTED_WALK) const bool NESTED_WALK = false;
 
-/* The wave machinery: one WaveState per depth, light visibility bits (frame.range.w words per
+/* The wave machinery: one WaveState per depth, light visibility bits (frame_light_words words per
  * ray, bit k of word k / 32 set when light k reaches the hit), and for each ray the first slot and
  * number of the rays its material casts. */
 layout(std430, set = 0, binding = VKRT_BINDING_WAVES) buffer WaveBuffer { WaveState waves[]; };

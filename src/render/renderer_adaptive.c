@@ -8,6 +8,7 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "../../glsl/lib/ray_record.glsl"
 #include "renderer_private.h"
 /* After shared.h (renderer_private.h), whose uint it uses. */
 #include "../../glsl/lib/adaptive.glsl"
@@ -44,9 +45,9 @@ void renderer_adaptive_record_adapt(vkrt_renderer *r, VkCommandBuffer cmd, Frame
     params.counts.z = taken;
     /* Each pixel's samples folded and judged, then the list kept from the judgements of its
      * neighbours (glsl/adapt.comp): two dispatches, since a pixel reads its neighbours'. */
-    params.range.x = VKRT_ADAPT_FOLD;
+    frame_set_adapt_step(&params, VKRT_ADAPT_FOLD);
     gpu_dispatch(cmd, &r->adapt, &r->set, &params, r->width * r->height);
-    params.range.x = VKRT_ADAPT_SELECT;
+    frame_set_adapt_step(&params, VKRT_ADAPT_SELECT);
     gpu_dispatch(cmd, &r->adapt, &r->set, &params, r->width * r->height);
     params.counts.z = r->batch;
     gpu_dispatch(cmd, &r->adapt_dispatch, &r->set, &params, 1);
