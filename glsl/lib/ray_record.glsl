@@ -21,33 +21,32 @@
 #define VKRT_ACCESSOR static inline
 #endif
 
+/* One accessor per lane: `Type name(Record record)` returns record.lane. */
+#define VKRT_LANE(Type, name, Record, lane)                                                    \
+    VKRT_ACCESSOR Type name(Record record)                                                     \
+    {                                                                                          \
+        return record.lane;                                                                    \
+    }
+
 /* ---- Ray ------------------------------------------------------------------------------------ */
 
-/* The pixel the ray adds its light to (info.x). */
-VKRT_ACCESSOR uint ray_pixel(Ray ray)
-{
-    return ray.info.x;
-}
-
-/* The state of the ray's hash stream (info.y; lib/rng.glsl): Whitted's shaders and the path
- * tracer past its sampler's dimensions draw from it. */
-VKRT_ACCESSOR uint ray_seed(Ray ray)
-{
-    return ray.info.y;
-}
-
-/* How many bounces the ray is from the camera (info.z): 0 for a camera ray. */
-VKRT_ACCESSOR uint ray_depth(Ray ray)
-{
-    return ray.info.z;
-}
-
-/* The ray's sample index in its pixel (info.w above VKRT_RAY_SAMPLE_SHIFT), over all the passes
- * of a frame: what the path tracer's sampler (lib/sampler.glsl) draws its numbers by. */
-VKRT_ACCESSOR uint ray_sample(Ray ray)
-{
-    return ray.info.w >> VKRT_RAY_SAMPLE_SHIFT;
-}
+/* ray_pixel: the pixel the ray adds its light to.
+ * ray_seed: the state of the ray's hash stream (lib/rng.glsl), which Whitted's shaders and the
+ *     path tracer past its sampler's dimensions draw from.
+ * ray_depth: how many bounces the ray is from the camera (0: a camera ray).
+ * ray_sample: the ray's sample index in its pixel over all the passes of a frame, what the path
+ *     tracer's sampler (lib/sampler.glsl) draws its numbers by.
+ * ray_tmin, ray_tmax: the segment of the ray that counts: hits at t in (tmin, tmax).
+ * ray_bsdf_pdf: the solid-angle pdf of the BSDF sample that cast the ray, which the light it finds
+ *     is weighed by against light sampling (lib/path.glsl); 0 where no light sample could have
+ *     found that light: camera rays, delta lobes, and every ray of Whitted's integrator. */
+VKRT_LANE(uint, ray_pixel, Ray, info.x)
+VKRT_LANE(uint, ray_seed, Ray, info.y)
+VKRT_LANE(uint, ray_depth, Ray, info.z)
+VKRT_LANE(uint, ray_sample, Ray, info.w >> VKRT_RAY_SAMPLE_SHIFT)
+VKRT_LANE(float, ray_tmin, Ray, origin.w)
+VKRT_LANE(float, ray_tmax, Ray, direction.w)
+VKRT_LANE(float, ray_bsdf_pdf, Ray, importance.w)
 
 /* Whether the slot holds no ray (VKRT_RAY_DEAD in info.w): traced by nobody, shaded by nobody. */
 VKRT_ACCESSOR bool ray_is_dead(Ray ray)
@@ -55,62 +54,26 @@ VKRT_ACCESSOR bool ray_is_dead(Ray ray)
     return (ray.info.w & VKRT_RAY_DEAD) != 0u;
 }
 
-/* The segment of the ray that counts: hits at t in (tmin, tmax) (origin.w and direction.w). */
-VKRT_ACCESSOR float ray_tmin(Ray ray)
-{
-    return ray.origin.w;
-}
+/* ---- FrameParams.stage: one kernel's arguments for one dispatch ------------------------------ */
 
-VKRT_ACCESSOR float ray_tmax(Ray ray)
-{
-    return ray.direction.w;
-}
+/* frame_brute_first, frame_brute_end: brute-force trace (lib/traverse_brute.glsl, trace.comp,
+ *     occlusion.comp) tests triangles first .. end - 1 in this dispatch.
+ * frame_order_step: order.comp's step, VKRT_ORDER_COUNT or VKRT_ORDER_PLACE.
+ * frame_adapt_step: adapt.comp's step, VKRT_ADAPT_FOLD or VKRT_ADAPT_SELECT.
+ * frame_light_words: the words of light visibility bits per ray, the same for every dispatch of a
+ *     frame: bit i % 32 of word i / 32 is light i's (light.comp writes them, light_sample reads
+ *     them). */
+VKRT_LANE(uint, frame_brute_first, FrameParams, stage.x)
+VKRT_LANE(uint, frame_brute_end, FrameParams, stage.y)
+VKRT_LANE(uint, frame_order_step, FrameParams, stage.x)
+VKRT_LANE(uint, frame_adapt_step, FrameParams, stage.x)
+VKRT_LANE(uint, frame_light_words, FrameParams, stage.w)
+#undef VKRT_LANE
 
-/* The solid-angle pdf of the BSDF sample that cast the ray (importance.w), which the light it
- * finds is weighed by against light sampling (lib/path.glsl); 0 where no light sample could have
- * found that light: camera rays, delta lobes, and every ray of Whitted's integrator. */
-VKRT_ACCESSOR float ray_bsdf_pdf(Ray ray)
-{
-    return ray.importance.w;
-}
-
-/* ---- FrameParams.stage: one kernel's arguments for one dispatch -------------------------------- */
-
-/* Brute-force trace (lib/traverse_brute.glsl, trace.comp, occlusion.comp): this dispatch tests
- * triangles first .. end - 1 (stage.x, stage.y), and merges with the hits of the dispatches
- * before it when stage.z is not 0. */
-VKRT_ACCESSOR uint frame_brute_first(FrameParams f)
-{
-    return f.stage.x;
-}
-
-VKRT_ACCESSOR uint frame_brute_end(FrameParams f)
-{
-    return f.stage.y;
-}
-
+/* Brute-force trace: whether this dispatch merges with the hits of the dispatches before it. */
 VKRT_ACCESSOR bool frame_brute_merges(FrameParams f)
 {
     return f.stage.z != 0u;
-}
-
-/* order.comp's step: VKRT_ORDER_COUNT or VKRT_ORDER_PLACE (stage.x). */
-VKRT_ACCESSOR uint frame_order_step(FrameParams f)
-{
-    return f.stage.x;
-}
-
-/* adapt.comp's step: VKRT_ADAPT_FOLD or VKRT_ADAPT_SELECT (stage.x). */
-VKRT_ACCESSOR uint frame_adapt_step(FrameParams f)
-{
-    return f.stage.x;
-}
-
-/* The words of light visibility bits per ray (stage.w; the same for every dispatch of a frame):
- * bit i % 32 of word i / 32 is light i's (light.comp writes them, light_sample reads them). */
-VKRT_ACCESSOR uint frame_light_words(FrameParams f)
-{
-    return f.stage.w;
 }
 
 #ifdef VKRT_GLSL
