@@ -1,10 +1,9 @@
 /*
  * order.comp: groups the hits of this depth by the shader of their material, so that the light,
  * count and shade kernels that follow (each reading its ray through ray_of_invocation) run one
- * shader's code per subgroup instead of every shader its lanes' hits need, one after the other.
- * On the H200, Sponza's floor made glossy among diffuse walls made the path tracer's light and
- * shade kernels 1.6 and 2.2 times dearer at the first bounce, where making every material glossy
- * cost nothing per ray (research/journal.md, "Hits grouped by shader").
+ * shader's code per subgroup instead of every shader its lanes' hits need, one after the other: a
+ * subgroup whose lanes hit several shaders pays for each of them in turn, one of a single shader
+ * pays once (docs/performance.md has the measurements).
  *
  * Two dispatches over the wave (frame_order_step): VKRT_ORDER_COUNT adds each workgroup's
  * count of hits per bin to the depth's totals; VKRT_ORDER_PLACE gives each workgroup a run of

@@ -56,7 +56,7 @@ typedef uint32_t uint;
 #define VKRT_BINDING_NODE_TEXELS 28
 #define VKRT_TEXEL_BINDINGS 2
 
-/* Arrays larger than one buffer holds (issue 20; src/gpu/array.h): each is split into chunks of
+/* Arrays larger than one buffer holds (src/gpu/array.h): each is split into chunks of
  * 2^s elements, s its VKRT_SPEC_SPLIT_* constant (0: one buffer, at its binding above), and the
  * kernels reach chunk c of array k at the device address split_addresses[k * VKRT_MAX_CHUNKS + c]
  * (binding VKRT_BINDING_SPLIT_ADDRESSES, an address as two words, low first). */
@@ -410,14 +410,12 @@ VKRT_STRUCT(Counters) {
  * that pixels stop within that many samples of their target. */
 #define VKRT_ADAPTIVE_FLOOR 0.01f
 #define VKRT_ADAPTIVE_MIN_SAMPLES 16u
-/* A pixel none of whose samples found light takes at least this many: a dim face lit by rare
- * paths (CornellBox-Original's short box, lit only indirectly) read 0 after 16 samples in 34 of
- * its pixels, whose estimate of 0 stopped them black (true error 0.89); a pixel that is truly
- * black (the sky past a scene's edge) costs 64 samples instead of 16. */
+/* A pixel none of whose samples found light takes at least this many: a dim face lit only by rare
+ * indirect paths can read 0 after VKRT_ADAPTIVE_MIN_SAMPLES samples, and an estimate of 0 would
+ * stop it black; a pixel that is truly black (the sky past a scene's edge) pays the difference. */
 #define VKRT_ADAPTIVE_MIN_DARK_SAMPLES 64u
 
-/* A pixel's luminance statistics, from
- * which glsl/lib/adaptive.glsl estimates its error. */
+/* A pixel's luminance statistics, from which glsl/lib/adaptive.glsl estimates its error. */
 VKRT_STRUCT(PixelStats) {
     float mean;       /* mean luminance of the pixel's samples */
     float m2;         /* their sum of squared deviations from it (Welford) */

@@ -23,9 +23,9 @@
 
 /* Rays of this depth and deeper play Russian roulette before casting their continuation (depth 0
  * is the camera ray: its hit is the path's first vertex). 4 is Mitsuba 3's default (its rr_depth
- * 5 counts the vertex after the bounce): starting at 3 cost the Mori knob under a sky, whose
- * caustics cross four glass surfaces, 18% more per-pixel error at 64 spp (0.1735 against 0.1433
- * for 4, 0.147 for 5 and 0.149 for none; docs/speed-vs-accuracy.md). */
+ * 5 counts the vertex after the bounce): starting earlier ends too many of the long paths that
+ * caustics through several glass surfaces need, and costs more error than it saves time
+ * (docs/speed-vs-accuracy.md). */
 const uint ROULETTE_DEPTH = 4u;
 
 /* The numbers of a vertex come from the sampler (lib/sampler.glsl), each use at its own

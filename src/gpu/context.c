@@ -112,7 +112,7 @@ static bool create_instance(gpu_context *ctx, bool validation, const gpu_context
                               gpu_result_name(result), desc->instance_extensions[wanted - 1]);
     if (result == VK_ERROR_INCOMPATIBLE_DRIVER || result == VK_ERROR_INITIALIZATION_FAILED)
         return vkrt_error_set(err, "no Vulkan driver found (%s); install one, e.g. Debian's "
-                                   "mesa-vulkan-drivers for lavapipe",
+                                   "mesa-vulkan-drivers for a CPU device",
                               gpu_result_name(result));
     if (result != VK_SUCCESS)
         return vkrt_error_set(err, "vkCreateInstance failed: %s", gpu_result_name(result));
@@ -284,7 +284,7 @@ static bool create_device(gpu_context *ctx, const gpu_context_desc *desc, vkrt_e
     ctx->robust_buffer_access = supported.robustBufferAccess == VK_TRUE;
     VkPhysicalDeviceFeatures enabled = {.robustBufferAccess = supported.robustBufferAccess};
 
-    /* Float atomic adds let many rays add to one pixel at once (lavapipe and NVIDIA have them);
+    /* Float atomic adds (VK_EXT_shader_atomic_float) let many rays add to one pixel at once;
      * without them the shading kernel falls back to compare-and-swap loops. */
     uint32_t extension_count = 0;
     GPU_CHECK(vkEnumerateDeviceExtensionProperties(ctx->physical, NULL, &extension_count, NULL));

@@ -68,7 +68,7 @@ typedef struct gpu_pipeline {
 /* Creates a compute pipeline from SPIR-V. Constant id 0 is the workgroup size
  * (local_size_x_id = 0) and is set to workgroup_size; more constants (at most
  * GPU_MAX_SPEC_CONSTANTS) come in spec. The driver's
- * compiled form is kept in the kernel cache (spirv_cache.h, issue 20) under a key of the SPIR-V,
+ * compiled form is kept in the kernel cache (spirv_cache.h) under a key of the SPIR-V,
  * the specialization and the driver (pipelineCacheUUID, vendor and device id, driver version),
  * so a later start hands it back to the driver through a VkPipelineCache; an entry that is not
  * whole or whose Vulkan header names another device is not used, and is written anew. */

@@ -25,9 +25,8 @@ bool renderer_adaptive_create_buffers(vkrt_renderer *r, vkrt_error *err)
            gpu_buffer_create(r->ctx, &r->sample_luminance,
                              on ? pixels * r->batch * sizeof(float) : 0, "sample luminance", err) &&
            /* The list's `appended` starts at 0; adapt_dispatch.comp sets it back to 0 after
-            * every pass, so it is 0 whenever a frame starts. (Fresh memory is not zero: under the
-            * tests' MALLOC_PERTURB_, lavapipe's was garbage, and the first pass listed millions
-            * of pixels.) adapt.comp resets the statistics and slots when a frame starts. */
+            * every pass, so it is 0 whenever a frame starts. (Fresh memory is not zero: a CPU device's
+            * comes from the host heap, garbage under the tests' MALLOC_PERTURB_.) adapt.comp resets the statistics and slots when a frame starts. */
            (!on || gpu_buffer_zero(r->ctx, &r->active_pixels, err));
 }
 

@@ -27,7 +27,7 @@ static bool check_loop_budget(const vkrt_renderer *r, vkrt_error *err)
     if (iterations > budget - r->light_count)
         return vkrt_error_set(err,
                               "brute force with %u triangles and %u shadowing lights needs %llu "
-                              "loop iterations per pixel; lavapipe (llvmpipe) stops shaders after "
+                              "loop iterations per pixel; this device stops shaders after "
                               "%u: use accel grid or bvh",
                               r->triangle_count, (unsigned)shadow_lights,
                               (unsigned long long)iterations, budget);
