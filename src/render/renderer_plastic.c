@@ -8,10 +8,10 @@
  * plain roughnesses than that, they share one table of as many rows from 0 to the largest of
  * them instead of a row each (the shader finds a row by the table's header, rows and scale, so a
  * plain roughness reads it as a map's would): a row takes milliseconds of one core, and a scene
- * of hundreds of plastics of distinct roughness would otherwise wait seconds at start-up. An index then
- * takes at most 66 rows (a map's 33 and 33 plain); distinct indices each take their own. A smooth coat (roughness below 0.02,
- * what the shader treats as a delta mirror) and an index of 1 (no coat: the base is
- * Lambertian) need none.
+ * of hundreds of plastics of distinct roughness would otherwise wait seconds at start-up. An
+ * index then takes at most 66 rows (a map's 33 and 33 plain); distinct indices each take their
+ * own. A smooth coat (roughness below 0.02, what the shader treats as a delta mirror) and an
+ * index of 1 (no coat: the base is Lambertian) need none.
  */
 #include <math.h>
 #include <stdlib.h>
