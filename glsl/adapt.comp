@@ -1,6 +1,6 @@
 /*
  * adapt.comp: adaptive sampling (--target-error), after each sample pass: one invocation per
- * pixel, in raygen's tile order, twice (frame.range.x says which):
+ * pixel, in raygen's tile order, twice (frame_adapt_step says which):
  *   VKRT_ADAPT_FOLD: a listed pixel folds its samples' luminance (what the pass's kernels added to
  *     its slots, lib/pixel.glsl) into its statistics, one sample at a time (lib/adaptive.glsl),
  *     clears the slots, and stores its sample count in image[pixel].w, by which the image is
@@ -84,13 +84,13 @@ void main()
     if (index < pixels) {
         uvec2 p = tile_pixel(index, width, height);
         pixel = p.y * width + p.x;
-        if (frame.range.x == VKRT_ADAPT_FOLD)
+        if (frame_adapt_step(frame) == VKRT_ADAPT_FOLD)
             fold(pixel, pixels);
         else
             listed = select_pixel(pixel, p, width, height);
     }
     /* Only the second pass lists pixels (uniform control flow for the subgroup operations). */
-    if (frame.range.x == VKRT_ADAPT_FOLD)
+    if (frame_adapt_step(frame) == VKRT_ADAPT_FOLD)
         return;
 #ifdef VKRT_SUBGROUPS
     uint one = listed ? 1u : 0u;

@@ -7,32 +7,28 @@
  *
  * With subgroup operations (VKRT_SUBGROUPS, from the device) a subgroup reserves the runs of all
  * its rays with one atomic: an exclusive prefix sum of the counts gives each ray its place in the
- * subgroup's block. One atomic per ray on a single address serialised a 1080p frame's two million
- * rays (0.3-0.4 ms per depth on the H100); per subgroup there are 32 times fewer, and a
- * subgroup's children land next to each other, in the order of their parents.
+ * subgroup's block: one atomic per ray on a single address serialises the frame's rays, per
+ * subgroup there are as many times fewer as it has lanes, and a subgroup's children land next to
+ * each other, in the order of their parents.
  */
 #include "generated/materials.glsl"
-#ifdef VKRT_PATH
 #include "lib/path.glsl"
-#endif
 
 /* The count_rays answer of ray index's hit; 0 for dead rays, misses and at the last depth. */
 uint hit_count(uint index)
 {
     Ray ray = load_ray(index);
     Hit hit = hits[index];
-    if ((ray.info.w & VKRT_RAY_DEAD) != 0u || hit.triangle == VKRT_NO_HIT ||
-        frame.wave.y >= frame.wave.z)
+    if (ray_is_dead(ray) || hit.triangle == VKRT_NO_HIT || frame.wave.y >= frame.wave.z)
         return 0u;
-#ifdef VKRT_PATH
     /* The path tracer casts one continuation per hit, unless Russian roulette ends the path. */
-    return path_continues(ray) ? 1u : 0u;
-#else
+    if (INTEGRATOR == VKRT_INTEGRATE_PATH)
+        return path_continues(ray) ? 1u : 0u;
     Surface s = surface_at(ray, hit);
     vkrt_material = s.material;
     vkrt_ray_index = index;
     vkrt_ray = ray;
-    vkrt_rng = ray.info.y;
+    vkrt_rng = ray_seed(ray);
     vkrt_dimension = 0u;
     vkrt_radiance = vec3(0.0);
     vkrt_casting = false;
@@ -44,7 +40,6 @@ uint hit_count(uint index)
         count = 0u;
     }
     return count;
-#endif
 }
 
 void main()

@@ -14,11 +14,11 @@ void main()
     if (index >= dispatch_ray_count())
         return;
     /* A later brute-force block has nothing to add to a ray already blocked. */
-    if (frame.range.z != 0u && hits[index].triangle != VKRT_NO_HIT)
+    if (frame_brute_merges(frame) && hits[index].triangle != VKRT_NO_HIT)
         return;
     Ray ray = load_ray(index);
-    bool blocked = trace_any(ray.origin.xyz, ray.direction.xyz, ray.origin.w, ray.direction.w);
-    hits[index] = Hit(ray.direction.w, 0.0, 0.0, blocked ? 0u : VKRT_NO_HIT);
+    bool blocked = trace_any(ray.origin.xyz, ray.direction.xyz, ray_tmin(ray), ray_tmax(ray));
+    hits[index] = Hit(ray_tmax(ray), 0.0, 0.0, blocked ? 0u : VKRT_NO_HIT);
 #ifdef VKRT_SUBGROUPS
     record_traversal_stats();
 #endif

@@ -1,12 +1,11 @@
 /*
  * order.comp: groups the hits of this depth by the shader of their material, so that the light,
  * count and shade kernels that follow (each reading its ray through ray_of_invocation) run one
- * shader's code per subgroup instead of every shader its lanes' hits need, one after the other.
- * On the H200, Sponza's floor made glossy among diffuse walls made the path tracer's light and
- * shade kernels 1.6 and 2.2 times dearer at the first bounce, where making every material glossy
- * cost nothing per ray (research/journal.md, "Hits grouped by shader").
+ * shader's code per subgroup instead of every shader its lanes' hits need, one after the other: a
+ * subgroup whose lanes hit several shaders pays for each of them in turn, one of a single shader
+ * pays once (docs/performance.md has the measurements).
  *
- * Two dispatches over the wave (FrameParams.range.x): VKRT_ORDER_COUNT adds each workgroup's
+ * Two dispatches over the wave (frame_order_step): VKRT_ORDER_COUNT adds each workgroup's
  * count of hits per bin to the depth's totals; VKRT_ORDER_PLACE gives each workgroup a run of
  * places in every bin it has hits of (the bin's start, from the totals, plus an atomic cursor)
  * and writes each hit's ray index at its place. Within a bin the rays keep their workgroups'
@@ -23,8 +22,7 @@ shared uint bin_place[VKRT_ORDER_BINS];
 uint bin_of(uint index)
 {
     Hit hit = hits[index];
-    bool dead = (load_ray(index).info.w & VKRT_RAY_DEAD) != 0u;
-    if (dead || hit.triangle == VKRT_NO_HIT)
+    if (ray_is_dead(load_ray(index)) || hit.triangle == VKRT_NO_HIT)
         return VKRT_ORDER_BINS - 1u;
     return min(materials[material_of(hit.triangle)].info.x, VKRT_ORDER_BINS - 2u);
 }
@@ -44,7 +42,7 @@ void main()
     }
     barrier();
     uint totals = order_bins_start(frame.wave.y), cursors = totals + VKRT_ORDER_BINS;
-    if (frame.range.x == VKRT_ORDER_COUNT) {
+    if (frame_order_step(frame) == VKRT_ORDER_COUNT) {
         for (uint b = local; b < VKRT_ORDER_BINS; b += size)
             if (bin_hits[b] > 0u)
                 atomicAdd(material_order[totals + b], bin_hits[b]);

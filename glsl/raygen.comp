@@ -13,7 +13,7 @@
  *
  * Consecutive invocations take the pixels of TILE x TILE tiles rather than of raster rows, so a
  * subgroup's rays (32 lanes: 8 x 4 pixels) leave the camera close together and walk the same
- * nodes; ray.info.x carries the pixel, so nothing downstream depends on the order.
+ * nodes; the ray carries its pixel (ray_pixel), so nothing downstream depends on the order.
  *
  * This kernel also resets what a pass starts from, instead of transfer commands before it (an
  * update and the barriers between transfer and compute, per pass): the image at pass 0 and the
@@ -92,9 +92,9 @@ void main()
 
     uint seed = pcg_hash(pixel ^ pcg_hash(sample_index ^ pcg_hash(frame.counts.w)));
     vec2 offset = vec2(0.5);
-    uvec4 info = uvec4(pixel, seed, 0u, sample_index << VKRT_RAY_SAMPLE_SHIFT);
+    Ray ray = ray_camera(pixel, seed, sample_index);
     if (samples > 1u && INTEGRATOR == VKRT_INTEGRATE_PATH) {
-        offset = sampler_2d(info, frame.counts.w, SAMPLER_DIM_PIXEL);
+        offset = sampler_2d(ray, frame.counts.w, SAMPLER_DIM_PIXEL);
     } else if (samples > 1u) {
         uint rows = uint(sqrt(float(samples)));
         while (rows > 1u && samples % rows != 0u)
@@ -115,19 +115,14 @@ void main()
          * distance up.w along the view axis (through has 1 along it). Whitted draws the lens
          * point from a stream of its own, not from the ray's, which its shaders use. */
         vec2 u = INTEGRATOR == VKRT_INTEGRATE_PATH
-                     ? sampler_2d(info, frame.counts.w, SAMPLER_DIM_LENS)
-                     : vec2(rng_float(pcg_hash(info.y ^ 0x1B873593u)),
-                            rng_float(pcg_hash(info.y ^ 0x68E31DA4u)));
+                     ? sampler_2d(ray, frame.counts.w, SAMPLER_DIM_LENS)
+                     : vec2(rng_float(pcg_hash(ray_seed(ray) ^ 0x1B873593u)),
+                            rng_float(pcg_hash(ray_seed(ray) ^ 0x68E31DA4u)));
         vec2 lens = frame.right.w * concentric_disk(u);
         origin += lens.x * normalize(frame.right.xyz) + lens.y * normalize(frame.up.xyz);
         dir = normalize(frame.eye.xyz + frame.up.w * through - origin);
     }
 
-    Ray ray;
-    ray.origin = vec4(origin, 0.0);
-    ray.direction = vec4(dir, 3.4e38);
-    ray.importance = vec4(1.0, 1.0, 1.0, 0.0);
-    ray.info = info;
-    ray.payload = vec4(0.0);
+    ray_set_segment(ray, origin, dir, 0.0, FAR);
     rays[index] = ray;
 }

@@ -22,7 +22,7 @@ typedef uint32_t uint;
 #endif
 
 /* The wavefront's one descriptor set (set 0), binding by binding: glsl/lib/bindings.glsl declares
- * each buffer at its number and src/render/renderer_bind.c binds it. The storage buffers come
+ * each buffer at its number and src/render/renderer_buffers.c (renderer_bind_all) binds it. The storage buffers come
  * first, numbered from 0 without gaps, then the uniform texel buffers. */
 #define VKRT_BINDING_RAYS 0
 #define VKRT_BINDING_HITS 1
@@ -56,7 +56,7 @@ typedef uint32_t uint;
 #define VKRT_BINDING_NODE_TEXELS 28
 #define VKRT_TEXEL_BINDINGS 2
 
-/* Arrays larger than one buffer holds (issue 20; src/gpu/array.h): each is split into chunks of
+/* Arrays larger than one buffer holds (src/gpu/array.h): each is split into chunks of
  * 2^s elements, s its VKRT_SPEC_SPLIT_* constant (0: one buffer, at its binding above), and the
  * kernels reach chunk c of array k at the device address split_addresses[k * VKRT_MAX_CHUNKS + c]
  * (binding VKRT_BINDING_SPLIT_ADDRESSES, an address as two words, low first). */
@@ -129,7 +129,7 @@ typedef uint32_t uint;
 #define VKRT_LIGHT_KIND_POINT 2u
 #define VKRT_LIGHT_KIND_SPOT 3u
 
-/* Flags of Ray.info.w. */
+/* Flags of Ray.info.w (ray_is_dead). */
 #define VKRT_RAY_DEAD 1u       /* a slot a shader reserved but did not fill, or whose importance fell
                                   under the threshold: traced by nobody, shaded by nobody */
 /* Ray.info.w above the flags: the ray's sample index in its pixel (0 .. samples - 1 over all the
@@ -139,12 +139,18 @@ typedef uint32_t uint;
 
 /* One ray of the wavefront with its "image reconstruction information" (the seed's term):
  * which pixel it adds to, how much (importance), its random stream, its depth, and a payload that
- * material shaders pass from a hit to the rays it casts (and the environment shader reads). */
+ * material shaders pass from a hit to the rays it casts (and the environment shader reads).
+ * Every packed lane has one meaning and is read and written through the accessor named after
+ * it (glsl/lib/ray_record.glsl, in parentheses below); tests/test_layout.c checks the lanes. */
 VKRT_STRUCT(Ray) {
-    vec4 origin;      /* xyz origin, w: tmin */
-    vec4 direction;   /* xyz unit direction, w: tmax */
-    vec4 importance;  /* rgb throughput towards the pixel, w unused */
-    uvec4 info;       /* x: pixel index, y: random seed, z: depth, w: VKRT_RAY_* flags and sample */
+    vec4 origin;      /* xyz origin, w: tmin (ray_tmin) */
+    vec4 direction;   /* xyz unit direction, w: tmax (ray_tmax) */
+    vec4 importance;  /* rgb: throughput towards the pixel (ray_throughput); w: the solid-angle
+                         pdf of the BSDF sample that cast the ray, 0 where no light sample could
+                         find what it hits: camera rays, delta lobes, Whitted (ray_bsdf_pdf) */
+    uvec4 info;       /* x: pixel index (ray_pixel), y: hash stream state (ray_seed), z: depth
+                         (ray_depth), w: VKRT_RAY_DEAD (ray_is_dead) and the sample index above
+                         VKRT_RAY_SAMPLE_SHIFT (ray_sample) */
     vec4 payload;     /* the material's own; zero for primary rays */
 };
 
@@ -249,9 +255,14 @@ VKRT_STRUCT(FrameParams) {
     uvec4 image;      /* x: width, y: height, z: index of this sample pass, w: samples per pixel */
     uvec4 counts;     /* x: triangles, y: lights, z: rays in this dispatch or VKRT_RAYS_OF_WAVE,
                          w: frame seed */
-    uvec4 range;      /* brute force: x..y-1 are the triangles this dispatch tests; z != 0: merge
-                         with the hits of earlier dispatches (see traverse_brute.glsl); w: light
-                         visibility words per ray */
+    uvec4 stage;      /* x, y, z: one kernel's arguments for one dispatch, whose meaning is the
+                         kernel's; each is read and set only through the accessor named for it
+                         (glsl/lib/ray_record.glsl): brute-force trace: first triangle, end,
+                         merge (frame_brute_*); order.comp: step (frame_order_step); adapt.comp:
+                         step (frame_adapt_step). w: light visibility words per ray, the same for
+                         the whole frame (frame_light_words). The push constants may not pass 128
+                         bytes (Vulkan's guaranteed minimum), so the steps share lanes rather
+                         than grow the struct. */
     uvec4 wave;       /* x: which ray buffer holds this depth's rays (0: A, 1: B; children go to
                          the other), y: depth, z: max depth, w: ray capacity of each buffer */
 };
@@ -399,14 +410,12 @@ VKRT_STRUCT(Counters) {
  * that pixels stop within that many samples of their target. */
 #define VKRT_ADAPTIVE_FLOOR 0.01f
 #define VKRT_ADAPTIVE_MIN_SAMPLES 16u
-/* A pixel none of whose samples found light takes at least this many: a dim face lit by rare
- * paths (CornellBox-Original's short box, lit only indirectly) read 0 after 16 samples in 34 of
- * its pixels, whose estimate of 0 stopped them black (true error 0.89); a pixel that is truly
- * black (the sky past a scene's edge) costs 64 samples instead of 16. */
+/* A pixel none of whose samples found light takes at least this many: a dim face lit only by rare
+ * indirect paths can read 0 after VKRT_ADAPTIVE_MIN_SAMPLES samples, and an estimate of 0 would
+ * stop it black; a pixel that is truly black (the sky past a scene's edge) pays the difference. */
 #define VKRT_ADAPTIVE_MIN_DARK_SAMPLES 64u
 
-/* A pixel's luminance statistics, from
- * which glsl/lib/adaptive.glsl estimates its error. */
+/* A pixel's luminance statistics, from which glsl/lib/adaptive.glsl estimates its error. */
 VKRT_STRUCT(PixelStats) {
     float mean;       /* mean luminance of the pixel's samples */
     float m2;         /* their sum of squared deviations from it (Welford) */
@@ -423,7 +432,8 @@ VKRT_STRUCT(PixelStats) {
 /* Hits grouped by shader (order.comp, binding VKRT_BINDING_MATERIAL_ORDER): per depth
  * VKRT_ORDER_BINS counts and VKRT_ORDER_BINS cursors, then the ray index of every place in the
  * grouped order. Shaders past VKRT_ORDER_BINS - 2 share a bin; the last bin holds the misses
- * and the dead rays. FrameParams.range.x of order.comp: count the hits of each bin, or place them. */
+ * and the dead rays. order.comp's step (frame_order_step): count the hits of each bin, or place
+ * them. */
 #define VKRT_ORDER_BINS 64u
 /* The camera's hits stay in pixel order: neighbouring pixels mostly share a material, and their
  * shadow rays keep each other company through the structure. */
@@ -431,7 +441,7 @@ VKRT_STRUCT(PixelStats) {
 #define VKRT_ORDER_COUNT 0u
 #define VKRT_ORDER_PLACE 1u
 
-/* FrameParams.range.x of adapt.comp: fold the pass's samples and judge each listed pixel by its
+/* adapt.comp's step (frame_adapt_step): fold the pass's samples and judge each listed pixel by its
  * own estimate, or keep listed each listed pixel with an unconverged pixel in its 3x3
  * neighbourhood. */
 #define VKRT_ADAPT_FOLD 0u

@@ -17,14 +17,14 @@ void main()
         return;
     Ray ray = load_ray(index);
     /* A later brute-force block continues from the closest hit of the earlier ones. */
-    Hit previous = Hit(ray.direction.w, 0.0, 0.0, VKRT_NO_HIT);
-    if (frame.range.z != 0u)
+    Hit previous = Hit(ray_tmax(ray), 0.0, 0.0, VKRT_NO_HIT);
+    if (frame_brute_merges(frame))
         previous = hits[index];
-    if ((ray.info.w & VKRT_RAY_DEAD) != 0u) {
+    if (ray_is_dead(ray)) {
         hits[index] = previous;
         return;
     }
-    Hit hit = trace_closest(ray.origin.xyz, ray.direction.xyz, ray.origin.w, previous.t);
+    Hit hit = trace_closest(ray.origin.xyz, ray.direction.xyz, ray_tmin(ray), previous.t);
     hits[index] = hit.triangle != VKRT_NO_HIT ? hit : previous;
 #ifdef VKRT_SUBGROUPS
     record_traversal_stats();

@@ -384,11 +384,11 @@ def final_startup_table(path):
 
 def glossy_section(path=f"{RESULTS}/h200-1203/material-order-after/material-order-log.txt"):
     """The glossy, out-of-focus frame and the grouping of hits by shader: each frame's time with
-    VKRT_MATERIAL_ORDER 0 and 1, and the glossy, out-of-focus frame over the diffuse pinhole one."""
+    VKRT_TEST_MATERIAL_ORDER (VKRT_MATERIAL_ORDER in older logs) 0 and 1, and the glossy, out-of-focus frame over the diffuse pinhole one."""
     frames = {}
     for block in load(path).split("== ")[1:]:
         m = re.search(r"frame ([0-9.]+) ms", block)
-        order = re.search(r"VKRT_MATERIAL_ORDER=([01])", block)
+        order = re.search(r"VKRT_(?:TEST_)?MATERIAL_ORDER=([01])", block)
         if m and order:
             frames[(block.split()[0], order.group(1))] = float(m.group(1))
     names = {"sponza-path": "Sponza, diffuse, pinhole (sponza-path.cfg)",

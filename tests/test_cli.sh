@@ -26,7 +26,7 @@ check "PNG written" test -s "$tmp/c.png"
 check "PNG has the PNG signature" sh -c "head -c 8 '$tmp/c.png' | od -An -c | grep -q 'P   N   G'"
 check "summary names rays per second" grep -q "Mrays/s" "$tmp/err"
 # Issue 20: --verbose reports memory and the start-up's stages; a scene too big for the device
-# (made small here by VKRT_DEVICE_MEMORY_LIMIT) is refused with the sizes, not a driver error.
+# (made small here by VKRT_TEST_DEVICE_MEMORY_LIMIT) is refused with the sizes, not a driver error.
 "$vkrt" render "$src/scenes/cornell/scene.cfg" --width 48 --height 32 --spp 2 -o "$tmp/v.png" --verbose 2>"$tmp/err"
 check "--verbose prints device memory by kind against the device's" \
     grep -q "^vkrt: device memory: triangles .* MiB, nodes .* rays .* MiB of the device's .* MiB$" "$tmp/err"
@@ -36,11 +36,11 @@ check "--verbose prints the start-up's stages" grep -q "^vkrt: start-up: scene .
 # Cornell box (brute force, nothing split) the prediction holds, so they are not compiled again.
 check "--verbose prints the renderer's steps, the kernels compiled alongside them" \
     grep -q "^vkrt: start-up: .* renderer .* (structure .* triangles' upload .*, waiting for the kernels compiled alongside [0-9]*)" "$tmp/err"
-VKRT_DEVICE_MEMORY_LIMIT=300000 "$vkrt" render "$src/scenes/cornell/scene.cfg" --width 48 --height 32 --spp 2 \
+VKRT_TEST_DEVICE_MEMORY_LIMIT=300000 "$vkrt" render "$src/scenes/cornell/scene.cfg" --width 48 --height 32 --spp 2 \
     -o "$tmp/small.png" 2>"$tmp/err"
 check "a scene beyond the device's memory exits 1" test $? -eq 1
 check "and says it does not fit, with the sizes" \
-    grep -q "does not fit .*MiB more device memory with .* MiB already in use makes .* MiB, and the device has 0.3 MiB (VKRT_DEVICE_MEMORY_LIMIT)" "$tmp/err"
+    grep -q "does not fit .*MiB more device memory with .* MiB already in use makes .* MiB, and the device has 0.3 MiB (VKRT_TEST_DEVICE_MEMORY_LIMIT)" "$tmp/err"
 check "and writes no image" test ! -e "$tmp/small.png"
 "$vkrt" render "$src/scenes/cornell-spheres/scene.cfg" --width 16 --height 16 --profile -o "$tmp/p.png" 2>"$tmp/err"
 check "--profile exits 0" test $? -eq 0
@@ -229,9 +229,9 @@ printf 'uint count_rays(Surface s) { return 0u; }\nvoid shade(Surface s)\n{\n   
 quad_cfg "$tmp/spin.cfg" spin.mat
 # Enough pixels that llvmpipe, which ends loops after 65535 iterations, still runs for minutes.
 sed -i 's/^resolution .*/resolution 256 256/' "$tmp/spin.cfg"
-export VKRT_GPU_TIMEOUT=1
+export VKRT_TEST_GPU_TIMEOUT=1
 expect_error "a shader looping forever meets the watchdog" "$tmp/spin.cfg" "did not finish within 1 s.*'m' (.*spin.mat:1)"
-unset VKRT_GPU_TIMEOUT
+unset VKRT_TEST_GPU_TIMEOUT
 
 # vkrt bench: the JSON, the traversal statistics, and the 4-wide layout finding what the pairs
 # find (the same hits and blocked counts on the same rays).

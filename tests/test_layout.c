@@ -5,7 +5,9 @@
  * block (and into the second element of arrays, to check strides); the host reads the block back
  * through the C structs and checks that each field holds its value. A second kernel copies its
  * push constants (FrameParams) into a buffer, which must match what the host pushed byte for
- * byte. Any disagreement of offsets, sizes or alignment shows up as a wrong value.
+ * byte. Any disagreement of offsets, sizes or alignment shows up as a wrong value. A third kernel
+ * makes rays with glsl/lib/ray_record.glsl's constructors, and the host reads every packed lane
+ * back through the same file's accessors, compiled as C.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -17,6 +19,8 @@
 #include <cmocka.h>
 
 #include "../glsl/shared.h"
+#include "../glsl/lib/ray_record.glsl"
+#include "../glsl/lib/rng.glsl"
 #include "gpu/array.h"
 #include "gpu_fixture.h"
 
@@ -68,7 +72,7 @@ static const field fields[] = {
     FIELD(light, info, UVEC4),
     FIELD(params, eye, VEC4), FIELD(params, right, VEC4), FIELD(params, up, VEC4),
     FIELD(params, forward, VEC4), FIELD(params, image, UVEC4),
-    FIELD(params, counts, UVEC4), FIELD(params, range, UVEC4), FIELD(params, wave, UVEC4),
+    FIELD(params, counts, UVEC4), FIELD(params, stage, UVEC4), FIELD(params, wave, UVEC4),
     FIELD(counters, shadow_rays, U32), FIELD(counters, secondary_rays, U32),
     FIELD(counters, max_wave, U32), FIELD(counters, overcast, U32),
     FIELD(counters, overcast_material, U32), FIELD(counters, nonfinite, U32),
@@ -204,7 +208,7 @@ static void test_push_constant_layout(void **state)
     /* The uvec4 members hold integers, not float bit patterns: set them as such. */
     pushed.image = (uvec4){101, 102, 103, 104};
     pushed.counts = (uvec4){201, 202, 203, 204};
-    pushed.range = (uvec4){301, 302, 303, 304};
+    pushed.stage = (uvec4){301, 302, 303, 304};
     pushed.wave = (uvec4){401, 402, 403, 404};
     gpu_buffer buf;
     assert_true(gpu_buffer_create(&ctx, &buf, sizeof(FrameParams), "params", &err));
@@ -221,6 +225,79 @@ static void test_push_constant_layout(void **state)
     assert_memory_equal(&pushed, &copied, sizeof pushed);
     gpu_buffer_destroy(&ctx, &buf);
     fixture_context_destroy(&ctx);
+}
+
+/* Rays made by the kernels' constructors read back through the accessors, compiled as C: each
+ * lane holds what its name says. */
+static void test_ray_record(void **state)
+{
+    (void)state;
+    gpu_context ctx;
+    fixture_context_create(&ctx);
+    vkrt_error err = {{0}};
+    gpu_buffer buf;
+    Ray made[4];
+    assert_true(gpu_buffer_create(&ctx, &buf, sizeof made, "rays", &err));
+    assert_true(gpu_buffer_zero(&ctx, &buf, &err));
+    fixture_run_kernel(&ctx,
+                       "#include \"lib/ray_record.glsl\"\n"
+                       "layout(local_size_x_id = 0) in;\n"
+                       "layout(std430, binding = 0) buffer Out { Ray made[4]; };\n"
+                       "void main()\n{\n"
+                       "    if (gl_GlobalInvocationID.x != 0u) return;\n"
+                       "    Ray camera = ray_camera(7u, 8u, 9u);\n"
+                       "    ray_set_segment(camera, vec3(1.0), vec3(0.0, 0.0, 1.0), 0.5, 4.0);\n"
+                       "    made[0] = camera;\n"
+                       "    made[1] = ray_cast(camera, 2u, vec3(0.0), vec3(0.0, 1.0, 0.0),\n"
+                       "                       vec3(0.25), 0.75, vec4(0.0));\n"
+                       "    made[2] = ray_dead(made[1]);\n"
+                       "    Ray killed = made[1];\n"
+                       "    ray_kill(killed);\n"
+                       "    made[3] = killed;\n"
+                       "}\n",
+                       &buf, 1, NULL, 0, 1);
+    assert_true(gpu_buffer_download(&ctx, &buf, made, sizeof made, &err));
+    gpu_buffer_destroy(&ctx, &buf);
+    fixture_context_destroy(&ctx);
+
+    assert_int_equal(ray_pixel(made[0]), 7);
+    assert_int_equal(ray_seed(made[0]), 8);
+    assert_int_equal(ray_sample(made[0]), 9);
+    assert_int_equal(ray_depth(made[0]), 0);
+    assert_false(ray_is_dead(made[0]));
+    assert_true(ray_tmin(made[0]) == 0.5f && ray_tmax(made[0]) == 4.0f);
+    assert_true(ray_bsdf_pdf(made[0]) == 0.0f);
+
+    assert_int_equal(ray_pixel(made[1]), 7);
+    assert_int_equal(ray_seed(made[1]), rng_child_seed(8, 2));
+    assert_int_equal(ray_sample(made[1]), 9);
+    assert_int_equal(ray_depth(made[1]), 1);
+    assert_false(ray_is_dead(made[1]));
+    assert_true(ray_bsdf_pdf(made[1]) == 0.75f && made[1].importance.x == 0.25f);
+    assert_true(ray_tmin(made[1]) == 0.0f && ray_tmax(made[1]) == 3.4e38f);
+
+    assert_true(ray_is_dead(made[2]));
+    assert_int_equal(ray_pixel(made[2]), 7);
+    assert_int_equal(ray_depth(made[2]), 2);
+    assert_true(ray_tmax(made[2]) < 0.0f);
+
+    assert_true(ray_is_dead(made[3]));
+    assert_int_equal(ray_sample(made[3]), 9);
+    assert_int_equal(ray_depth(made[3]), 1);
+
+    /* FrameParams.stage: each setter writes what its getter reads. */
+    FrameParams f = {0};
+    frame_set_brute_range(&f, 11, 12, true);
+    frame_set_light_words(&f, 13);
+    assert_int_equal(frame_brute_first(f), 11);
+    assert_int_equal(frame_brute_end(f), 12);
+    assert_true(frame_brute_merges(f));
+    assert_int_equal(frame_light_words(f), 13);
+    frame_set_order_step(&f, VKRT_ORDER_PLACE);
+    assert_int_equal(frame_order_step(f), VKRT_ORDER_PLACE);
+    frame_set_adapt_step(&f, VKRT_ADAPT_SELECT);
+    assert_int_equal(frame_adapt_step(f), VKRT_ADAPT_SELECT);
+    assert_int_equal(frame_light_words(f), 13);
 }
 
 /* The host-side sizes the kernels rely on (std430 strides of arrays of these structs). */
@@ -316,6 +393,7 @@ int main(void)
         cmocka_unit_test(test_split_array),
         cmocka_unit_test(test_buffer_layout),
         cmocka_unit_test(test_push_constant_layout),
+        cmocka_unit_test(test_ray_record),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

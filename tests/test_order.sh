@@ -1,5 +1,5 @@
 #!/bin/sh
-# test_order.sh: hits grouped by shader (glsl/order.comp, VKRT_MATERIAL_ORDER) change which
+# test_order.sh: hits grouped by shader (glsl/order.comp, VKRT_TEST_MATERIAL_ORDER) change which
 # invocation shades which ray, never what a ray computes: renders with the grouping forced on and
 # off must agree up to the order of the float atomic adds into a pixel (at most one 8-bit step),
 # and the profile must show the grouping ran (its column above zero) and did not run when off.
@@ -23,7 +23,7 @@ same() {
     what=$1 cfg=$2
     shift 2
     for on in 0 1; do
-        VKRT_MATERIAL_ORDER=$on "$vkrt" render "$cfg" -o "$tmp/$on.png" --profile \
+        VKRT_TEST_MATERIAL_ORDER=$on "$vkrt" render "$cfg" -o "$tmp/$on.png" --profile \
             --profile-repeat 1 "$@" >"$tmp/$on.txt" 2>&1
         check "$what, grouping $on: exits 0" test $? -eq 0
     done

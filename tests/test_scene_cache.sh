@@ -183,8 +183,8 @@ if [ -z "${VKRT_SKIP_SHARED_SCENES:-}" ] && [ -n "$scenes" ] &&
     check "Sponza: warm from the cache" said sponza-warm "mesh read in"
     check "Sponza: warm renders the cold image, textures and all" same sponza-cold sponza-warm
     rm -rf "$VKRT_CACHE_DIR"
-    VKRT_MAX_BUFFER_BYTES=400000 render split-cold "$bunny" --accel bvh
-    VKRT_MAX_BUFFER_BYTES=400000 render split-warm "$bunny" --accel bvh
+    VKRT_TEST_MAX_BUFFER_BYTES=400000 render split-cold "$bunny" --accel bvh
+    VKRT_TEST_MAX_BUFFER_BYTES=400000 render split-warm "$bunny" --accel bvh
     check "split arrays: as asked" said split-warm "^vkrt: arrays split past 400000 bytes .*: triangles in"
     check "split arrays: warm renders the cold image" same split-cold split-warm
     check "split arrays: and the whole one" same split-cold bunny-bvh-cold

@@ -8,6 +8,7 @@
 #define VKRT_BINDINGS_GLSL
 
 #include "../shared.h"
+#include "ray_record.glsl"
 
 layout(local_size_x_id = VKRT_SPEC_WORKGROUP_SIZE) in;
 
@@ -20,7 +21,7 @@ layout(constant_id = VKRT_SPEC_WAVE_WORKGROUP) const uint WAVE_WORKGROUP_SIZE = 
 
 /* Rays live in two buffers, A and B: one depth's rays in one, the rays they cast in the other
  * (frame.wave.x says which is which). Two bindings rather than two halves of one buffer, so each
- * can be as large as maxStorageBufferRange (128 MiB on lavapipe). */
+ * can be as large as maxStorageBufferRange. */
 layout(std430, set = 0, binding = VKRT_BINDING_RAYS) buffer RayBuffer { Ray rays[]; };
 layout(std430, set = 0, binding = VKRT_BINDING_RAYS_B) buffer RayBufferB { Ray rays_b[]; };
 layout(std430, set = 0, binding = VKRT_BINDING_HITS) buffer HitBuffer { Hit hits[]; };
@@ -45,9 +46,9 @@ layout(std430, set = 0, binding = VKRT_BINDING_GRID_REFS) readonly buffer GridRe
 
 /* The triangles and the structure's nodes once more, as uniform texel buffers of 16-byte texels:
  * views of the triangle and node buffers (src/render/renderer_upload.c). Traversal reads them
- * when TEXEL_LOADS is set (on CPU devices, by default): Mesa's llvmpipe loads from a storage
- * buffer one lane and one word at a time, each behind a bounds check and a branch, and fetches
- * from a texel buffer with vector gathers (research/journal.md). */
+ * when TEXEL_LOADS is set (on CPU devices, by default): a CPU device may load from a storage
+ * buffer one lane and one word at a time, each behind a bounds check and a branch, where it
+ * fetches from a texel buffer with vector gathers. */
 layout(set = 0, binding = VKRT_BINDING_TRIANGLE_TEXELS) uniform usamplerBuffer triangle_texels;
 layout(set = 0, binding = VKRT_BINDING_NODE_TEXELS) uniform usamplerBuffer node_texels;
 layout(constant_id = VKRT_SPEC_TEXEL_LOADS) const bool TEXEL_LOADS = false;
@@ -56,7 +57,7 @@ layout(constant_id = VKRT_SPEC_TEXEL_LOADS) const bool TEXEL_LOADS = false;
  * (lib/traverse_bvh.glsl, bvh_traverse_nested): on CPU devices, by default. */
 layout(constant_id = VKRT_SPEC_NESTED_WALK) const bool NESTED_WALK = false;
 
-/* The wave machinery: one WaveState per depth, light visibility bits (frame.range.w words per
+/* The wave machinery: one WaveState per depth, light visibility bits (frame_light_words words per
  * ray, bit k of word k / 32 set when light k reaches the hit), and for each ray the first slot and
  * number of the rays its material casts. */
 layout(std430, set = 0, binding = VKRT_BINDING_WAVES) buffer WaveBuffer { WaveState waves[]; };
@@ -221,62 +222,31 @@ uint split_index(uint i, uint s)
  * load_triangle and the node loads below, which add the texel path. Without a split array they
  * are the plain loads, as macros: the SPIR-V is then what it was before arrays could split. */
 #ifdef VKRT_SPLIT_ARRAYS
-Triangle triangle_at(uint i)
-{
-    if (SPLIT_TRIANGLES != 0u)
-        return TriangleChunk(split_chunk(VKRT_SPLIT_TRIANGLES, i, SPLIT_TRIANGLES))
-            .v[split_index(i, SPLIT_TRIANGLES)];
-    return triangles[i];
-}
-
-TriangleNormals normals_at(uint i)
-{
-    if (SPLIT_NORMALS != 0u)
-        return NormalChunk(split_chunk(VKRT_SPLIT_NORMALS, i, SPLIT_NORMALS))
-            .v[split_index(i, SPLIT_NORMALS)];
-    return triangle_normals[i];
-}
-
-TriangleTexcoords texcoords_at(uint i)
-{
-    if (SPLIT_TEXCOORDS != 0u)
-        return TexcoordChunk(split_chunk(VKRT_SPLIT_TEXCOORDS, i, SPLIT_TEXCOORDS))
-            .v[split_index(i, SPLIT_TEXCOORDS)];
-    return triangle_texcoords[i];
-}
-
+/* The loader of one array: element i from the chunk of split array k (chunks of 2^s elements,
+ * through Chunk's buffer reference) where the array is split, else from its binding. An if, not
+ * a ?: expression: a chunk's element and a binding's are distinct SPIR-V types. */
+#define SPLIT_LOADER(Type, name, Chunk, k, s, bound)                                           \
+    Type name(uint i)                                                                          \
+    {                                                                                          \
+        if (s != 0u)                                                                           \
+            return Chunk(split_chunk(k, i, s)).v[split_index(i, s)];                           \
+        return bound[i];                                                                       \
+    }
+SPLIT_LOADER(Triangle, triangle_at, TriangleChunk, VKRT_SPLIT_TRIANGLES, SPLIT_TRIANGLES, triangles)
+SPLIT_LOADER(TriangleNormals, normals_at, NormalChunk, VKRT_SPLIT_NORMALS, SPLIT_NORMALS,
+             triangle_normals)
+SPLIT_LOADER(TriangleTexcoords, texcoords_at, TexcoordChunk, VKRT_SPLIT_TEXCOORDS,
+             SPLIT_TEXCOORDS, triangle_texcoords)
 /* The material of triangle i. */
-uint material_of(uint i)
-{
-    if (SPLIT_TRIANGLE_MATERIAL != 0u)
-        return WordChunk(split_chunk(VKRT_SPLIT_TRIANGLE_MATERIAL, i, SPLIT_TRIANGLE_MATERIAL))
-            .v[split_index(i, SPLIT_TRIANGLE_MATERIAL)];
-    return triangle_material[i];
-}
-
+SPLIT_LOADER(uint, material_of, WordChunk, VKRT_SPLIT_TRIANGLE_MATERIAL, SPLIT_TRIANGLE_MATERIAL,
+             triangle_material)
 /* Entry i of the grid's or the kd-tree's triangle references. */
-uint ref_at(uint i)
-{
-    if (SPLIT_REFS != 0u)
-        return WordChunk(split_chunk(VKRT_SPLIT_REFS, i, SPLIT_REFS)).v[split_index(i, SPLIT_REFS)];
-    return grid_refs[i];
-}
-
+SPLIT_LOADER(uint, ref_at, WordChunk, VKRT_SPLIT_REFS, SPLIT_REFS, grid_refs)
 /* Where grid cell i's references start (cell i + 1's start is where they end). */
-uint cell_start_at(uint i)
-{
-    if (SPLIT_NODES != 0u)
-        return WordChunk(split_chunk(VKRT_SPLIT_NODES, i, SPLIT_NODES)).v[split_index(i, SPLIT_NODES)];
-    return grid_cell_start[i];
-}
-
+SPLIT_LOADER(uint, cell_start_at, WordChunk, VKRT_SPLIT_NODES, SPLIT_NODES, grid_cell_start)
 /* Word i of the texel buffer (lib/texture.glsl). */
-uint texel_word(uint i)
-{
-    if (SPLIT_TEXELS != 0u)
-        return WordChunk(split_chunk(VKRT_SPLIT_TEXELS, i, SPLIT_TEXELS)).v[split_index(i, SPLIT_TEXELS)];
-    return texels[i];
-}
+SPLIT_LOADER(uint, texel_word, WordChunk, VKRT_SPLIT_TEXELS, SPLIT_TEXELS, texels)
+#undef SPLIT_LOADER
 #else
 #define triangle_at(i) triangles[i]
 #define normals_at(i) triangle_normals[i]

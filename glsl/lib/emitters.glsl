@@ -59,12 +59,7 @@ bool sample_emitter(Surface s, vec3 u, out Surface light, out vec3 wi, out float
     wi = d / dist;
     vec3 ng = triangle_normal(t.v0.xyz, t.v1.xyz, t.v2.xyz);
     float cos_light = -dot(wi, ng);
-    Ray towards;
-    towards.origin = vec4(s.position, 0.0);
-    towards.direction = vec4(wi, dist);
-    towards.importance = vec4(0.0);
-    towards.info = uvec4(0u);
-    towards.payload = vec4(0.0);
+    Ray towards = ray_probe(s.position, wi, dist);
     light = surface_at(towards, Hit(dist, b1, b2, tri));
     pdf = emitter_pdf(light.material, dist, cos_light);
     return pdf > 0.0 && dist > 0.0;

@@ -70,10 +70,8 @@ vec4 material_texture(uint slot, vec2 uv)
  * Whitted, they walk the ray's hash stream. */
 float random()
 {
-#ifdef VKRT_PATH
-    if (vkrt_dimension < SAMPLER_BSDF_DIMS)
-        return sampler_1d(vkrt_ray.info, frame.counts.w, SAMPLER_DIM_BSDF + vkrt_dimension++);
-#endif
+    if (INTEGRATOR == VKRT_INTEGRATE_PATH && vkrt_dimension < SAMPLER_BSDF_DIMS)
+        return sampler_1d(vkrt_ray, frame.counts.w, SAMPLER_DIM_BSDF + vkrt_dimension++);
     vkrt_rng = pcg_hash(vkrt_rng);
     return rng_float(vkrt_rng);
 }
@@ -83,9 +81,8 @@ float random()
  * in 2D and not only along each axis (one random() before it skips a dimension to get there). */
 vec2 random2()
 {
-#ifdef VKRT_PATH
-    vkrt_dimension += vkrt_dimension & 1u;
-#endif
+    if (INTEGRATOR == VKRT_INTEGRATE_PATH)
+        vkrt_dimension += vkrt_dimension & 1u;
     float u = random();
     return vec2(u, random());
 }
@@ -107,9 +104,9 @@ bool light_sample(Surface s, uint i, out vec3 to_light, out vec3 irradiance)
 {
     vec3 origin, direction;
     float tmax;
-    if (!whitted_light(s, vkrt_ray.info.y, i, to_light, irradiance, origin, direction, tmax))
+    if (!whitted_light(s, ray_seed(vkrt_ray), i, to_light, irradiance, origin, direction, tmax))
         return false;
-    uint word = light_visibility[vkrt_ray_index * frame.range.w + (i >> 5u)];
+    uint word = light_visibility[vkrt_ray_index * frame_light_words(frame) + (i >> 5u)];
     return (word & (1u << (i & 31u))) != 0u;
 }
 
@@ -164,16 +161,13 @@ void cast_ray_payload(Surface s, vec3 direction, vec3 weight, vec4 payload)
     uint slot = vkrt_cast_first + k;
     if (slot >= frame.wave.w)
         return; /* past the buffers: the host sees the wave's size, grows them, renders again */
-    Ray child;
-    child.origin = vec4(surface_origin(s, direction), 0.0);
-    child.direction = vec4(direction, FAR);
-    child.importance = vec4(vkrt_ray.importance.rgb * weight, 0.0);
-    child.info = uvec4(vkrt_ray.info.x, rng_child_seed(vkrt_ray.info.y, k), vkrt_ray.info.z + 1u,
-                       vkrt_ray.info.w & ~VKRT_RAY_FLAGS);
-    child.payload = payload;
-    float strongest = max(child.importance.r, max(child.importance.g, child.importance.b));
+    /* Whitted's rays carry no BSDF pdf: what they find is counted in full. */
+    vec3 throughput = ray_throughput(vkrt_ray) * weight;
+    Ray child = ray_cast(vkrt_ray, k, surface_origin(s, direction), direction, throughput, 0.0,
+                         payload);
+    float strongest = max(throughput.r, max(throughput.g, throughput.b));
     if (!(strongest >= frame.eye.w))
-        child.info.w |= VKRT_RAY_DEAD;
+        ray_kill(child);
     store_child_ray(slot, child);
 }
 

@@ -100,9 +100,8 @@ vec3 fresnel_schlick(vec3 f0, float cos_i)
 /* The hemispherical average of fresnel_dielectric for light arriving from outside,
  * 2 int_0^1 F(mu) mu dmu, by 8-point Gauss-Legendre in mu, the nodes symmetric about 1/2: F is
  * smooth in mu when eta > 1, and the rule is within 2e-5 of the integral for eta in [1.01, 3.5].
- * The 64-point midpoint rule in u = mu^2 it replaced was within 7e-4 only (sqrt(u) is not smooth
- * at 0), and its 64 Fresnel terms, in every evaluation of a plastic, were most of the glossy
- * Sponza frame's extra time on the H200 (docs/performance.md). */
+ * A midpoint rule in u = mu^2 is less accurate (sqrt(u) is not smooth at 0) for many more Fresnel
+ * terms, which every evaluation of a plastic pays (docs/performance.md). */
 float fresnel_diffuse_reflectance(float eta)
 {
     const float offset[4] = float[4](0.091717321, 0.262766205, 0.398333239, 0.480144928);

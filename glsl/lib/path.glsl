@@ -1,9 +1,9 @@
 /*
  * path.glsl: the path tracer's vertex (docs/architecture.md, "The path integrator"): what the
  * next-event kernel (nee.comp), count.comp and shade.comp share. A path is a chain of rays of
- * the wavefront; a ray carries the throughput to its pixel in importance.rgb and, in
- * importance.w, the solid-angle pdf of the BSDF sample that cast it (0 for camera rays and delta
- * lobes: an emitter such a ray hits is counted in full, since no light sample could find it).
+ * the wavefront; a ray carries the throughput to its pixel (ray_throughput) and the solid-angle
+ * pdf of the BSDF sample that cast it (ray_bsdf_pdf; 0 for camera rays and delta lobes: an
+ * emitter such a ray hits is counted in full, since no light sample could find it).
  *
  * Direct light at each vertex is next-event estimation: every delta light (point, spot,
  * directional) once, one emissive triangle from the alias table, and the environment once, each
@@ -23,9 +23,9 @@
 
 /* Rays of this depth and deeper play Russian roulette before casting their continuation (depth 0
  * is the camera ray: its hit is the path's first vertex). 4 is Mitsuba 3's default (its rr_depth
- * 5 counts the vertex after the bounce): starting at 3 cost the Mori knob under a sky, whose
- * caustics cross four glass surfaces, 18% more per-pixel error at 64 spp (0.1735 against 0.1433
- * for 4, 0.147 for 5 and 0.149 for none; docs/speed-vs-accuracy.md). */
+ * 5 counts the vertex after the bounce): starting earlier ends too many of the long paths that
+ * caustics through several glass surfaces need, and costs more error than it saves time
+ * (docs/speed-vs-accuracy.md). */
 const uint ROULETTE_DEPTH = 4u;
 
 /* The numbers of a vertex come from the sampler (lib/sampler.glsl), each use at its own
@@ -34,28 +34,29 @@ const uint ROULETTE_DEPTH = 4u;
  * draw) walks this hash stream instead, so it never repeats a number the sampler gave out. */
 uint light_stream(Ray ray)
 {
-    return pcg_hash(ray.info.y ^ 0x6C8E9CF5u);
+    return pcg_hash(ray_seed(ray) ^ 0x6C8E9CF5u);
 }
 
 /* Dimension `dimension` (SAMPLER_DIM_*) of ray's depth block, and the stratified pair that starts
  * at the even `dimension`: what a vertex's light samples and roulette draw. */
 float path_1d(Ray ray, uint dimension)
 {
-    return sampler_1d(ray.info, frame.counts.w, dimension);
+    return sampler_1d(ray, frame.counts.w, dimension);
 }
 
 vec2 path_2d(Ray ray, uint dimension)
 {
-    return sampler_2d(ray.info, frame.counts.w, dimension);
+    return sampler_2d(ray, frame.counts.w, dimension);
 }
 
 /* The probability that the path of ray carries on past its hit, and whether it does: the same
  * answer in count.comp (which reserves the slot) and shade.comp (which fills it). */
 float path_survival(Ray ray)
 {
-    if (ray.info.z < ROULETTE_DEPTH)
+    if (ray_depth(ray) < ROULETTE_DEPTH)
         return 1.0;
-    return min(max(ray.importance.r, max(ray.importance.g, ray.importance.b)), 0.95);
+    vec3 throughput = ray_throughput(ray);
+    return min(max(throughput.r, max(throughput.g, throughput.b)), 0.95);
 }
 
 bool path_continues(Ray ray)

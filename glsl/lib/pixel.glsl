@@ -52,14 +52,15 @@ void add_to_sample_luminance(uint p, uint sample_index, float x)
 #endif
 }
 
-/* Adds c to the pixel of the ray with this info (x: the pixel, w: its sample) unless it is zero,
- * or NaN or infinite: one of those would spread through every sample of its pixel, so it is dropped and counted (the host warns). With `--clamp L`
+/* Adds c to the pixel of ray (ray_pixel; with --target-error, also to its sample's luminance,
+ * ray_sample) unless it is zero, or NaN or infinite: one of those would spread through every
+ * sample of its pixel, so it is dropped and counted (the host warns). With `--clamp L`
  * (CLAMP > 0) c is first scaled so that its largest channel is at most L: each call adds one
  * path's contribution (a light sample, or the light a ray found), so this is Cycles' sample
  * clamp, hue kept. Biased: the light of rare bright paths is lost, and fireflies with it. */
-void add_finite_to_pixel(uvec4 info, vec3 c)
+void add_finite_to_pixel(Ray ray, vec3 c)
 {
-    uint p = info.x;
+    uint p = ray_pixel(ray);
     if (any(isnan(c)) || any(isinf(c))) {
         atomicAdd(counters.nonfinite, 1u);
         return;
@@ -73,7 +74,7 @@ void add_finite_to_pixel(uvec4 info, vec3 c)
         add_to_pixel(p, c);
         /* With --target-error, the sample's luminance too, for its pixel's error estimate. */
         if (TARGET_ERROR > 0.0)
-            add_to_sample_luminance(p, info.w >> VKRT_RAY_SAMPLE_SHIFT, luminance(c));
+            add_to_sample_luminance(p, ray_sample(ray), luminance(c));
     }
 }
 

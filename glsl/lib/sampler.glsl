@@ -108,25 +108,21 @@ uint sampler_bits(uint pixel, uint frame_seed, uint index, uint dimension)
 }
 
 #ifdef VKRT_GLSL
-/* Ray.info.w keeps the ray's flags below VKRT_RAY_SAMPLE_SHIFT and its sample index above. */
-uint sampler_ray_sample(uvec4 info)
-{
-    return info.w >> VKRT_RAY_SAMPLE_SHIFT;
-}
+#include "ray_record.glsl"
 
-/* Dimension `dimension` of the depth block of the ray with this info (x pixel, z depth, w its
- * sample), in [0, 1). */
-float sampler_1d(uvec4 info, uint frame_seed, uint dimension)
+/* Dimension `dimension` of ray's depth block (its pixel, sample and depth), in [0, 1). */
+float sampler_1d(Ray ray, uint frame_seed, uint dimension)
 {
-    return rng_float(sampler_bits(info.x, frame_seed, sampler_ray_sample(info),
-                                  info.z * SAMPLER_DEPTH_DIMS + dimension));
+    return rng_float(sampler_bits(ray_pixel(ray), frame_seed, ray_sample(ray),
+                                  ray_depth(ray) * SAMPLER_DEPTH_DIMS + dimension));
 }
 
 /* The pair at the even `dimension` of the ray's depth block: one stratified 2D point. */
-vec2 sampler_2d(uvec4 info, uint frame_seed, uint dimension)
+vec2 sampler_2d(Ray ray, uint frame_seed, uint dimension)
 {
-    uint key = sampler_pair_key(info.x, frame_seed, (info.z * SAMPLER_DEPTH_DIMS + dimension) >> 1u);
-    uint index = sampler_ray_sample(info);
+    uint key = sampler_pair_key(ray_pixel(ray), frame_seed,
+                                (ray_depth(ray) * SAMPLER_DEPTH_DIMS + dimension) >> 1u);
+    uint index = ray_sample(ray);
     return vec2(rng_float(sampler_coordinate(key, index, 0u)),
                 rng_float(sampler_coordinate(key, index, 1u)));
 }

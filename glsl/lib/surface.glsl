@@ -10,7 +10,6 @@
 #include "surface_maps.glsl"
 
 const float PI = 3.14159265358979;
-const float FAR = 3.4e38;
 
 /* A hit as material shaders see it (docs/materials.md). Normals face the side the ray came from:
  * surfaces are two-sided, and front_face says which side was hit. */
@@ -67,8 +66,8 @@ Surface surface_at(Ray ray, Hit hit)
             s.normal = guard_mapped_normal(mapped, ng, -s.incoming);
         }
     }
-    s.depth = ray.info.z;
-    s.importance = ray.importance.rgb;
+    s.depth = ray_depth(ray);
+    s.importance = ray_throughput(ray);
     s.payload = ray.payload;
     s.magnitude = triangle_magnitude(tri.v0.xyz, tri.v1.xyz, tri.v2.xyz);
     return s;

@@ -3,8 +3,8 @@
  *
  * All textures live in one array of uints described by texture_infos[]: bindings.glsl declares
  * both, and texel_word(i), word i of the array (which reaches its chunks when the array is split
- * over several buffers), before this file is included. Debian's lavapipe has no descriptor
- * indexing, so an array of sampled images is not an option, and the filtering is done here.
+ * over several buffers), before this file is included. Devices without descriptor indexing
+ * cannot take an array of sampled images, and the filtering is done here.
  * src/scene/texture.h fills the buffers (layout: TextureInfo in shared.h); vkrt_texture_sample
  * and vkrt_texture_texel in src/scene/texture.c repeat these steps on the CPU for the tests, so a
  * change here belongs there too.

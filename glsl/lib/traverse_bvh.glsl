@@ -6,8 +6,8 @@
  * Each step fetches one 64-byte node and tests all its children's boxes together, four lanes of
  * a vec4 per plane. Of the children hit, the nearest is visited next and the others pushed, the
  * farthest deepest (4-wide: sorted by entry distance with a 5-exchange network). Leaves go
- * through the same loop as inner nodes, so the triangle test is compiled once: inlined at each
- * place a leaf can be met, it made the kernel slower on an H200 (research/journal.md). After
+ * through the same loop as inner nodes, so the triangle test is compiled once rather than inlined
+ * at each place a leaf can be met, which makes the kernel larger and slower. After
  * Aila and Laine, HPG 2009, and Ylitie, Karras and Laine, HPG 2017, without persistent threads.
  * Shadow rays return at the first hit. Triangles are stored in BVH order, so a leaf's triangles
  * are contiguous. Needs bindings.glsl and intersect.glsl included first.
@@ -277,8 +277,8 @@ bool bvh_leaf_ref(RayShear s, uint leaf, float tmin, inout Hit hit)
 
 /* The walk as one loop that visits a node or a leaf per iteration ("if-if", Aila and Laine, HPG
  * 2009): the default on GPUs. Its stack is an array of this function's, and the pairs' push is
- * unchecked (the host refused deeper trees): written with the nested walk's stack and its
- * helpers, it ran 2-6% slower on an H200 (research/results/issue8-h200-pass4/ab/). */
+ * unchecked (the host refused deeper trees): the nested walk's stack and helpers made it slower
+ * on GPUs (docs/performance.md). */
 Hit bvh_traverse_one_loop(RayShear s, SlabRay b, float tmin, float tmax, bool any_hit)
 {
     Hit hit = Hit(tmax, 0.0, 0.0, VKRT_NO_HIT);
@@ -329,11 +329,10 @@ Hit bvh_traverse_one_loop(RayShear s, SlabRay b, float tmin, float tmax, bool an
 /* The walk as two loops in a loop ("while-while", Aila and Laine, HPG 2009, section 3, with their
  * speculative traversal): inner nodes in one, leaves in the other. A lane postpones the first
  * leaf it meets and walks on from the stack; the node loop ends at a lane's second leaf or when
- * every lane of the subgroup still walking holds one. The default on CPU devices: Mesa's
- * llvmpipe runs both sides of every branch that any lane takes, so in the one-loop walk each
- * iteration paid for a triangle test and a node step (research/journal.md). On an H200 it was
- * slower (research/variants/while-while.patch). Each loop pops at most once per iteration: llvmpipe
- * gathers a pop lane by lane, whether or not a lane pops. */
+ * every lane of the subgroup still walking holds one. The default on CPU devices, which run both
+ * sides of every branch that any lane takes, so that in the one-loop walk each iteration pays for
+ * a triangle test and a node step; on GPUs it is slower (docs/performance.md). Each loop pops at
+ * most once per iteration: a CPU device gathers a pop lane by lane, whether or not a lane pops. */
 Hit bvh_traverse_nested(RayShear s, SlabRay b, float tmin, float tmax, bool any_hit)
 {
     Hit hit = Hit(tmax, 0.0, 0.0, VKRT_NO_HIT);

@@ -6,7 +6,7 @@
  * visited; such a hit is kept as a candidate, and the walk ends only when the closest candidate
  * lies within the current cell's extent along the ray: no later cell can hold a closer hit then.
  * Direction components of 0 never step along their axis. Needs bindings.glsl, intersect.glsl and
- * traverse_bvh.glsl (for safe_inverse and slab_interval) included first. On lavapipe, whose loops
+ * traverse_bvh.glsl (for safe_inverse and slab_interval) included first. On devices whose loops
  * end after 65535 iterations per invocation (traverse_brute.glsl), a ray crossing cells of more
  * than that many references in all would lose hits; the grid is chosen only for even scenes.
  */

@@ -1,7 +1,7 @@
 /*
  * array.h: a device array of fixed-size elements that may be larger than one buffer can hold
- * (issue 20: a 100-million-triangle scene's triangles take 4.8 GB, over the 4 GiB a storage
- * binding reaches on an H200). An array that fits one buffer is one buffer, bound and read as any
+ * (a storage binding reaches maxStorageBufferRange bytes, often 4 GiB, and a scene of a hundred
+ * million triangles has more). An array that fits one buffer is one buffer, bound and read as any
  * other (shift 0). A larger one is split into chunks of 2^shift elements, each a buffer of its
  * own with a device address, through which the kernels reach it (glsl/lib/bindings.glsl).
  */

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../test_hooks.h"
 #include "vk_check.h"
 
 static const size_t min_buffer_size = 16;
@@ -36,8 +37,9 @@ static bool check_device_memory(gpu_context *ctx, VkDeviceSize bytes, vkrt_error
                               "%.1f MiB%s",
                               name, mib(bytes), mib(ctx->memory_used),
                               mib(ctx->memory_used + bytes), mib(ctx->memory_limit),
-                              getenv("VKRT_DEVICE_MEMORY_LIMIT") ? " (VKRT_DEVICE_MEMORY_LIMIT)"
-                                                                 : "");
+                              vkrt_test_hooks_get()->device_memory_limit
+                                  ? " (VKRT_TEST_DEVICE_MEMORY_LIMIT)"
+                                  : "");
     return true;
 }
 
@@ -132,7 +134,7 @@ bool gpu_buffer_create_addressed(gpu_context *ctx, gpu_buffer *buf, size_t size,
 const char *gpu_buffer_limit_name(const gpu_context *ctx, VkDeviceSize limit)
 {
     if (limit < ctx->max_buffer_bytes)
-        return "VKRT_MAX_BUFFER_BYTES";
+        return "VKRT_TEST_MAX_BUFFER_BYTES";
     return limit < ctx->properties.limits.maxStorageBufferRange ? "maxMemoryAllocationSize"
                                                                 : "maxStorageBufferRange";
 }

@@ -25,7 +25,7 @@ typedef struct gpu_buffer {
  * buffers), usable as a transfer source and destination and as a uniform texel buffer
  * (gpu_buffer_view_create). what names the buffer in messages:
  * a buffer larger than ctx->max_buffer_bytes (maxStorageBufferRange, maxMemoryAllocationSize or
- * VKRT_MAX_BUFFER_BYTES), or than the device memory left (ctx->memory_limit less
+ * VKRT_TEST_MAX_BUFFER_BYTES), or than the device memory left (ctx->memory_limit less
  * ctx->memory_used), is refused with its size and the limit ("... does not fit ..."), before the
  * driver is asked. On failure nothing is left allocated. */
 bool gpu_buffer_create(gpu_context *ctx, gpu_buffer *buf, size_t size, const char *what,

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../test_hooks.h"
 #include "vk_check.h"
 
 static const char *const validation_layer = "VK_LAYER_KHRONOS_validation";
@@ -63,9 +64,8 @@ static bool create_instance(gpu_context *ctx, bool validation, const gpu_context
         .apiVersion = VK_API_VERSION_1_1,
     };
     /* Synchronization validation (hazards between dispatches, transfers and indirect reads) is
-     * off by default in the layer, and slow; VKRT_SYNC_VALIDATION=1 turns it on (a test does). */
-    const char *sync_env = getenv("VKRT_SYNC_VALIDATION");
-    bool sync = validation && sync_env && *sync_env && strcmp(sync_env, "0") != 0;
+     * off by default in the layer, and slow; a test hook turns it on (test_hooks.h). */
+    bool sync = validation && vkrt_test_hooks_get()->sync_validation;
     /* The validation extensions, then the window system's (for the viewer). */
     const uint32_t max_extensions = 16;
     const char *extensions[16] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME,
@@ -112,7 +112,7 @@ static bool create_instance(gpu_context *ctx, bool validation, const gpu_context
                               gpu_result_name(result), desc->instance_extensions[wanted - 1]);
     if (result == VK_ERROR_INCOMPATIBLE_DRIVER || result == VK_ERROR_INITIALIZATION_FAILED)
         return vkrt_error_set(err, "no Vulkan driver found (%s); install one, e.g. Debian's "
-                                   "mesa-vulkan-drivers for lavapipe",
+                                   "mesa-vulkan-drivers for a CPU device",
                               gpu_result_name(result));
     if (result != VK_SUCCESS)
         return vkrt_error_set(err, "vkCreateInstance failed: %s", gpu_result_name(result));
@@ -216,18 +216,15 @@ static bool find_compute_queue(gpu_context *ctx, vkrt_error *err)
     return true;
 }
 
-/* The watchdog's limit: the caller's, else VKRT_GPU_TIMEOUT (seconds), else 300 s, long enough
- * for any frame vkrt renders on lavapipe and far past a desktop driver's own reset. */
+/* The watchdog's limit: the caller's, else the test hook's (test_hooks.h), else 300 s, long
+ * enough for any frame vkrt renders on a CPU device and far past a desktop driver's own reset. */
 static uint64_t watchdog_ns(double seconds)
 {
     const double default_seconds = 300;
-    if (!(seconds > 0)) {
-        const char *env = getenv("VKRT_GPU_TIMEOUT");
-        char *end;
-        seconds = env ? strtod(env, &end) : 0;
-        if (!env || end == env || !(seconds > 0))
-            seconds = default_seconds;
-    }
+    if (!(seconds > 0))
+        seconds = vkrt_test_hooks_get()->gpu_timeout_s;
+    if (!(seconds > 0))
+        seconds = default_seconds;
     return seconds > 1e9 ? UINT64_MAX : (uint64_t)(seconds * 1e9);
 }
 
@@ -241,8 +238,8 @@ static bool has_extension(const VkExtensionProperties *extensions, uint32_t coun
 }
 
 /* ctx->max_allocation where Vulkan 1.1 does not say (no limit), and ctx->memory_limit: the largest
- * device-local heap, or VKRT_DEVICE_MEMORY_LIMIT bytes where that is smaller (a test's small
- * device). */
+ * device-local heap, or the test hook's device memory limit where that is smaller (a test's
+ * small device; test_hooks.h). */
 static void set_memory_limit(gpu_context *ctx)
 {
     if (ctx->max_allocation == 0)
@@ -253,21 +250,19 @@ static void set_memory_limit(gpu_context *ctx)
             ctx->memory_limit = ctx->memory.memoryHeaps[i].size;
     if (ctx->memory_limit == 0) /* no heap says device-local: the first one holds everything */
         ctx->memory_limit = ctx->memory.memoryHeaps[0].size;
-    const char *limit = getenv("VKRT_DEVICE_MEMORY_LIMIT");
-    char *end;
-    unsigned long long bytes = limit && *limit ? strtoull(limit, &end, 10) : 0;
-    if (bytes > 0 && *end == '\0' && bytes < ctx->memory_limit)
+    const vkrt_test_hooks *hooks = vkrt_test_hooks_get();
+    uint64_t bytes = hooks->device_memory_limit;
+    if (bytes > 0 && bytes < ctx->memory_limit)
         ctx->memory_limit = bytes;
     /* One buffer holds what a storage binding reaches and one allocation holds; arrays past it
-     * are split (gpu/array.h). VKRT_MAX_BUFFER_BYTES lowers where arrays split, so that tests
-     * split small scenes (at least 128 bytes: two elements of every array). */
+     * are split (gpu/array.h). A test hook lowers where arrays split, so that tests split small
+     * scenes (at least 128 bytes: two elements of every array). */
     ctx->max_buffer_bytes = ctx->properties.limits.maxStorageBufferRange;
     if (ctx->max_allocation < ctx->max_buffer_bytes)
         ctx->max_buffer_bytes = ctx->max_allocation;
     ctx->split_bytes = ctx->max_buffer_bytes;
-    const char *split_limit = getenv("VKRT_MAX_BUFFER_BYTES");
-    bytes = split_limit && *split_limit ? strtoull(split_limit, &end, 10) : 0;
-    if (bytes >= 128 && *end == '\0' && bytes < ctx->split_bytes)
+    bytes = hooks->max_buffer_bytes;
+    if (bytes >= 128 && bytes < ctx->split_bytes)
         ctx->split_bytes = bytes;
 }
 
@@ -289,7 +284,7 @@ static bool create_device(gpu_context *ctx, const gpu_context_desc *desc, vkrt_e
     ctx->robust_buffer_access = supported.robustBufferAccess == VK_TRUE;
     VkPhysicalDeviceFeatures enabled = {.robustBufferAccess = supported.robustBufferAccess};
 
-    /* Float atomic adds let many rays add to one pixel at once (lavapipe and NVIDIA have them);
+    /* Float atomic adds (VK_EXT_shader_atomic_float) let many rays add to one pixel at once;
      * without them the shading kernel falls back to compare-and-swap loops. */
     uint32_t extension_count = 0;
     GPU_CHECK(vkEnumerateDeviceExtensionProperties(ctx->physical, NULL, &extension_count, NULL));
@@ -334,9 +329,8 @@ static bool create_device(gpu_context *ctx, const gpu_context_desc *desc, vkrt_e
         vkGetPhysicalDeviceFeatures2(ctx->physical, &features2);
     }
     ctx->float_atomics = has_atomic_float && atomic_float.shaderBufferFloat32AtomicAdd;
-    /* For testing the fallback on a device that has them. */
-    const char *no_float_atomics = getenv("VKRT_NO_FLOAT_ATOMICS");
-    if (no_float_atomics && *no_float_atomics && strcmp(no_float_atomics, "0") != 0)
+    /* For testing the fallback on a device that has them (test_hooks.h). */
+    if (vkrt_test_hooks_get()->no_float_atomics)
         ctx->float_atomics = false;
     void *wanted_features = enable_wanted ? desc->device_features : NULL;
     VkPhysicalDevicePipelineExecutablePropertiesFeaturesKHR executable_info = {
@@ -356,8 +350,8 @@ static bool create_device(gpu_context *ctx, const gpu_context_desc *desc, vkrt_e
     }
     /* Buffer device addresses let the kernels reach an array split over several buffers
      * (gpu/array.h): on wherever the device has them, unless the caller's features already
-     * turn them on (a ray tracing pipeline's). VKRT_NO_DEVICE_ADDRESSES=1 leaves them off, to
-     * test the message a split scene then gets. */
+     * turn them on (a ray tracing pipeline's). A test hook leaves them off, to test the
+     * message a split scene then gets (test_hooks.h). */
     VkPhysicalDeviceBufferDeviceAddressFeatures address_info = {
         .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES,
     };
@@ -368,8 +362,7 @@ static bool create_device(gpu_context *ctx, const gpu_context_desc *desc, vkrt_e
     for (uint32_t i = 0; enable_wanted && i < wanted; ++i)
         address_extension_asked |=
             strcmp(desc->device_extensions[i], VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME) == 0;
-    const char *no_addresses = getenv("VKRT_NO_DEVICE_ADDRESSES");
-    bool addresses_off = no_addresses && *no_addresses && strcmp(no_addresses, "0") != 0;
+    bool addresses_off = vkrt_test_hooks_get()->no_device_addresses;
     bool add_address_extension = false;
     if (asked) {
         ctx->device_addresses = asked->bufferDeviceAddress && !addresses_off;
@@ -414,9 +407,8 @@ static bool create_device(gpu_context *ctx, const gpu_context_desc *desc, vkrt_e
         ctx->max_allocation = maintenance3.maxMemoryAllocationSize;
     }
     set_memory_limit(ctx);
-    /* For testing the fallback on a device that has them. */
-    const char *no_subgroups = getenv("VKRT_NO_SUBGROUPS");
-    if (no_subgroups && *no_subgroups && strcmp(no_subgroups, "0") != 0)
+    /* For testing the fallback on a device that has them (test_hooks.h). */
+    if (vkrt_test_hooks_get()->no_subgroups)
         ctx->subgroup_arithmetic = false;
     VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomic_float_on = {
         .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT,
@@ -618,7 +610,7 @@ bool gpu_commands_submit(gpu_context *ctx, vkrt_error *err)
         ctx->lost = true;
         return vkrt_error_set(err,
                               "the GPU did not finish within %.3g s (the watchdog's limit; set "
-                              "VKRT_GPU_TIMEOUT=SECONDS to change it): a kernel seems to run "
+                              "VKRT_TEST_GPU_TIMEOUT=SECONDS to change it): a kernel seems to run "
                               "forever",
                               ctx->timeout_ns * 1e-9);
     }

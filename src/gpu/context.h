@@ -20,7 +20,7 @@ typedef struct gpu_context_desc {
     bool validation;     /* enable VK_LAYER_KHRONOS_validation; every message is counted */
     bool quiet_validation; /* count validation messages without printing them */
     double timeout_seconds; /* how long one submission may run before the watchdog gives up on
-                               it; 0: VKRT_GPU_TIMEOUT from the environment, else 300 s */
+                               it; 0: VKRT_TEST_GPU_TIMEOUT from the environment, else 300 s */
     /* For a window (vkrt view); left zero, the context is headless and needs no display. */
     const char *const *instance_extensions; /* more instance extensions (a window system's) */
     uint32_t instance_extension_count;
@@ -30,7 +30,7 @@ typedef struct gpu_context_desc {
     bool (*create_surface)(void *user, VkInstance instance, VkSurfaceKHR *surface,
                            vkrt_error *err);
     void *surface_user;
-    /* Device extensions wanted together (a ray tracing pipeline's, for research/yardsticks/rtpipe_bench). When
+    /* Device extensions wanted together (a ray tracing pipeline's, for a benchmark). When
      * the device has every one, they are enabled with device_features (a pNext chain of feature
      * structs, e.g. VkPhysicalDeviceBufferDeviceAddressFeatures) chained into the device's
      * creation; when it lacks one, none is, ctx->missing_extension names the first it lacks,
@@ -62,21 +62,21 @@ typedef struct gpu_context {
                                       none of them is enabled), or NULL */
     bool pipeline_statistics;    /* desc.pipeline_statistics asked and the device has them */
     bool subgroup_arithmetic;    /* compute shaders have subgroup basic, ballot, vote and arithmetic
-                                    operations (Vulkan 1.1); VKRT_NO_SUBGROUPS=1 turns them off */
+                                    operations (Vulkan 1.1); VKRT_TEST_NO_SUBGROUPS=1 turns them off */
     uint64_t timeout_ns;         /* the watchdog's limit per submission */
     bool lost;                   /* a submission timed out or the device was lost: the device is
                                     not waited for again, only left to the process's exit */
-    /* Device memory (issue 20): a buffer that would take more than one allocation may hold or
+    /* Device memory: a buffer that would take more than one allocation may hold or
      * more than the device-local heap has left is refused with the sizes (buffer.c), not left to
      * the driver's VK_ERROR_OUT_OF_DEVICE_MEMORY. */
     VkDeviceSize max_allocation;   /* maxMemoryAllocationSize (Vulkan 1.1), else no limit */
-    VkDeviceSize memory_limit;     /* the device-local heap's size, or VKRT_DEVICE_MEMORY_LIMIT
-                                      (bytes; to test the message) where that is smaller */
+    VkDeviceSize memory_limit;     /* the device-local heap's size, or the test hook's limit
+                                      (test_hooks.h; to test the message) where that is smaller */
     VkDeviceSize memory_used;      /* device-local memory allocated by gpu_buffer_* now */
     /* The largest buffer vkrt makes: maxStorageBufferRange, or maxMemoryAllocationSize where
      * smaller. Arrays larger than split_bytes are split over several buffers (gpu/array.h):
-     * max_buffer_bytes, or VKRT_MAX_BUFFER_BYTES (bytes, at least 128) where that is smaller, so
-     * that tests split small scenes. */
+     * max_buffer_bytes, or the test hook's (test_hooks.h; at least 128 bytes) where that is
+     * smaller, so that tests split small scenes. */
     VkDeviceSize max_buffer_bytes;
     VkDeviceSize split_bytes;
     /* Buffer device addresses are on (VK_KHR_buffer_device_address): kernels can reach an array
@@ -84,8 +84,8 @@ typedef struct gpu_context {
     bool device_addresses;
     PFN_vkGetBufferDeviceAddressKHR buffer_address;
     /* The host-visible buffer transfers of up to GPU_STAGING_BYTES pass through (buffer.c), kept
-     * from one to the next: making one pins its pages, about 20 ms for 64 MiB on the H200, and a
-     * scene's upload made one per array. Made on first use, grown by powers of two; freed with
+     * from one to the next: making one pins its pages, which takes time per megabyte, and a
+     * scene's upload would make one per array. Made on first use, grown by powers of two; freed with
      * the context. */
     VkBuffer staging_buffer;
     VkDeviceMemory staging_memory;

@@ -215,6 +215,9 @@ bool gpu_pipeline_create(gpu_context *ctx, gpu_pipeline *pipe, const gpu_storage
                          vkrt_error *err)
 {
     memset(pipe, 0, sizeof *pipe);
+    if (spec_count > GPU_MAX_SPEC_CONSTANTS)
+        return vkrt_error_set(err, "pipeline %s: %u specialization constants, at most %u", name,
+                              spec_count, GPU_MAX_SPEC_CONSTANTS);
     VkShaderModule module = VK_NULL_HANDLE;
     VkPipelineCache cache = VK_NULL_HANDLE;
     uint32_t count = spec_count + 1;
@@ -266,6 +269,9 @@ bool gpu_pipeline_create(gpu_context *ctx, gpu_pipeline *pipe, const gpu_storage
     };
     GPU_CHECK(vkCreateComputePipelines(ctx->device, cache, 1, &info, NULL, &pipe->pipeline));
     pipe->workgroup_size = workgroup_size;
+    if (spec_count > 0)
+        memcpy(pipe->spec, spec, spec_count * sizeof *spec);
+    pipe->spec_count = spec_count;
     if (cached && !hit)
         store_pipeline_cache(ctx, &key, cache);
     if (cache)
@@ -282,6 +288,15 @@ fail:
     free(entries);
     free(values);
     return vkrt_error_prefix(err, "pipeline %s", name);
+}
+
+bool gpu_pipeline_create_alike(gpu_context *ctx, gpu_pipeline *pipe, const gpu_storage_set *set,
+                               const uint32_t *spirv, size_t word_count, const gpu_pipeline *model,
+                               const char *name, vkrt_error *err)
+{
+    gpu_pipeline like = *model;
+    return gpu_pipeline_create(ctx, pipe, set, spirv, word_count, like.workgroup_size, like.spec,
+                               like.spec_count, name, err);
 }
 
 void gpu_pipeline_destroy(gpu_context *ctx, gpu_pipeline *pipe)

@@ -53,14 +53,22 @@ typedef struct gpu_spec_constant {
     uint32_t value;
 } gpu_spec_constant;
 
+/* The most specialization constants a pipeline takes besides its workgroup size. */
+#define GPU_MAX_SPEC_CONSTANTS 32u
+
 typedef struct gpu_pipeline {
     VkPipeline pipeline;
     uint32_t workgroup_size;
+    /* What it was specialized with, so that a kernel compiled later can be made alike
+     * (gpu_pipeline_create_alike). */
+    gpu_spec_constant spec[GPU_MAX_SPEC_CONSTANTS];
+    uint32_t spec_count;
 } gpu_pipeline;
 
 /* Creates a compute pipeline from SPIR-V. Constant id 0 is the workgroup size
- * (local_size_x_id = 0) and is set to workgroup_size; more constants come in spec. The driver's
- * compiled form is kept in the kernel cache (spirv_cache.h, issue 20) under a key of the SPIR-V,
+ * (local_size_x_id = 0) and is set to workgroup_size; more constants (at most
+ * GPU_MAX_SPEC_CONSTANTS) come in spec. The driver's
+ * compiled form is kept in the kernel cache (spirv_cache.h) under a key of the SPIR-V,
  * the specialization and the driver (pipelineCacheUUID, vendor and device id, driver version),
  * so a later start hands it back to the driver through a VkPipelineCache; an entry that is not
  * whole or whose Vulkan header names another device is not used, and is written anew. */
@@ -68,6 +76,13 @@ bool gpu_pipeline_create(gpu_context *ctx, gpu_pipeline *pipe, const gpu_storage
                          const uint32_t *spirv, size_t word_count, uint32_t workgroup_size,
                          const gpu_spec_constant *spec, uint32_t spec_count, const char *name,
                          vkrt_error *err);
+
+/* Creates a pipeline from SPIR-V with the workgroup size and specialization constants `model`
+ * was made with: a kernel that is compiled only when first needed, for the same plan as those
+ * compiled up front. */
+bool gpu_pipeline_create_alike(gpu_context *ctx, gpu_pipeline *pipe, const gpu_storage_set *set,
+                               const uint32_t *spirv, size_t word_count, const gpu_pipeline *model,
+                               const char *name, vkrt_error *err);
 
 /* Whether data (size bytes) starts with the header Vulkan specifies for pipeline cache data
  * (VkPipelineCacheHeaderVersionOne) for the device of props: a header of at least 32 bytes,

@@ -1,8 +1,8 @@
 /*
  * spirv_cache.h: compiled kernels kept on disk, so that a second start skips glslang.
  *
- * glslang is most of vkrt's start-up on small scenes (about 70% of a small render's CPU time on
- * lavapipe, measured with perf), and every start compiles the same kernels from the same text.
+ * glslang is most of vkrt's start-up on small scenes, and every start compiles the same kernels
+ * from the same text.
  * So each compiled kernel is stored under a key that hashes everything its SPIR-V depends on:
  * the whole text glslang reads (the kernel with its includes expanded, the generated material
  * module and the device's preamble), the stage and SPIR-V version, vkrt's version and glslang's.

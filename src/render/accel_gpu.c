@@ -76,22 +76,19 @@ static bool lay_out(const bvh *b, uint32_t width, gpu_layout *out, vkrt_error *e
     return true;
 }
 
-/* Spatial splits may add up to this share of the triangles as duplicates. On Sponza and
- * Sibenik (with Stich's overlap threshold, 1e-5) a budget of +100% used +28-29% and lowered the
- * SAH cost 1% more than +30%, which used +18-19% (research/journal.md, "Spatial splits"). */
+/* Spatial splits may add up to this share of the triangles as duplicates (with Stich's overlap
+ * threshold, 1e-5): a larger budget buys little more SAH cost for many more duplicates
+ * (docs/performance.md). */
 static const float spatial_budget = 0.3f;
 
 /* bvh-splits auto keeps the spatial splits' tree when its SAH cost is at least this share below
- * the plain tree's. The traversal work of a primary, a shadow and a diffuse ray together (`vkrt
- * bench --stats`, node cost x nodes + triangles, research/results/cpu-1202-sbvh/work.txt) followed
- * the SAH's change in sign, and in size within 3.2 points: Sponza -14.7% SAH, -14.6% work;
- * Sibenik -5.8%, -8.7%; the bunny -0.2%, -0.1%; the Mori knob +1.4%, +4.6% (the GPUs' trees
- * alike). A gain under that spread does not say which tree traces faster; 5% clears it, and
- * Sibenik's 5.8% is the smallest gain measured that cut every kind of ray's node visits. */
+ * the plain tree's. The traversal work of primary, shadow and diffuse rays (`vkrt bench --stats`)
+ * follows the SAH's change in sign but only within a few points in size, so a smaller gain does
+ * not say which tree traces faster (docs/performance.md has the measurements). */
 static const float spatial_margin = 0.05f;
 
-/* Above this many triangles auto builds the plain tree alone: building both costs about 3 times
- * one plain build (research/results/cpu-1202-sbvh), seconds at this size. */
+/* Above this many triangles auto builds the plain tree alone: building both costs several times
+ * one plain build, seconds at this size. */
 static const uint32_t spatial_auto_limit = 2000000;
 
 /* Builds the binary tree as desc->bvh_splits says and says why in why. */

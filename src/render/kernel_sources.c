@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../test_hooks.h"
+
 static char *read_file(const char *path)
 {
     FILE *f = fopen(path, "rb");
@@ -30,7 +32,7 @@ static char *read_file(const char *path)
 char *vkrt_kernel_source_lookup(void *user, const char *path)
 {
     (void)user;
-    const char *dir = getenv("VKRT_GLSL_DIR");
+    const char *dir = vkrt_test_hooks_get()->glsl_dir;
     if (dir && *dir) {
         char full[4096];
         if (snprintf(full, sizeof full, "%s/%s", dir, path) >= (int)sizeof full)

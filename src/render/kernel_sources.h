@@ -14,7 +14,7 @@ typedef struct vkrt_kernel_source {
 extern const vkrt_kernel_source vkrt_kernel_sources[];
 
 /* gpu_source_lookup_fn over the embedded kernels: a malloc'd copy of path's text, or NULL.
- * When the environment variable VKRT_GLSL_DIR is set, files are read from that folder instead,
+ * When the environment variable VKRT_TEST_GLSL_DIR is set, files are read from that folder instead,
  * so kernels can be edited without rebuilding. user is unused. */
 char *vkrt_kernel_source_lookup(void *user, const char *path);
 

@@ -85,8 +85,12 @@ static char *shader_text(const vkrt_shader_source *s, char *display, size_t size
 }
 
 /* The path integrator's switches over the shaders: emitted light, BSDF value and sample. Each
- * calls the shader's renamed function (vkrt_NAME_<shader>) with the same arguments. */
-static void add_path_dispatch(text *t, uint32_t shader_count, uint32_t environment_shader)
+ * calls the shader's renamed function (vkrt_NAME_<shader>) with the same arguments. For Whitted
+ * each is its default alone: the kernels name these functions whatever the integrator (the
+ * INTEGRATOR specialization constant leaves the calls dead), but Whitted's shaders need not
+ * define what they would call. */
+static void add_path_dispatch(text *t, uint32_t shader_count, uint32_t environment_shader,
+                              bool path)
 {
     static const struct {
         const char *signature, *prologue, *name, *arguments, *otherwise;
@@ -98,6 +102,11 @@ static void add_path_dispatch(text *t, uint32_t shader_count, uint32_t environme
          "    b.pdf = 0.0;\n", "bsdf_sample", "s, b", "false"},
     };
     for (size_t k = 0; k < sizeof switches / sizeof *switches; ++k) {
+        if (!path) {
+            add(t, "%s\n{\n%s    return %s;\n}\n", switches[k].signature, switches[k].prologue,
+                switches[k].otherwise);
+            continue;
+        }
         add(t, "%s\n{\n%s    switch (shader) {\n", switches[k].signature, switches[k].prologue);
         for (uint32_t i = 0; i < shader_count; ++i)
             if (i != environment_shader)
@@ -120,13 +129,11 @@ bool vkrt_material_kernel_create(vkrt_material_kernel *k, const vkrt_scene_mater
         materials->shader_count);
     if (float_atomics)
         add(&t, "#extension GL_EXT_shader_atomic_float : require\n#define VKRT_FLOAT_ATOMICS 1\n");
-    if (path)
-        add(&t, "#define VKRT_PATH 1\n");
     add(&t, "#include \"../lib/material_api.glsl\"\n#include \"../lib/mtl.glsl\"\n"
             "#include \"../lib/microfacet.glsl\"\n");
     add(&t, "#define VKRT_ENVIRONMENT_MATERIAL %uu\n", materials->environment);
     uint32_t environment_shader = materials->list[materials->environment].shader;
-    int line = path ? 7 : 6;
+    int line = 6;
     for (uint32_t i = 0; i < materials->shader_count; ++i) {
         char display[1200];
         char *source = shader_text(&materials->shaders[i], display, sizeof display);
@@ -171,8 +178,7 @@ bool vkrt_material_kernel_create(vkrt_material_kernel *k, const vkrt_scene_mater
         if (i != environment_shader)
             add(&t, "    case %uu: vkrt_shade_%u(s); break;\n", i, i);
     add(&t, "    }\n}\n");
-    if (path)
-        add_path_dispatch(&t, materials->shader_count, environment_shader);
+    add_path_dispatch(&t, materials->shader_count, environment_shader, path);
     add(&t, "vec3 material_environment(vec3 direction, vec4 payload)\n{\n"
             "    return vkrt_environment_%u(direction, payload);\n}\n",
         environment_shader);

@@ -1,8 +1,8 @@
 /*
  * material_kernel.h: the shading code generated for one scene.
  *
- * The count and shade kernels include "generated/materials.glsl", which exists only in memory:
- * it is written here from the shaders the scene's materials use (and no others), each shader's
+ * The light, count and shade kernels include "generated/materials.glsl", which exists only in
+ * memory: it is written here from the shaders the scene's materials use (and no others), each shader's
  * text inlined under a #line naming its file, its count_rays / shade / environment renamed per
  * shader, and a switch over the shader index calling the right one. A compile error inside a
  * user's shader comes back as "<material file>:<line>: material 'name': <shader>:<line>: ...".
@@ -25,8 +25,9 @@ typedef struct vkrt_material_kernel {
 
 /* Writes the module for materials. float_atomics: the device adds floats atomically
  * (VK_EXT_shader_atomic_float), else shade.comp falls back to compare-and-swap. path: for the
- * path integrator (VKRT_PATH defined, and the switches over each shader's emitted, bsdf_eval and
- * bsdf_sample, which a shader then must define). */
+ * path integrator: the switches over each shader's emitted, bsdf_eval and bsdf_sample, which a
+ * shader then must define (for Whitted they return their defaults and call no shader). The
+ * integrator itself is the kernels' INTEGRATOR specialization constant. */
 bool vkrt_material_kernel_create(vkrt_material_kernel *k, const vkrt_scene_materials *materials,
                                  bool float_atomics, bool path, vkrt_error *err);
 

@@ -43,8 +43,8 @@ void profile_recorder_mark(VkCommandBuffer cmd, profile_recorder *p, uint32_t de
 {
     if (!p)
         return;
-    /* Past the room the query pool has, a timestamp would be written out of bounds (on the
-     * H200, a hung device): the read below reports it instead. */
+    /* Past the room the query pool has, a timestamp would be written out of bounds (on some
+     * devices, a hung device): the read below reports it instead. */
     if (p->count >= p->capacity) {
         p->overflow = true;
         return;

@@ -8,6 +8,7 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "../../glsl/lib/ray_record.glsl"
 #include "renderer_private.h"
 /* After shared.h (renderer_private.h), whose uint it uses. */
 #include "../../glsl/lib/adaptive.glsl"
@@ -24,9 +25,8 @@ bool renderer_adaptive_create_buffers(vkrt_renderer *r, vkrt_error *err)
            gpu_buffer_create(r->ctx, &r->sample_luminance,
                              on ? pixels * r->batch * sizeof(float) : 0, "sample luminance", err) &&
            /* The list's `appended` starts at 0; adapt_dispatch.comp sets it back to 0 after
-            * every pass, so it is 0 whenever a frame starts. (Fresh memory is not zero: under the
-            * tests' MALLOC_PERTURB_, lavapipe's was garbage, and the first pass listed millions
-            * of pixels.) adapt.comp resets the statistics and slots when a frame starts. */
+            * every pass, so it is 0 whenever a frame starts. (Fresh memory is not zero: a CPU device's
+            * comes from the host heap, garbage under the tests' MALLOC_PERTURB_.) adapt.comp resets the statistics and slots when a frame starts. */
            (!on || gpu_buffer_zero(r->ctx, &r->active_pixels, err));
 }
 
@@ -44,9 +44,9 @@ void renderer_adaptive_record_adapt(vkrt_renderer *r, VkCommandBuffer cmd, Frame
     params.counts.z = taken;
     /* Each pixel's samples folded and judged, then the list kept from the judgements of its
      * neighbours (glsl/adapt.comp): two dispatches, since a pixel reads its neighbours'. */
-    params.range.x = VKRT_ADAPT_FOLD;
+    frame_set_adapt_step(&params, VKRT_ADAPT_FOLD);
     gpu_dispatch(cmd, &r->adapt, &r->set, &params, r->width * r->height);
-    params.range.x = VKRT_ADAPT_SELECT;
+    frame_set_adapt_step(&params, VKRT_ADAPT_SELECT);
     gpu_dispatch(cmd, &r->adapt, &r->set, &params, r->width * r->height);
     params.counts.z = r->batch;
     gpu_dispatch(cmd, &r->adapt_dispatch, &r->set, &params, 1);

@@ -7,10 +7,11 @@
 #include <string.h>
 
 #include "../clock.h"
+#include "../../glsl/lib/ray_record.glsl"
 #include "camera_frame.h"
 #include "renderer_private.h"
 
-/* A device's loop budget (llvmpipe's 65535 iterations per invocation, tuning.c) also bounds the
+/* A device's loop budget (the iterations a CPU device allows an invocation, tuning.c) also bounds the
  * light kernel, whose brute-force shadow rays each loop over every triangle: refuse rather than
  * render shadows that silently miss triangles. */
 static bool check_loop_budget(const vkrt_renderer *r, vkrt_error *err)
@@ -26,7 +27,7 @@ static bool check_loop_budget(const vkrt_renderer *r, vkrt_error *err)
     if (iterations > budget - r->light_count)
         return vkrt_error_set(err,
                               "brute force with %u triangles and %u shadowing lights needs %llu "
-                              "loop iterations per pixel; lavapipe (llvmpipe) stops shaders after "
+                              "loop iterations per pixel; this device stops shaders after "
                               "%u: use accel grid or bvh",
                               r->triangle_count, (unsigned)shadow_lights,
                               (unsigned long long)iterations, budget);
@@ -43,9 +44,7 @@ void renderer_record_trace(vkrt_renderer *r, VkCommandBuffer cmd, FrameParams *p
     for (uint32_t first = 0;; first += block) {
         bool brute = r->accel.stats.kind == VKRT_ACCEL_BRUTE;
         uint32_t end = !brute || n - first < block ? n : first + block;
-        params->range.x = brute ? first : 0;
-        params->range.y = end;
-        params->range.z = first > 0;
+        frame_set_brute_range(params, brute ? first : 0, end, first > 0);
         if (indirect)
             gpu_dispatch_indirect(cmd, pipe, &r->set, params, &r->waves, wave_offset);
         else
@@ -53,9 +52,7 @@ void renderer_record_trace(vkrt_renderer *r, VkCommandBuffer cmd, FrameParams *p
         if (end >= n)
             break;
     }
-    params->range.x = 0;
-    params->range.y = n;
-    params->range.z = 0;
+    frame_set_brute_range(params, 0, n, false);
 }
 
 /* Zeroes size bytes of buf from the start, between the compute work before (which may have read
@@ -130,9 +127,9 @@ static void record_passes(vkrt_renderer *r, VkCommandBuffer cmd, FrameParams par
             profile_recorder_mark(cmd, p, depth, VKRT_KERNEL_TRACE);
             if (r->material_order && depth >= VKRT_ORDER_FIRST_DEPTH) {
                 FrameParams order = params;
-                order.range.x = VKRT_ORDER_COUNT;
+                frame_set_order_step(&order, VKRT_ORDER_COUNT);
                 gpu_dispatch_indirect(cmd, &r->order, &r->set, &order, &r->waves, wave);
-                order.range.x = VKRT_ORDER_PLACE;
+                frame_set_order_step(&order, VKRT_ORDER_PLACE);
                 gpu_dispatch_indirect(cmd, &r->order, &r->set, &order, &r->waves, wave);
                 profile_recorder_mark(cmd, p, depth, VKRT_KERNEL_ORDER);
             }
@@ -237,7 +234,8 @@ bool vkrt_renderer_add_samples(vkrt_renderer *r, const vkrt_config_camera *camer
      * do not share frames (every kernel hashes it before use). */
     params.counts = (uvec4){r->triangle_count, r->light_count, pixels,
                             frame_index + r->seed * 0x9E3779B9u};
-    params.range = (uvec4){0, r->triangle_count, 0, r->light_words};
+    frame_set_brute_range(&params, 0, r->triangle_count, false);
+    frame_set_light_words(&params, r->light_words);
 
     Counters counters;
     double seconds = 0;

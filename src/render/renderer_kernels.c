@@ -2,13 +2,15 @@
  * renderer_kernels.c: the wave kernels compiled for one scene and device. Every kernel gets the
  * same specialization constants (glsl/shared.h's VKRT_SPEC_*): what the scene has (normals,
  * texture coordinates), which structure traversal walks and how (the tuning's choices), so each
- * choice is dead code elimination in the driver rather than a branch at run time. count.comp and
- * shade.comp include the material module generated from the materials the scene uses.
+ * choice is dead code elimination in the driver rather than a branch at run time. The integrator
+ * is one of them (VKRT_SPEC_INTEGRATOR): every kernel is the same file for both. light.comp,
+ * count.comp and shade.comp include the material module generated from the materials the scene
+ * uses.
  *
- * Compiling is glslang (GLSL to SPIR-V) and then the driver (vkCreateComputePipelines, which on
- * NVIDIA and lavapipe compiles to machine code): seconds on a cold cache, most of a small scene's
- * start. So each kernel compiles on a thread of its own, started before the structure is built
- * (issue 20), for the plan predicted from what is known then (renderer_kernels_start); the
+ * Compiling is glslang (GLSL to SPIR-V) and then the driver (vkCreateComputePipelines, which
+ * compiles to machine code): seconds on a cold cache, most of a small scene's start. So each
+ * kernel compiles on a thread of its own, started before the structure is built, for the plan
+ * predicted from what is known then (renderer_kernels_start); the
  * renderer joins them after its uploads, when the plan is known for certain
  * (renderer_kernels_finish). A prediction that turns out wrong (a structure or an array split
  * that only the build could tell) costs the kernels compiled once more, as they were before.
@@ -48,7 +50,6 @@ enum kernel_slot {
     SLOT_RAYGEN,
     SLOT_TRACE,
     SLOT_LIGHT,
-    SLOT_OCCLUSION,
     SLOT_PREPARE,
     SLOT_COUNT,
     SLOT_SHADE,
@@ -61,9 +62,9 @@ enum kernel_slot {
 static gpu_pipeline *slot_pipeline(vkrt_renderer *r, uint32_t slot)
 {
     gpu_pipeline *pipelines[SLOT_TOTAL] = {
-        [SLOT_RAYGEN] = &r->raygen,       [SLOT_TRACE] = &r->trace,   [SLOT_LIGHT] = &r->light,
-        [SLOT_OCCLUSION] = &r->occlusion, [SLOT_PREPARE] = &r->prepare, [SLOT_COUNT] = &r->count,
-        [SLOT_SHADE] = &r->shade,         [SLOT_ORDER] = &r->order,   [SLOT_ADAPT] = &r->adapt,
+        [SLOT_RAYGEN] = &r->raygen,   [SLOT_TRACE] = &r->trace, [SLOT_LIGHT] = &r->light,
+        [SLOT_PREPARE] = &r->prepare, [SLOT_COUNT] = &r->count, [SLOT_SHADE] = &r->shade,
+        [SLOT_ORDER] = &r->order,     [SLOT_ADAPT] = &r->adapt,
         [SLOT_ADAPT_DISPATCH] = &r->adapt_dispatch,
     };
     return pipelines[slot];
@@ -91,6 +92,18 @@ struct renderer_kernels {
     kernel_job jobs[SLOT_TOTAL];
 };
 
+/* GLSL to SPIR-V of a kernel that does not include the material module. */
+static bool compile_plain(const char *path, const char *preamble, uint32_t **spirv, size_t *words,
+                          vkrt_error *err)
+{
+    gpu_shader_sources sources = {
+        .lookup = vkrt_kernel_source_lookup,
+        .display_prefix = "glsl/",
+        .preamble = preamble,
+    };
+    return gpu_shader_compile(&sources, path, spirv, words, err);
+}
+
 static void compile_job(kernel_job *job)
 {
     const renderer_kernels *k = job->owner;
@@ -98,18 +111,9 @@ static void compile_job(kernel_job *job)
     const char *preamble = kernel_preamble(k->ctx, plan->split);
     uint32_t *spirv = NULL;
     size_t words = 0;
-    bool ok;
-    if (job->material) {
-        ok = vkrt_material_kernel_compile(k->kernel, k->mats, job->path, preamble, &spirv, &words,
-                                          &job->err);
-    } else {
-        gpu_shader_sources sources = {
-            .lookup = vkrt_kernel_source_lookup,
-            .display_prefix = "glsl/",
-            .preamble = preamble,
-        };
-        ok = gpu_shader_compile(&sources, job->path, &spirv, &words, &job->err);
-    }
+    bool ok = job->material ? vkrt_material_kernel_compile(k->kernel, k->mats, job->path, preamble,
+                                                           &spirv, &words, &job->err)
+                            : compile_plain(job->path, preamble, &spirv, &words, &job->err);
     ok = ok && gpu_pipeline_create(k->ctx, &job->pipeline, k->set, spirv, words,
                                    job->single ? 1 : plan->workgroup_size, plan->constants,
                                    RENDERER_KERNEL_CONSTANTS, job->path, &job->err);
@@ -131,16 +135,17 @@ bool renderer_kernels_start(vkrt_renderer *r, const renderer_kernel_plan *plan,
     if (!k)
         return vkrt_error_set(err, "out of memory");
     *k = (renderer_kernels){r->ctx, &r->set, kernel, mats, *plan, {{0}}};
-    /* The light kernel: Whitted's shadow rays for the materials to read, or the path tracer's
-     * next-event estimation, which evaluates the materials' BSDFs itself. */
+    /* occlusion.comp is not among them: only the trace API uses it (trace_api.c compiles it on
+     * first use, renderer_kernels_compile_occlusion). */
     const struct {
         const char *path;
         bool material, single;
     } kernels[SLOT_TOTAL] = {
         [SLOT_RAYGEN] = {"raygen.comp", false, false},
         [SLOT_TRACE] = {"trace.comp", false, false},
-        [SLOT_LIGHT] = {plan->path ? "nee.comp" : "light.comp", plan->path, false},
-        [SLOT_OCCLUSION] = {"occlusion.comp", false, false},
+        /* Whitted's shadow rays for the materials to read, or the path tracer's next-event
+         * estimation, which evaluates the materials' BSDFs itself. */
+        [SLOT_LIGHT] = {"light.comp", true, false},
         /* prepare.comp writes the next depth's indirect dispatch: one invocation. */
         [SLOT_PREPARE] = {"prepare.comp", false, true},
         [SLOT_COUNT] = {"count.comp", true, false},
@@ -192,7 +197,7 @@ void renderer_kernels_abandon(vkrt_renderer *r)
 
 static bool same_plan(const renderer_kernel_plan *a, const renderer_kernel_plan *b)
 {
-    return a->split == b->split && a->path == b->path && a->adaptive == b->adaptive &&
+    return a->split == b->split && a->adaptive == b->adaptive &&
            a->material_order == b->material_order &&
            a->workgroup_size == b->workgroup_size &&
            memcmp(a->constants, b->constants, sizeof a->constants) == 0;
@@ -227,6 +232,21 @@ bool renderer_kernels_finish(vkrt_renderer *r, const renderer_kernel_plan *plan,
     }
     discard(r, k);
     return true;
+}
+
+bool renderer_kernels_compile_occlusion(vkrt_renderer *r, vkrt_error *err)
+{
+    if (r->occlusion.pipeline)
+        return true;
+    uint32_t *spirv = NULL;
+    size_t words = 0;
+    /* The trace kernel's plan: the same structure, walk and arrays. */
+    bool ok = compile_plain("occlusion.comp", kernel_preamble(r->ctx, r->split), &spirv, &words,
+                            err) &&
+              gpu_pipeline_create_alike(r->ctx, &r->occlusion, &r->set, spirv, words, &r->trace,
+                                        "occlusion.comp", err);
+    free(spirv);
+    return ok;
 }
 
 static uint32_t traverse_kind(vkrt_accel_kind kind)
@@ -279,7 +299,6 @@ void renderer_kernel_plan_make(const vkrt_renderer *r, const renderer_data_layou
     for (uint32_t a = 0; a < VKRT_SPLIT_ARRAY_COUNT; ++a)
         split = split || shift[a] != 0;
     plan->split = split;
-    plan->path = r->integrator == VKRT_INTEGRATOR_PATH;
     plan->adaptive = r->target_error > 0;
     plan->material_order = r->material_order;
     plan->workgroup_size = workgroup_size;

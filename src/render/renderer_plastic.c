@@ -7,12 +7,11 @@
  * interpolates (within 2.5e-3 of T at any cosine, 1.5e-4 at cos 0.5). Where one index has more
  * plain roughnesses than that, they share one table of as many rows from 0 to the largest of
  * them instead of a row each (the shader finds a row by the table's header, rows and scale, so a
- * plain roughness reads it as a map's would): a row is about 10 ms of one core, and a scene of
- * 500 plastics of distinct roughness would otherwise wait 5 s of CPU at start-up. An index then
- * takes at most 66 rows (a map's 33 and 33 plain); distinct indices each take their own
- * (research/journal.md, "Many @roughplastic roughnesses"). A smooth coat (roughness below 0.02,
- * what the shader treats as a delta mirror) and an index of 1 (no coat: the base is
- * Lambertian) need none.
+ * plain roughness reads it as a map's would): a row takes milliseconds of one core, and a scene
+ * of hundreds of plastics of distinct roughness would otherwise wait seconds at start-up. An
+ * index then takes at most 66 rows (a map's 33 and 33 plain); distinct indices each take their
+ * own. A smooth coat (roughness below 0.02, what the shader treats as a delta mirror) and an
+ * index of 1 (no coat: the base is Lambertian) need none.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -198,7 +197,7 @@ bool renderer_upload_plastic_tables(vkrt_renderer *r, const vkrt_scene_materials
         }
     }
     renderer_plastic_layout_free(&layout);
-    /* About 10 ms of one core a row: the rows' cosines over the cores. */
+    /* Milliseconds of one core a row: the rows' cosines over the cores. */
     uint32_t entries = rows * VKRT_PLASTIC_COSINES, threads = bvh_threads_default();
     if (threads > entries)
         threads = entries > 0 ? entries : 1;

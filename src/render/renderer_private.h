@@ -167,7 +167,6 @@ bool renderer_scan_materials(vkrt_renderer *r, const vkrt_scene_materials *mats,
 enum { RENDERER_KERNEL_CONSTANTS = 23 };
 typedef struct renderer_kernel_plan {
     bool split;               /* the preamble reads split arrays through device addresses */
-    bool path;                /* nee.comp (with the materials) for the light kernel */
     bool adaptive;            /* adapt.comp and adapt_dispatch.comp too (a target error) */
     bool material_order;      /* order.comp too (hits grouped by shader) */
     uint32_t workgroup_size;
@@ -190,6 +189,8 @@ bool renderer_kernels_finish(vkrt_renderer *r, const renderer_kernel_plan *plan,
                              vkrt_error *err);
 /* Joins the compiles, if any, and frees what they made (the error paths; destroy). */
 void renderer_kernels_abandon(vkrt_renderer *r);
+/* Compiles r->occlusion (any-hit trace, only the trace API's) like r->trace, once. */
+bool renderer_kernels_compile_occlusion(vkrt_renderer *r, vkrt_error *err);
 
 /* renderer_frame.c: records the closest-hit or any-hit trace of the rays params covers: `count`
  * of them, or with indirect set, the wave of params->wave.y; brute force in triangle blocks. */

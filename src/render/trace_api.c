@@ -13,6 +13,8 @@ bool vkrt_renderer_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool
         return vkrt_error_set(err, "%u rays exceed the renderer's %zu", count, capacity);
     if (repeats == 0)
         repeats = 1;
+    if (any_hit && !renderer_kernels_compile_occlusion(r, err))
+        return false;
     FrameParams params = {0};
     params.counts = (uvec4){r->triangle_count, r->light_count, count, 0};
     params.wave = (uvec4){0, 0, 0, r->capacity};
@@ -72,13 +74,14 @@ bool vkrt_renderer_trace_stats(vkrt_renderer *r, const Ray *rays, uint32_t count
 bool vkrt_renderer_trace_kernel_statistics(vkrt_renderer *r, char *closest, size_t closest_size,
                                            char *any, size_t any_size, vkrt_error *err)
 {
-    return gpu_pipeline_statistics(r->ctx, &r->trace, closest, closest_size, err) &&
+    return renderer_kernels_compile_occlusion(r, err) &&
+           gpu_pipeline_statistics(r->ctx, &r->trace, closest, closest_size, err) &&
            gpu_pipeline_statistics(r->ctx, &r->occlusion, any, any_size, err);
 }
 
 bool vkrt_renderer_print_kernel_statistics(vkrt_renderer *r, FILE *out, vkrt_error *err)
 {
-    /* The frame's kernels in dispatch order; `light` is nee.comp under the path integrator. */
+    /* The frame's kernels in dispatch order. */
     const struct {
         const char *name;
         const gpu_pipeline *pipe;

@@ -1,8 +1,8 @@
 /*
  * tuning.h: every device-dependent default of the renderer, in one place. The renderer, the
  * acceleration structure's upload and `vkrt bench` ask this module, never the device type
- * themselves. Each default is written once, in tuning.c, beside the measurement that chose it;
- * the measurements are in research/journal.md.
+ * themselves. Each default is written once, in tuning.c, beside the reason that chose it; the
+ * measurements are in docs/performance.md.
  */
 #ifndef VKRT_TUNING_H
 #define VKRT_TUNING_H
@@ -45,7 +45,7 @@ typedef struct vkrt_tuning_overrides {
 
 /* The settings every kernel and structure reads, resolved for one device. */
 typedef struct vkrt_tuning {
-    bool cpu_device;          /* a CPU implementation (lavapipe): the choices below follow it */
+    bool cpu_device;          /* a CPU implementation: the choices below follow it */
     uint32_t workgroup_size;
     float grid_density;       /* 0: the grid's own default (grid.h) */
     uint32_t bvh_width;       /* 2 or 4 */
@@ -65,25 +65,25 @@ typedef struct vkrt_tuning {
                                  in one pass when the image has fewer pixels than this */
     double warmup_ms;         /* device time run before anything is timed (vkrt_warmup_runs) */
     bool material_order;      /* group each bounce's hits by shader (glsl/order.comp) where a
-                                 scene has several; VKRT_MATERIAL_ORDER=0 or 1 overrides it */
+                                 scene has several; a test hook overrides it (test_hooks.h) */
 } vkrt_tuning;
 
 /* Whether ctx's device is a CPU implementation. */
 bool vkrt_device_is_cpu(const gpu_context *ctx);
 
-/* The settings for a device (cpu_device; llvmpipe: Mesa's CPU device, whose loop budget applies)
- * with the overrides o (NULL: none) applied. Checks nothing: values out of range are refused
+/* The settings for a device (cpu_device; loop_limited: a device that ends an invocation's loops
+ * after a budget of iterations) with the overrides o (NULL: none) applied. Checks nothing: values out of range are refused
  * where they are used (the BVH's layout, the pipeline's limits). */
-vkrt_tuning vkrt_tuning_choose(bool cpu_device, bool llvmpipe, const vkrt_tuning_overrides *o);
+vkrt_tuning vkrt_tuning_choose(bool cpu_device, bool loop_limited, const vkrt_tuning_overrides *o);
 
 /* vkrt_tuning_choose for ctx's device. */
 vkrt_tuning vkrt_tuning_for(const gpu_context *ctx, const vkrt_tuning_overrides *o);
 
 /* Warm-up before anything is timed: runs of a probe_ms-long piece of work that make up
  * warmup_ms of device time (vkrt_tuning.warmup_ms), at least min_runs and at most
- * VKRT_WARMUP_MAX_RUNS. A GPU idle before a timing runs at low clocks: on the H100 the same frame
- * took 7 ms right after another and 30 ms after the host wrote a PNG; VKRT_WARMUP_MS (300 ms) at
- * full load brought it to its clocks. A CPU device runs at the CPU's clocks: min_runs only. */
+ * VKRT_WARMUP_MAX_RUNS. A GPU idle before a timing runs at low clocks, and the same frame takes
+ * several times as long right after the host wrote a file as right after another; VKRT_WARMUP_MS
+ * at full load brings it to its clocks. A CPU device runs at the CPU's clocks: min_runs only. */
 #define VKRT_WARMUP_MS 300.0
 #define VKRT_WARMUP_MAX_RUNS 4000u
 uint32_t vkrt_warmup_runs(double warmup_ms, double probe_ms, uint32_t min_runs);

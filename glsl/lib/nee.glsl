@@ -1,16 +1,17 @@
 /*
- * nee.comp: the path tracer's direct light at every hit of this depth (next-event estimation;
- * lib/path.glsl says which lights and how they are weighted). Each light sample whose BSDF value
- * is not zero casts a shadow ray here, and what gets through is added to the pixel at once,
- * weighted by the path's throughput: the path carries on in shade.comp with its own BSDF sample.
- * The light kernel's place in the wavefront, for the path integrator. The last depth has none:
- * its rays only find the light their BSDF samples hit (src/render/renderer.c says why).
+ * nee.glsl: the path tracer's direct light at a hit (next-event estimation; lib/path.glsl says
+ * which lights and how they are weighted), the light kernel's work under the path integrator.
+ * Each light sample whose BSDF value is not zero casts a shadow ray here, and what gets through is
+ * added to the pixel at once, weighted by the path's throughput: the path carries on in
+ * shade.comp with its own BSDF sample. The last depth has none: its rays only find the light
+ * their BSDF samples hit (src/render/renderer.c says why). Included by light.comp after the
+ * generated material module.
  */
-#include "generated/materials.glsl"
-#include "lib/path.glsl"
-#include "lib/traverse.glsl"
+#ifndef VKRT_NEE_GLSL
+#define VKRT_NEE_GLSL
 
-shared uint workgroup_shadow_rays;
+#include "path.glsl"
+#include "traverse.glsl"
 
 /* Whether nothing blocks the way from s along wi for tmax. */
 bool unoccluded(Surface s, vec3 wi, float tmax)
@@ -73,7 +74,7 @@ vec3 direct_light(Surface s, uint shader, inout uint shadow_rays)
         vec3 wi = sample_environment(path_2d(vkrt_ray, SAMPLER_DIM_ENVIRONMENT), pdf_env);
         vec3 f = material_bsdf_eval(shader, s, wi, pdf_bsdf);
         /* A sample straight up or down of a map has pdf 0 (sin(theta) = 0: envmap_pdf): no sample
-         * at all, not 0 / 0. It was the Mori knob's two NaN a 1080p frame. */
+         * at all, not 0 / 0 (a NaN in the pixel). */
         if (pdf_env > 0.0 && any(greaterThan(f, vec3(0.0)))) {
             vec3 le = environment_radiance(wi, vkrt_ray.payload);
             if (any(greaterThan(le, vec3(0.0)))) {
@@ -86,32 +87,24 @@ vec3 direct_light(Surface s, uint shader, inout uint shadow_rays)
     return sum;
 }
 
-void main()
+/* Next-event estimation at the hit of ray index: its direct light added to its pixel; returns
+ * the shadow rays it traced. */
+uint nee_at(uint index)
 {
-    if (gl_LocalInvocationIndex == 0u)
-        workgroup_shadow_rays = 0u;
-    barrier();
-
-    uint invocation = invocation_index();
     uint shadow_rays = 0u;
-    if (invocation < dispatch_ray_count()) {
-        uint index = ray_of_invocation(invocation);
-        Ray ray = load_ray(index);
-        Hit hit = hits[index];
-        if ((ray.info.w & VKRT_RAY_DEAD) == 0u && hit.triangle != VKRT_NO_HIT &&
-            frame.wave.y < frame.wave.z) {
-            Surface s = surface_at(ray, hit);
-            vkrt_material = s.material;
-            vkrt_ray_index = index;
-            vkrt_ray = ray;
-            vkrt_rng = light_stream(ray);
-            vkrt_dimension = SAMPLER_BSDF_DIMS; /* the BSDF block is shade.comp's */
-            vec3 direct = direct_light(s, materials[s.material].info.x, shadow_rays);
-            add_finite_to_pixel(ray.info, ray.importance.rgb * direct);
-        }
+    Ray ray = load_ray(index);
+    Hit hit = hits[index];
+    if (!ray_is_dead(ray) && hit.triangle != VKRT_NO_HIT && frame.wave.y < frame.wave.z) {
+        Surface s = surface_at(ray, hit);
+        vkrt_material = s.material;
+        vkrt_ray_index = index;
+        vkrt_ray = ray;
+        vkrt_rng = light_stream(ray);
+        vkrt_dimension = SAMPLER_BSDF_DIMS; /* the BSDF block is shade.comp's */
+        vec3 direct = direct_light(s, materials[s.material].info.x, shadow_rays);
+        add_finite_to_pixel(ray, ray_throughput(ray) * direct);
     }
-    atomicAdd(workgroup_shadow_rays, shadow_rays);
-    barrier();
-    if (gl_LocalInvocationIndex == 0u)
-        atomicAdd(counters.shadow_rays, workgroup_shadow_rays);
+    return shadow_rays;
 }
+
+#endif
