@@ -84,7 +84,7 @@ bool vkrt_write_pool_threads(uint32_t sharers, uint32_t *threads, vkrt_error *er
 static bool write_slot(vkrt_write_pool *pool, slot *s, vkrt_error *err)
 {
     const vkrt_write_pool_desc *d = &pool->desc;
-    bool ok = vkrt_image_write(s->path, d->width, d->height, s->rgb, d->exposure, err);
+    bool ok = vkrt_image_write_frame(s->path, d->width, d->height, s->rgb, &d->finish, err);
     if (ok && d->written) {
         pthread_mutex_lock(&pool->report_lock);
         d->written(d->user, &s->frame);
