@@ -8,8 +8,8 @@
  * the incoherent rays of a path tracer's first bounce). Each trace is timed by
  * bench_timing.c: back to back in one submission after a 300 ms warm-up, with GPU timestamps
  * between runs; the median of the timed runs is reported, with the fastest and slowest in the
- * JSON. (Runs with host work between them, as a first version did, let the H100's clocks fall in
- * the gaps: the same dispatch then took 0.7 to 3 ms.)
+ * JSON: runs with host work between them let a GPU's clocks fall in the gaps, and then time
+ * the clock changes rather than the trace.
  * Brute force traces an evenly spread subset of the rays when all of them would take too long:
  * its rate is the same per ray. The rays are made by bench_rays.c.
  */
@@ -31,8 +31,8 @@
 #include "../scene/scene.h"
 #include "render_desc.h"
 
-/* Ray-triangle tests brute force may spend per measurement: about a second on lavapipe, which
- * does some 1.6e8 of them per second on two cores. */
+/* Ray-triangle tests brute force may spend per measurement: about a second on a CPU device, so
+ * that brute force stays in a bench run of a large scene without taking it over. */
 static const double brute_force_tests = 2e8;
 
 typedef struct bench_row {
