@@ -1,6 +1,6 @@
 /*
- * bench_rays.c: the rays of `vkrt bench` (see bench_rays.h), moved here from bench.c unchanged
- * so that research/yardsticks/rtpipe_bench traces the very same rays.
+ * bench_rays.c: the rays of `vkrt bench` (see bench_rays.h), apart from the command so that
+ * another tracer timed against vkrt traces the very same rays.
  */
 #include "bench_rays.h"
 

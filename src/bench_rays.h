@@ -1,7 +1,6 @@
 /*
  * bench_rays.h: the rays `vkrt bench` traces, made on the CPU so that any tracer (vkrt's
- * kernels, or the driver's ray tracing pipeline in research/yardsticks/rtpipe_bench) gets exactly the same
- * ones: primary rays through pixel centres, then from their hits shadow rays (any hit) and
+ * kernels, or a yardstick on the driver's ray tracing pipeline) gets exactly the same ones: primary rays through pixel centres, then from their hits shadow rays (any hit) and
  * cosine-distributed diffuse bounce rays (closest hit). Pure CPU, no Vulkan.
  */
 #ifndef VKRT_BENCH_RAYS_H

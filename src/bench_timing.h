@@ -1,12 +1,13 @@
 /*
- * bench_timing.h: how `vkrt bench` and research/yardsticks/rtpipe_bench time a trace on a GPU, in one place so
- * that both tracers are timed alike: a probe run sizes a warm-up worth warmup_ms of device
- * time (tuning.h: 300 ms on GPUs, none on CPU devices), then the warm-up and BENCH_TIMED_RUNS runs go back to back in one submission, with GPU
- * timestamps between them; the median of the timed runs is kept, with the fastest and slowest.
- * A probe taken while the clocks were still low (after seconds of host work, such as decoding a
- * scene's textures) undersizes the warm-up, and the timed runs then catch the clocks mid-climb
- * (Sponza's primary rays read 600 instead of 4,000 Mrays/s on an H200): so the submission is
- * repeated, sized from its own timed runs, until its warm-up itself lasted the 300 ms.
+ * bench_timing.h: how `vkrt bench` and the yardsticks it is held against time a trace on a GPU,
+ * in one place so that every tracer is timed alike: a probe run sizes a warm-up worth warmup_ms
+ * of device time (tuning.h: 300 ms on GPUs, none on CPU devices), then the warm-up and
+ * BENCH_TIMED_RUNS runs go back to back in one submission, with GPU timestamps between them; the
+ * median of the timed runs is kept, with the fastest and slowest. A probe taken while the clocks
+ * were still low (after seconds of host work, such as decoding a scene's textures) undersizes the
+ * warm-up, and the timed runs then catch the clocks mid-climb (a rate several times too low): so
+ * the submission is repeated, sized from its own timed runs, until its warm-up itself lasted the
+ * 300 ms.
  */
 #ifndef VKRT_BENCH_TIMING_H
 #define VKRT_BENCH_TIMING_H

@@ -95,7 +95,7 @@ static vkrt_write_pool *make_pool(uint32_t threads, seen *s)
     vkrt_write_pool_desc desc = {.threads = threads,
                                  .width = W,
                                  .height = H,
-                                 .exposure = 0.5f,
+                                 .finish = {.exposure = 0.5f},
                                  .written = on_written,
                                  .failed = on_failed,
                                  .user = s};

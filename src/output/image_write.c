@@ -1,6 +1,6 @@
 /*
- * image_write.c: writes rendered frames as PNG (8-bit sRGB: srgb8.h, png_encode.h) or EXR (32-bit
- * float linear RGB, via OpenEXRCore), and expands frame-number patterns in output paths.
+ * image_write.c: writes rendered frames, finished by finish.h, as PNG (8-bit sRGB, png_encode.h) or
+ * EXR (32-bit float linear RGB, via OpenEXRCore), and expands frame-number patterns in output paths.
  *
  * Both formats go through the same temporary-file discipline: the bytes are written to
  * "<path>.tmp-<pid>" beside the target (same folder, so rename() is atomic), and only a
@@ -25,7 +25,6 @@
 #include <openexr.h>
 
 #include "png_encode.h"
-#include "srgb8.h"
 
 /* ---------------------------------------------------------------------------------------------
  * Format detection
@@ -192,7 +191,7 @@ static bool write_png8(const char *path, uint32_t width, uint32_t height, const 
 }
 
 static bool write_png(const char *path, uint32_t width, uint32_t height, const float *rgb,
-                      float exposure, vkrt_error *err)
+                      const vkrt_finish_desc *finish, vkrt_error *err)
 {
     if (!png_size_fits(width, height))
         return vkrt_error_set(err, "%s: image %" PRIu32 "x%" PRIu32 " is too large for PNG",
@@ -200,16 +199,12 @@ static bool write_png(const char *path, uint32_t width, uint32_t height, const f
 
     size_t value_count = (size_t)width * height * 3;
     uint8_t *srgb8 = malloc(value_count);
-    srgb8_table *table = malloc(sizeof *table);
-    if (!srgb8 || !table) {
-        free(srgb8);
-        free(table);
+    if (!srgb8)
         return vkrt_error_set(err, "%s: cannot write: out of memory", path);
-    }
-    srgb8_table_init(table);
-    srgb8_encode_array(table, rgb, exp2f(exposure), value_count, srgb8);
-    free(table);
-    bool ok = write_png8(path, width, height, srgb8, err);
+    bool ok = vkrt_finish_srgb8(finish, rgb, value_count, srgb8, err);
+    if (!ok)
+        vkrt_error_prefix(err, "%s: cannot write", path);
+    ok = ok && write_png8(path, width, height, srgb8, err);
     free(srgb8);
     return ok;
 }
@@ -397,8 +392,8 @@ static bool write_exr(const char *path, uint32_t width, uint32_t height, const f
  * Entry point
  * ------------------------------------------------------------------------------------------- */
 
-bool vkrt_image_write(const char *path, uint32_t width, uint32_t height, const float *rgb,
-                      float exposure, vkrt_error *err)
+bool vkrt_image_write_frame(const char *path, uint32_t width, uint32_t height, const float *rgb,
+                            const vkrt_finish_desc *finish, vkrt_error *err)
 {
     if (!path || path[0] == '\0')
         return vkrt_error_set(err, "cannot write image: empty output path");
@@ -409,15 +404,30 @@ bool vkrt_image_write(const char *path, uint32_t width, uint32_t height, const f
         return vkrt_error_set(err, "%s: image %" PRIu32 "x%" PRIu32 " is too large", path,
                               width, height);
 
+    float *scratch = NULL;
+    const float *linear;
+    bool ok;
     switch (vkrt_image_format_of(path)) {
     case VKRT_IMAGE_PNG:
-        return write_png(path, width, height, rgb, exposure, err);
+        return write_png(path, width, height, rgb, finish, err);
     case VKRT_IMAGE_EXR:
-        return write_exr(path, width, height, rgb, err);
+        linear = vkrt_finish_linear(finish, rgb, (size_t)width * height * 3, &scratch, err);
+        if (!linear)
+            return vkrt_error_prefix(err, "%s: cannot write", path);
+        ok = write_exr(path, width, height, linear, err);
+        free(scratch);
+        return ok;
     case VKRT_IMAGE_UNKNOWN:
     default:
         return vkrt_error_set(err, "%s: unknown image format (use .png or .exr)", path);
     }
+}
+
+bool vkrt_image_write(const char *path, uint32_t width, uint32_t height, const float *rgb,
+                      float exposure, vkrt_error *err)
+{
+    return vkrt_image_write_frame(path, width, height, rgb,
+                                  &(vkrt_finish_desc){.exposure = exposure}, err);
 }
 
 bool vkrt_image_write_png8(const char *path, uint32_t width, uint32_t height, const uint8_t *rgb,

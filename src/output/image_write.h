@@ -1,10 +1,10 @@
 /*
  * image_write.h: writing rendered frames to files.
  *
- * Pixels arrive as linear radiance, 3 floats (RGB) per pixel, the top row first. The format comes
- * from the file's extension: ".png" is 8-bit sRGB (radiance times 2^exposure, clamped, then the
- * sRGB curve; no other tone mapping), ".exr" is 32-bit float linear RGB, unchanged, written with
- * OpenEXR's C API (OpenEXRCore). Every file is written to a temporary name beside the target and
+ * Pixels arrive as linear radiance, 3 floats (RGB) per pixel, the top row first, and pass through
+ * the finish stage (finish.h) for the file's format, which comes from its extension: ".png" is
+ * 8-bit sRGB (radiance times 2^exposure, clamped, then the sRGB curve; no other tone mapping),
+ * ".exr" is 32-bit float linear RGB, written with OpenEXR's C API (OpenEXRCore). Every file is written to a temporary name beside the target and
  * renamed when complete, so a failed run never leaves a truncated image.
  */
 #ifndef VKRT_IMAGE_WRITE_H
@@ -15,6 +15,7 @@
 #include <stdint.h>
 
 #include "../error.h"
+#include "finish.h"
 
 typedef enum vkrt_image_format {
     VKRT_IMAGE_UNKNOWN = 0,
@@ -25,9 +26,13 @@ typedef enum vkrt_image_format {
 /* The format for a path's extension (case-insensitive), or VKRT_IMAGE_UNKNOWN. */
 vkrt_image_format vkrt_image_format_of(const char *path);
 
-/* Writes width x height pixels of rgb to path. exposure (in stops) scales the PNG only.
- * Returns false with err naming the path on any failure; then no file is left at path (an
+/* Writes width x height pixels of rgb to path, finished as finish describes for the path's
+ * format. Returns false with err naming the path on any failure; then no file is left at path (an
  * existing file there is left untouched) and no temporary file remains. */
+bool vkrt_image_write_frame(const char *path, uint32_t width, uint32_t height, const float *rgb,
+                            const vkrt_finish_desc *finish, vkrt_error *err);
+
+/* vkrt_image_write_frame with a finish of exposure alone (stops; it scales the PNG only). */
 bool vkrt_image_write(const char *path, uint32_t width, uint32_t height, const float *rgb,
                       float exposure, vkrt_error *err);
 

@@ -123,8 +123,7 @@ bool png_filter_rows(const uint8_t *rgb, uint32_t width, uint32_t first_row, uin
 }
 
 /* ISA-L's igzip at level 1 with the Up filter: of the encoders measured on rendered frames the
- * fastest, 1.8-3.7x libdeflate's level 1 and 30-40x stb_image_write's, at 0.71-0.90x stb's
- * bytes (research/journal.md, "A faster PNG writer"). */
+ * fastest, with files smaller than stb_image_write's (docs/architecture.md, "Writing frames"). */
 enum { DEFLATE_LEVEL = 1, DEFLATE_LEVEL_BUFFER = ISAL_DEF_LVL1_DEFAULT };
 
 /* Rows filtered at a time: enough bytes to keep igzip's calls few, few enough to stay in cache. */

@@ -2,8 +2,8 @@
  * png_encode.h: 8-bit RGB pixels to the bytes of a PNG file, in memory (the file is
  * image_write.h's business). PNG's filters are applied here; the filtered rows are deflated by
  * ISA-L's igzip, whose level 1 with the Up filter measured fastest of stb_image_write, zlib,
- * libdeflate, ISA-L, libspng and libpng, its files smaller than stb's (research/journal.md,
- * "A faster PNG writer").
+ * libdeflate, ISA-L, libspng and libpng, its files smaller than stb's (docs/architecture.md,
+ * "Writing frames").
  */
 #ifndef VKRT_PNG_ENCODE_H
 #define VKRT_PNG_ENCODE_H

@@ -2,11 +2,11 @@
  * srgb8.h: linear radiance to 8-bit sRGB code values, as PNG output stores them.
  *
  * srgb8_encode is the definition: clamp to [0, 1], the exact sRGB curve in double precision
- * (IEC 61966-2-1), round to nearest; NaN is black. It costs a pow() per value, 135-175 ms for a
- * 1080p frame, more than compressing it, so frames go through a table: the float where each code
- * value begins, found with srgb8_encode itself, and per slice of the float's bits the code at the
- * slice's start. The table's result equals srgb8_encode's for every float (research/journal.md,
- * "A faster PNG writer": all 2^32 bit patterns compared once).
+ * (IEC 61966-2-1), round to nearest; NaN is black. It costs a pow() per value, more than
+ * compressing the frame, so frames go through a table: the float where each code value begins,
+ * found with srgb8_encode itself, and per slice of the float's bits the code at the slice's
+ * start. The table's result equals srgb8_encode's for every float (all 2^32 bit patterns were
+ * compared).
  */
 #ifndef VKRT_SRGB8_H
 #define VKRT_SRGB8_H

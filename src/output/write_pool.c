@@ -20,10 +20,9 @@
 
 #include "image_write.h"
 
-/* The writer threads a process uses at most by default: at 1080p a frame's floats take one core
- * about 20-80 ms to become PNG bytes (15-58 ms at 1600x900 on a loaded core: research/journal.md,
- * "A faster PNG writer") against the H200's 84 ms a frame at the fastest, so 1-2 threads keep
- * up; 4 leave room and bound the memory at 6 frames. */
+/* The writer threads a process uses at most by default: turning a frame into PNG bytes takes one
+ * core about as long as a fast GPU takes to render it (docs/architecture.md, "Writing frames"),
+ * so 1-2 threads keep up; 4 leave room and bound the memory at 6 frames. */
 enum { DEFAULT_MAX_THREADS = 4 };
 
 /* Frames in flight besides those being written: the one being rendered and one waiting. */
@@ -84,7 +83,7 @@ bool vkrt_write_pool_threads(uint32_t sharers, uint32_t *threads, vkrt_error *er
 static bool write_slot(vkrt_write_pool *pool, slot *s, vkrt_error *err)
 {
     const vkrt_write_pool_desc *d = &pool->desc;
-    bool ok = vkrt_image_write(s->path, d->width, d->height, s->rgb, d->exposure, err);
+    bool ok = vkrt_image_write_frame(s->path, d->width, d->height, s->rgb, &d->finish, err);
     if (ok && d->written) {
         pthread_mutex_lock(&pool->report_lock);
         d->written(d->user, &s->frame);

@@ -20,6 +20,7 @@
 #include <stdint.h>
 
 #include "../error.h"
+#include "finish.h"
 
 typedef struct vkrt_write_pool vkrt_write_pool;
 
@@ -34,7 +35,7 @@ typedef struct vkrt_written_frame {
 typedef struct vkrt_write_pool_desc {
     uint32_t threads; /* writer threads, at most VKRT_WRITE_POOL_MAX_THREADS; 0: no threads */
     uint32_t width, height;
-    float exposure; /* for PNG, as vkrt_image_write takes it */
+    vkrt_finish_desc finish; /* the finish stage every frame passes through (finish.h) */
     /* Called once a frame's file is complete (renamed into place), on the thread that wrote it;
      * calls of both callbacks never overlap. May be NULL. */
     void (*written)(void *user, const vkrt_written_frame *frame);

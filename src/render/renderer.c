@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "renderer_private.h"
+#include "render_desc.h"
 #include "../clock.h"
 #include "../scene/colour.h"
 
@@ -74,7 +75,7 @@ static uint32_t surface_shaders(const vkrt_scene_materials *mats)
 static void choose_integrator(vkrt_renderer *r, const vkrt_render_desc *desc,
                               const vkrt_scene *scene, const vkrt_scene_materials *mats)
 {
-    vkrt_integrator asked = desc->integrator ? desc->integrator : scene->config.integrator;
+    vkrt_integrator asked = desc->integrator;
     if (asked != VKRT_INTEGRATOR_AUTO) {
         r->integrator = asked;
         snprintf(r->integrator_reason, sizeof r->integrator_reason, "asked for");
@@ -142,6 +143,9 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
                           const vkrt_render_desc *desc, vkrt_error *err)
 {
     *out = NULL;
+    /* The scene's settings where desc leaves them zero, as the commands resolve theirs. */
+    vkrt_render_desc completed = vkrt_render_desc_complete(desc, &scene->config);
+    desc = &completed;
     if (!(desc->clamp >= 0 && isfinite(desc->clamp)))
         return vkrt_error_set(err, "clamp %g is not a positive number (0: no clamp)",
                               (double)desc->clamp);
@@ -156,7 +160,7 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
     r->width = desc->width;
     r->height = desc->height;
     r->samples = desc->samples ? desc->samples : 1;
-    r->max_depth = desc->max_depth ? desc->max_depth : scene->config.max_depth;
+    r->max_depth = desc->max_depth;
     r->min_importance = desc->min_importance > 0 ? desc->min_importance
                                                  : r->tuning.min_importance;
     r->profile = desc->profile;

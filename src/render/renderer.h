@@ -35,9 +35,12 @@
 
 typedef struct vkrt_renderer vkrt_renderer;
 
+/* What the renderer renders and how. Fields left zero where the scene has a setting take the
+ * scene's (render_desc.h: resolution, samples, integrator, max-depth); the commands resolve theirs
+ * in one place, cmd/render_desc.h. */
 typedef struct vkrt_render_desc {
-    uint32_t width, height;   /* required */
-    uint32_t samples;         /* samples per pixel; 0 means 1 */
+    uint32_t width, height;   /* 0: the scene's resolution */
+    uint32_t samples;         /* samples per pixel; 0: the scene's `samples` (at least 1) */
     vkrt_accel_kind accel;    /* auto (0) chooses from the scene */
     vkrt_bvh_splits bvh_splits; /* auto (0): spatial splits where they pay (accel_gpu.h) */
     uint32_t max_depth;       /* generations of secondary rays; 0: the scene's max-depth */

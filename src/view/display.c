@@ -13,7 +13,6 @@
  */
 #include "display.h"
 
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -175,8 +174,8 @@ static void record(view_display *d, view_frame *f, uint32_t image_index, const d
 }
 
 bool view_display_present(view_display *d, const gpu_buffer *image, uint32_t image_width,
-                          uint32_t image_height, uint32_t passes, float exposure, bool *out_of_date,
-                          vkrt_error *err)
+                          uint32_t image_height, uint32_t passes,
+                          const vkrt_finish_desc *finish, bool *out_of_date, vkrt_error *err)
 {
     *out_of_date = false;
     view_frame *f = &d->frames[d->next];
@@ -193,9 +192,10 @@ bool view_display_present(view_display *d, const gpu_buffer *image, uint32_t ima
         GPU_CHECK(acquired);
 
     VkExtent2D e = d->swapchain.extent;
+    vkrt_finish_display shown = vkrt_finish_display_params(finish);
     display_push push = {
         .size = {image_width, image_height, e.width, e.height},
-        .scale = {1.0f / (float)(passes ? passes : 1), exp2f(exposure), d->swapchain.bgra ? 1 : 0,
+        .scale = {1.0f / (float)(passes ? passes : 1), shown.scale, d->swapchain.bgra ? 1 : 0,
                   passes ? 0 : 1},
     };
     gpu_storage_set_bind(d->ctx, &f->set, VKRT_DISPLAY_BINDING_IMAGE, image);

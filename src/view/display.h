@@ -16,6 +16,7 @@
 #include "../gpu/buffer.h"
 #include "../gpu/context.h"
 #include "../gpu/pipeline.h"
+#include "../output/finish.h"
 #include "swapchain.h"
 
 #define VIEW_FRAMES_IN_FLIGHT 2
@@ -50,12 +51,13 @@ bool view_display_resize(view_display *d, uint32_t width, uint32_t height, vkrt_
 
 /* Shows image (image_width x image_height vec4 sums of `passes` passes, or with passes 0 of the
  * count in each pixel's w: sampling to a target error; scaled to the window when the sizes
- * differ), times 2^exposure. Waits for this slot's previous frame, not for this one.
+ * differ), finished for the window as finish says (output/finish.h: vkrt_finish_display_params,
+ * applied by glsl/display.comp). Waits for this slot's previous frame, not for this one.
  * Sets *out_of_date when the swapchain no longer matches the window (nothing was shown, or it
  * was shown but should be recreated): the caller resizes and shows again. */
 bool view_display_present(view_display *d, const gpu_buffer *image, uint32_t image_width,
-                          uint32_t image_height, uint32_t passes, float exposure,
-                          bool *out_of_date, vkrt_error *err);
+                          uint32_t image_height, uint32_t passes,
+                          const vkrt_finish_desc *finish, bool *out_of_date, vkrt_error *err);
 
 /* Waits for the last frame presented and reads its pixels as 8-bit sRGB RGB, top row first, into
  * rgb (swapchain.extent.width * height * 3 bytes): what the window shows. False with err set when

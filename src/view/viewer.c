@@ -31,8 +31,6 @@
 #include "display.h"
 #include "script.h"
 
-/* Without --spp the viewer gathers at least this many samples of a still picture. */
-#define VIEW_DEFAULT_SPP 16
 /* A frame aims to trace for about this long, so a fast GPU adds many passes per frame and a slow
  * one stays responsive with one. */
 #define VIEW_FRAME_SECONDS (1.0 / 30.0)
@@ -49,8 +47,8 @@
 #define VIEW_TITLE_SECONDS 0.5
 
 typedef struct viewer {
-    const vkrt_view_options *opts;
-    vkrt_scene scene;
+    const vkrt_view_desc *opts;
+    const vkrt_scene *scene;
     GLFWwindow *window;
     gpu_context ctx;
     vkrt_render_desc desc;
@@ -195,7 +193,8 @@ static void screenshot(viewer *v)
     ok = ok && view_display_read(&v->display, window, &err) &&
          vkrt_renderer_read_image(v->renderer, v->passes, linear, &err) &&
          vkrt_image_write_png8(png, e.width, e.height, window, &err) &&
-         vkrt_image_write(exr, v->desc.width, v->desc.height, linear, 0, &err);
+         vkrt_image_write_frame(exr, v->desc.width, v->desc.height, linear, &v->opts->finish,
+                                &err);
     if (ok) {
         fprintf(stderr, "vkrt: screenshot %s (%ux%u, as shown) and %s (%u of %u samples)\n", png,
                 e.width, e.height, exr, v->passes, v->desc.samples);
@@ -242,11 +241,11 @@ static void on_key(viewer *v, int key, bool down)
         break;
     case GLFW_KEY_R: {
         float speed = v->camera.speed;
-        view_camera_init(&v->camera, &v->scene.config.cameras[0], speed);
+        view_camera_init(&v->camera, &v->scene->config.cameras[0], speed);
         break;
     }
     case GLFW_KEY_F:
-        view_camera_frame(&v->camera, v->scene.mesh.bounds_min, v->scene.mesh.bounds_max,
+        view_camera_frame(&v->camera, v->scene->mesh.bounds_min, v->scene->mesh.bounds_max,
                           aspect(v));
         break;
     case GLFW_KEY_P:
@@ -473,8 +472,8 @@ static bool create_gpu(viewer *v, vkrt_error *err)
     if (!extensions)
         return vkrt_error_set(err, "GLFW names no Vulkan instance extensions for windows");
     gpu_context_desc desc = {
-        .device_index = v->opts->common.device,
-        .validation = v->opts->common.validation,
+        .device_index = v->opts->device,
+        .validation = v->opts->validation,
         .instance_extensions = extensions,
         .instance_extension_count = count,
         .create_surface = create_surface,
@@ -483,7 +482,7 @@ static bool create_gpu(viewer *v, vkrt_error *err)
     int w, h;
     glfwGetFramebufferSize(v->window, &w, &h);
     if (!gpu_context_create(&v->ctx, &desc, err) ||
-        !vkrt_renderer_create(&v->renderer, &v->ctx, &v->scene, &v->desc, err))
+        !vkrt_renderer_create(&v->renderer, &v->ctx, v->scene, &v->desc, err))
         return false;
     if (w <= 0 || h <= 0) {
         w = (int)v->desc.width;
@@ -514,7 +513,7 @@ static bool follow_window_size(viewer *v, double now, vkrt_error *err)
     v->renderer = NULL;
     v->desc.width = e.width;
     v->desc.height = e.height;
-    if (!vkrt_renderer_create(&v->renderer, &v->ctx, &v->scene, &v->desc, err))
+    if (!vkrt_renderer_create(&v->renderer, &v->ctx, v->scene, &v->desc, err))
         return vkrt_error_prefix(err, "resizing the image to %ux%u", e.width, e.height);
     v->passes = 0;
     memset(&v->traced, 0, sizeof v->traced); /* forces a new image */
@@ -602,7 +601,7 @@ static bool frame(viewer *v, double dt, bool log, vkrt_error *err)
         if (!view_display_present(&v->display, vkrt_renderer_image(v->renderer), v->desc.width,
                                   v->desc.height,
                                   vkrt_renderer_per_pixel_counts(v->renderer) ? 0 : v->passes,
-                                  v->opts->exposure, &out_of_date, err))
+                                  &v->opts->finish, &out_of_date, err))
             return false;
         v->redraw = out_of_date;
         v->swapchain_stale |= out_of_date;
@@ -651,7 +650,7 @@ static bool run(viewer *v, vkrt_error *err)
                                : fmin(now - last, VIEW_MAX_STEP_SECONDS);
         last = now;
         was_idle = false;
-        if (!frame(v, dt, scripted || v->opts->common.verbose, err))
+        if (!frame(v, dt, scripted || v->opts->verbose, err))
             return false;
     }
     return true;
@@ -668,7 +667,7 @@ static void close_viewer(viewer *v)
     vkrt_renderer_destroy(v->renderer);
 }
 
-int vkrt_view_run(const vkrt_view_options *opts)
+int vkrt_view_run(const vkrt_view_desc *opts)
 {
     viewer *v = calloc(1, sizeof *v);
     if (!v) {
@@ -676,11 +675,11 @@ int vkrt_view_run(const vkrt_view_options *opts)
         return 1;
     }
     v->opts = opts;
+    v->scene = opts->scene;
+    v->desc = opts->render;
     vkrt_error err = {{0}};
-    bool ok = vkrt_scene_load(opts->scene_path, &v->scene, &err);
-    if (ok && !opts->common.quiet)
-        vkrt_mesh_print_warnings(&v->scene.mesh, "vkrt: ", opts->common.verbose, stderr);
-    if (ok && opts->script)
+    bool ok = true;
+    if (opts->script)
         ok = view_script_load(opts->script, key_code, &v->script, &err);
     if (ok && opts->record) {
         v->record = fopen(opts->record, "a");
@@ -688,23 +687,20 @@ int vkrt_view_run(const vkrt_view_options *opts)
             ok = vkrt_error_set(&err, "%s: cannot open for appending camera lines", opts->record);
     }
     if (ok) {
-        const vkrt_config *cfg = &v->scene.config;
-        uint32_t spp = cfg->samples > VIEW_DEFAULT_SPP ? cfg->samples : VIEW_DEFAULT_SPP;
-        v->desc = vkrt_render_desc_for(cfg, &opts->common, opts->samples ? opts->samples : spp);
         view_camera_init(
-            &v->camera, &cfg->cameras[0],
-            view_camera_default_speed(v->scene.mesh.bounds_min, v->scene.mesh.bounds_max));
+            &v->camera, &v->scene->config.cameras[0],
+            view_camera_default_speed(v->scene->mesh.bounds_min, v->scene->mesh.bounds_max));
         ok = open_window(v, &err) && create_gpu(v, &err);
     }
-    if (ok && !opts->common.quiet) {
+    if (ok && !opts->quiet) {
         const char *why;
         vkrt_integrator integrator = vkrt_renderer_integrator(v->renderer, &why);
         fprintf(stderr,
                 "vkrt: view: %s | %u triangles | accel %s | integrator %s | %ux%u | %u spp\n",
-                v->ctx.properties.deviceName, v->scene.mesh.triangle_count,
+                v->ctx.properties.deviceName, v->scene->mesh.triangle_count,
                 vkrt_accel_name(vkrt_renderer_accel_stats(v->renderer)->kind),
                 vkrt_integrator_name(integrator), v->desc.width, v->desc.height, v->desc.samples);
-        if (opts->common.verbose)
+        if (opts->verbose)
             fprintf(stderr, "vkrt: integrator %s: %s\n", vkrt_integrator_name(integrator), why);
     }
     ok = ok && run(v, &err);
@@ -721,7 +717,7 @@ int vkrt_view_run(const vkrt_view_options *opts)
     glfwTerminate();
     if (!ok)
         fprintf(stderr, "vkrt: %s\n", err.msg);
-    else if (!opts->common.quiet)
+    else if (!opts->quiet)
         fprintf(stderr, "vkrt: view: %llu frames\n", (unsigned long long)v->frame);
     int status = ok && !v->failed ? 0 : 1;
     if (v->record && fclose(v->record) != 0) {
@@ -729,7 +725,6 @@ int vkrt_view_run(const vkrt_view_options *opts)
         status = 1;
     }
     view_script_free(&v->script);
-    vkrt_scene_free(&v->scene);
     free(v);
     return status;
 }

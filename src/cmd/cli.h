@@ -1,7 +1,8 @@
 /*
  * cli.h: the command line of `vkrt render`, `view` and `bench`. Each command has its own options
  * struct; options all three share (the device, the image, messages) are one struct they embed. A
- * flag given to a command that does not take it is an error that names the command.
+ * flag given to a command that does not take it is an error that names the command. What the
+ * options ask of the renderer is resolved in one place, render_desc.h.
  */
 #ifndef VKRT_CLI_H
 #define VKRT_CLI_H
@@ -9,9 +10,9 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "error.h"
-#include "render/renderer.h"
-#include "scene/config.h"
+#include "../error.h"
+#include "../render/renderer.h"
+#include "../scene/config.h"
 
 typedef enum vkrt_command {
     VKRT_COMMAND_NONE = 0,
@@ -92,11 +93,6 @@ typedef struct vkrt_command_line {
 /* Parses argv: the command first (or --help, --version, --list-devices), then its scene(s) and
  * options in any order. On failure returns false with a one-line message in err. */
 bool vkrt_command_line_parse(int argc, char **argv, vkrt_command_line *cl, vkrt_error *err);
-
-/* The render description the options ask for over the scene's own settings (resolution, samples,
- * structure); samples 0 leaves the scene's. Fields the options do not cover are zero. */
-vkrt_render_desc vkrt_render_desc_for(const vkrt_config *cfg, const vkrt_common_options *common,
-                                      uint32_t samples);
 
 /* The --help text. */
 const char *vkrt_usage(void);

@@ -8,8 +8,8 @@
  * the incoherent rays of a path tracer's first bounce). Each trace is timed by
  * bench_timing.c: back to back in one submission after a 300 ms warm-up, with GPU timestamps
  * between runs; the median of the timed runs is reported, with the fastest and slowest in the
- * JSON. (Runs with host work between them, as a first version did, let the H100's clocks fall in
- * the gaps: the same dispatch then took 0.7 to 3 ms.)
+ * JSON: runs with host work between them let a GPU's clocks fall in the gaps, and then time
+ * the clock changes rather than the trace.
  * Brute force traces an evenly spread subset of the rays when all of them would take too long:
  * its rate is the same per ray. The rays are made by bench_rays.c.
  */
@@ -17,20 +17,22 @@
 #include "bench.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "../glsl/shared.h"
-#include "bench_timing.h"
-#include "bench_rays.h"
-#include "gpu/context.h"
-#include "render/accel_cache.h"
-#include "render/renderer.h"
-#include "render/trace_api.h"
-#include "scene/scene.h"
+#include "../../glsl/shared.h"
+#include "../bench_rays.h"
+#include "../bench_timing.h"
+#include "../gpu/context.h"
+#include "../render/accel_cache.h"
+#include "../render/renderer.h"
+#include "../render/trace_api.h"
+#include "../scene/scene.h"
+#include "render_desc.h"
 
-/* Ray-triangle tests brute force may spend per measurement: about a second on lavapipe, which
- * does some 1.6e8 of them per second on two cores. */
+/* Ray-triangle tests brute force may spend per measurement: about a second on a CPU device, so
+ * that brute force stays in a bench run of a large scene without taking it over. */
 static const double brute_force_tests = 2e8;
 
 typedef struct bench_row {
@@ -270,11 +272,12 @@ static bool write_json(const char *path, const gpu_context *ctx, const bench_row
     return true;
 }
 
-int vkrt_bench_run(const vkrt_bench_options *opts)
+int vkrt_cmd_bench(const vkrt_command_line *cl)
 {
+    const vkrt_bench_options *opts = &cl->bench;
     vkrt_error err = {{0}};
-    /* Its build_ms is what research compares across builds and thread counts: every structure
-     * is built, none read from the structure cache. */
+    /* Its build_ms compares builds and thread counts: every structure is built, none read from
+     * the structure cache. */
     vkrt_accel_cache_disable();
     gpu_context ctx;
     gpu_context_desc ctx_desc = {.device_index = opts->common.device, .validation = opts->common.validation,
@@ -301,9 +304,7 @@ int vkrt_bench_run(const vkrt_bench_options *opts)
             ok = false;
             break;
         }
-        vkrt_render_desc desc = vkrt_render_desc_for(&scene.config, &opts->common, 1);
-        desc.tuning = opts->tuning;
-        desc.traversal_stats = opts->stats;
+        vkrt_render_desc desc = vkrt_render_desc_for(&scene.config, cl);
         for (uint32_t k = 0; ok && k < kind_count; ++k) {
             bench_row *row = &rows[row_count];
             row->scene = opts->scene_paths[s];

@@ -6,11 +6,10 @@
 #ifndef VKRT_BENCH_H
 #define VKRT_BENCH_H
 
-#include <stdio.h>
-
 #include "cli.h"
 
-/* Runs the benchmark the options describe; returns the process exit code. */
-int vkrt_bench_run(const vkrt_bench_options *opts);
+/* Runs a bench command line (its scenes, each with every structure or --accel's); returns the
+ * process exit code. */
+int vkrt_cmd_bench(const vkrt_command_line *cl);
 
 #endif

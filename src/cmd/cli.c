@@ -1,6 +1,7 @@
 /* cli.c: command-line parsing (see cli.h). */
 #include "cli.h"
-#include "device_pool.h"
+
+#include "../device_pool.h"
 
 #include <errno.h>
 #include <math.h>
@@ -75,7 +76,7 @@ const char *vkrt_usage(void)
            "  --stats           count nodes, triangles and SIMD use per ray instead of timing\n"
            "  --kernel-stats    print the driver's statistics of the trace kernels\n"
            "  --whole-scene     load materials and textures too (tracing reads neither)\n"
-           "  tuning, each against the device's default (research/journal.md):\n"
+           "  tuning, each against the device's default (docs/performance.md, docs/architecture.md):\n"
            "  --workgroup N  --grid-density CELLS_PER_TRIANGLE  --bvh-width 2|4  --bvh-leaf N\n"
            "  --bvh-cost C  --kd-cost C  --loads storage|texel  --walk one-loop|nested\n"
            "\n"
@@ -476,19 +477,4 @@ bool vkrt_command_line_parse(int argc, char **argv, vkrt_command_line *cl, vkrt_
     cl->render.scene_path = scene;
     cl->view.scene_path = scene;
     return true;
-}
-
-vkrt_render_desc vkrt_render_desc_for(const vkrt_config *cfg, const vkrt_common_options *common,
-                                      uint32_t samples)
-{
-    return (vkrt_render_desc){
-        .width = common->width ? common->width : cfg->width,
-        .height = common->height ? common->height : cfg->height,
-        .samples = samples ? samples : cfg->samples,
-        .accel = common->accel_given ? common->accel : cfg->accel,
-        .bvh_splits = common->bvh_splits_given ? common->bvh_splits : cfg->bvh_splits,
-        .integrator = common->integrator,
-        .clamp = common->clamp,
-        .target_error = common->target_error,
-    };
 }

@@ -1,0 +1,46 @@
+/* view.c: `vkrt view` (view.h). */
+#include "view.h"
+
+#include <stdio.h>
+
+#ifdef VKRT_VIEWER
+#include "../scene/scene.h"
+#include "../view/viewer.h"
+#include "render_desc.h"
+
+int vkrt_cmd_view(const vkrt_command_line *cl)
+{
+    const vkrt_view_options *opts = &cl->view;
+    vkrt_error err = {{0}};
+    vkrt_scene scene;
+    if (!vkrt_scene_load(opts->scene_path, &scene, &err)) {
+        fprintf(stderr, "vkrt: %s\n", err.msg);
+        return 1;
+    }
+    if (!opts->common.quiet)
+        vkrt_mesh_print_warnings(&scene.mesh, "vkrt: ", opts->common.verbose, stderr);
+    vkrt_view_desc desc = {
+        .scene_path = opts->scene_path,
+        .scene = &scene,
+        .render = vkrt_render_desc_for(&scene.config, cl),
+        .finish = {.exposure = opts->exposure},
+        .device = opts->common.device,
+        .validation = opts->common.validation,
+        .quiet = opts->common.quiet,
+        .verbose = opts->common.verbose,
+        .script = opts->script,
+        .record = opts->record,
+    };
+    int status = vkrt_view_run(&desc);
+    vkrt_scene_free(&scene);
+    return status;
+}
+#else
+int vkrt_cmd_view(const vkrt_command_line *cl)
+{
+    (void)cl;
+    fprintf(stderr, "vkrt: this vkrt was built without the viewer: GLFW was not found "
+                    "(Debian: apt-get install libglfw3-dev, then rebuild)\n");
+    return 1;
+}
+#endif

@@ -1,0 +1,95 @@
+/*
+ * finish.c: the stage after the frame (finish.h): its table of passes, run in order on a copy of
+ * the linear image, then the target's encode.
+ */
+#include "finish.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "srgb8.h"
+
+/* One pass on the finished linear image. */
+typedef struct finish_pass {
+    const char *name;
+    bool for_linear; /* runs for float files too; else for 8-bit targets alone */
+    bool (*wanted)(const vkrt_finish_desc *d);
+    void (*run)(const vkrt_finish_desc *d, float *rgb, size_t count);
+} finish_pass;
+
+/* Exposure: a display choice, so float files keep the radiance the renderer computed. */
+static bool exposure_wanted(const vkrt_finish_desc *d)
+{
+    return d->exposure != 0.0f;
+}
+
+static void exposure_run(const vkrt_finish_desc *d, float *rgb, size_t count)
+{
+    float scale = exp2f(d->exposure);
+    for (size_t i = 0; i < count; ++i)
+        rgb[i] *= scale;
+}
+
+/* The passes, in the order a frame goes through them. A new pass is one entry here. */
+static const finish_pass passes[] = {
+    {"exposure", false, exposure_wanted, exposure_run},
+};
+enum { PASS_COUNT = sizeof passes / sizeof *passes };
+
+static bool pass_runs(const finish_pass *p, const vkrt_finish_desc *d, vkrt_finish_target target)
+{
+    return (p->for_linear || target != VKRT_FINISH_LINEAR) && p->wanted(d);
+}
+
+/* rgb with every pass for target applied: rgb itself when none runs, else *scratch. */
+static const float *run_passes(const vkrt_finish_desc *d, vkrt_finish_target target,
+                               const float *rgb, size_t count, float **scratch, vkrt_error *err)
+{
+    *scratch = NULL;
+    float *image = NULL;
+    for (size_t i = 0; i < PASS_COUNT; ++i) {
+        if (!pass_runs(&passes[i], d, target))
+            continue;
+        if (!image) {
+            image = malloc(count * sizeof *image);
+            if (!image) {
+                vkrt_error_set(err, "out of memory for the finished frame (%s)", passes[i].name);
+                return NULL;
+            }
+            memcpy(image, rgb, count * sizeof *image);
+        }
+        passes[i].run(d, image, count);
+    }
+    *scratch = image;
+    return image ? image : rgb;
+}
+
+const float *vkrt_finish_linear(const vkrt_finish_desc *d, const float *rgb, size_t count,
+                                float **scratch, vkrt_error *err)
+{
+    return run_passes(d, VKRT_FINISH_LINEAR, rgb, count, scratch, err);
+}
+
+bool vkrt_finish_srgb8(const vkrt_finish_desc *d, const float *rgb, size_t count, uint8_t *codes,
+                       vkrt_error *err)
+{
+    float *scratch;
+    const float *image = run_passes(d, VKRT_FINISH_SRGB8, rgb, count, &scratch, err);
+    srgb8_table *table = image ? malloc(sizeof *table) : NULL;
+    if (!table) {
+        free(scratch);
+        return image ? vkrt_error_set(err, "out of memory for the sRGB table") : false;
+    }
+    srgb8_table_init(table);
+    /* Scale 1: exposure was a pass; x * 1 is x, so the codes are those of the fused loop. */
+    srgb8_encode_array(table, image, 1.0f, count, codes);
+    free(table);
+    free(scratch);
+    return true;
+}
+
+vkrt_finish_display vkrt_finish_display_params(const vkrt_finish_desc *d)
+{
+    return (vkrt_finish_display){.scale = exp2f(d->exposure)};
+}
