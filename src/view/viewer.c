@@ -246,7 +246,7 @@ static void on_key(viewer *v, int key, bool down)
         break;
     }
     case GLFW_KEY_F:
-        view_camera_frame(&v->camera, v->scene.mesh.bounds_min, v->scene.mesh.bounds_max,
+        view_camera_frame(&v->camera, v->scene.model.bounds_min, v->scene.model.bounds_max,
                           aspect(v));
         break;
     case GLFW_KEY_P:
@@ -679,7 +679,7 @@ int vkrt_view_run(const vkrt_view_options *opts)
     vkrt_error err = {{0}};
     bool ok = vkrt_scene_load(opts->scene_path, &v->scene, &err);
     if (ok && !opts->common.quiet)
-        vkrt_mesh_print_warnings(&v->scene.mesh, "vkrt: ", opts->common.verbose, stderr);
+        vkrt_model_print_warnings(&v->scene.model, "vkrt: ", opts->common.verbose, stderr);
     if (ok && opts->script)
         ok = view_script_load(opts->script, key_code, &v->script, &err);
     if (ok && opts->record) {
@@ -693,7 +693,7 @@ int vkrt_view_run(const vkrt_view_options *opts)
         v->desc = vkrt_render_desc_for(cfg, &opts->common, opts->samples ? opts->samples : spp);
         view_camera_init(
             &v->camera, &cfg->cameras[0],
-            view_camera_default_speed(v->scene.mesh.bounds_min, v->scene.mesh.bounds_max));
+            view_camera_default_speed(v->scene.model.bounds_min, v->scene.model.bounds_max));
         ok = open_window(v, &err) && create_gpu(v, &err);
     }
     if (ok && !opts->common.quiet) {
@@ -701,7 +701,7 @@ int vkrt_view_run(const vkrt_view_options *opts)
         vkrt_integrator integrator = vkrt_renderer_integrator(v->renderer, &why);
         fprintf(stderr,
                 "vkrt: view: %s | %u triangles | accel %s | integrator %s | %ux%u | %u spp\n",
-                v->ctx.properties.deviceName, v->scene.mesh.triangle_count,
+                v->ctx.properties.deviceName, v->scene.model.triangle_count,
                 vkrt_accel_name(vkrt_renderer_accel_stats(v->renderer)->kind),
                 vkrt_integrator_name(integrator), v->desc.width, v->desc.height, v->desc.samples);
         if (opts->common.verbose)
