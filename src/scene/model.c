@@ -13,11 +13,10 @@ void vkrt_mesh_free(vkrt_mesh *mesh)
 {
     if (!mesh)
         return;
-    free(mesh->positions);
-    free(mesh->normals);
-    free(mesh->texcoords);
-    free(mesh->tangents);
-    free(mesh->material);
+    void *arrays[] = {mesh->positions, mesh->normals, mesh->texcoords, mesh->tangents,
+                      mesh->material};
+    for (size_t i = 0; i < sizeof arrays / sizeof *arrays; ++i)
+        free(arrays[i]);
     memset(mesh, 0, sizeof *mesh);
 }
 
