@@ -17,7 +17,7 @@
 #include <cstring>
 #include <string>
 
-#include "scene/obj_number.h"
+#include "scene/obj/obj_number.h"
 
 namespace {
 

@@ -79,7 +79,7 @@ static shadow_target choose_target(const vkrt_scene *scene)
         if (l->kind == VKRT_LIGHT_DIRECTIONAL)
             return (shadow_target){false, {l->direction[0], l->direction[1], l->direction[2]}};
     }
-    const float *lo = scene->mesh.bounds_min, *hi = scene->mesh.bounds_max;
+    const float *lo = scene->model.bounds_min, *hi = scene->model.bounds_max;
     return (shadow_target){true,
                            {0.5f * (lo[0] + hi[0]), hi[1] + 0.5f * (hi[1] - lo[1]),
                             0.5f * (lo[2] + hi[2])}};
@@ -87,10 +87,10 @@ static shadow_target choose_target(const vkrt_scene *scene)
 
 /* The hit of primary ray i: a ray origin just off the surface on the camera's side, and the unit
  * normal on that side. */
-static void hit_frame(const vkrt_scene *scene, const Ray *primary, const Hit *hits, uint32_t i,
+static void hit_frame(const vkrt_mesh *world, const Ray *primary, const Hit *hits, uint32_t i,
                       float origin[3], float nrm[3])
 {
-    const float *v = scene->mesh.positions + 9 * (size_t)hits[i].triangle;
+    const float *v = world->positions + 9 * (size_t)hits[i].triangle;
     float w = 1 - hits[i].u - hits[i].v, p[3], e1[3], e2[3], largest = 0, size = 0;
     for (int k = 0; k < 3; ++k) {
         p[k] = w * v[k] + hits[i].u * v[3 + k] + hits[i].v * v[6 + k];
@@ -115,12 +115,16 @@ uint32_t bench_shadow_rays(const vkrt_scene *scene, const Ray *primary, const Hi
                            uint32_t count, Ray *shadow)
 {
     shadow_target target = choose_target(scene);
+    vkrt_mesh world;
+    bool copied;
+    if (!vkrt_model_world(&scene->model, &world, &copied, NULL))
+        return 0;
     uint32_t n = 0;
     for (uint32_t i = 0; i < count; ++i) {
         if (hits[i].triangle == VKRT_NO_HIT)
             continue;
         float origin[3], nrm[3], dir[3], tmax = 3.4e38f;
-        hit_frame(scene, primary, hits, i, origin, nrm);
+        hit_frame(&world, primary, hits, i, origin, nrm);
         if (target.is_point) {
             for (int k = 0; k < 3; ++k)
                 dir[k] = target.v[k] - origin[k];
@@ -138,6 +142,8 @@ uint32_t bench_shadow_rays(const vkrt_scene *scene, const Ray *primary, const Hi
             .info = {i, 0, 0, 0},
         };
     }
+    if (copied)
+        vkrt_mesh_free(&world);
     return n;
 }
 
@@ -155,12 +161,16 @@ static float hash_float(uint32_t x)
 uint32_t bench_diffuse_rays(const vkrt_scene *scene, const Ray *primary, const Hit *hits,
                             uint32_t count, Ray *diffuse)
 {
+    vkrt_mesh world;
+    bool copied;
+    if (!vkrt_model_world(&scene->model, &world, &copied, NULL))
+        return 0;
     uint32_t n = 0;
     for (uint32_t i = 0; i < count; ++i) {
         if (hits[i].triangle == VKRT_NO_HIT)
             continue;
         float origin[3], nrm[3];
-        hit_frame(scene, primary, hits, i, origin, nrm);
+        hit_frame(&world, primary, hits, i, origin, nrm);
         /* Cosine-distributed about nrm: a disc sample lifted onto the hemisphere. */
         float u1 = hash_float(2 * i + 1), u2 = hash_float(2 * i + 2);
         float r = sqrtf(u1), phi = 6.28318531f * u2;
@@ -186,5 +196,7 @@ uint32_t bench_diffuse_rays(const vkrt_scene *scene, const Ray *primary, const H
             .info = {i, 0, 0, 0},
         };
     }
+    if (copied)
+        vkrt_mesh_free(&world);
     return n;
 }

@@ -30,6 +30,7 @@
 #include "render/tuning.h"
 #include "render/trace_api.h"
 #include "scene/scene.h"
+#include "one_mesh.h"
 
 enum { RAYS_PER_KIND = 1024, RAY_KINDS = 3, RAY_COUNT = RAYS_PER_KIND * RAY_KINDS };
 
@@ -186,7 +187,7 @@ static void check_scene_mesh(const char *name, vkrt_scene *scene)
     Hit *ref = calloc(RAY_COUNT, sizeof *ref), *hits = calloc(RAY_COUNT, sizeof *hits);
     Hit *ref_any = calloc(RAY_COUNT, sizeof *ref_any);
     assert_true(rays && segments && ref && hits && ref_any);
-    make_rays(&scene->mesh, rays);
+    make_rays(&scene->model.meshes[0], rays);
     trace_as(&ctx, scene, brute, rays, RAY_COUNT, false, ref, NULL);
     uint32_t n = make_segments(rays, ref, RAY_COUNT, segments);
     if (n)
@@ -212,10 +213,10 @@ static void check_obj(const char *path)
 {
     vkrt_scene scene = {0};
     vkrt_error err = {{0}};
-    if (!vkrt_obj_load(path, &scene.mesh, &err))
+    if (!vkrt_obj_load(path, &scene.model, &err))
         fail_msg("%s", err.msg);
     check_scene_mesh(path, &scene);
-    vkrt_mesh_free(&scene.mesh);
+    vkrt_model_free(&scene.model);
 }
 
 static void test_shared_scenes(void **state)
@@ -339,7 +340,7 @@ static void icosphere(vkrt_mesh *mesh, int levels)
  * than their target: a non-watertight test lets some slip through the cracks. */
 static void check_watertight(const char *name, vkrt_scene *scene, bool from_inside)
 {
-    const vkrt_mesh *mesh = &scene->mesh;
+    const vkrt_mesh *mesh = &scene->model.meshes[0];
     uint32_t count = mesh->triangle_count < RAY_COUNT / 2 ? mesh->triangle_count : RAY_COUNT / 2;
     Ray *rays = calloc(2 * count, sizeof *rays);
     Hit *hits = calloc(2 * count, sizeof *hits);
@@ -406,7 +407,9 @@ static void test_icosphere_watertight(void **state)
 {
     (void)state;
     vkrt_scene scene = {0};
-    icosphere(&scene.mesh, 4);
+    vkrt_mesh sphere;
+    icosphere(&sphere, 4);
+    one_mesh_model(&scene.model, sphere);
     check_watertight("icosphere (inside)", &scene, true);
     check_watertight("icosphere (outside)", &scene, false);
     /* The same sphere thousands of radii from the origin: a ray's distances to the boxes' planes
@@ -415,16 +418,18 @@ static void test_icosphere_watertight(void **state)
      * through the boxes' edges and corners, where the triangles' vertices lie. The offsets are
      * exact in float, and shared vertices stay shared. */
     const float offset[3] = {4096.5f, -3000.25f, 2048.125f};
-    for (uint32_t i = 0; i < 3 * scene.mesh.triangle_count; ++i)
+    for (uint32_t i = 0; i < 3 * scene.model.meshes[0].triangle_count; ++i)
         for (int k = 0; k < 3; ++k)
-            scene.mesh.positions[3 * i + k] += offset[k];
+            scene.model.meshes[0].positions[3 * i + k] += offset[k];
     for (int k = 0; k < 3; ++k) {
-        scene.mesh.bounds_min[k] += offset[k];
-        scene.mesh.bounds_max[k] += offset[k];
+        scene.model.meshes[0].bounds_min[k] += offset[k];
+        scene.model.meshes[0].bounds_max[k] += offset[k];
     }
+    vkrt_error err = {{0}};
+    assert_true(vkrt_model_finish(&scene.model, &err));
     check_watertight("icosphere far from the origin (inside)", &scene, true);
     check_watertight("icosphere far from the origin (outside)", &scene, false);
-    vkrt_mesh_free(&scene.mesh);
+    vkrt_model_free(&scene.model);
 }
 
 /* A triangle corner or an edge, keyed by exact float positions so shared ones compare equal. */
@@ -503,9 +508,9 @@ static void test_bunny_watertight(void **state)
     }
     vkrt_scene scene = {0};
     vkrt_error err = {{0}};
-    if (!vkrt_obj_load(path, &scene.mesh, &err))
+    if (!vkrt_obj_load(path, &scene.model, &err))
         fail_msg("%s", err.msg);
-    const vkrt_mesh *mesh = &scene.mesh;
+    const vkrt_mesh *mesh = &scene.model.meshes[0];
     uint32_t corners = 3 * mesh->triangle_count;
     corner *c = calloc(corners, sizeof *c);
     Ray *rays = calloc(RAY_COUNT, sizeof *rays);
@@ -573,7 +578,7 @@ static void test_bunny_watertight(void **state)
     free(c);
     free(rays);
     free(hits);
-    vkrt_mesh_free(&scene.mesh);
+    vkrt_model_free(&scene.model);
 }
 
 int main(void)

@@ -27,7 +27,7 @@
 #include "accel/bvh_pairs.h"
 #include "accel/bvh_quads.h"
 #include "accel/bvh_spatial.h"
-#include "scene/obj_load.h"
+#include "scene/obj/obj_load.h"
 
 enum { FLOATS_PER_TRI = 9 };
 enum { SOUP_SEED = 12345, RAY_SEED = 777 };
@@ -1027,10 +1027,11 @@ static void check_scene(const char *rel, uint32_t expected_tris, uint32_t rays, 
         skip();
         return;
     }
-    vkrt_mesh mesh = { 0 };
+    vkrt_model mesh_model = {0};
     vkrt_error err = { "" };
-    if (!vkrt_obj_load(path, &mesh, &err))
+    if (!vkrt_obj_load(path, &mesh_model, &err))
         fail_msg("%s", err.msg);
+    const vkrt_mesh mesh = mesh_model.meshes[0];
     assert_int_equal(mesh.triangle_count, expected_tris);
     double best[2] = { INFINITY, INFINITY };
     bvh trees[2];
@@ -1059,7 +1060,7 @@ static void check_scene(const char *rel, uint32_t expected_tris, uint32_t rays, 
     assert_true(hits > 0);
     bvh_free(&trees[0]);
     bvh_free(&trees[1]);
-    vkrt_mesh_free(&mesh);
+    vkrt_model_free(&mesh_model);
 }
 
 static void test_bunny(void **state)

@@ -24,7 +24,7 @@
 
 #include "accel/bvh.h"
 #include "accel/bvh_lanes.h"
-#include "scene/obj_load.h"
+#include "scene/obj/obj_load.h"
 
 /* The plain-C copy, built from the same bvh.c and bvh_split.c (tests/meson.build). */
 bool bvh_build_scalar(bvh *out, const float *positions, uint32_t triangle_count,
@@ -126,13 +126,14 @@ static void test_bunny(void **state)
         skip();
         return;
     }
-    vkrt_mesh mesh = { 0 };
+    vkrt_model mesh_model = {0};
     vkrt_error err = { "" };
-    if (!vkrt_obj_load(path, &mesh, &err))
+    if (!vkrt_obj_load(path, &mesh_model, &err))
         fail_msg("%s", err.msg);
+    const vkrt_mesh mesh = mesh_model.meshes[0];
     assert_same_builds(mesh.positions, mesh.triangle_count, 2, 0.0f);
     assert_same_builds(mesh.positions, mesh.triangle_count, 2, 0.3f);
-    vkrt_mesh_free(&mesh);
+    vkrt_model_free(&mesh_model);
 }
 
 /* ref_load gives lane 3 (where a record keeps its index) as +0 in its bounds and centroid: an

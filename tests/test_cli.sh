@@ -31,7 +31,7 @@ check "summary names rays per second" grep -q "Mrays/s" "$tmp/err"
 check "--verbose prints device memory by kind against the device's" \
     grep -q "^vkrt: device memory: triangles .* MiB, nodes .* rays .* MiB of the device's .* MiB$" "$tmp/err"
 check "--verbose prints host memory" grep -q "^vkrt: host memory: mesh .* peak resident" "$tmp/err"
-check "--verbose prints the start-up's stages" grep -q "^vkrt: start-up: scene .* (OBJ .*), Vulkan .* first frame" "$tmp/err"
+check "--verbose prints the start-up's stages" grep -q "^vkrt: start-up: scene .* (scene file .*), Vulkan .* first frame" "$tmp/err"
 # The kernels compile while the structure is built, for the layout predicted before it: for the
 # Cornell box (brute force, nothing split) the prediction holds, so they are not compiled again.
 check "--verbose prints the renderer's steps, the kernels compiled alongside them" \

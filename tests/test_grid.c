@@ -35,7 +35,7 @@
 
 #include "accel/grid.h"
 #include "clock.h"
-#include "scene/obj_load.h"
+#include "scene/obj/obj_load.h"
 
 #define SEED 0x9e3779b97f4a7c15ull
 #define DDA_RAYS 3000
@@ -645,10 +645,11 @@ static void real_scene(const char *rel, const char *name)
         print_message("skipping %s: set VKRT_SCENES_DIR to the shared scenes folder\n", rel);
         skip();
     }
-    vkrt_mesh m;
+    vkrt_model m_model = {0};
     vkrt_error err = { { 0 } };
-    if (!vkrt_obj_load(path, &m, &err))
+    if (!vkrt_obj_load(path, &m_model, &err))
         fail_msg("%s", err.msg);
+    const vkrt_mesh m = m_model.meshes[0];
     grid g = build_ok(m.positions, m.triangle_count, 0.0f);
     /* Best of a few builds for the timing (the first pays for page faults). */
     double best = g.build_ms;
@@ -665,7 +666,7 @@ static void real_scene(const char *rel, const char *name)
     if (sweep && strcmp(sweep, "1") == 0)
         density_sweep(name, &m);
     grid_free(&g);
-    vkrt_mesh_free(&m);
+    vkrt_model_free(&m_model);
 }
 
 static void test_bunny(void **state)
@@ -689,15 +690,16 @@ static void test_env_obj(void **state)
         print_message("skipping: set VKRT_GRID_OBJ to an OBJ file to print its grid statistics\n");
         skip();
     }
-    vkrt_mesh m;
+    vkrt_model m_model = {0};
     vkrt_error err = { { 0 } };
-    if (!vkrt_obj_load(path, &m, &err))
+    if (!vkrt_obj_load(path, &m_model, &err))
         fail_msg("%s", err.msg);
+    const vkrt_mesh m = m_model.meshes[0];
     grid g = build_ok(m.positions, m.triangle_count, 0.0f);
     print_stats(path, &g, m.triangle_count);
     assert_int_equal(check_invariants(&g, m.positions, m.triangle_count, 2), 0);
     grid_free(&g);
-    vkrt_mesh_free(&m);
+    vkrt_model_free(&m_model);
 }
 
 int main(void)

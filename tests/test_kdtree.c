@@ -26,7 +26,7 @@
 #include <cmocka.h>
 
 #include "accel/kdtree.h"
-#include "scene/obj_load.h"
+#include "scene/obj/obj_load.h"
 
 enum { SOUP_RAYS = 2000, BUNNY_RAYS = 400 };
 
@@ -422,10 +422,11 @@ static void test_bunny(void **state)
         print_message("skipped: %s is not there\n", path);
         skip();
     }
-    vkrt_mesh mesh;
+    vkrt_model mesh_model = {0};
     vkrt_error err = {{0}};
-    if (!vkrt_obj_load(path, &mesh, &err))
+    if (!vkrt_obj_load(path, &mesh_model, &err))
         fail_msg("%s", err.msg);
+    const vkrt_mesh mesh = mesh_model.meshes[0];
     kdtree t;
     if (!kdtree_build(&t, mesh.positions, mesh.triangle_count, NULL, &err))
         fail_msg("%s", err.msg);
@@ -435,7 +436,7 @@ static void test_bunny(void **state)
     rng_state = 5;
     check_rays(&t, mesh.positions, mesh.triangle_count, BUNNY_RAYS);
     kdtree_free(&t);
-    vkrt_mesh_free(&mesh);
+    vkrt_model_free(&mesh_model);
 }
 
 int main(void)

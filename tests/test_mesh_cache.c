@@ -1,10 +1,11 @@
 /*
- * test_mesh_cache.c: an OBJ's mesh kept on disk (src/scene/scene_cache.h). No device needed.
+ * test_mesh_cache.c: a scene file's model kept on disk (src/scene/scene_cache.h). No device
+ * needed.
  *
- * What must hold: the mesh read back is the one parsed, array for array, with its materials,
- * bounds and warnings; the OBJ's bytes changed under the same size and time, or its .mtl changed,
- * is parsed again; a damaged or truncated entry is parsed again; an OBJ under 1 MiB, and one whose
- * mtllib names a missing file, are not stored.
+ * What must hold: the model read back is the one parsed, array for array, with its instances,
+ * material records, bounds and warnings; the OBJ's bytes changed under the same size and time, or
+ * its .mtl changed, is parsed again; a damaged or truncated entry is parsed again; an OBJ under
+ * 1 MiB, and one whose mtllib names a missing file, are not stored.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h> /* cmocka needs these before its header */
@@ -23,6 +24,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "scene/obj/obj_load.h"
 #include "scene/scene_cache.h"
 #include "temp_dir.h"
 
@@ -79,10 +81,10 @@ static void use_cache(temp_dir *fx)
     unsetenv("VKRT_SCENE_CACHE_DIR");
 }
 
-static void load(const char *path, vkrt_mesh *mesh, vkrt_scene_cache_report *report)
+static void load(const char *path, vkrt_model *model, vkrt_scene_cache_report *report)
 {
     vkrt_error err = {{0}};
-    bool ok = vkrt_scene_cache_obj_load(path, mesh, report, &err);
+    bool ok = vkrt_scene_cache_load(vkrt_scene_loader_for(path), path, model, report, &err);
     /* The entry is written on a thread: the report is complete once it is done. */
     vkrt_scene_cache_finish(report);
     if (!ok)
@@ -97,35 +99,49 @@ static void assert_strings_equal(const char *a, const char *b)
         assert_string_equal(a, b);
 }
 
-static void assert_same_mesh(const vkrt_mesh *a, const vkrt_mesh *b)
+static void assert_same_model(const vkrt_model *ma, const vkrt_model *mb)
 {
+    assert_int_equal(ma->mesh_count, 1);
+    assert_int_equal(mb->mesh_count, 1);
+    assert_int_equal(ma->instance_count, mb->instance_count);
+    assert_memory_equal(ma->instances, mb->instances, ma->instance_count * sizeof(vkrt_instance));
+    const vkrt_mesh *a = &ma->meshes[0], *b = &mb->meshes[0];
     size_t n = a->triangle_count;
     assert_int_equal(a->triangle_count, b->triangle_count);
+    assert_int_equal(ma->triangle_count, mb->triangle_count);
     assert_memory_equal(a->positions, b->positions, n * 9 * sizeof(float));
     assert_non_null(a->normals);
     assert_memory_equal(a->normals, b->normals, n * 9 * sizeof(float));
     assert_non_null(a->texcoords);
     assert_memory_equal(a->texcoords, b->texcoords, n * 6 * sizeof(float));
+    assert_null(b->tangents);
     assert_memory_equal(a->material, b->material, n * sizeof(int32_t));
     assert_memory_equal(a->bounds_min, b->bounds_min, sizeof a->bounds_min);
     assert_memory_equal(a->bounds_max, b->bounds_max, sizeof a->bounds_max);
-    assert_int_equal(a->material_count, b->material_count);
-    for (uint32_t i = 0; i < a->material_count; ++i) {
-        const vkrt_mtl *x = &a->materials[i], *y = &b->materials[i];
+    assert_memory_equal(ma->bounds_min, mb->bounds_min, sizeof ma->bounds_min);
+    assert_memory_equal(ma->bounds_max, mb->bounds_max, sizeof ma->bounds_max);
+    assert_int_equal(ma->material_count, mb->material_count);
+    for (uint32_t i = 0; i < ma->material_count; ++i) {
+        const vkrt_material *x = &ma->materials[i], *y = &mb->materials[i];
         assert_string_equal(x->name, y->name);
-        assert_memory_equal(x->kd, y->kd, sizeof x->kd);
-        assert_strings_equal(x->map_kd, y->map_kd);
-        assert_strings_equal(x->mtl_path, y->mtl_path);
-        assert_int_equal(x->map_kd_line, y->map_kd_line);
+        assert_string_equal(x->file, y->file);
+        assert_int_equal(x->bsdf, y->bsdf);
+        assert_memory_equal(x->base_colour, y->base_colour, sizeof x->base_colour);
+        assert_float_equal(x->roughness, y->roughness, 0);
+        for (int k = 0; k < VKRT_MAP_COUNT; ++k) {
+            assert_strings_equal(x->maps[k].path, y->maps[k].path);
+            assert_int_equal(x->maps[k].line, y->maps[k].line);
+            assert_int_equal(x->maps[k].space, y->maps[k].space);
+        }
     }
-    assert_string_equal(a->warnings, b->warnings);
-    assert_strings_equal(a->warnings_all, b->warnings_all);
-    assert_strings_equal(a->mtl_files, b->mtl_files);
+    assert_string_equal(ma->warnings, mb->warnings);
+    assert_strings_equal(ma->warnings_all, mb->warnings_all);
+    assert_strings_equal(ma->inputs, mb->inputs);
 }
 
 /* The grid and its .mtl written in a fresh cache, loaded (parsed and stored) into *parsed;
  * returns the OBJ's path. */
-static const char *stored_grid(temp_dir *fx, vkrt_mesh *parsed)
+static const char *stored_grid(temp_dir *fx, vkrt_model *parsed)
 {
     use_cache(fx);
     temp_dir_write_text(fx, "grid.mtl", MTL);
@@ -139,7 +155,7 @@ static const char *stored_grid(temp_dir *fx, vkrt_mesh *parsed)
 static void read_back_equals_parsed(void **state)
 {
     temp_dir *fx = *state;
-    vkrt_mesh parsed, back;
+    vkrt_model parsed, back;
     vkrt_scene_cache_report report;
     const char *path = stored_grid(fx, &parsed);
     assert_int_equal(parsed.triangle_count, 2 * 150 * 150);
@@ -147,15 +163,15 @@ static void read_back_equals_parsed(void **state)
     assert_int_equal(parsed.material_count, 3);
     load(path, &back, &report);
     assert_int_equal(report.outcome, VKRT_SCENE_CACHE_HIT);
-    assert_same_mesh(&parsed, &back);
+    assert_same_model(&parsed, &back);
     /* And the parse itself, without the cache, is what both hold. */
-    vkrt_mesh plain;
+    vkrt_model plain;
     vkrt_error err = {{0}};
     assert_true(vkrt_obj_load(path, &plain, &err));
-    assert_same_mesh(&plain, &back);
-    vkrt_mesh_free(&plain);
-    vkrt_mesh_free(&parsed);
-    vkrt_mesh_free(&back);
+    assert_same_model(&plain, &back);
+    vkrt_model_free(&plain);
+    vkrt_model_free(&parsed);
+    vkrt_model_free(&back);
 }
 
 /* Sets path's modification time to `when` (seconds), as `touch -d` would. */
@@ -172,28 +188,28 @@ static void changed_files_are_parsed_again(void **state)
     temp_dir_write_text(fx, "grid.mtl", MTL);
     const char *path = write_grid(fx, "grid.mtl", "blue");
     set_mtime(path, 1000000000);
-    vkrt_mesh mesh;
+    vkrt_model mesh;
     vkrt_scene_cache_report report;
     load(path, &mesh, &report);
-    int32_t blue = mesh.material[mesh.triangle_count - 1];
-    vkrt_mesh_free(&mesh);
+    int32_t blue = mesh.meshes[0].material[mesh.triangle_count - 1];
+    vkrt_model_free(&mesh);
     /* Other bytes, the same size and time: the content hash tells. */
     path = write_grid(fx, "grid.mtl", "bluf");
     set_mtime(path, 1000000000);
     load(path, &mesh, &report);
     assert_int_equal(report.outcome, VKRT_SCENE_CACHE_STORED);
-    assert_int_not_equal(mesh.material[mesh.triangle_count - 1], blue);
-    vkrt_mesh_free(&mesh);
+    assert_int_not_equal(mesh.meshes[0].material[mesh.triangle_count - 1], blue);
+    vkrt_model_free(&mesh);
     load(path, &mesh, &report);
     assert_int_equal(report.outcome, VKRT_SCENE_CACHE_HIT);
-    vkrt_mesh_free(&mesh);
+    vkrt_model_free(&mesh);
     /* A changed .mtl. */
     temp_dir_write_text(fx, "grid.mtl", "newmtl red\nKd 0.8 0.1 0.1\nnewmtl bluf\nKd 0.9 0.9 0.1\n");
     load(path, &mesh, &report);
     assert_int_equal(report.outcome, VKRT_SCENE_CACHE_STORED);
-    assert_string_equal(report.rejected, "a .mtl file changed");
-    assert_true(mesh.materials[mesh.material[mesh.triangle_count - 1]].kd[0] > 0.85f);
-    vkrt_mesh_free(&mesh);
+    assert_string_equal(report.rejected, "a file the scene file names changed");
+    assert_true(mesh.materials[mesh.meshes[0].material[mesh.triangle_count - 1]].base_colour[0] > 0.85f);
+    vkrt_model_free(&mesh);
 }
 
 /* The one .mesh file of the cache, into path. */
@@ -216,7 +232,7 @@ static void entry(temp_dir *fx, char *path, size_t size)
 static void damaged_and_truncated_entries_are_parsed_again(void **state)
 {
     temp_dir *fx = *state;
-    vkrt_mesh parsed, mesh;
+    vkrt_model parsed, mesh;
     vkrt_scene_cache_report report;
     const char *path = stored_grid(fx, &parsed);
     char file[1200];
@@ -235,41 +251,41 @@ static void damaged_and_truncated_entries_are_parsed_again(void **state)
         load(path, &mesh, &report);
         assert_int_equal(report.outcome, VKRT_SCENE_CACHE_STORED);
         assert_string_equal(report.rejected, "a damaged entry");
-        assert_same_mesh(&parsed, &mesh);
-        vkrt_mesh_free(&mesh);
+        assert_same_model(&parsed, &mesh);
+        vkrt_model_free(&mesh);
     }
     assert_int_equal(truncate(file, st.st_size - 8), 0);
     load(path, &mesh, &report);
     assert_int_equal(report.outcome, VKRT_SCENE_CACHE_STORED);
-    assert_same_mesh(&parsed, &mesh);
-    vkrt_mesh_free(&mesh);
+    assert_same_model(&parsed, &mesh);
+    vkrt_model_free(&mesh);
     load(path, &mesh, &report);
     assert_int_equal(report.outcome, VKRT_SCENE_CACHE_HIT);
-    vkrt_mesh_free(&mesh);
-    vkrt_mesh_free(&parsed);
+    vkrt_model_free(&mesh);
+    vkrt_model_free(&parsed);
 }
 
 static void small_and_incomplete_scenes_are_not_stored(void **state)
 {
     temp_dir *fx = *state;
     use_cache(fx);
-    vkrt_mesh mesh;
+    vkrt_model mesh;
     vkrt_scene_cache_report report;
     load(temp_dir_write_text(fx, "small.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"), &mesh,
          &report);
     assert_int_equal(report.outcome, VKRT_SCENE_CACHE_SKIPPED);
-    assert_string_equal(report.why, "an OBJ under 1 MiB");
-    vkrt_mesh_free(&mesh);
+    assert_string_equal(report.why, "a scene file under 1 MiB");
+    vkrt_model_free(&mesh);
     load(write_grid(fx, "absent.mtl", "blue"), &mesh, &report);
     assert_int_equal(report.outcome, VKRT_SCENE_CACHE_SKIPPED);
-    assert_string_equal(report.why, "an mtllib names a file not found");
-    vkrt_mesh_free(&mesh);
+    assert_string_equal(report.why, "the scene file names a file not found");
+    vkrt_model_free(&mesh);
     /* No cache: parsed, nothing said. */
     setenv("VKRT_SCENE_CACHE_DIR", "", 1);
     temp_dir_write_text(fx, "grid.mtl", MTL);
     load(write_grid(fx, "grid.mtl", "blue"), &mesh, &report);
     assert_int_equal(report.outcome, VKRT_SCENE_CACHE_OFF);
-    vkrt_mesh_free(&mesh);
+    vkrt_model_free(&mesh);
 }
 
 int main(void)

@@ -1,5 +1,5 @@
 /*
- * test_obj.c: tests of the OBJ loader (src/scene/obj_load.h).
+ * test_obj.c: tests of the OBJ loader (src/scene/obj/obj_load.h).
  *
  * Small OBJ/MTL files written to a temporary folder pin down the behaviour (fan order, negative
  * indices, geometric normals, CRLF, errors with file:line, odd encodings, materials). Then the
@@ -24,7 +24,8 @@
 
 #include <cmocka.h>
 
-#include "scene/obj_load.h"
+#include "scene/obj/mtl.h"
+#include "scene/obj/obj_load.h"
 #include "scene/text_file.h"
 #include "shared_scenes.h"
 #include "temp_dir.h"
@@ -47,13 +48,13 @@ static void assert_vec3(const float *got, float x, float y, float z)
 /* Loads path, expecting failure whose message starts with "path" then `after` (e.g. ":3: vertex"). */
 static void assert_load_fails(const char *path, const char *after)
 {
-    vkrt_mesh mesh;
+    vkrt_model mesh;
     vkrt_error err = {{0}};
     assert_false(vkrt_obj_load(path, &mesh, &err));
     size_t n = strlen(path);
     if (strncmp(err.msg, path, n) != 0 || strncmp(err.msg + n, after, strlen(after)) != 0)
         fail_msg("error \"%s\" does not read \"%s%s...\"", err.msg, path, after);
-    assert_null(mesh.positions);
+    assert_null(mesh.meshes);
     assert_int_equal(mesh.triangle_count, 0);
 }
 
@@ -64,9 +65,9 @@ static void assert_text_fails(temp_dir *fx, const char *name, const char *text, 
     assert_load_fails(temp_dir_write_text(fx, name, text), after);
 }
 
-static vkrt_mesh load_ok(const char *path)
+static vkrt_model load_ok(const char *path)
 {
-    vkrt_mesh mesh;
+    vkrt_model mesh;
     vkrt_error err = {{0}};
     if (!vkrt_obj_load(path, &mesh, &err))
         fail_msg("loading %s failed: %s", path, err.msg);
@@ -86,14 +87,14 @@ static void assert_same_floats(const float *a, const float *b, size_t n, const c
 
 /* The mesh's bounds are those of its positions, taken in one pass in order (the loader computes
  * them per group of faces on every core and merges them). */
-static void assert_bounds_of_positions(const vkrt_mesh *m, const char *name)
+static void assert_bounds_of_positions(const vkrt_model *m, const char *name)
 {
     float lo[3], hi[3];
     for (int a = 0; a < 3; a++)
-        lo[a] = hi[a] = m->positions[a];
+        lo[a] = hi[a] = m->meshes[0].positions[a];
     for (size_t i = 0; i < (size_t)m->triangle_count * 3; i++)
         for (int a = 0; a < 3; a++) {
-            float v = m->positions[3 * i + a];
+            float v = m->meshes[0].positions[3 * i + a];
             lo[a] = v < lo[a] ? v : lo[a];
             hi[a] = v > hi[a] ? v : hi[a];
         }
@@ -104,8 +105,8 @@ static void assert_bounds_of_positions(const vkrt_mesh *m, const char *name)
 }
 
 /* The two parses of one text agree on everything: the error, or the mesh and its warnings. */
-static void assert_same_parse(bool ok_a, const vkrt_mesh *a, const vkrt_error *err_a, bool ok_b,
-                              const vkrt_mesh *b, const vkrt_error *err_b, const char *name,
+static void assert_same_parse(bool ok_a, const vkrt_model *a, const vkrt_error *err_a, bool ok_b,
+                              const vkrt_model *b, const vkrt_error *err_b, const char *name,
                               size_t chunk)
 {
     if (ok_a != ok_b || (!ok_a && strcmp(err_a->msg, err_b->msg) != 0))
@@ -117,12 +118,12 @@ static void assert_same_parse(bool ok_a, const vkrt_mesh *a, const vkrt_error *e
     if (n != b->triangle_count)
         fail_msg("%s cut every %zu bytes: %u triangles against %zu", name, chunk, b->triangle_count,
                  n);
-    assert_same_floats(a->positions, b->positions, 9 * n, "positions", name);
+    assert_same_floats(a->meshes[0].positions, b->meshes[0].positions, 9 * n, "positions", name);
     assert_bounds_of_positions(a, name);
     assert_bounds_of_positions(b, name);
-    assert_same_floats(a->normals, b->normals, 9 * n, "normals", name);
-    assert_same_floats(a->texcoords, b->texcoords, 6 * n, "texture coordinates", name);
-    if (memcmp(a->material, b->material, n * sizeof *a->material) != 0)
+    assert_same_floats(a->meshes[0].normals, b->meshes[0].normals, 9 * n, "normals", name);
+    assert_same_floats(a->meshes[0].texcoords, b->meshes[0].texcoords, 6 * n, "texture coordinates", name);
+    if (memcmp(a->meshes[0].material, b->meshes[0].material, n * sizeof *a->meshes[0].material) != 0)
         fail_msg("%s cut every %zu bytes: materials of the triangles differ", name, chunk);
     assert_int_equal(a->material_count, b->material_count);
     for (uint32_t i = 0; i < a->material_count; i++)
@@ -139,7 +140,7 @@ static bool check_split_parses(const char *text, size_t size, const char *name,
                                const char *base_dir)
 {
     static const size_t CHUNKS[] = {1, 2, 7, 64, 4096};
-    vkrt_mesh whole;
+    vkrt_model whole;
     vkrt_error whole_err = {{0}};
     bool whole_ok =
         vkrt_obj_parse_split(text, size, name, base_dir, SIZE_MAX, 1, &whole, &whole_err);
@@ -147,16 +148,16 @@ static bool check_split_parses(const char *text, size_t size, const char *name,
         if (CHUNKS[c] > size && c > 0)
             break;
         for (unsigned threads = 2; threads <= 5; threads += 3) {
-            vkrt_mesh cut;
+            vkrt_model cut;
             vkrt_error cut_err = {{0}};
             bool cut_ok = vkrt_obj_parse_split(text, size, name, base_dir, CHUNKS[c], threads, &cut,
                                                &cut_err);
             assert_same_parse(whole_ok, &whole, &whole_err, cut_ok, &cut, &cut_err, name,
                               CHUNKS[c]);
-            vkrt_mesh_free(&cut);
+            vkrt_model_free(&cut);
         }
     }
-    vkrt_mesh_free(&whole);
+    vkrt_model_free(&whole);
     return whole_ok;
 }
 
@@ -196,22 +197,22 @@ static void split_parse_matches_serial(void **state)
     assert_true(check_split_parses(AWKWARD, strlen(AWKWARD), "awkward.obj", dir));
     /* the same at every start offset of the cuts: chunks of 1 byte end at every line end anyway,
      * so the file is cut again after a prefix of every length */
-    vkrt_mesh m;
+    vkrt_model m;
     vkrt_error err = {{0}};
     assert_true(vkrt_obj_parse_split(AWKWARD, strlen(AWKWARD), "awkward.obj", dir, 3, 4, &m, &err));
     assert_int_equal(m.triangle_count, 8);
-    assert_int_equal(m.material[2], 0);  /* red, from before every cut */
-    assert_int_equal(m.material[3], -1); /* usemtl nothing */
-    assert_int_equal(m.material[4], 1);  /* blue */
-    assert_int_equal(m.material[7], 0);
-    assert_vec3(&m.positions[36], 0, 1, 1); /* f -1 -2 -6//-1: v 6, v 5, v 1 */
-    assert_vec3(&m.positions[39], 0, 0, 1);
-    assert_vec3(&m.positions[42], 0, 0, 0);
-    assert_vec3(&m.normals[36], 1, 0, 0); /* vn 2 (nan) is unusable: the geometric normal */
+    assert_int_equal(m.meshes[0].material[2], 0);  /* red, from before every cut */
+    assert_int_equal(m.meshes[0].material[3], -1); /* usemtl nothing */
+    assert_int_equal(m.meshes[0].material[4], 1);  /* blue */
+    assert_int_equal(m.meshes[0].material[7], 0);
+    assert_vec3(&m.meshes[0].positions[36], 0, 1, 1); /* f -1 -2 -6//-1: v 6, v 5, v 1 */
+    assert_vec3(&m.meshes[0].positions[39], 0, 0, 1);
+    assert_vec3(&m.meshes[0].positions[42], 0, 0, 0);
+    assert_vec3(&m.meshes[0].normals[36], 1, 0, 0); /* vn 2 (nan) is unusable: the geometric normal */
     assert_non_null(
         strstr(m.warnings_all, "awkward.obj:21: warning: face of fewer than 3 corners"));
     assert_non_null(strstr(m.warnings_all, "awkward.obj:20: warning: usemtl nothing"));
-    vkrt_mesh_free(&m);
+    vkrt_model_free(&m);
     assert_false(check_split_parses(CONTINUED, strlen(CONTINUED), "continued.obj", NULL));
     assert_false(
         vkrt_obj_parse_split(CONTINUED, strlen(CONTINUED), "continued.obj", NULL, 1, 2, &m, &err));
@@ -224,25 +225,25 @@ static const char QUAD[] = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
 
 static void quad_becomes_fan(void **state)
 {
-    vkrt_mesh m = load_ok(temp_dir_write_text(*state, "quad.obj", QUAD));
+    vkrt_model m = load_ok(temp_dir_write_text(*state, "quad.obj", QUAD));
     assert_int_equal(m.triangle_count, 2);
     /* fan: (v0 v1 v2), (v0 v2 v3) */
-    assert_vec3(&m.positions[0], 0, 0, 0);
-    assert_vec3(&m.positions[3], 1, 0, 0);
-    assert_vec3(&m.positions[6], 1, 1, 0);
-    assert_vec3(&m.positions[9], 0, 0, 0);
-    assert_vec3(&m.positions[12], 1, 1, 0);
-    assert_vec3(&m.positions[15], 0, 1, 0);
-    assert_null(m.normals);
-    assert_null(m.texcoords);
-    assert_int_equal(m.material[0], -1);
-    assert_int_equal(m.material[1], -1);
+    assert_vec3(&m.meshes[0].positions[0], 0, 0, 0);
+    assert_vec3(&m.meshes[0].positions[3], 1, 0, 0);
+    assert_vec3(&m.meshes[0].positions[6], 1, 1, 0);
+    assert_vec3(&m.meshes[0].positions[9], 0, 0, 0);
+    assert_vec3(&m.meshes[0].positions[12], 1, 1, 0);
+    assert_vec3(&m.meshes[0].positions[15], 0, 1, 0);
+    assert_null(m.meshes[0].normals);
+    assert_null(m.meshes[0].texcoords);
+    assert_int_equal(m.meshes[0].material[0], -1);
+    assert_int_equal(m.meshes[0].material[1], -1);
     assert_vec3(m.bounds_min, 0, 0, 0);
     assert_vec3(m.bounds_max, 1, 1, 0);
     assert_string_equal(m.warnings, "");
-    vkrt_mesh_free(&m);
-    assert_null(m.positions);
-    vkrt_mesh_free(&m); /* safe on a zeroed struct */
+    vkrt_model_free(&m);
+    assert_null(m.meshes);
+    vkrt_model_free(&m); /* safe on a zeroed struct */
 }
 
 /* More than 255 corners: tinyobjloader's per-face count is an unsigned char. */
@@ -259,27 +260,27 @@ static void big_polygon_keeps_all_corners(void **state)
     for (int i = 1; i <= N; i++)
         len += (size_t)snprintf(text + len, sizeof text - len, " %d", i);
     snprintf(text + len, sizeof text - len, "\nf 1 2 3\n");
-    vkrt_mesh m = load_ok(temp_dir_write_text(*state, "big.obj", text));
+    vkrt_model m = load_ok(temp_dir_write_text(*state, "big.obj", text));
     assert_int_equal(m.triangle_count, N - 2 + 1);
-    assert_vec3(&m.positions[9 * (N - 3) + 6], (float)cos(6.283185307179586 * (N - 1) / N),
+    assert_vec3(&m.meshes[0].positions[9 * (N - 3) + 6], (float)cos(6.283185307179586 * (N - 1) / N),
                 (float)sin(6.283185307179586 * (N - 1) / N), 0);
-    vkrt_mesh_free(&m);
+    vkrt_model_free(&m);
 }
 
 static void negative_indices(void **state)
 {
     const char *text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0.25 0.5\nvn 0 0 1\n"
                        "f -4/-1/-1 -3/-1/-1 -2/-1/-1 -1/-1/-1\n";
-    vkrt_mesh m = load_ok(temp_dir_write_text(*state, "neg.obj", text));
+    vkrt_model m = load_ok(temp_dir_write_text(*state, "neg.obj", text));
     assert_int_equal(m.triangle_count, 2);
-    assert_vec3(&m.positions[6], 1, 1, 0);
-    assert_vec3(&m.positions[15], 0, 1, 0);
-    assert_non_null(m.texcoords);
-    assert_close(m.texcoords[0], 0.25f);
-    assert_close(m.texcoords[1], 0.5f);
-    assert_non_null(m.normals);
-    assert_vec3(&m.normals[0], 0, 0, 1);
-    vkrt_mesh_free(&m);
+    assert_vec3(&m.meshes[0].positions[6], 1, 1, 0);
+    assert_vec3(&m.meshes[0].positions[15], 0, 1, 0);
+    assert_non_null(m.meshes[0].texcoords);
+    assert_close(m.meshes[0].texcoords[0], 0.25f);
+    assert_close(m.meshes[0].texcoords[1], 0.5f);
+    assert_non_null(m.meshes[0].normals);
+    assert_vec3(&m.meshes[0].normals[0], 0, 0, 1);
+    vkrt_model_free(&m);
 }
 
 static void geometric_normal_for_faces_without(void **state)
@@ -290,26 +291,26 @@ static void geometric_normal_for_faces_without(void **state)
                        "f 1//1 2//1 3//1\n"
                        "f 1 2 3\n"
                        "f 1 1 1\n";
-    vkrt_mesh m = load_ok(temp_dir_write_text(*state, "normals.obj", text));
+    vkrt_model m = load_ok(temp_dir_write_text(*state, "normals.obj", text));
     assert_int_equal(m.triangle_count, 3);
-    assert_non_null(m.normals);
+    assert_non_null(m.meshes[0].normals);
     for (int k = 0; k < 3; k++) {
-        assert_vec3(&m.normals[3 * k], 0, 0, 1);
-        assert_vec3(&m.normals[9 + 3 * k], 0, 1, 0);
-        assert_vec3(&m.normals[18 + 3 * k], 0, 0, 1); /* degenerate: +Z, not NaN */
+        assert_vec3(&m.meshes[0].normals[3 * k], 0, 0, 1);
+        assert_vec3(&m.meshes[0].normals[9 + 3 * k], 0, 1, 0);
+        assert_vec3(&m.meshes[0].normals[18 + 3 * k], 0, 0, 1); /* degenerate: +Z, not NaN */
     }
-    vkrt_mesh_free(&m);
+    vkrt_model_free(&m);
 }
 
 static void unusable_file_normal_becomes_geometric(void **state)
 {
     const char *text = "v 0 0 0\nv 0 0 1\nv 1 0 0\nvn nan 0 0\nvn 0 0 0\nf 1//1 2//1 3//1\nf 1//2 2//2 3//2\n";
-    vkrt_mesh m = load_ok(temp_dir_write_text(*state, "badnormal.obj", text));
+    vkrt_model m = load_ok(temp_dir_write_text(*state, "badnormal.obj", text));
     assert_int_equal(m.triangle_count, 2);
-    assert_vec3(&m.normals[0], 0, 1, 0);
-    assert_vec3(&m.normals[9], 0, 1, 0);
+    assert_vec3(&m.meshes[0].normals[0], 0, 1, 0);
+    assert_vec3(&m.meshes[0].normals[9], 0, 1, 0);
     assert_non_null(strstr(m.warnings, "geometric normal"));
-    vkrt_mesh_free(&m);
+    vkrt_model_free(&m);
 }
 
 /* Normals named by faces of a file without any vn records are dropped with a warning (the
@@ -317,23 +318,23 @@ static void unusable_file_normal_becomes_geometric(void **state)
 static void references_to_absent_normals_are_dropped(void **state)
 {
     const char *text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1/1 2/2/2 3/3/3\n";
-    vkrt_mesh m = load_ok(temp_dir_write_text(*state, "stripped.obj", text));
+    vkrt_model m = load_ok(temp_dir_write_text(*state, "stripped.obj", text));
     assert_int_equal(m.triangle_count, 1);
-    assert_null(m.normals);
-    assert_null(m.texcoords);
+    assert_null(m.meshes[0].normals);
+    assert_null(m.meshes[0].texcoords);
     assert_non_null(strstr(m.warnings, "no vn records"));
     assert_non_null(strstr(m.warnings, "no vt records"));
-    vkrt_mesh_free(&m);
+    vkrt_model_free(&m);
 }
 
 static void crlf_line_endings(void **state)
 {
     temp_dir *fx = *state;
     const char *text = "v 0 0 0\r\nv 1 0 0\r\nv 1 1 0\r\nv 0 1 0\r\nf 1 2 3 4\r\n";
-    vkrt_mesh m = load_ok(temp_dir_write_text(fx, "crlf.obj", text));
+    vkrt_model m = load_ok(temp_dir_write_text(fx, "crlf.obj", text));
     assert_int_equal(m.triangle_count, 2);
-    assert_vec3(&m.positions[15], 0, 1, 0);
-    vkrt_mesh_free(&m);
+    assert_vec3(&m.meshes[0].positions[15], 0, 1, 0);
+    vkrt_model_free(&m);
     /* line numbers count CRLF (and lone CR) as one line end */
     assert_text_fails(fx, "crlf_nan.obj", "v 0 0 0\r\n\r\nv 1 nan 0\r\nv 0 1 0\r\nf 1 2 3\r\n",
                       ":3: vertex coordinate is not finite");
@@ -374,12 +375,12 @@ static void vertex_beyond_coordinate_limit_names_line(void **state)
         snprintf(after, sizeof after, ":2: vertex coordinate %s is outside [-1e11, 1e11]", bad[i]);
         assert_text_fails(fx, "far.obj", text, after);
     }
-    vkrt_mesh m = load_ok(
+    vkrt_model m = load_ok(
         temp_dir_write_text(fx, "edge.obj", "v -1e11 0 0\nv 1e11 0 0\nv 0 1e11 -1e11\nf 1 2 3\n"));
     assert_int_equal(m.triangle_count, 1);
-    assert_vec3(&m.positions[0], -1e11f, 0, 0);
-    assert_vec3(&m.positions[6], 0, 1e11f, -1e11f);
-    vkrt_mesh_free(&m);
+    assert_vec3(&m.meshes[0].positions[0], -1e11f, 0, 0);
+    assert_vec3(&m.meshes[0].positions[6], 0, 1e11f, -1e11f);
+    vkrt_model_free(&m);
 }
 
 static void out_of_range_index_names_line(void **state)
@@ -483,10 +484,10 @@ static void binary_garbage_fails_cleanly(void **state)
     for (uint32_t seed = 1; seed <= 20; seed++) {
         fill_garbage(buf, sizeof buf, seed, 0);
         temp_dir_write(fx, "garbage2.obj", buf, sizeof buf);
-        vkrt_mesh m;
+        vkrt_model m;
         vkrt_error err = {{0}};
         if (vkrt_obj_load(fx->path, &m, &err))
-            vkrt_mesh_free(&m);
+            vkrt_model_free(&m);
         else
             assert_int_equal(strncmp(err.msg, fx->path, strlen(fx->path)), 0);
     }
@@ -501,10 +502,10 @@ static void binary_garbage_fails_cleanly(void **state)
 
 static void utf8_bom_is_skipped(void **state)
 {
-    vkrt_mesh m = load_ok(
+    vkrt_model m = load_ok(
         temp_dir_write_text(*state, "bom.obj", "\xef\xbb\xbfv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
     assert_int_equal(m.triangle_count, 1);
-    vkrt_mesh_free(&m);
+    vkrt_model_free(&m);
 }
 
 /* Every line of warnings reads "<a file under dir>[:LINE]: warning: ...", in vkrt's words: none of
@@ -523,14 +524,14 @@ static void assert_warning_lines(const char *warnings, const char *dir)
     }
 }
 
-/* What vkrt_mesh_print_warnings writes, in a malloc'd string. */
-static char *printed_warnings(const vkrt_mesh *m, bool verbose)
+/* What vkrt_model_print_warnings writes, in a malloc'd string. */
+static char *printed_warnings(const vkrt_model *m, bool verbose)
 {
     char *out = NULL;
     size_t size = 0;
     FILE *f = open_memstream(&out, &size);
     assert_non_null(f);
-    vkrt_mesh_print_warnings(m, "vkrt: ", verbose, f);
+    vkrt_model_print_warnings(m, "vkrt: ", verbose, f);
     fclose(f);
     return out;
 }
@@ -539,9 +540,9 @@ static void missing_mtl_is_a_warning(void **state)
 {
     temp_dir *fx = *state;
     const char *text = "mtllib nothere.mtl\nusemtl red\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
-    vkrt_mesh m = load_ok(temp_dir_write_text(fx, "nomtl.obj", text));
+    vkrt_model m = load_ok(temp_dir_write_text(fx, "nomtl.obj", text));
     assert_int_equal(m.triangle_count, 1);
-    assert_int_equal(m.material[0], -1);
+    assert_int_equal(m.meshes[0].material[0], -1);
     assert_int_equal(m.material_count, 0);
     /* one line, at the mtllib line: not also tinyobjloader's "Failed to load material file(s)"
      * nor a warning for the usemtl the missing file explains */
@@ -552,7 +553,7 @@ static void missing_mtl_is_a_warning(void **state)
              fx->dir, fx->dir);
     assert_string_equal(m.warnings, want);
     assert_string_equal(m.warnings_all, want);
-    vkrt_mesh_free(&m);
+    vkrt_model_free(&m);
     assert_null(m.warnings_all);
 }
 
@@ -571,7 +572,7 @@ static void warnings_are_ours_and_folded(void **state)
                        "usemtl nosuch\nf 1 3 2\n"  /* 9, 10: said once */
                        "f 1 2\nf 1\n"              /* 11, 12: dropped */
                        "usemtl other\nf 2 3 1\n"; /* 13, 14 */
-    vkrt_mesh m = load_ok(temp_dir_write_text(fx, "w.obj", text));
+    vkrt_model m = load_ok(temp_dir_write_text(fx, "w.obj", text));
     assert_int_equal(m.triangle_count, 4);
     char want[2000];
     snprintf(want, sizeof want,
@@ -598,11 +599,11 @@ static void warnings_are_ours_and_folded(void **state)
     assert_non_null(strstr(m.warnings_all, want));
 
     /* A file cut short just after an f: the bare keyword on its last line is a face too. */
-    vkrt_mesh cut = load_ok(temp_dir_write_text(fx, "cut.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf"));
+    vkrt_model cut = load_ok(temp_dir_write_text(fx, "cut.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf"));
     assert_int_equal(cut.triangle_count, 1);
     snprintf(want, sizeof want, "%s/cut.obj:5: warning: face of fewer than 3 corners ignored", fx->dir);
     assert_string_equal(cut.warnings, want);
-    vkrt_mesh_free(&cut);
+    vkrt_model_free(&cut);
 
     /* printed: every line after the prefix; verbose prints all nine */
     char *folded = printed_warnings(&m, false), *all = printed_warnings(&m, true);
@@ -616,7 +617,7 @@ static void warnings_are_ours_and_folded(void **state)
     assert_non_null(strstr(all, want));
     free(folded);
     free(all);
-    vkrt_mesh_free(&m);
+    vkrt_model_free(&m);
 
     /* a file without warnings prints nothing */
     m = load_ok(temp_dir_write_text(fx, "quad.obj", QUAD));
@@ -624,7 +625,7 @@ static void warnings_are_ours_and_folded(void **state)
     char *none = printed_warnings(&m, true);
     assert_string_equal(none, "");
     free(none);
-    vkrt_mesh_free(&m);
+    vkrt_model_free(&m);
 }
 
 /* "newmtl  RearLights" (two blanks, as a real exporter wrote it) is the material `usemtl
@@ -635,16 +636,20 @@ static void material_names_are_trimmed(void **state)
     temp_dir_write_text(fx, "car.mtl", "newmtl  RearLights\nKd 1 0 0\nnewmtl \t Body\t \nKd 0 0 1\n");
     const char *text = "mtllib car.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
                        "usemtl RearLights\nf 1 2 3\nusemtl Body\nf 1 3 2\n";
-    vkrt_mesh m = load_ok(temp_dir_write_text(fx, "car.obj", text));
+    vkrt_model m = load_ok(temp_dir_write_text(fx, "car.obj", text));
     assert_string_equal(m.warnings, "");
-    assert_true(m.material[0] >= 0 && m.material[1] >= 0);
-    assert_string_equal(m.materials[m.material[0]].name, "RearLights");
-    assert_vec3(m.materials[m.material[0]].kd, 1, 0, 0);
-    assert_string_equal(m.materials[m.material[1]].name, "Body");
-    assert_vec3(m.materials[m.material[1]].kd, 0, 0, 1);
-    vkrt_mesh_free(&m);
+    assert_true(m.meshes[0].material[0] >= 0 && m.meshes[0].material[1] >= 0);
+    assert_string_equal(m.materials[m.meshes[0].material[0]].name, "RearLights");
+    assert_vec3(m.materials[m.meshes[0].material[0]].base_colour, 1, 0, 0);
+    assert_string_equal(m.materials[m.meshes[0].material[1]].name, "Body");
+    assert_vec3(m.materials[m.meshes[0].material[1]].base_colour, 0, 0, 1);
+    vkrt_model_free(&m);
 }
 
+/* The .mtl's fields in the model's record: Kd, Ks, Ke, Ns, Ni and d as base colour, specular,
+ * emission, exponent, ior and opacity; illum 5 the mirror family; map_Kd an sRGB colour texture
+ * with its line, sampled as the kernels do (repeat, bilinear); absent fields the defaults of
+ * mtl.h, and Ns 0 roughness 1 (vkrt_ns_roughness). */
 static void mtl_fields_are_parsed(void **state)
 {
     temp_dir *fx = *state;
@@ -655,45 +660,53 @@ static void mtl_fields_are_parsed(void **state)
                "map_Kd tex.png\r\n"
                "\r\nnewmtl plain\r\n");
     const char *text = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl plain\nf 1 2 3\nusemtl shiny\nf 1 3 2\n";
-    vkrt_mesh m = load_ok(temp_dir_write_text(fx, "mtl.obj", text));
+    vkrt_model m = load_ok(temp_dir_write_text(fx, "mtl.obj", text));
     assert_int_equal(m.triangle_count, 2);
     assert_int_equal(m.material_count, 2);
-    const vkrt_mtl *shiny = &m.materials[m.material[1]];
-    const vkrt_mtl *plain = &m.materials[m.material[0]];
+    const vkrt_material *shiny = &m.materials[m.meshes[0].material[1]];
+    const vkrt_material *plain = &m.materials[m.meshes[0].material[0]];
     assert_string_equal(shiny->name, "shiny");
-    assert_vec3(shiny->kd, 0.1f, 0.2f, 0.3f);
-    assert_vec3(shiny->ks, 0.4f, 0.5f, 0.6f);
-    assert_vec3(shiny->ke, 7, 8, 9);
-    assert_close(shiny->ns, 250);
-    assert_close(shiny->ni, 1.45f);
-    assert_close(shiny->d, 0.5f);
-    assert_int_equal(shiny->illum, 5);
+    assert_int_equal(shiny->bsdf, VKRT_BSDF_MIRROR);
+    assert_vec3(shiny->base_colour, 0.1f, 0.2f, 0.3f);
+    assert_vec3(shiny->specular, 0.4f, 0.5f, 0.6f);
+    assert_vec3(shiny->emission, 7, 8, 9);
+    assert_close(shiny->specular_exponent, 250);
+    assert_close(shiny->roughness, vkrt_ns_roughness(250));
+    assert_close(shiny->ior, 1.45f);
+    assert_close(shiny->opacity, 0.5f);
     char want[600];
     snprintf(want, sizeof want, "%s/tex.png", fx->dir);
-    assert_string_equal(shiny->map_kd, want);
-    /* absent fields take the defaults documented in obj_load.h */
+    const vkrt_texture_ref *colour = &shiny->maps[VKRT_MAP_BASE_COLOUR];
+    assert_string_equal(colour->path, want);
+    assert_int_equal(colour->space, VKRT_TEXTURE_COLOUR);
+    assert_int_equal(colour->sampler.wrap_u, VKRT_WRAP_REPEAT);
+    assert_int_equal(colour->sampler.wrap_v, VKRT_WRAP_REPEAT);
+    assert_int_equal(colour->sampler.filter, VKRT_FILTER_LINEAR);
+    /* absent fields take the defaults documented in mtl.h */
     assert_string_equal(plain->name, "plain");
-    assert_vec3(plain->kd, 0.8f, 0.8f, 0.8f);
-    assert_vec3(plain->ks, 0, 0, 0);
-    assert_vec3(plain->ke, 0, 0, 0);
-    assert_close(plain->ns, 0);
-    assert_close(plain->ni, 1);
-    assert_close(plain->d, 1);
-    assert_int_equal(plain->illum, 2);
-    assert_null(plain->map_kd);
-    assert_vec3(plain->tf, 1, 1, 1);
-    assert_null(plain->map_d);
+    assert_int_equal(plain->bsdf, VKRT_BSDF_DIFFUSE);
+    assert_vec3(plain->base_colour, 0.8f, 0.8f, 0.8f);
+    assert_vec3(plain->specular, 0, 0, 0);
+    assert_vec3(plain->emission, 0, 0, 0);
+    assert_close(plain->specular_exponent, 0);
+    assert_close(plain->roughness, 1);
+    assert_close(plain->ior, 1);
+    assert_close(plain->opacity, 1);
+    assert_vec3(plain->transmission_filter, 1, 1, 1);
+    for (int k = 0; k < VKRT_MAP_COUNT; k++)
+        assert_null(plain->maps[k].path);
     snprintf(want, sizeof want, "%s/m.mtl", fx->dir);
-    assert_string_equal(shiny->mtl_path, want);
-    assert_int_equal(shiny->map_kd_line, 9);
-    vkrt_mesh_free(&m);
+    assert_string_equal(shiny->file, want);
+    assert_int_equal(colour->line, 9);
+    vkrt_model_free(&m);
 }
 
-/* The PBR extension as Blender's exporter writes it: Pr, Pm and their maps (a map resolved as
- * map_Kd, with its line), the clear coat Pc/Pcr (a Pc above 0 alone makes a material pbr; Pc 0
- * does not), the sheen Ps and map_Ps (either alone makes a material pbr, Ps 0 does not; on a
- * mirror or glass, which have no sheen, the loader warns at the Ps line, and glass stays the
- * smooth glass). */
+/* The PBR extension as Blender's exporter writes it, in the record: Pr as roughness (a map_Pr,
+ * a data texture with its line, replaces the number by 1; without Pr the roughness comes from Ns),
+ * Pm as metallic, the clear coat Pc/Pcr as coat Pc / 4 and its roughness (a Pc above 0 alone
+ * makes a material principled; Pc 0 does not), the sheen Ps and map_Ps (either alone makes a
+ * material principled, Ps 0 does not; on a mirror or glass, which have no sheen, the loader warns
+ * at the Ps line, and glass stays the smooth dielectric). */
 static void mtl_pbr_fields_are_parsed(void **state)
 {
     temp_dir *fx = *state;
@@ -706,60 +719,71 @@ static void mtl_pbr_fields_are_parsed(void **state)
                         "newmtl velvet\nKd 0.3 0 0\nPs 0.75\n"              /* 24-26 */
                         "newmtl cloth\nKd 0.3 0 0\nmap_Ps sheen.png\nPs 0\n" /* 27-30 */
                         "newmtl matte\nKd 0.3 0 0\nPs 0\n"                  /* 31-33 */
-                        "newmtl bottle\nNi 1.5\nillum 7\nKs 1 1 1\nPs 1\n");  /* 34-38 */
+                        "newmtl bottle\nNi 1.5\nillum 7\nKs 1 1 1\nPs 1\n"  /* 34-38 */
+                        "newmtl frosted\nNi 1.4\nillum 4\nPr 0.3\n");      /* 39-42 */
     const char *text = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl metal\nf 1 2 3\n"
                        "usemtl coated\nf 1 3 2\nusemtl old\nf 2 1 3\nusemtl varnish\nf 3 2 1\n"
                        "usemtl velvet\nf 1 2 3\nusemtl cloth\nf 1 2 3\nusemtl matte\nf 1 2 3\n"
-                       "usemtl bottle\nf 1 2 3\n";
-    vkrt_mesh m = load_ok(temp_dir_write_text(fx, "pbr.obj", text));
-    const vkrt_mtl *metal = &m.materials[m.material[0]];
-    const vkrt_mtl *coated = &m.materials[m.material[1]];
-    const vkrt_mtl *old = &m.materials[m.material[2]];
-    const vkrt_mtl *varnish = &m.materials[m.material[3]];
-    assert_true(metal->pbr);
-    assert_close(metal->pr, 0.25f);
-    assert_close(metal->pm, 1);
+                       "usemtl bottle\nf 1 2 3\nusemtl frosted\nf 1 2 3\n";
+    vkrt_model m = load_ok(temp_dir_write_text(fx, "pbr.obj", text));
+    const vkrt_material *metal = &m.materials[m.meshes[0].material[0]];
+    const vkrt_material *coated = &m.materials[m.meshes[0].material[1]];
+    const vkrt_material *old = &m.materials[m.meshes[0].material[2]];
+    const vkrt_material *varnish = &m.materials[m.meshes[0].material[3]];
+    assert_int_equal(metal->bsdf, VKRT_BSDF_PRINCIPLED);
+    assert_close(metal->roughness, 1); /* map_Pr replaces Pr 0.25 */
+    assert_close(metal->metallic, 1);
     char want[600];
     snprintf(want, sizeof want, "%s/rough.png", fx->dir);
-    assert_string_equal(metal->map_pr, want);
-    assert_int_equal(metal->map_pr_line, 5);
-    assert_null(metal->map_pm);
-    assert_true(coated->pbr);
-    assert_close(coated->pr, -1); /* not given: materials.c takes it from Ns */
-    assert_close(coated->pm, 0.5f);
-    assert_close(coated->pc, 1);
-    assert_close(coated->pcr, 0.1f);
-    assert_false(old->pbr);
-    assert_true(varnish->pbr);
-    assert_close(varnish->pc, 2);
-    assert_close(varnish->pcr, 0.3f);
-    assert_close(coated->ps, 0.3f);
+    assert_string_equal(metal->maps[VKRT_MAP_ROUGHNESS].path, want);
+    assert_int_equal(metal->maps[VKRT_MAP_ROUGHNESS].line, 5);
+    assert_int_equal(metal->maps[VKRT_MAP_ROUGHNESS].space, VKRT_TEXTURE_DATA);
+    assert_null(metal->maps[VKRT_MAP_METALLIC].path);
+    assert_int_equal(coated->bsdf, VKRT_BSDF_PRINCIPLED);
+    assert_close(coated->roughness, vkrt_ns_roughness(0)); /* no Pr: from Ns */
+    assert_close(coated->metallic, 0.5f);
+    assert_close(coated->coat, 0.25f);
+    assert_close(coated->coat_roughness, 0.1f);
+    assert_int_equal(old->bsdf, VKRT_BSDF_GLOSSY_PHONG);
+    assert_close(old->roughness, vkrt_ns_roughness(30));
+    assert_int_equal(varnish->bsdf, VKRT_BSDF_PRINCIPLED);
+    assert_close(varnish->coat, 0.5f);
+    assert_close(varnish->coat_roughness, 0.3f);
+    assert_close(coated->sheen, 0.3f);
     assert_null(strstr(m.warnings, "'coated'"));
     assert_null(strstr(m.warnings, "'varnish'"));
-    const vkrt_mtl *velvet = &m.materials[m.material[4]];
-    const vkrt_mtl *cloth = &m.materials[m.material[5]];
-    const vkrt_mtl *matte = &m.materials[m.material[6]];
-    const vkrt_mtl *bottle = &m.materials[m.material[7]];
-    assert_true(velvet->pbr);
-    assert_close(velvet->ps, 0.75f);
-    assert_null(velvet->map_ps);
-    assert_true(cloth->pbr);
+    const vkrt_material *velvet = &m.materials[m.meshes[0].material[4]];
+    const vkrt_material *cloth = &m.materials[m.meshes[0].material[5]];
+    const vkrt_material *matte = &m.materials[m.meshes[0].material[6]];
+    const vkrt_material *bottle = &m.materials[m.meshes[0].material[7]];
+    const vkrt_material *frosted = &m.materials[m.meshes[0].material[8]];
+    assert_int_equal(velvet->bsdf, VKRT_BSDF_PRINCIPLED);
+    assert_close(velvet->sheen, 0.75f);
+    assert_null(velvet->maps[VKRT_MAP_SHEEN].path);
+    assert_int_equal(cloth->bsdf, VKRT_BSDF_PRINCIPLED);
     snprintf(want, sizeof want, "%s/sheen.png", fx->dir);
-    assert_string_equal(cloth->map_ps, want);
-    assert_int_equal(cloth->map_ps_line, 29);
-    assert_false(matte->pbr);
-    assert_close(matte->ps, 0);
-    assert_false(bottle->pbr);
-    assert_close(bottle->ps, 1);
+    assert_string_equal(cloth->maps[VKRT_MAP_SHEEN].path, want);
+    assert_int_equal(cloth->maps[VKRT_MAP_SHEEN].line, 29);
+    assert_close(cloth->sheen, 1); /* map_Ps replaces Ps 0 */
+    assert_int_equal(matte->bsdf, VKRT_BSDF_DIFFUSE);
+    assert_close(matte->sheen, 0);
+    assert_int_equal(bottle->bsdf, VKRT_BSDF_DIELECTRIC);
+    assert_close(bottle->ior, 1.5f);
+    assert_close(bottle->sheen, 1);
+    assert_int_equal(frosted->bsdf, VKRT_BSDF_ROUGH_DIELECTRIC);
+    assert_close(frosted->ior, 1.4f);
+    assert_close(frosted->roughness, 0.3f);
     assert_non_null(strstr(m.warnings, "m.mtl:38: warning: material 'bottle' has a sheen (Ps, "
                                        "map_Ps) but illum 3 to 7"));
     assert_non_null(strstr(m.warnings, "m.mtl:23: warning: material 'chrome' has a clear coat (Pc) "
                                        "but illum 3 or 5"));
-    vkrt_mesh_free(&m);
+    vkrt_model_free(&m);
 }
 
-/* The surface maps as exporters write them: norm and map_Bump with -bm (norm's multiplier wins
- * where both are given, as norm is the map used), bump, map_Ke with and without Ke, their lines. */
+/* The surface maps as exporters write them, in the record's detail and emission slots: norm (a
+ * normal map) wins over map_Bump or bump, whose image decides what it is; the -bm of the map
+ * used is the detail scale; map_Ke is a colour texture, and the emission itself (1 1 1) where
+ * no Ke is given. */
 static void mtl_surface_maps_are_parsed(void **state)
 {
     temp_dir *fx = *state;
@@ -776,34 +800,36 @@ static void mtl_surface_maps_are_parsed(void **state)
                         "map_Ke glow.png\n");                 /* 10 */
     const char *text = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl blender\nf 1 2 3\n"
                        "usemtl both\nf 1 3 2\nusemtl glow\nf 2 1 3\n";
-    vkrt_mesh m = load_ok(temp_dir_write_text(fx, "maps.obj", text));
-    const vkrt_mtl *blender = &m.materials[m.material[0]];
-    const vkrt_mtl *both = &m.materials[m.material[1]];
-    const vkrt_mtl *glow = &m.materials[m.material[2]];
+    vkrt_model m = load_ok(temp_dir_write_text(fx, "maps.obj", text));
+    const vkrt_material *blender = &m.materials[m.meshes[0].material[0]];
+    const vkrt_material *both = &m.materials[m.meshes[0].material[1]];
+    const vkrt_material *glow = &m.materials[m.meshes[0].material[2]];
     char want[600];
     snprintf(want, sizeof want, "%s/maps/normal.png", fx->dir);
-    assert_string_equal(blender->map_bump, want);
-    assert_int_equal(blender->map_bump_line, 3);
-    assert_close(blender->bump_multiplier, 0.5f);
-    assert_null(blender->norm);
-    assert_null(blender->map_ke);
+    assert_string_equal(blender->maps[VKRT_MAP_DETAIL].path, want);
+    assert_int_equal(blender->maps[VKRT_MAP_DETAIL].line, 3);
+    assert_int_equal(blender->maps[VKRT_MAP_DETAIL].space, VKRT_TEXTURE_DATA);
+    assert_int_equal(blender->detail_kind, VKRT_DETAIL_BY_IMAGE);
+    assert_close(blender->detail_scale, 0.5f);
+    assert_null(blender->maps[VKRT_MAP_EMISSION].path);
     snprintf(want, sizeof want, "%s/n.png", fx->dir);
-    assert_string_equal(both->norm, want);
-    assert_int_equal(both->norm_line, 6);
-    assert_int_equal(both->map_bump_line, 5);
-    assert_close(both->bump_multiplier, 0.25f);
+    assert_string_equal(both->maps[VKRT_MAP_DETAIL].path, want);
+    assert_int_equal(both->maps[VKRT_MAP_DETAIL].line, 6);
+    assert_int_equal(both->detail_kind, VKRT_DETAIL_NORMAL);
+    assert_close(both->detail_scale, 0.25f);
     snprintf(want, sizeof want, "%s/glow.png", fx->dir);
-    assert_string_equal(both->map_ke, want);
-    assert_int_equal(both->map_ke_line, 8);
-    assert_true(both->ke_given);
-    assert_vec3(both->ke, 2, 2, 2);
-    assert_string_equal(glow->map_ke, want);
-    assert_false(glow->ke_given);
-    assert_close(glow->bump_multiplier, 1);
-    vkrt_mesh_free(&m);
+    assert_string_equal(both->maps[VKRT_MAP_EMISSION].path, want);
+    assert_int_equal(both->maps[VKRT_MAP_EMISSION].line, 8);
+    assert_int_equal(both->maps[VKRT_MAP_EMISSION].space, VKRT_TEXTURE_COLOUR);
+    assert_vec3(both->emission, 2, 2, 2);
+    assert_string_equal(glow->maps[VKRT_MAP_EMISSION].path, want);
+    assert_vec3(glow->emission, 1, 1, 1); /* no Ke: the map is the emission */
+    assert_close(glow->detail_scale, 1);
+    vkrt_model_free(&m);
 }
 
-/* The fields texture errors need (which .mtl, which line), map_d and Tf, over two .mtl files. */
+/* The fields texture errors need (which .mtl, which line), map_d (a coverage texture) and Tf,
+ * over two .mtl files. */
 static void mtl_texture_lines_and_tf(void **state)
 {
     temp_dir *fx = *state;
@@ -826,41 +852,43 @@ static void mtl_texture_lines_and_tf(void **state)
     snprintf(other_mtl, sizeof other_mtl, "%s", fx->path);
     const char *text = "mtllib m.mtl\nmtllib other.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
                        "usemtl glass\nf 1 2 3\nusemtl plain\nf 1 3 2\nusemtl leaves\nf 2 1 3\n";
-    vkrt_mesh m = load_ok(temp_dir_write_text(fx, "tex.obj", text));
+    vkrt_model m = load_ok(temp_dir_write_text(fx, "tex.obj", text));
     assert_int_equal(m.material_count, 3);
-    const vkrt_mtl *glass = &m.materials[m.material[0]];
-    const vkrt_mtl *plain = &m.materials[m.material[1]];
-    const vkrt_mtl *leaves = &m.materials[m.material[2]];
+    const vkrt_material *glass = &m.materials[m.meshes[0].material[0]];
+    const vkrt_material *plain = &m.materials[m.meshes[0].material[1]];
+    const vkrt_material *leaves = &m.materials[m.meshes[0].material[2]];
     assert_string_equal(glass->name, "glass");
-    assert_string_equal(glass->mtl_path, m_mtl);
-    assert_vec3(glass->tf, 0.5f, 0.25f, 1.0f);
+    assert_string_equal(glass->file, m_mtl);
+    assert_vec3(glass->transmission_filter, 0.5f, 0.25f, 1.0f);
     snprintf(want, sizeof want, "%s/second.png", fx->dir);
-    assert_string_equal(glass->map_kd, want);
-    assert_int_equal(glass->map_kd_line, 7);
+    assert_string_equal(glass->maps[VKRT_MAP_BASE_COLOUR].path, want);
+    assert_int_equal(glass->maps[VKRT_MAP_BASE_COLOUR].line, 7);
     snprintf(want, sizeof want, "%s/maps/alpha.png", fx->dir);
-    assert_string_equal(glass->map_d, want);
-    assert_int_equal(glass->map_d_line, 5);
+    assert_string_equal(glass->maps[VKRT_MAP_COVERAGE].path, want);
+    assert_int_equal(glass->maps[VKRT_MAP_COVERAGE].line, 5);
+    assert_int_equal(glass->maps[VKRT_MAP_COVERAGE].space, VKRT_TEXTURE_ALPHA);
 
-    assert_string_equal(plain->mtl_path, m_mtl);
-    assert_vec3(plain->tf, 1, 1, 1); /* absent: obj_load.h's default, not tinyobjloader's 0 */
-    assert_null(plain->map_kd);
-    assert_null(plain->map_d);
-    assert_int_equal(plain->map_kd_line, 0);
-    assert_int_equal(plain->map_d_line, 0);
+    assert_string_equal(plain->file, m_mtl);
+    assert_vec3(plain->transmission_filter, 1, 1, 1); /* absent: mtl.h's default, not tinyobjloader's 0 */
+    assert_null(plain->maps[VKRT_MAP_BASE_COLOUR].path);
+    assert_null(plain->maps[VKRT_MAP_COVERAGE].path);
+    assert_int_equal(plain->maps[VKRT_MAP_BASE_COLOUR].line, 0);
+    assert_int_equal(plain->maps[VKRT_MAP_COVERAGE].line, 0);
 
-    assert_string_equal(leaves->mtl_path, other_mtl);
-    assert_vec3(leaves->tf, 0.1f, 0.2f, 0.3f);
-    assert_null(leaves->map_kd);
+    assert_string_equal(leaves->file, other_mtl);
+    assert_vec3(leaves->transmission_filter, 0.1f, 0.2f, 0.3f);
+    assert_null(leaves->maps[VKRT_MAP_BASE_COLOUR].path);
     snprintf(want, sizeof want, "%s/leaves_a.png", fx->dir);
-    assert_string_equal(leaves->map_d, want);
-    assert_int_equal(leaves->map_d_line, 3);
-    vkrt_mesh_free(&m);
+    assert_string_equal(leaves->maps[VKRT_MAP_COVERAGE].path, want);
+    assert_int_equal(leaves->maps[VKRT_MAP_COVERAGE].line, 3);
+    vkrt_model_free(&m);
+
 
     /* without .mtl files (vkrt_obj_parse with no base folder) nothing of the kind is set */
     vkrt_error err = {{0}};
     assert_true(vkrt_obj_parse(text, strlen(text), "mem.obj", NULL, &m, &err));
     assert_int_equal(m.material_count, 0);
-    vkrt_mesh_free(&m);
+    vkrt_model_free(&m);
 }
 
 /* ------------------------------------------------------------------------ shared scenes */
@@ -975,7 +1003,7 @@ static int check_suite_file(const char *suite, const char *path)
 {
     const char *relative = path + strlen(suite) + 1;
     const expected_failure *xf = expected_failure_of(relative);
-    vkrt_mesh m;
+    vkrt_model m;
     vkrt_error err = {{0}};
     check_split_file(path);
     if (!vkrt_obj_load(path, &m, &err)) {
@@ -995,7 +1023,7 @@ static int check_suite_file(const char *suite, const char *path)
         fail_msg("%s is not listed in %s/SOURCE.txt", relative, suite);
     if ((long)m.triangle_count != want)
         fail_msg("%s: %u triangles, SOURCE.txt says %ld", path, m.triangle_count, want);
-    vkrt_mesh_free(&m);
+    vkrt_model_free(&m);
     return 1;
 }
 
@@ -1028,7 +1056,7 @@ static void assimp_suite(void **state)
     run_suite("assimp-obj-parser-tests");
 }
 
-static int material_named(const vkrt_mesh *m, const char *name)
+static int material_named(const vkrt_model *m, const char *name)
 {
     for (uint32_t i = 0; i < m->material_count; i++)
         if (strcmp(m->materials[i].name, name) == 0)
@@ -1044,22 +1072,22 @@ static void cornell_box(void **state)
         skip();
     char path[1024];
     snprintf(path, sizeof path, "%s/cornell-box/CornellBox-Original.obj", dir);
-    vkrt_mesh m = load_ok(path);
+    vkrt_model m = load_ok(path);
     assert_int_equal(m.triangle_count, 36);
     const char *names[] = {"leftWall", "rightWall", "floor", "ceiling", "backWall", "shortBox", "tallBox", "light"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
         if (material_named(&m, names[i]) < 0)
             fail_msg("material %s missing", names[i]);
-    const vkrt_mtl *light = &m.materials[material_named(&m, "light")];
-    assert_vec3(light->ke, 17, 12, 4);
-    assert_vec3(m.materials[material_named(&m, "leftWall")].kd, 0.63f, 0.065f, 0.05f);
+    const vkrt_material *light = &m.materials[material_named(&m, "light")];
+    assert_vec3(light->emission, 17, 12, 4);
+    assert_vec3(m.materials[material_named(&m, "leftWall")].base_colour, 0.63f, 0.065f, 0.05f);
     int light_triangles = 0;
     for (uint32_t t = 0; t < m.triangle_count; t++) {
-        assert_true(m.material[t] >= 0);
-        light_triangles += m.material[t] == material_named(&m, "light");
+        assert_true(m.meshes[0].material[t] >= 0);
+        light_triangles += m.meshes[0].material[t] == material_named(&m, "light");
     }
     assert_int_equal(light_triangles, 2);
-    vkrt_mesh_free(&m);
+    vkrt_model_free(&m);
 }
 
 static void stanford_bunny(void **state)
@@ -1070,13 +1098,13 @@ static void stanford_bunny(void **state)
         skip();
     char path[1024];
     snprintf(path, sizeof path, "%s/stanford-bunny/stanford-bunny.obj", dir);
-    vkrt_mesh m = load_ok(path);
+    vkrt_model m = load_ok(path);
     assert_int_equal(m.triangle_count, 69451);
     assert_bounds_of_positions(&m, path); /* its faces span two of the loader's write tasks */
-    assert_null(m.normals);
+    assert_null(m.meshes[0].normals);
     for (size_t i = 0; i < (size_t)m.triangle_count * 9; i++)
-        assert_true(isfinite(m.positions[i]));
-    vkrt_mesh_free(&m);
+        assert_true(isfinite(m.meshes[0].positions[i]));
+    vkrt_model_free(&m);
 }
 
 int main(void)

@@ -34,8 +34,8 @@
 extern "C" {
 #include "scene/text_file.h"
 }
-#include "scene/obj_geometry.h"
-#include "scene/obj_number.h"
+#include "scene/obj/obj_geometry.h"
+#include "scene/obj/obj_number.h"
 #include "shared_scenes.h"
 
 /* Last: cmocka's fail() macro would rename std::ios's fail(). Its header declares C functions

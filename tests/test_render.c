@@ -114,13 +114,13 @@ static const double min_importance = 1e-3;
 
 /* Radiance along the ray o + t d, as docs/materials.md defines the built-ins (no vn in these
  * scenes, so normals are the triangles' own): Lambert lit by the lights for diffuse surfaces
- * (.mtl illum 0-2), plus a reflection weighted Ks for mirrors (illum 3, 5), Fresnel-weighted
- * reflection and refraction for glass (illum 4, 6, 7). depth counts bounces left; importance is
- * the ray's throughput, for the renderer's threshold. */
+ * (.mtl illum 0-2), plus a reflection weighted Ks for mirrors (illum 3, 5: the mirror family),
+ * Fresnel-weighted reflection and refraction for glass (illum 4, 6, 7: the smooth dielectric).
+ * depth counts bounces left; importance is the ray's throughput, for the renderer's threshold. */
 static d3 shade(const vkrt_scene *scene, d3 o, d3 d, int depth, d3 importance)
 {
     const vkrt_config *cfg = &scene->config;
-    const vkrt_mesh *mesh = &scene->mesh;
+    const vkrt_mesh *mesh = &scene->model.meshes[0]; /* one identity instance */
     double t;
     int64_t tri = closest(mesh, o, d, &t);
     if (tri < 0)
@@ -132,14 +132,14 @@ static d3 shade(const vkrt_scene *scene, d3 o, d3 d, int depth, d3 importance)
     if (!front)
         n = scale(n, -1);
     int32_t m = mesh->material[tri];
-    const vkrt_mtl *mtl = m < 0 ? NULL : &mesh->materials[m];
-    int illum = mtl ? mtl->illum : 2;
+    const vkrt_material *mtl = m < 0 ? NULL : &scene->model.materials[m];
+    vkrt_bsdf bsdf = mtl ? mtl->bsdf : VKRT_BSDF_DIFFUSE;
     /* A fixed relative epsilon: enough for this scene of unit-scale numbers in the hundreds. */
     double extent = fmax(fmax(fabs(p.x), fabs(p.y)), fmax(fabs(p.z), 1.0));
     double eps = 1e-4 * extent;
     d3 sum = make(0, 0, 0);
-    if (illum == 4 || illum == 6 || illum == 7) {
-        double ni = mtl->ni > 0 ? mtl->ni : 1.5;
+    if (bsdf == VKRT_BSDF_DIELECTRIC) {
+        double ni = mtl->ior > 0 ? mtl->ior : 1.5;
         double n1 = front ? 1 : ni, n2 = front ? ni : 1;
         double cos_i = -dot(d, n);
         double r = fresnel(cos_i, n1, n2);
@@ -158,7 +158,7 @@ static d3 shade(const vkrt_scene *scene, d3 o, d3 d, int depth, d3 importance)
         }
         return sum;
     }
-    d3 kd = mtl ? from_floats(mtl->kd) : make(0.8, 0.8, 0.8);
+    d3 kd = mtl ? from_floats(mtl->base_colour) : make(0.8, 0.8, 0.8);
     d3 origin = add(p, scale(n, eps));
     for (uint32_t i = 0; i < cfg->light_count; ++i) {
         const vkrt_config_light *l = &cfg->lights[i];
@@ -191,8 +191,8 @@ static d3 shade(const vkrt_scene *scene, d3 o, d3 d, int depth, d3 importance)
             continue;
         sum = add(sum, mul(kd, scale(e, cos_theta / M_PI)));
     }
-    if ((illum == 3 || illum == 5) && depth > 0) {
-        d3 ks = from_floats(mtl->ks);
+    if (bsdf == VKRT_BSDF_MIRROR && depth > 0) {
+        d3 ks = from_floats(mtl->specular);
         d3 w = mul(importance, ks);
         if (largest(w) >= min_importance) {
             d3 refl = add(d, scale(n, -2 * dot(d, n)));

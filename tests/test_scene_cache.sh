@@ -62,10 +62,10 @@ EOF
 made="$tmp/made/scene.cfg"
 
 render made-cold "$made"
-check "a parsed OBJ is stored" said made-cold "^vkrt: scene cache: OBJ parsed, mesh stored"
+check "a parsed OBJ is stored" said made-cold "^vkrt: scene cache: scene file parsed, model stored"
 check "its warning is printed" said made-cold "made.obj:[0-9]*: warning: .*"
 render made-warm "$made"
-check "the next start reads the mesh" said made-warm "^vkrt: scene cache: mesh read in"
+check "the next start reads the mesh" said made-warm "^vkrt: scene cache: model read in"
 check "and renders the same bytes" same made-cold made-warm
 grep "warning" "$tmp/made-cold.err" >"$tmp/warnings-cold"
 grep "warning" "$tmp/made-warm.err" >"$tmp/warnings-warm"
@@ -75,7 +75,7 @@ check "(there are warnings to compare)" test -s "$tmp/warnings-warm"
 # A new time on the same bytes: parsed again (the key holds the time).
 touch -d "2001-01-01 00:00:00" "$tmp/made/made.obj"
 render made-touched "$made"
-check "an OBJ with a new time is parsed again" said made-touched "OBJ parsed, mesh stored"
+check "an OBJ with a new time is parsed again" said made-touched "scene file parsed, model stored"
 check "and renders the same" same made-cold made-touched
 # New bytes under the old size and time: the content hash tells them apart. The blue half turns
 # green (the .mtl's bluf), one letter a line.
@@ -85,17 +85,17 @@ cp -p "$tmp/edited.obj" "$tmp/made/made.obj"
 check "(the edit kept the size)" test "$(wc -c <"$tmp/edited.obj")" -eq "$(wc -c <"$tmp/made/made.obj")"
 render made-edited "$made"
 check "an OBJ rewritten under the same size and time is parsed again" \
-    said made-edited "OBJ parsed, mesh stored"
+    said made-edited "scene file parsed, model stored"
 check "and renders the new scene" sh -c "! cmp -s '$tmp/made-cold.png' '$tmp/made-edited.png'"
 check "and its entry replaces the old version's" \
     test "$(find "$VKRT_CACHE_DIR" -name '*.mesh' | wc -l)" -eq 1
 # A changed .mtl: the entry lists it with its identity.
 render made-again "$made"
-check "(the edited OBJ is read from the cache)" said made-again "mesh read in"
+check "(the edited OBJ is read from the cache)" said made-again "model read in"
 sed 's/^Kd 0.1 0.8 0.1$/Kd 0.8 0.8 0.1/' "$tmp/made/made.mtl" >"$tmp/edited.mtl"
 cp "$tmp/edited.mtl" "$tmp/made/made.mtl"
 render made-mtl "$made"
-check "a changed .mtl is noticed" said made-mtl "not used (a .mtl file changed); OBJ parsed"
+check "a changed .mtl is noticed" said made-mtl "not used (a file the scene file names changed); scene file parsed"
 check "and its colours are rendered" sh -c "! cmp -s '$tmp/made-again.png' '$tmp/made-mtl.png'"
 
 # Damaged and truncated entries: parsed and built again, the same image.
@@ -108,7 +108,7 @@ for entry in "$VKRT_CACHE_DIR"/*.mesh "$VKRT_CACHE_DIR"/*.accel; do
     printf 'XYZWXYZW' | dd of="$entry" bs=1 seek=$((size / 2)) conv=notrunc 2>/dev/null
 done
 render made-damaged "$made" --accel bvh
-check "a damaged mesh is parsed again" said made-damaged "not used (a damaged entry); OBJ parsed"
+check "a damaged mesh is parsed again" said made-damaged "not used (a damaged entry); scene file parsed"
 check "a damaged structure is built again" said made-damaged "^vkrt: BVH: .* built in"
 check "and the image is the same" same made-ref made-damaged
 for entry in "$VKRT_CACHE_DIR"/*.mesh "$VKRT_CACHE_DIR"/*.accel; do
@@ -116,7 +116,7 @@ for entry in "$VKRT_CACHE_DIR"/*.mesh "$VKRT_CACHE_DIR"/*.accel; do
     head -c $((size - 100)) "$entry" >"$tmp/short" && cat "$tmp/short" >"$entry"
 done
 render made-truncated "$made" --accel bvh
-check "a truncated mesh is parsed again" said made-truncated "not used (a damaged entry); OBJ parsed"
+check "a truncated mesh is parsed again" said made-truncated "not used (a damaged entry); scene file parsed"
 check "a truncated structure is built again" said made-truncated "^vkrt: BVH: .* built in"
 check "and the image is the same" same made-ref made-truncated
 
@@ -132,7 +132,7 @@ done
 check "no temporary file is left" test -z "$(find "$VKRT_CACHE_DIR" -name '*.tmp')"
 render made-after "$made" --accel bvh
 check "and the next start reads both entries" \
-    sh -c "grep -q 'mesh read in' '$tmp/made-after.err' && grep -q 'read from the structure cache' '$tmp/made-after.err'"
+    sh -c "grep -q 'model read in' '$tmp/made-after.err' && grep -q 'read from the structure cache' '$tmp/made-after.err'"
 
 # A cache that cannot be written: a warning, the render as ever.
 : >"$tmp/a-file"
@@ -174,13 +174,13 @@ if [ -z "${VKRT_SKIP_SHARED_SCENES:-}" ] && [ -n "$scenes" ] &&
         render bunny-$accel-cold "$bunny" --accel $accel
         render bunny-$accel-warm "$bunny" --accel $accel
         check "bunny ($accel): warm from both caches" \
-            sh -c "grep -q 'mesh read in' '$tmp/bunny-$accel-warm.err' && grep -q 'read from the structure cache' '$tmp/bunny-$accel-warm.err'"
+            sh -c "grep -q 'model read in' '$tmp/bunny-$accel-warm.err' && grep -q 'read from the structure cache' '$tmp/bunny-$accel-warm.err'"
         check "bunny ($accel): warm renders the cold image" same bunny-$accel-cold bunny-$accel-warm
     done
     sponza="$src/scenes/shared/sponza-path.cfg"
     render sponza-cold "$sponza" --accel bvh
     render sponza-warm "$sponza" --accel bvh
-    check "Sponza: warm from the cache" said sponza-warm "mesh read in"
+    check "Sponza: warm from the cache" said sponza-warm "model read in"
     check "Sponza: warm renders the cold image, textures and all" same sponza-cold sponza-warm
     rm -rf "$VKRT_CACHE_DIR"
     VKRT_TEST_MAX_BUFFER_BYTES=400000 render split-cold "$bunny" --accel bvh

@@ -24,7 +24,7 @@
 #include <stb_image_write.h>
 
 #include "../glsl/shared.h"
-#include "scene/obj_load.h"
+#include "scene/obj/obj_load.h"
 #include "scene/texture.h"
 #include "temp_dir.h"
 
@@ -623,7 +623,7 @@ static const char *scenes_dir(void)
     return dir;
 }
 
-/* Loads every map_Kd (colour) and map_d (coverage) of the scene's OBJ as the scene loader does,
+/* Loads every base colour (map_Kd) and coverage (map_d) map of the scene's OBJ as the scene loader does,
  * the referrer being the .mtl line that names it; all must load. */
 static void load_scene_textures(const char *scene, const char *obj, uint32_t want_count)
 {
@@ -632,26 +632,25 @@ static void load_scene_textures(const char *scene, const char *obj, uint32_t wan
         skip();
     char path[1024];
     snprintf(path, sizeof path, "%s/%s/%s", dir, scene, obj);
-    vkrt_mesh mesh;
+    vkrt_model model = {0};
     vkrt_error err = {{0}};
-    if (!vkrt_obj_load(path, &mesh, &err))
+    if (!vkrt_obj_load(path, &model, &err))
         fail_msg("%s", err.msg);
     vkrt_texture_set set = {0};
     uint32_t requests = 0;
-    for (uint32_t i = 0; i < mesh.material_count; i++) {
-        const vkrt_mtl *m = &mesh.materials[i];
-        const char *maps[2] = {m->map_kd, m->map_d};
-        const int lines[2] = {m->map_kd_line, m->map_d_line};
+    for (uint32_t i = 0; i < model.material_count; i++) {
+        const vkrt_material *m = &model.materials[i];
+        const vkrt_texture_ref *maps[2] = {&m->maps[VKRT_MAP_BASE_COLOUR],
+                                           &m->maps[VKRT_MAP_COVERAGE]};
         for (int k = 0; k < 2; k++) {
-            if (!maps[k])
+            if (!maps[k]->path)
                 continue;
-            assert_non_null(m->mtl_path);
-            assert_true(lines[k] > 0);
+            assert_true(maps[k]->line > 0);
             char referrer[1100];
-            snprintf(referrer, sizeof referrer, "%s:%d", m->mtl_path, lines[k]);
+            snprintf(referrer, sizeof referrer, "%s:%d", m->file, maps[k]->line);
             uint32_t index;
-            if (!vkrt_texture_set_add(&set, maps[k], k ? VKRT_TEXTURE_ALPHA : VKRT_TEXTURE_COLOUR,
-                                      referrer, &index, &err))
+            if (!vkrt_texture_set_add(&set, maps[k]->path, maps[k]->space, referrer, &index,
+                                      &err))
                 fail_msg("%s", err.msg);
             requests++;
         }
@@ -660,7 +659,7 @@ static void load_scene_textures(const char *scene, const char *obj, uint32_t wan
            set.count, (double)set.texel_words * 4 / (1024.0 * 1024.0));
     assert_int_equal(set.count, want_count);
     vkrt_texture_set_free(&set);
-    vkrt_mesh_free(&mesh);
+    vkrt_model_free(&model);
 }
 
 static void dabrovic_sponza_textures(void **state)

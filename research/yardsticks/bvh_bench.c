@@ -21,7 +21,7 @@
 
 #include "accel/bvh.h"
 #include "accel/bvh_pairs.h"
-#include "scene/obj_load.h"
+#include "scene/obj/obj_load.h"
 
 enum { max_runs = 1000 };
 
@@ -74,12 +74,13 @@ int main(int argc, char **argv)
                 max_runs);
         return 2;
     }
-    vkrt_mesh mesh = {0};
+    vkrt_model model = {0};
     vkrt_error err = {""};
-    if (!vkrt_obj_load(argv[1], &mesh, &err)) {
+    if (!vkrt_obj_load(argv[1], &model, &err)) {
         fprintf(stderr, "bvh-bench: %s\n", err.msg);
         return 1;
     }
+    const vkrt_mesh mesh = model.meshes[0]; /* an OBJ is one mesh, one identity instance */
     double ms[max_runs];
     bvh_build_desc desc = {.threads = (uint32_t)threads, .max_leaf_size = (uint32_t)leaf,
                            .traversal_cost = cost, .spatial_budget = budget};
@@ -114,6 +115,6 @@ int main(int argc, char **argv)
     printf("build and pairs layout: min %.1f ms, median %.1f ms, max %.1f ms over %d runs\n", ms[0],
            ms[runs / 2], ms[runs - 1], runs);
     bvh_free(&b);
-    vkrt_mesh_free(&mesh);
+    vkrt_model_free(&model);
     return 0;
 }

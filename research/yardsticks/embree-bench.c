@@ -216,7 +216,7 @@ static bool bench_scene(RTCDevice device, const char *path, const options *opts,
     if (!vkrt_scene_load_geometry(path, &s, err))
         return false;
     *out = (row){.scene = path,
-                 .triangles = s.mesh.triangle_count,
+                 .triangles = s.model.meshes[0].triangle_count,
                  .width = opts->width ? opts->width : s.config.width,
                  .height = opts->height ? opts->height : s.config.height};
     uint32_t pixels = out->width * out->height;
@@ -226,7 +226,7 @@ static bool bench_scene(RTCDevice device, const char *path, const options *opts,
     bool ok = primary && other && hits && other_hits;
     if (!ok)
         vkrt_error_set(err, "out of memory for %u rays", pixels);
-    if (ok && !(scene = build_scene(device, &s.mesh, &out->build_ms, err)))
+    if (ok && !(scene = build_scene(device, &s.model.meshes[0], &out->build_ms, err)))
         ok = false;
     if (ok) {
         out->rays = pixels;

@@ -529,7 +529,7 @@ int main(int argc, char **argv)
     bvh_pairs pairs = {0};
     bvh_build_desc desc = {.max_leaf_size = leaf, .traversal_cost = cost};
     if (!vkrt_scene_load_geometry(argv[1], &scene, &err) ||
-        !bvh_build(&tree, scene.mesh.positions, scene.mesh.triangle_count, &desc, &err) ||
+        !bvh_build(&tree, scene.model.meshes[0].positions, scene.model.meshes[0].triangle_count, &desc, &err) ||
         !bvh_pairs_build(&tree, &pairs, &err)) {
         fprintf(stderr, "walk-profile: %s\n", err.msg);
         return 1;
@@ -545,7 +545,7 @@ int main(int argc, char **argv)
         return 1;
     }
     for (uint32_t i = 0; i < tree.prim_count; ++i)
-        memcpy(positions + 9 * (size_t)i, scene.mesh.positions + 9 * (size_t)tree.prim_order[i],
+        memcpy(positions + 9 * (size_t)i, scene.model.meshes[0].positions + 9 * (size_t)tree.prim_order[i],
                9 * sizeof *positions);
     walk_tree w = {pairs.nodes, positions, tree.prim_order};
     /* 132 multiprocessors of an H100 or H200, 48 subgroups each at 40 registers per lane. */

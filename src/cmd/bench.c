@@ -96,7 +96,7 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
     row->nested_walk = vkrt_renderer_tuning(r)->nested_walk;
     row->workgroup_size = vkrt_renderer_tuning(r)->workgroup_size;
     double warmup_ms = vkrt_renderer_tuning(r)->warmup_ms;
-    row->triangles = scene->mesh.triangle_count;
+    row->triangles = scene->model.triangle_count;
     if (ok && row->kernel_stats)
         ok = vkrt_renderer_trace_kernel_statistics(r, row->trace_kernel, sizeof row->trace_kernel,
                                                    row->occlusion_kernel,
@@ -105,7 +105,7 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
     row->height = desc->height;
     uint32_t timed = pixels;
     if (row->accel.kind == VKRT_ACCEL_BRUTE) {
-        double affordable = brute_force_tests / fmax(1.0, scene->mesh.triangle_count);
+        double affordable = brute_force_tests / fmax(1.0, scene->model.triangle_count);
         if (affordable < timed)
             timed = affordable < 1024 ? 1024 : (uint32_t)affordable;
         if (timed > pixels)

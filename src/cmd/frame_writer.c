@@ -120,7 +120,7 @@ bool frame_writer_start(frame_writer *w, int device, bool tell, vkrt_error *err)
         report_accel_stats(stderr, vkrt_renderer_accel_stats(w->renderer));
         fprintf(stderr, "vkrt: integrator %s: %s\n", vkrt_integrator_name(integrator), why);
         report_kernel_cache(stderr);
-        report_scene_cache(stderr, &w->scene->obj_cache);
+        report_scene_cache(stderr, &w->scene->model_cache);
         report_memory(stderr, w->renderer, &w->ctx, w->scene);
     }
     /* A profile's times, then what the driver says of each kernel, where it says anything. */

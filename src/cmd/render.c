@@ -304,7 +304,7 @@ int vkrt_cmd_render(const vkrt_command_line *cl, double main_ms)
     }
     clock.scene = vkrt_clock_ms();
     if (!opts->common.quiet)
-        vkrt_mesh_print_warnings(&scene.mesh, "vkrt: ", opts->common.verbose, stderr);
+        vkrt_model_print_warnings(&scene.model, "vkrt: ", opts->common.verbose, stderr);
     const char *output = opts->output ? opts->output : scene.config.output;
     uint32_t cameras = scene.config.camera_count;
     if (opts->frames_given && opts->frame_last >= cameras) {
@@ -330,7 +330,7 @@ int vkrt_cmd_render(const vkrt_command_line *cl, double main_ms)
     signal(SIGTERM, request_stop);
     if (opts->devices) {
         /* The workers are forked: none of them has the storing thread to wait for. */
-        vkrt_scene_cache_finish(&scene.obj_cache);
+        vkrt_scene_cache_finish(&scene.model_cache);
         int status = render_on_devices(cl, &scene, output, &list);
         free(list.frames);
         vkrt_scene_free(&scene);

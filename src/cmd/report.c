@@ -63,14 +63,14 @@ void report_scene_cache(FILE *out, const vkrt_scene_cache_report *c)
     if (c->rejected[0])
         fprintf(out, "the entry found was not used (%s); ", c->rejected);
     if (c->outcome == VKRT_SCENE_CACHE_HIT)
-        fprintf(out, "mesh read in %.0f ms", c->read_ms);
+        fprintf(out, "model read in %.0f ms", c->read_ms);
     else if (c->outcome == VKRT_SCENE_CACHE_STORED)
-        fprintf(out, "OBJ parsed, mesh stored in %.0f ms", c->store_ms);
+        fprintf(out, "scene file parsed, model stored in %.0f ms", c->store_ms);
     else if (c->outcome == VKRT_SCENE_CACHE_STORING)
-        fprintf(out, "OBJ parsed, mesh being stored on a thread");
+        fprintf(out, "scene file parsed, model being stored on a thread");
     else
-        fprintf(out, "OBJ parsed, not stored: %s", c->why);
-    fprintf(out, "; the OBJ's key hashed in %.0f ms\n", c->hash_ms);
+        fprintf(out, "scene file parsed, not stored: %s", c->why);
+    fprintf(out, "; the scene file's key hashed in %.0f ms\n", c->hash_ms);
 }
 
 void report_progress(FILE *out, uint32_t done, uint32_t total, uint32_t rendered, double seconds,
@@ -100,26 +100,23 @@ void report_memory(FILE *out, const vkrt_renderer *renderer, const gpu_context *
     fprintf(out, "vkrt: arrays split past %llu bytes (%s): %s\n",
             (unsigned long long)ctx->split_bytes, gpu_buffer_limit_name(ctx, ctx->split_bytes),
             *split ? split : "none");
-    const vkrt_mesh *mesh = &scene->mesh;
-    size_t per_triangle = 9 * sizeof(float) * (1 + (mesh->normals != NULL)) +
-                          6 * sizeof(float) * (mesh->texcoords != NULL) + sizeof(int32_t);
     struct rusage usage;
     double peak = getrusage(RUSAGE_SELF, &usage) == 0 ? usage.ru_maxrss / 1024.0 : 0.0;
     fprintf(out,
             "vkrt: host memory: mesh %.1f MiB (positions, normals, texture coordinates, "
             "materials), peak resident %.1f MiB\n",
-            (double)mesh->triangle_count * per_triangle / MiB, peak);
+            vkrt_model_host_bytes(&scene->model) / MiB, peak);
 }
 
 void report_startup(FILE *out, const startup_clock *t, const vkrt_scene *scene,
                     const vkrt_accel_stats *accel, const vkrt_renderer_startup *steps)
 {
     fprintf(out,
-            "vkrt: start-up: scene %.0f ms (OBJ %.0f ms), Vulkan %.0f ms, renderer %.0f ms "
+            "vkrt: start-up: scene %.0f ms (scene file %.0f ms), Vulkan %.0f ms, renderer %.0f ms "
             "(structure %.0f ms, of which %s %.0f; triangles' upload %.0f, materials %.0f, "
             "lights %.0f, buffers %.0f, %s %.0f), first frame %.0f ms, its image written %.0f "
             "ms; %.0f ms since main\n",
-            t->scene - t->main, scene->obj_ms, t->vulkan - t->scene, t->renderer - t->vulkan,
+            t->scene - t->main, scene->model_ms, t->vulkan - t->scene, t->renderer - t->vulkan,
             steps->structure_ms, accel->from_cache ? "reading it from the cache" : "building",
             accel->build_ms + accel->choose_ms, steps->geometry_ms, steps->materials_ms,
             steps->lights_ms, steps->buffers_ms,
@@ -158,7 +155,7 @@ void report_pool_summary(const vkrt_render_options *opts, const vkrt_scene *scen
     fprintf(stderr,
             "vkrt: %u worker%s | %u triangles | %u of %u frame%s in %.2f s, the first device "
             "ready after %.2f s | %.2f frames/s after that | %.3g Mrays/s per device\n",
-            r->worker_count, r->worker_count == 1 ? "" : "s", scene->mesh.triangle_count,
+            r->worker_count, r->worker_count == 1 ? "" : "s", scene->model.triangle_count,
             r->rendered, frame_count, frame_count == 1 ? "" : "s", r->seconds, r->start_seconds,
             rendering > 0 ? r->rendered / rendering : 0.0,
             gpu_seconds > 0 ? rays / gpu_seconds * 1e-6 : 0.0);
@@ -174,15 +171,15 @@ void report_render_summary(const vkrt_render_options *opts, vkrt_scene *scene,
     uint32_t rendered = totals->rendered;
     fprintf(stderr,
             "vkrt: %s | %u triangles | accel %s | %u frame%s | %.1f ms/frame | %.3g Mrays/s\n",
-            totals->device, scene->mesh.triangle_count, vkrt_accel_name(totals->accel.kind),
+            totals->device, scene->model.triangle_count, vkrt_accel_name(totals->accel.kind),
             rendered, rendered == 1 ? "" : "s", rendered ? 1e3 * totals->seconds / rendered : 0.0,
             totals->seconds > 0 ? totals->rays / totals->seconds * 1e-6 : 0.0);
     if (opts->common.verbose && clock->image)
         report_startup(stderr, clock, scene, &totals->accel, &totals->startup);
-    if (opts->common.verbose && scene->obj_cache.outcome == VKRT_SCENE_CACHE_STORING) {
+    if (opts->common.verbose && scene->model_cache.outcome == VKRT_SCENE_CACHE_STORING) {
         /* Said "being stored" before the first frame: now how it ended. */
-        vkrt_scene_cache_finish(&scene->obj_cache);
-        report_scene_cache(stderr, &scene->obj_cache);
+        vkrt_scene_cache_finish(&scene->model_cache);
+        report_scene_cache(stderr, &scene->model_cache);
     }
     if (!opts->common.verbose) {
         fprintf(stderr, "vkrt: accel %s: %s\n", vkrt_accel_name(totals->accel.kind),

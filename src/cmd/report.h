@@ -22,7 +22,7 @@ void report_accel_stats(FILE *out, const vkrt_accel_stats *s);
 /* Where the kernels came from: glslang, or the cache of earlier starts (gpu/spirv_cache.h). */
 void report_kernel_cache(FILE *out);
 
-/* Where the mesh came from: the OBJ parsed, or the scene cache (scene/scene_cache.h); nothing
+/* Where the model came from: the scene file parsed, or the scene cache (scene/scene_cache.h); nothing
  * when the cache was off. */
 void report_scene_cache(FILE *out, const vkrt_scene_cache_report *c);
 

@@ -18,7 +18,7 @@ int vkrt_cmd_view(const vkrt_command_line *cl)
         return 1;
     }
     if (!opts->common.quiet)
-        vkrt_mesh_print_warnings(&scene.mesh, "vkrt: ", opts->common.verbose, stderr);
+        vkrt_model_print_warnings(&scene.model, "vkrt: ", opts->common.verbose, stderr);
     vkrt_view_desc desc = {
         .scene_path = opts->scene_path,
         .scene = &scene,

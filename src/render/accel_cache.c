@@ -1,8 +1,8 @@
 /*
  * accel_cache.c: built structures kept in the cache directory (accel_cache.h).
  *
- * An entry "<key>.<family>.accel" (accel_cache.h: the latest of one OBJ's structures under one
- * set of settings) is a header (magic, key, the arrays' sizes, the frame, the statistics,
+ * An entry "<key>.<family>.accel" (accel_cache.h: the latest of one scene file's structures
+ * under one set of settings) is a header (magic, key, the arrays' sizes, the frame, the statistics,
  * each array's hash and a hash of the header itself), then the nodes, the references and the
  * triangle order, exactly as vkrt_accel_arrays holds them. The file's size must be the header's
  * sum: a truncated entry is found before anything is read.

@@ -2,8 +2,8 @@
  * accel_cache.h: built acceleration structures kept in the cache directory (cache_file.h), in the
  * form the upload takes (vkrt_accel_arrays), so that a second start skips the build.
  *
- * The BVH of Lost Empire tiled to 10 M triangles takes 2.4-2.6 s on the H200's 16 cores; its
- * 309 MiB of nodes read back in a fraction of that. The key is a hash of the triangles' positions
+ * A BVH over ten million triangles takes seconds to build; its nodes read back in a fraction of
+ * that (docs/performance.md has the figures). The key is a hash of the triangles' positions
  * (on every core: the structure depends on nothing else of the scene), their count, every field
  * of the vkrt_accel_desc the tuning resolved (kind, BVH width, leaf size, node cost, spatial
  * splits and their budget, grid density, kd-tree cost, which structures auto weighs), the
@@ -27,7 +27,7 @@ void vkrt_accel_cache_disable(void);
 
 /* Where a structure is kept: its key, and the entry's extension ".<16 hex digits>.accel", a hash
  * of the description's source and every other input but the positions, shared by the versions of
- * one OBJ's structure under one set of settings, of which the cache keeps the latest (".accel"
+ * one scene file's structure under one set of settings, of which the cache keeps the latest (".accel"
  * alone when the description names no source: nothing is replaced). */
 typedef struct vkrt_accel_cache_name {
     uint64_t key[2];

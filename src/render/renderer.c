@@ -21,21 +21,29 @@ static const uint32_t default_profile_repeat = 11;
 static bool default_materials(const vkrt_scene *scene, vkrt_scene_materials *own,
                               vkrt_error *err)
 {
-    vkrt_mesh plain = scene->mesh;
+    vkrt_model plain = scene->model;
     plain.material_count = 0;
-    int32_t *none = malloc((plain.triangle_count ? plain.triangle_count : 1) * sizeof *none);
-    if (!none)
-        return vkrt_error_set(err, "out of memory");
-    for (uint32_t i = 0; i < plain.triangle_count; ++i)
-        none[i] = -1;
-    plain.material = none;
-    bool ok = vkrt_scene_materials_resolve(&scene->config, &plain, NULL, own, err);
-    free(none);
+    plain.materials = NULL;
+    vkrt_mesh *meshes = calloc(plain.mesh_count ? plain.mesh_count : 1, sizeof *meshes);
+    bool ok = meshes != NULL;
+    for (uint32_t m = 0; ok && m < plain.mesh_count; ++m) {
+        meshes[m] = scene->model.meshes[m];
+        uint32_t n = meshes[m].triangle_count;
+        int32_t *none = malloc((n ? n : 1) * sizeof *none);
+        ok = none != NULL;
+        for (uint32_t i = 0; ok && i < n; ++i)
+            none[i] = -1;
+        meshes[m].material = none;
+    }
+    plain.meshes = meshes;
+    ok = ok && vkrt_scene_materials_resolve(&scene->config, &plain, NULL, own, err);
+    for (uint32_t m = 0; meshes && m < plain.mesh_count; ++m)
+        free(meshes[m].material);
+    free(meshes);
     if (!ok && err && !err->msg[0])
         vkrt_error_set(err, "out of memory");
     return ok;
 }
-
 
 /* The name of the first material that emits light as an area light (renderer_material_ke), or
  * NULL when none does. */
@@ -165,7 +173,7 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
                                                  : r->tuning.min_importance;
     r->profile = desc->profile;
     r->profile_repeat = desc->profile_repeat ? desc->profile_repeat : default_profile_repeat;
-    r->triangle_count = scene->mesh.triangle_count;
+    r->triangle_count = scene->model.triangle_count;
 
     const vkrt_scene_materials *mats = &scene->materials;
     vkrt_scene_materials own = {0};
@@ -216,8 +224,13 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
         .kdtree_competes = t->kdtree_competes,
         .source = scene->config.geometry,
     };
-    bool has_texcoords = mats->reads_texcoords && scene->mesh.texcoords;
-    bool has_normals = scene->mesh.normals != NULL;
+    /* The instances' triangles in world space: the mesh's own arrays for one identity instance,
+     * else a copy made here and dropped once uploaded. */
+    vkrt_mesh world = {0};
+    bool world_copied = false;
+    ok = ok && vkrt_model_world(&scene->model, &world, &world_copied, err);
+    bool has_texcoords = mats->reads_texcoords && world.texcoords;
+    bool has_normals = world.normals != NULL;
     vkrt_renderer_startup *times = &r->startup;
     double at = vkrt_clock_ms();
     /* The kernels compile on threads while the structure is built and the data uploaded, for
@@ -230,20 +243,21 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
          vkrt_material_kernel_create(&kernel, mats, ctx->float_atomics,
                                      r->integrator == VKRT_INTEGRATOR_PATH, err) &&
          renderer_scan_materials(r, mats, err);
-    if (ok && renderer_data_layout_predict(r, &accel, &scene->mesh, mats, &layout)) {
+    if (ok && renderer_data_layout_predict(r, &accel, &world, mats, &layout)) {
         renderer_kernel_plan_make(r, &layout, has_normals, has_texcoords, desc->traversal_stats,
                                   &plan);
         ok = renderer_kernels_start(r, &plan, &kernel, mats, err);
     }
     bool early = r->kernels != NULL, predicted = false;
     ok = ok && lap(&at, &times->materials_ms) &&
-         vkrt_accel_gpu_create(&r->accel, ctx, &accel, scene->mesh.positions,
-                               scene->mesh.triangle_count, err) &&
-         lap(&at, &times->structure_ms) && renderer_upload_geometry(r, &scene->mesh, mats, err) &&
+         vkrt_accel_gpu_create(&r->accel, ctx, &accel, world.positions, world.triangle_count,
+                               err) &&
+         lap(&at, &times->structure_ms) && renderer_upload_geometry(r, &world, mats, err) &&
          renderer_create_texel_views(r, err) && lap(&at, &times->geometry_ms) &&
          renderer_upload_materials(r, mats, &kernel, err) && lap(&at, &times->materials_ms) &&
          renderer_upload_lights(r, &scene->config, err) &&
-         renderer_upload_light_sampling(r, scene, mats, err) && lap(&at, &times->lights_ms) &&
+         renderer_upload_light_sampling(r, scene, &world, mats, err) &&
+         lap(&at, &times->lights_ms) &&
          renderer_upload_split_addresses(r, err) && renderer_create_frame_buffers(r, err) &&
          lap(&at, &times->buffers_ms);
     if (ok) {
@@ -260,6 +274,8 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
     renderer_kernels_abandon(r);
     vkrt_material_kernel_destroy(&kernel);
     vkrt_scene_materials_free(&own);
+    if (world_copied)
+        vkrt_mesh_free(&world);
     if (!ok) {
         vkrt_renderer_destroy(r);
         return false;

@@ -67,7 +67,8 @@ struct vkrt_renderer {
     uint32_t *material_cutouts;    /* per material, VKRT_CUTOUT_* (renderer_scan_materials) */
 };
 
-/* renderer_upload.c: the scene's data in GPU buffers, in the structure's triangle order. */
+/* renderer_upload.c: the scene's data in GPU buffers, in the structure's triangle order; mesh
+ * (here and below) is the model's triangles in world space (vkrt_model_world). */
 bool renderer_upload_geometry(vkrt_renderer *r, const vkrt_mesh *mesh,
                               const vkrt_scene_materials *mats, vkrt_error *err);
 bool renderer_upload_materials(vkrt_renderer *r, const vkrt_scene_materials *mats,
@@ -95,7 +96,7 @@ typedef struct renderer_plastic_layout {
 bool renderer_plastic_layout_make(const vkrt_scene_materials *mats, Material *materials,
                                   renderer_plastic_layout *layout, vkrt_error *err);
 void renderer_plastic_layout_free(renderer_plastic_layout *layout);
-/* The radiance material m emits as an area light (the .mtl's Ke for the built-ins that emit it,
+/* The radiance material m emits as an area light (number 8-10, Ke, for the built-ins that emit it,
  * times the mean of its map_Ke, else 0): what the integrator's choice and the path tracer's light
  * sampling go by. */
 void renderer_material_ke(const vkrt_scene_materials *mats, uint32_t m, float ke[3]);
@@ -103,7 +104,8 @@ void renderer_material_ke(const vkrt_scene_materials *mats, uint32_t m, float ke
  * tracer's, and Whitted's emitter light (r->emitter_light, cleared when every emissive triangle
  * has zero area); otherwise minimal buffers that keep the bindings valid. */
 bool renderer_upload_light_sampling(vkrt_renderer *r, const vkrt_scene *scene,
-                                    const vkrt_scene_materials *mats, vkrt_error *err);
+                                    const vkrt_mesh *world, const vkrt_scene_materials *mats,
+                                    vkrt_error *err);
 /* The texel views of the triangles and the nodes, always made (every trace kernel declares
  * them), and r->texel_loads: the tuning's choice where the views hold the whole arrays (never a
  * split one). */

@@ -13,9 +13,10 @@
 #include "../accel/bvh_threads.h"
 #include "renderer_private.h"
 
-/* What the per-triangle arrays are made from: each written straight into the staging buffers,
- * piece by piece, in the structure's triangle order (a BVH's leaf order), so that the host never
- * holds a second copy of the mesh (4.8 GB of triangles alone at 100 million). */
+/* What the per-triangle arrays are made from (the model's triangles in world space,
+ * vkrt_model_world): each written straight into the staging buffers, piece by piece, in the
+ * structure's triangle order (a BVH's leaf order), so that the host never holds a second copy
+ * of them (gigabytes at a hundred million triangles). */
 typedef struct geometry_source {
     const vkrt_renderer *r;
     const vkrt_mesh *mesh;
@@ -88,10 +89,8 @@ static void *fill_share_run(void *arg)
 }
 
 /* The source's fill over every core: a piece is 64 MiB of gathers from the mesh in the
- * structure's order, which one thread wrote at 40-60 ns a triangle and array on the H200's host
- * (Lost Empire tiled 9 x 5, 10.1 M triangles: 0.42 s of the arrays' 0.55 s upload; 16 cores and
- * the kept staging buffer, buffer.c: 0.12-0.14 s, research/results/coldstart-h200). The elements
- * are independent, so the shares need no order. */
+ * structure's order, which on one thread was most of a big scene's upload (docs/performance.md).
+ * The elements are independent, so the shares need no order. */
 static void fill_on_every_core(void *user, size_t first, size_t count, void *dst)
 {
     const geometry_source *source = user;
@@ -366,8 +365,8 @@ bool renderer_data_layout_predict(const vkrt_renderer *r, const vkrt_accel_desc 
     if (layout->kind == VKRT_ACCEL_AUTO)
         return false;
     /* The structure's nodes: a guess where only the build knows their number (a BVH's leaves
-     * hold about two triangles, research/results/h200-1202), which matters only for arrays near
-     * a buffer's limit; spatial splits' extra triangles are left out alike. */
+     * hold about two triangles), which matters only for arrays near a buffer's limit; spatial
+     * splits' extra triangles are left out alike. */
     size_t node_size = sizeof(uint32_t), nodes = n, refs = 0;
     if (layout->kind == VKRT_ACCEL_BVH) {
         layout->bvh_width = accel->bvh_width;
@@ -484,11 +483,11 @@ void renderer_material_ke(const vkrt_scene_materials *mats, uint32_t m, float ke
 
 /* The alias table over the emissive triangles (src/scene/emitters.h) into info and *table,
  * the triangles renumbered to the structure's order the kernels see. */
-static bool build_emitter_table(vkrt_renderer *r, const vkrt_scene *scene,
+static bool build_emitter_table(vkrt_renderer *r, const vkrt_mesh *world,
                                 const vkrt_scene_materials *mats, LightInfo *info,
                                 Emitter **table, vkrt_error *err)
 {
-    uint32_t n = scene->mesh.triangle_count;
+    uint32_t n = world->triangle_count;
     float *ke = malloc((mats->count ? mats->count : 1) * 3 * sizeof *ke);
     uint32_t *uploaded = malloc((n ? n : 1) * sizeof *uploaded);
     if (!ke || !uploaded) {
@@ -502,7 +501,7 @@ static bool build_emitter_table(vkrt_renderer *r, const vkrt_scene *scene,
     for (uint32_t i = 0; i < r->accel.triangle_count; ++i)
         uploaded[vkrt_accel_original_triangle(&r->accel, i)] = i;
     vkrt_emitters e;
-    bool ok = vkrt_emitters_build(scene->mesh.positions, n, mats->triangle_material, ke,
+    bool ok = vkrt_emitters_build(world->positions, n, mats->triangle_material, ke,
                                   mats->count, &e, err);
     free(ke);
     *table = NULL;
@@ -558,7 +557,8 @@ static bool build_environment(const vkrt_config *cfg, LightInfo *info, float **f
 }
 
 bool renderer_upload_light_sampling(vkrt_renderer *r, const vkrt_scene *scene,
-                                    const vkrt_scene_materials *mats, vkrt_error *err)
+                                    const vkrt_mesh *world, const vkrt_scene_materials *mats,
+                                    vkrt_error *err)
 {
     LightInfo info = {0};
     Emitter *table = NULL;
@@ -566,7 +566,7 @@ bool renderer_upload_light_sampling(vkrt_renderer *r, const vkrt_scene *scene,
     size_t environment_floats = 0;
     bool path = r->integrator == VKRT_INTEGRATOR_PATH;
     bool ok = (!(path || r->emitter_light) ||
-               build_emitter_table(r, scene, mats, &info, &table, err)) &&
+               build_emitter_table(r, world, mats, &info, &table, err)) &&
               build_environment(&scene->config, &info, &environment, &environment_floats, err);
     /* Ke on triangles of zero area only: nothing to sample, so no emitter light is compiled (its
      * visibility word stays, unused). */

@@ -1,4 +1,5 @@
-/* materials.c: from usemtl names to shaders, parameters and textures (see materials.h). */
+/* materials.c: from the model's material records to shaders, parameters and textures (see
+ * materials.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "materials.h"
 
@@ -15,7 +16,7 @@ const char *const vkrt_builtin_shaders[] = {
     "roughconductor", "roughdielectric", "roughplastic", "pbr", "environment", NULL,
 };
 
-/* Parameter layout of the built-ins, which the .mtl mapping fills (glsl/lib/mtl.glsl). */
+/* Parameter layout of the built-ins, which a model record fills (glsl/lib/mtl.glsl). */
 enum {
     PARAM_KD = 0,
     PARAM_TRANSPARENCY = 3,
@@ -24,27 +25,20 @@ enum {
     PARAM_KE = 8,
     PARAM_NI = 11,
     PARAM_TF = 12,
-    PARAM_ILLUM = 15,
+    PARAM_FAMILY = 15,
     PARAM_ROUGHNESS = 16,
     PARAM_METALLIC = 17,
     PARAM_COAT = 18,
     PARAM_COAT_ROUGHNESS = 19,
 };
-enum {
-    SLOT_MAP_KD = 0,
-    SLOT_MAP_D = 1,
-    SLOT_MAP_PR = 2,
-    SLOT_MAP_PM = 3,
-    SLOT_DETAIL = VKRT_SLOT_DETAIL,     /* norm, or map_Bump */
-    SLOT_MAP_KE = VKRT_SLOT_EMISSION,
-    SLOT_MAP_PS = VKRT_SLOT_SHEEN,
+/* The texture slot of each of a record's maps (VKRT_MAP_*), as the built-ins read them. */
+static const uint32_t slot_of_map[VKRT_MAP_COUNT] = {
+    [VKRT_MAP_BASE_COLOUR] = 0, [VKRT_MAP_COVERAGE] = 1,           [VKRT_MAP_ROUGHNESS] = 2,
+    [VKRT_MAP_METALLIC] = 3,    [VKRT_MAP_SHEEN] = VKRT_SLOT_SHEEN, [VKRT_MAP_DETAIL] = VKRT_SLOT_DETAIL,
+    [VKRT_MAP_EMISSION] = VKRT_SLOT_EMISSION,
 };
 /* A material file's number that is not one of the 20 above: the sheen (Material.maps.z). */
 enum { NUMBER_SHEEN = 20 };
-
-/* Below this roughness the GGX built-ins are smooth (glsl/lib/microfacet.glsl's
- * MICROFACET_SMOOTH_ALPHA is its square): a PBR glass this smooth is the plain glass. */
-static const float smooth_roughness = 0.02f;
 
 static const float default_albedo = 0.8f;
 
@@ -136,65 +130,37 @@ static bool find_or_add_shader(vkrt_scene_materials *out, const char *builtin, c
     return true;
 }
 
-static bool any_nonzero(const float *v, int n)
+/* The built-in that renders a family (docs/materials.md): the diffuse family with a colour map
+ * is the textured diffuse. */
+static const char *builtin_of(const vkrt_material *m)
 {
-    for (int i = 0; i < n; ++i)
-        if (v[i] != 0.0f)
-            return true;
-    return false;
+    switch (m->bsdf) {
+    case VKRT_BSDF_GLOSSY_PHONG: return "phong";
+    case VKRT_BSDF_MIRROR: return "mirror";
+    case VKRT_BSDF_DIELECTRIC: return "glass";
+    case VKRT_BSDF_ROUGH_DIELECTRIC: return "roughdielectric";
+    case VKRT_BSDF_PRINCIPLED: return "pbr";
+    case VKRT_BSDF_EMITTER: return "emissive";
+    case VKRT_BSDF_DIFFUSE: break;
+    }
+    return m->maps[VKRT_MAP_BASE_COLOUR].path ? "textured" : "diffuse";
 }
 
-/* The material's emission: Ke, or 1 1 1 where a map_Ke comes without a Ke (the map is then the
- * emission itself, as a map replaces its number below). */
-static void mtl_emission(const vkrt_mtl *m, float ke[3])
+/* The record's numbers in the built-ins' parameter layout (glsl/lib/mtl.glsl). */
+static void record_params(const vkrt_material *m, float *p)
 {
-    for (int i = 0; i < 3; ++i)
-        ke[i] = m->map_ke && !m->ke_given ? 1.0f : m->ke[i];
-}
-
-/* The built-in that renders an .mtl material as its illumination model says (docs/materials.md). */
-static const char *mtl_builtin(const vkrt_mtl *m)
-{
-    float ke[3];
-    mtl_emission(m, ke);
-    if (m->illum == 4 || m->illum == 6 || m->illum == 7)
-        return m->pbr && (m->pr < 0.0f || m->pr >= smooth_roughness) ? "roughdielectric" : "glass";
-    if (m->illum == 3 || m->illum == 5)
-        return "mirror";
-    if (any_nonzero(ke, 3) && !any_nonzero(m->kd, 3) && !any_nonzero(m->ks, 3) && !m->map_kd)
-        return "emissive";
-    if (m->pbr)
-        return "pbr";
-    if (m->illum >= 2 && any_nonzero(m->ks, 3) && m->ns > 0.0f)
-        return "phong";
-    return m->map_kd ? "textured" : "diffuse";
-}
-
-float vkrt_ns_roughness(float ns)
-{
-    float alpha = sqrtf(2.0f / (fmaxf(ns, 0.0f) + 2.0f));
-    return sqrtf(alpha);
-}
-
-static void mtl_params(const vkrt_mtl *m, float *p)
-{
-    memcpy(p + PARAM_KD, m->kd, sizeof m->kd);
-    p[PARAM_TRANSPARENCY] = 1.0f - m->d;
-    memcpy(p + PARAM_KS, m->ks, sizeof m->ks);
-    p[PARAM_NS] = m->ns;
-    mtl_emission(m, p + PARAM_KE);
-    p[PARAM_NI] = m->ni;
-    memcpy(p + PARAM_TF, m->tf, sizeof m->tf);
-    p[PARAM_ILLUM] = (float)m->illum;
-    /* A map replaces its number (Blender's exporter writes both, and its importer ignores the
-     * number where a map is linked): the shader multiplies them, so the number becomes 1. */
-    p[PARAM_ROUGHNESS] = m->map_pr ? 1.0f : m->pr >= 0.0f ? m->pr : vkrt_ns_roughness(m->ns);
-    p[PARAM_METALLIC] = m->map_pm ? 1.0f : m->pm;
-    /* Blender's importer reads Pc as Coat Weight Pc / 4 ("Clearcoat used to include an implicit
-     * 0.25 factor": Principled v1's clearcoat lobe was a quarter of its number), Pcr as the coat's
-     * roughness; number 18 is the weight. */
-    p[PARAM_COAT] = fminf(fmaxf(0.25f * m->pc, 0.0f), 1.0f);
-    p[PARAM_COAT_ROUGHNESS] = m->pcr;
+    memcpy(p + PARAM_KD, m->base_colour, sizeof m->base_colour);
+    p[PARAM_TRANSPARENCY] = 1.0f - m->opacity;
+    memcpy(p + PARAM_KS, m->specular, sizeof m->specular);
+    p[PARAM_NS] = m->specular_exponent;
+    memcpy(p + PARAM_KE, m->emission, sizeof m->emission);
+    p[PARAM_NI] = m->ior;
+    memcpy(p + PARAM_TF, m->transmission_filter, sizeof m->transmission_filter);
+    p[PARAM_FAMILY] = (float)m->bsdf;
+    p[PARAM_ROUGHNESS] = m->roughness;
+    p[PARAM_METALLIC] = m->metallic;
+    p[PARAM_COAT] = m->coat;
+    p[PARAM_COAT_ROUGHNESS] = m->coat_roughness;
 }
 
 /* The material's sheen weight clamped to [0, 1] (Blender's Sheen Weight's range), and
@@ -259,55 +225,45 @@ static bool from_definition(vkrt_scene_materials *out, vkrt_scene_material *mat,
     return true;
 }
 
-static bool from_mtl(vkrt_scene_materials *out, vkrt_scene_material *mat, const vkrt_mtl *m,
-                     vkrt_error *err)
+static bool from_record(vkrt_scene_materials *out, vkrt_scene_material *mat,
+                        const vkrt_material *m, vkrt_error *err)
 {
-    const char *mtl = m->mtl_path ? m->mtl_path : "(.mtl)";
-    if (!init_material(mat, m->name, mtl, err))
+    if (!init_material(mat, m->name, m->file, err))
         return false;
-    mtl_params(m, mat->params);
-    /* Blender's importer reads Ps as Sheen Weight; a map replaces its number, as for Pr. */
-    mark_layers(mat, m->map_ps ? 1.0f : m->ps);
+    record_params(m, mat->params);
+    mark_layers(mat, m->sheen);
     char shader_referrer[1200];
-    snprintf(shader_referrer, sizeof shader_referrer, "%s: material '%s'", mtl, m->name);
-    if (!find_or_add_shader(out, mtl_builtin(m), NULL, shader_referrer, &mat->shader, err))
+    snprintf(shader_referrer, sizeof shader_referrer, "%s: material '%s'", m->file, m->name);
+    if (!find_or_add_shader(out, builtin_of(m), NULL, shader_referrer, &mat->shader, err))
         return false;
-    /* Each map in its slot, named by its line for texture errors; roughness, metallic and sheen
-     * maps are data, read as they are stored (no sRGB decoding). */
-    const struct {
-        const char *path;
-        int line;
-        uint32_t slot;
-        vkrt_texture_usage usage;
-    } maps[] = {
-        {m->map_kd, m->map_kd_line, SLOT_MAP_KD, VKRT_TEXTURE_COLOUR},
-        {m->map_d, m->map_d_line, SLOT_MAP_D, VKRT_TEXTURE_ALPHA},
-        {m->map_pr, m->map_pr_line, SLOT_MAP_PR, VKRT_TEXTURE_DATA},
-        {m->map_pm, m->map_pm_line, SLOT_MAP_PM, VKRT_TEXTURE_DATA},
-        {m->map_ps, m->map_ps_line, SLOT_MAP_PS, VKRT_TEXTURE_DATA},
-        /* Normal and height maps are data too; norm wins over a map_Bump of the same material. */
-        {m->norm ? m->norm : m->map_bump, m->norm ? m->norm_line : m->map_bump_line, SLOT_DETAIL,
-         VKRT_TEXTURE_DATA},
-        {m->map_ke, m->map_ke_line, SLOT_MAP_KE, VKRT_TEXTURE_COLOUR},
-    };
-    for (size_t i = 0; i < sizeof maps / sizeof *maps; ++i) {
+    /* Each map in its slot, named by its line for texture errors, in the colour space the record
+     * gives it. */
+    for (int k = 0; k < VKRT_MAP_COUNT; ++k) {
+        const vkrt_texture_ref *t = &m->maps[k];
+        if (!t->path)
+            continue;
         char referrer[1200];
-        snprintf(referrer, sizeof referrer, "%s:%d", mtl, maps[i].line);
-        if (maps[i].path &&
-            !add_texture(out, mat, maps[i].slot, maps[i].path, maps[i].usage, referrer, err))
+        snprintf(referrer, sizeof referrer, "%s:%d", m->file, t->line);
+        if (t->sampler.wrap_u != VKRT_WRAP_REPEAT || t->sampler.wrap_v != VKRT_WRAP_REPEAT ||
+            t->sampler.filter != VKRT_FILTER_LINEAR)
+            return vkrt_error_set(err,
+                                  "%s: texture '%s': only repeating, bilinear sampling is "
+                                  "supported",
+                                  referrer, t->path);
+        if (!add_texture(out, mat, slot_of_map[k], t->path, t->space, referrer, err))
             return false;
     }
-    /* A map_Bump is a height map unless its image is a normal map (Blender writes its normal
-     * maps as map_Bump): told apart by the image (vkrt_texture_is_normal_map). */
-    uint32_t detail = mat->textures[SLOT_DETAIL];
-    if (m->norm || (detail != VKRT_SCENE_NO_TEXTURE &&
-                    vkrt_texture_is_normal_map(&out->textures, detail)))
+    uint32_t detail = mat->textures[VKRT_SLOT_DETAIL];
+    if (detail != VKRT_SCENE_NO_TEXTURE &&
+        (m->detail_kind == VKRT_DETAIL_NORMAL ||
+         (m->detail_kind == VKRT_DETAIL_BY_IMAGE &&
+          vkrt_texture_is_normal_map(&out->textures, detail))))
         mat->maps |= VKRT_MATERIAL_NORMAL_MAP;
     else if (detail != VKRT_SCENE_NO_TEXTURE)
         mat->maps |= VKRT_MATERIAL_BUMP_MAP;
-    if (m->map_ke)
+    if (m->maps[VKRT_MAP_EMISSION].path)
         mat->maps |= VKRT_MATERIAL_EMISSION_MAP;
-    mat->detail_multiplier = m->bump_multiplier;
+    mat->detail_multiplier = m->detail_scale;
     return true;
 }
 
@@ -333,43 +289,62 @@ static bool environment_material(vkrt_scene_materials *out, vkrt_scene_material 
     return find_or_add_shader(out, "environment", NULL, "(environment)", &mat->shader, err);
 }
 
-bool vkrt_scene_materials_resolve(const vkrt_config *cfg, const vkrt_mesh *mesh,
+/* The list index of the material triangle index m names (-1: the default), resolving it into
+ * out on first use; used[i] caches record i's (used[count]: the default's), UINT32_MAX before. */
+static bool material_for(vkrt_scene_materials *out, const vkrt_model *model,
+                         const vkrt_material_file *file, int32_t m, uint32_t *used,
+                         uint32_t *index, vkrt_error *err)
+{
+    if (m >= (int32_t)model->material_count)
+        return vkrt_error_set(err, "a triangle names material %d of %u", m,
+                              model->material_count);
+    uint32_t key = m < 0 ? model->material_count : (uint32_t)m;
+    if (used[key] == UINT32_MAX) {
+        vkrt_scene_material *mat = &out->list[out->count];
+        const vkrt_material *record = m >= 0 ? &model->materials[m] : NULL;
+        /* The user-shader escape hatch: a material the material file names by the record's. */
+        const vkrt_material_def *def =
+            record && file ? vkrt_material_file_find(file, record->name) : NULL;
+        bool ok = def      ? from_definition(out, mat, file, def, err)
+                  : record ? from_record(out, mat, record, err)
+                           : default_material(out, mat, err);
+        used[key] = out->count++;
+        if (!ok)
+            return false;
+    }
+    *index = used[key];
+    return true;
+}
+
+bool vkrt_scene_materials_resolve(const vkrt_config *cfg, const vkrt_model *model,
                                   const vkrt_material_file *file, vkrt_scene_materials *out,
                                   vkrt_error *err)
 {
     memset(out, 0, sizeof *out);
-    uint32_t mtl_count = mesh->material_count;
-    /* used[i]: the list index of .mtl material i (mtl_count: the default), or UINT32_MAX. */
-    uint32_t *used = malloc((mtl_count + 1) * sizeof *used);
-    out->triangle_material = malloc((mesh->triangle_count ? mesh->triangle_count : 1) *
+    uint32_t count = model->material_count;
+    uint32_t *used = malloc((count + 1) * sizeof *used);
+    out->triangle_material = malloc((model->triangle_count ? model->triangle_count : 1) *
                                     sizeof *out->triangle_material);
-    /* The used materials (at most every .mtl one and the default), the environment, and one
+    /* The used materials (at most every record and the default), the environment, and one
      * zeroed entry that free may visit after a failure part way. */
-    out->list = calloc(mtl_count + 3, sizeof *out->list);
+    out->list = calloc(count + 3, sizeof *out->list);
     if (!used || !out->triangle_material || !out->list) {
         free(used);
         vkrt_scene_materials_free(out);
-        return vkrt_error_set(err, "out of memory for %u materials", mtl_count);
+        return vkrt_error_set(err, "out of memory for %u materials", count);
     }
-    for (uint32_t i = 0; i <= mtl_count; ++i)
+    for (uint32_t i = 0; i <= count; ++i)
         used[i] = UINT32_MAX;
     bool ok = true;
-    for (uint32_t t = 0; ok && t < mesh->triangle_count; ++t) {
-        int32_t m = mesh->material[t];
-        uint32_t key = m < 0 ? mtl_count : (uint32_t)m;
-        if (used[key] == UINT32_MAX) {
-            vkrt_scene_material *mat = &out->list[out->count];
-            const vkrt_material_def *def =
-                m >= 0 && file ? vkrt_material_file_find(file, mesh->materials[m].name) : NULL;
-            if (def)
-                ok = from_definition(out, mat, file, def, err);
-            else if (m >= 0)
-                ok = from_mtl(out, mat, &mesh->materials[m], err);
-            else
-                ok = default_material(out, mat, err);
-            used[key] = out->count++;
-        }
-        out->triangle_material[t] = used[key];
+    size_t t = 0;
+    for (uint32_t i = 0; ok && i < model->instance_count; ++i) {
+        const vkrt_mesh *mesh = &model->meshes[model->instances[i].mesh];
+        if (t + mesh->triangle_count > model->triangle_count)
+            ok = vkrt_error_set(err, "the model's triangle count is not its instances' "
+                                     "(vkrt_model_finish sets it)");
+        for (uint32_t k = 0; ok && k < mesh->triangle_count; ++k, ++t)
+            ok = material_for(out, model, file, mesh->material[k], used,
+                              &out->triangle_material[t], err);
     }
     if (ok) {
         out->environment = out->count;

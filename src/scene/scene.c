@@ -11,11 +11,12 @@ bool vkrt_scene_load_geometry(const char *path, vkrt_scene *scene, vkrt_error *e
     if (!vkrt_config_load(path, &scene->config, err))
         return false;
     double start = vkrt_clock_ms();
-    bool loaded =
-        vkrt_scene_cache_obj_load(scene->config.geometry, &scene->mesh, &scene->obj_cache, err);
-    scene->obj_ms = vkrt_clock_ms() - start;
+    const char *geometry = scene->config.geometry;
+    bool loaded = vkrt_scene_cache_load(vkrt_scene_loader_for(geometry), geometry, &scene->model,
+                                        &scene->model_cache, err);
+    scene->model_ms = vkrt_clock_ms() - start;
     if (!loaded) {
-        /* Say which scene file asked for the OBJ: the OBJ's own message follows. */
+        /* Say which scene.cfg line asked for the file: the loader's own message follows. */
         vkrt_error_prefix(err, "%s:%d: geometry", path, scene->config.geometry_line);
         vkrt_scene_free(scene);
         return false;
@@ -32,7 +33,7 @@ bool vkrt_scene_load(const char *path, vkrt_scene *scene, vkrt_error *err)
         vkrt_scene_free(scene);
         return false;
     }
-    if (!vkrt_scene_materials_resolve(&scene->config, &scene->mesh,
+    if (!vkrt_scene_materials_resolve(&scene->config, &scene->model,
                                       scene->config.materials ? &scene->material_file : NULL,
                                       &scene->materials, err)) {
         vkrt_scene_free(scene);
@@ -43,10 +44,10 @@ bool vkrt_scene_load(const char *path, vkrt_scene *scene, vkrt_error *err)
 
 void vkrt_scene_free(vkrt_scene *scene)
 {
-    vkrt_scene_cache_finish(&scene->obj_cache); /* its thread reads the mesh */
+    vkrt_scene_cache_finish(&scene->model_cache); /* its thread reads the model */
     vkrt_scene_materials_free(&scene->materials);
     vkrt_material_file_free(&scene->material_file);
-    vkrt_mesh_free(&scene->mesh);
+    vkrt_model_free(&scene->model);
     vkrt_config_free(&scene->config);
     memset(scene, 0, sizeof *scene);
 }

@@ -1,12 +1,14 @@
 /*
- * scene_cache.c: an OBJ's mesh kept in the cache directory (scene_cache.h).
+ * scene_cache.c: a loaded scene model kept in the cache directory (scene_cache.h).
  *
- * An entry "<key>.<where>.mesh" (where: a hash of the OBJ's path, shared by its versions, of which
- * the cache keeps the latest) is a header (magic, key, counts, bounds, each section's size and hash,
- * and a hash of the header itself), then its sections in order: the text (the .mtl files read
- * with their identities, the materials' strings, the warnings), the materials' records (vkrt_mtl
- * with its pointers zeroed), then the per-triangle arrays exactly as vkrt_mesh holds them. The
- * file's size must be the header's sum: a truncated entry is found before anything is read.
+ * An entry "<key>.<where>.mesh" (where: a hash of the scene file's path, shared by its versions, of
+ * which the cache keeps the latest) is a header (magic, key, counts, the world box, each section's
+ * size and hash, and a hash of the header itself), then its sections in order: the text (the
+ * loader's other inputs with their identities, the materials' strings, the warnings), the
+ * materials' records (vkrt_material with its pointers zeroed), the instances, lights and cameras,
+ * the meshes' table (counts, boxes, and each array's size and hash), then every mesh's arrays
+ * exactly as vkrt_mesh holds them. The file's size must be the sum the header and the table
+ * give: a truncated entry is found before an array is read.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "scene_cache.h"
@@ -24,34 +26,69 @@
 #include "../cache_file.h"
 #include "../clock.h"
 
-/* "VKRTMSH" and the layout's version: a new layout gets a new number (it is in the key too). */
-static const uint64_t MESH_MAGIC = 0x3148534D54524B56ull; /* "VKRTMSH1", little-endian */
-enum { LAYOUT_VERSION = 1 };
+/* "VKRTMDL" and the layout's version: a new layout gets a new number (it is in the key too), so
+ * an entry of an older layout is never found, and is replaced by the next store. */
+static const uint64_t MODEL_MAGIC = 0x324C444D54524B56ull; /* "VKRTMDL2", little-endian */
+enum { LAYOUT_VERSION = 2 };
 
-/* An OBJ smaller than this parses in milliseconds: the cache would only fill the disk. */
-static const uint64_t MIN_OBJ_BYTES = 1u << 20;
+/* A scene file smaller than this loads in milliseconds: the cache would only fill the disk. */
+static const uint64_t MIN_SCENE_BYTES = 1u << 20;
 
-enum { SECTION_TEXT, SECTION_MATERIALS, SECTION_POSITIONS, SECTION_NORMALS, SECTION_TEXCOORDS,
-       SECTION_MATERIAL, SECTION_COUNT };
+enum { SECTION_TEXT, SECTION_MATERIALS, SECTION_INSTANCES, SECTION_LIGHTS, SECTION_CAMERAS,
+       SECTION_MESHES, SECTION_COUNT };
 
-typedef struct mesh_header {
+/* A mesh's arrays, in the order the entry holds them. */
+enum { ARRAY_POSITIONS, ARRAY_NORMALS, ARRAY_TEXCOORDS, ARRAY_TANGENTS, ARRAY_MATERIAL,
+       ARRAY_COUNT };
+
+typedef struct model_header {
     uint64_t magic;
     uint64_t key[2];
-    uint32_t triangle_count, material_count;
-    uint32_t has_normals, has_texcoords;
+    uint32_t mesh_count, instance_count, material_count, light_count, camera_count;
+    uint32_t triangle_count;
     float bounds_min[3], bounds_max[3];
     uint64_t bytes[SECTION_COUNT];
     uint64_t hash[SECTION_COUNT];
     uint64_t header_hash; /* of everything above */
-} mesh_header;
+} model_header;
 
-/* The strings of a vkrt_mtl, in the order the text section holds them. */
-enum { MTL_STRINGS = 9 };
-static void mtl_strings(vkrt_mtl *m, char **out[MTL_STRINGS])
+/* One mesh of the table section. */
+typedef struct mesh_record {
+    uint32_t triangle_count, padding;
+    float bounds_min[3], bounds_max[3];
+    uint64_t bytes[ARRAY_COUNT];
+    uint64_t hash[ARRAY_COUNT];
+} mesh_record;
+
+/* The strings of a vkrt_material, in the order the text section holds them. */
+enum { MATERIAL_STRINGS = 2 + VKRT_MAP_COUNT };
+static void material_strings(vkrt_material *m, char **out[MATERIAL_STRINGS])
 {
-    char **fields[MTL_STRINGS] = {&m->name,   &m->map_kd, &m->map_d,    &m->mtl_path, &m->map_pr,
-                                  &m->map_pm, &m->norm,   &m->map_bump, &m->map_ke};
-    memcpy(out, fields, sizeof fields);
+    out[0] = &m->name;
+    out[1] = &m->file;
+    for (int k = 0; k < VKRT_MAP_COUNT; ++k)
+        out[2 + k] = &m->maps[k].path;
+}
+
+/* mesh's arrays and their sizes. */
+static void mesh_arrays(vkrt_mesh *mesh, void **arrays[ARRAY_COUNT])
+{
+    arrays[ARRAY_POSITIONS] = (void **)&mesh->positions;
+    arrays[ARRAY_NORMALS] = (void **)&mesh->normals;
+    arrays[ARRAY_TEXCOORDS] = (void **)&mesh->texcoords;
+    arrays[ARRAY_TANGENTS] = (void **)&mesh->tangents;
+    arrays[ARRAY_MATERIAL] = (void **)&mesh->material;
+}
+
+/* The bytes an array of triangles takes where it is there. */
+static uint64_t array_bytes(int a, uint32_t triangles)
+{
+    static const uint64_t per_triangle[ARRAY_COUNT] = {
+        [ARRAY_POSITIONS] = 9 * sizeof(float), [ARRAY_NORMALS] = 9 * sizeof(float),
+        [ARRAY_TEXCOORDS] = 6 * sizeof(float), [ARRAY_TANGENTS] = 12 * sizeof(float),
+        [ARRAY_MATERIAL] = sizeof(int32_t),
+    };
+    return (uint64_t)triangles * per_triangle[a];
 }
 
 /* ---------------------------------------------------------------- the key */
@@ -66,24 +103,29 @@ static void where_of(const char *path, char *text, size_t size)
     snprintf(text, size, "in %s: %s", cwd, path);
 }
 
-/* The key of the OBJ at path with identity id: two hashes of one description of it. */
-static void key_of(const char *path, const vkrt_file_identity *id, uint64_t key[2])
+/* The key of the scene file at path with identity id as loader reads it: two hashes of one
+ * description of them. */
+static void key_of(const vkrt_scene_loader *loader, const char *path, const vkrt_file_identity *id,
+                   uint64_t key[2])
 {
-    char where[8400], text[8800];
+    char where[8400], text[8900];
     where_of(path, where, sizeof where);
     int n = snprintf(text, sizeof text,
-                     "vkrt mesh layout %d, vkrt_mtl %zu bytes, program %016llx; %s, %llu bytes, "
-                     "mtime %lld, hash %016llx",
-                     LAYOUT_VERSION, sizeof(vkrt_mtl), (unsigned long long)vkrt_cache_program_id(),
-                     where, (unsigned long long)id->size, (long long)id->mtime_ns,
+                     "vkrt scene cache layout %d, vkrt_material %zu bytes, instance %zu, light "
+                     "%zu, camera %zu, program %016llx; loader %s; %s, %llu bytes, mtime %lld, "
+                     "hash %016llx",
+                     LAYOUT_VERSION, sizeof(vkrt_material), sizeof(vkrt_instance),
+                     sizeof(vkrt_config_light), sizeof(vkrt_config_camera),
+                     (unsigned long long)vkrt_cache_program_id(), loader->name, where,
+                     (unsigned long long)id->size, (long long)id->mtime_ns,
                      (unsigned long long)id->hash);
     size_t size = n < 0 ? 0 : (size_t)n < sizeof text ? (size_t)n : sizeof text - 1;
     key[0] = vkrt_hash64(text, size, 0x243F6A8885A308D3ull);
     key[1] = vkrt_hash64(text, size, 0x13198A2E03707344ull);
 }
 
-/* The entry's extension, ".<16 hex digits of where path leads>.mesh": one OBJ's versions share
- * it, and storing one removes the others (vkrt_cache_remove_others). */
+/* The entry's extension, ".<16 hex digits of where path leads>.mesh": one scene file's versions
+ * share it, and storing one removes the others (vkrt_cache_remove_others). */
 static void extension_of(const char *path, char ext[32])
 {
     char where[8400];
@@ -167,11 +209,11 @@ static char *cursor_string(cursor *c)
     return s;
 }
 
-/* The text section of mesh: each .mtl file read with its identity, then every material's strings
- * and the warnings. False when a .mtl cannot be read for its identity. */
-static bool text_of(const vkrt_mesh *mesh, blob *b)
+/* The text section of model: each other input with its identity, then every material's strings
+ * and the warnings. False when an input cannot be read for its identity. */
+static bool text_of(const vkrt_model *model, blob *b)
 {
-    const char *files = mesh->mtl_files ? mesh->mtl_files : "";
+    const char *files = model->inputs ? model->inputs : "";
     uint32_t file_count = 0;
     for (const char *p = files; *p; p = strchr(p, '\n') + 1)
         ++file_count;
@@ -189,21 +231,21 @@ static bool text_of(const vkrt_mesh *mesh, blob *b)
         blob_put_string(b, path);
         blob_put(b, &id, sizeof id);
     }
-    for (uint32_t i = 0; i < mesh->material_count; ++i) {
-        char **fields[MTL_STRINGS];
-        mtl_strings(&mesh->materials[i], fields);
-        for (int k = 0; k < MTL_STRINGS; ++k)
+    for (uint32_t i = 0; i < model->material_count; ++i) {
+        char **fields[MATERIAL_STRINGS];
+        material_strings(&model->materials[i], fields);
+        for (int k = 0; k < MATERIAL_STRINGS; ++k)
             blob_put_string(b, *fields[k]);
     }
-    blob_put_string(b, mesh->warnings);
-    blob_put_string(b, mesh->warnings_all);
-    blob_put_string(b, mesh->mtl_files);
+    blob_put_string(b, model->warnings);
+    blob_put_string(b, model->warnings_all);
+    blob_put_string(b, model->inputs);
     return !b->failed;
 }
 
-/* Reads the text section back into mesh (whose materials are already there, their strings
- * NULL); false when it is malformed or a .mtl it lists has changed (why says which). */
-static bool read_text(cursor *c, vkrt_mesh *mesh, const char **why)
+/* Reads the text section back into model (whose materials are already there, their strings
+ * NULL); false when it is malformed or an input it lists has changed (why says which). */
+static bool read_text(cursor *c, vkrt_model *model, const char **why)
 {
     uint32_t file_count = 0;
     cursor_get(c, &file_count, sizeof file_count);
@@ -216,24 +258,24 @@ static bool read_text(cursor *c, vkrt_mesh *mesh, const char **why)
                     now.hash == stored.hash;
         free(path);
         if (!c->failed && !same) {
-            *why = "a .mtl file changed";
+            *why = "a file the scene file names changed";
             return false;
         }
     }
-    for (uint32_t i = 0; i < mesh->material_count; ++i) {
-        char **fields[MTL_STRINGS];
-        mtl_strings(&mesh->materials[i], fields);
-        for (int k = 0; k < MTL_STRINGS; ++k)
+    for (uint32_t i = 0; i < model->material_count; ++i) {
+        char **fields[MATERIAL_STRINGS];
+        material_strings(&model->materials[i], fields);
+        for (int k = 0; k < MATERIAL_STRINGS; ++k)
             *fields[k] = cursor_string(c);
     }
     char *warnings = cursor_string(c);
-    if (warnings && strlen(warnings) < sizeof mesh->warnings)
-        memcpy(mesh->warnings, warnings, strlen(warnings) + 1);
+    if (warnings && strlen(warnings) < sizeof model->warnings)
+        memcpy(model->warnings, warnings, strlen(warnings) + 1);
     else
         c->failed = true;
     free(warnings);
-    mesh->warnings_all = cursor_string(c);
-    mesh->mtl_files = cursor_string(c);
+    model->warnings_all = cursor_string(c);
+    model->inputs = cursor_string(c);
     if (c->failed || c->at != c->size) {
         *why = "a damaged entry";
         return false;
@@ -243,126 +285,196 @@ static bool read_text(cursor *c, vkrt_mesh *mesh, const char **why)
 
 /* ---------------------------------------------------------------- load and store */
 
-/* The bytes of each section mesh's counts imply (the text's aside). */
-static void array_bytes(uint32_t triangles, uint32_t materials, bool normals, bool texcoords,
-                        uint64_t bytes[SECTION_COUNT])
+/* The bytes of each fixed section the header's counts imply (the text's and the table's aside:
+ * the table is one record per mesh). */
+static void section_bytes(const model_header *h, uint64_t bytes[SECTION_COUNT])
 {
-    bytes[SECTION_MATERIALS] = (uint64_t)materials * sizeof(vkrt_mtl);
-    bytes[SECTION_POSITIONS] = (uint64_t)triangles * 9 * sizeof(float);
-    bytes[SECTION_NORMALS] = normals ? (uint64_t)triangles * 9 * sizeof(float) : 0;
-    bytes[SECTION_TEXCOORDS] = texcoords ? (uint64_t)triangles * 6 * sizeof(float) : 0;
-    bytes[SECTION_MATERIAL] = (uint64_t)triangles * sizeof(int32_t);
+    bytes[SECTION_MATERIALS] = (uint64_t)h->material_count * sizeof(vkrt_material);
+    bytes[SECTION_INSTANCES] = (uint64_t)h->instance_count * sizeof(vkrt_instance);
+    bytes[SECTION_LIGHTS] = (uint64_t)h->light_count * sizeof(vkrt_config_light);
+    bytes[SECTION_CAMERAS] = (uint64_t)h->camera_count * sizeof(vkrt_config_camera);
+    bytes[SECTION_MESHES] = (uint64_t)h->mesh_count * sizeof(mesh_record);
 }
 
 /* Section s of h, the next in r, read and checked (vkrt_cache_reader_array). */
-static void *read_section(vkrt_cache_reader *r, const mesh_header *h, int s)
+static void *read_section(vkrt_cache_reader *r, const model_header *h, int s)
 {
     return vkrt_cache_reader_array(r, h->bytes[s], h->hash[s]);
 }
 
-/* Fills *mesh from key's entry; false on any miss (why says what was wrong with an entry that
- * was there), with *mesh left empty. */
-static bool load_entry(const uint64_t key[2], const char *ext, vkrt_mesh *mesh, const char **why)
+/* Whether the mesh table's records are sound and, with the sections, make up exactly `size`
+ * bytes of file. */
+static bool table_ok(const model_header *h, const mesh_record *table, uint64_t size)
+{
+    uint64_t total = sizeof *h, triangles = 0;
+    for (int s = 0; s < SECTION_COUNT; ++s)
+        total += h->bytes[s];
+    for (uint32_t i = 0; i < h->mesh_count; ++i) {
+        const mesh_record *m = &table[i];
+        if (m->triangle_count > UINT32_MAX / 9)
+            return false;
+        for (int a = 0; a < ARRAY_COUNT; ++a) {
+            bool required = a == ARRAY_POSITIONS || a == ARRAY_MATERIAL;
+            uint64_t want = array_bytes(a, m->triangle_count);
+            if (m->bytes[a] != want && (required || m->bytes[a] != 0))
+                return false;
+            total += m->bytes[a];
+        }
+        triangles += m->triangle_count;
+    }
+    return triangles > 0 && total == size;
+}
+
+/* Fills *model from key's entry; false on any miss (why says what was wrong with an entry that
+ * was there), with *model left empty. */
+static bool load_entry(const uint64_t key[2], const char *ext, vkrt_model *model, const char **why)
 {
     vkrt_cache_reader r;
     if (!vkrt_cache_reader_open(&r, VKRT_CACHE_SCENES, key, ext))
         return false;
     const char *reason = "a damaged entry";
-    mesh_header h;
+    model_header h;
     uint64_t expected[SECTION_COUNT];
     vkrt_cache_reader_get(&r, &h, sizeof h);
-    r.ok = r.ok && h.magic == MESH_MAGIC && h.key[0] == key[0] && h.key[1] == key[1] &&
-           vkrt_hash64(&h, offsetof(mesh_header, header_hash), 0) == h.header_hash &&
-           h.triangle_count > 0 && h.triangle_count <= UINT32_MAX / 9;
+    r.ok = r.ok && h.magic == MODEL_MAGIC && h.key[0] == key[0] && h.key[1] == key[1] &&
+           vkrt_hash64(&h, offsetof(model_header, header_hash), 0) == h.header_hash &&
+           h.mesh_count > 0 && h.instance_count > 0 && h.triangle_count > 0 &&
+           h.triangle_count <= UINT32_MAX / 9;
     if (r.ok) {
-        array_bytes(h.triangle_count, h.material_count, h.has_normals, h.has_texcoords, expected);
-        uint64_t total = sizeof h + h.bytes[SECTION_TEXT];
-        for (int s = SECTION_MATERIALS; s < SECTION_COUNT; ++s) {
+        section_bytes(&h, expected);
+        for (int s = SECTION_MATERIALS; s < SECTION_COUNT; ++s)
             r.ok = r.ok && h.bytes[s] == expected[s];
-            total += h.bytes[s];
-        }
-        r.ok = r.ok && h.bytes[SECTION_TEXT] < (1u << 30) && total == r.size;
+        r.ok = r.ok && h.bytes[SECTION_TEXT] < (1u << 30);
     }
     char *text = read_section(&r, &h, SECTION_TEXT);
-    mesh->materials = read_section(&r, &h, SECTION_MATERIALS);
+    model->materials = read_section(&r, &h, SECTION_MATERIALS);
     if (r.ok) {
-        mesh->material_count = h.material_count;
-        for (uint32_t i = 0; i < mesh->material_count; ++i) {
-            char **fields[MTL_STRINGS];
-            mtl_strings(&mesh->materials[i], fields);
-            for (int k = 0; k < MTL_STRINGS; ++k)
+        model->material_count = h.material_count;
+        for (uint32_t i = 0; i < model->material_count; ++i) {
+            char **fields[MATERIAL_STRINGS];
+            material_strings(&model->materials[i], fields);
+            for (int k = 0; k < MATERIAL_STRINGS; ++k)
                 *fields[k] = NULL;
         }
         cursor c = {text, (size_t)h.bytes[SECTION_TEXT], 0, false};
-        r.ok = read_text(&c, mesh, &reason);
+        r.ok = read_text(&c, model, &reason);
     }
     free(text);
-    /* The arrays last: a stale .mtl is found before hundreds of MB are read. */
-    mesh->positions = read_section(&r, &h, SECTION_POSITIONS);
-    mesh->normals = read_section(&r, &h, SECTION_NORMALS);
-    mesh->texcoords = read_section(&r, &h, SECTION_TEXCOORDS);
-    mesh->material = read_section(&r, &h, SECTION_MATERIAL);
+    model->instances = read_section(&r, &h, SECTION_INSTANCES);
+    model->lights = read_section(&r, &h, SECTION_LIGHTS);
+    model->cameras = read_section(&r, &h, SECTION_CAMERAS);
+    mesh_record *table = read_section(&r, &h, SECTION_MESHES);
+    r.ok = r.ok && table_ok(&h, table, r.size);
+    if (r.ok) {
+        model->meshes = calloc(h.mesh_count, sizeof *model->meshes);
+        r.ok = model->meshes != NULL;
+    }
+    if (r.ok)
+        model->mesh_count = h.mesh_count;
+    /* The arrays last: a stale input is found before hundreds of MB are read. */
+    for (uint32_t i = 0; r.ok && i < h.mesh_count; ++i) {
+        vkrt_mesh *mesh = &model->meshes[i];
+        void **arrays[ARRAY_COUNT];
+        mesh_arrays(mesh, arrays);
+        for (int a = 0; a < ARRAY_COUNT; ++a)
+            *arrays[a] = vkrt_cache_reader_array(&r, table[i].bytes[a], table[i].hash[a]);
+        mesh->triangle_count = table[i].triangle_count;
+        memcpy(mesh->bounds_min, table[i].bounds_min, sizeof mesh->bounds_min);
+        memcpy(mesh->bounds_max, table[i].bounds_max, sizeof mesh->bounds_max);
+    }
+    free(table);
     vkrt_cache_reader_close(&r);
+    if (r.ok) {
+        model->instance_count = h.instance_count;
+        model->light_count = h.light_count;
+        model->camera_count = h.camera_count;
+        vkrt_error err = {{0}};
+        r.ok = vkrt_model_finish(model, &err) && model->triangle_count == h.triangle_count &&
+               memcmp(model->bounds_min, h.bounds_min, sizeof h.bounds_min) == 0 &&
+               memcmp(model->bounds_max, h.bounds_max, sizeof h.bounds_max) == 0;
+    }
     if (!r.ok) {
         *why = reason;
-        vkrt_mesh_free(mesh);
+        vkrt_model_free(model);
         return false;
     }
-    mesh->triangle_count = h.triangle_count;
-    memcpy(mesh->bounds_min, h.bounds_min, sizeof h.bounds_min);
-    memcpy(mesh->bounds_max, h.bounds_max, sizeof h.bounds_max);
     return true;
 }
 
-/* Writes mesh under key, in place of the OBJ's older versions; false (with why) when it is not
- * stored. */
-static bool store_entry(const uint64_t key[2], const char *ext, const vkrt_mesh *mesh,
+/* Writes model under key, in place of the scene file's older versions; false (with why) when it
+ * is not stored. */
+static bool store_entry(const uint64_t key[2], const char *ext, const vkrt_model *model,
                         const char **why)
 {
     blob text = {0};
-    if (!text_of(mesh, &text)) {
+    if (!text_of(model, &text)) {
         free(text.data);
-        *why = "a .mtl file could not be read again";
+        *why = "a file the scene file names could not be read again";
         return false;
     }
-    size_t material_bytes = (size_t)mesh->material_count * sizeof(vkrt_mtl);
-    vkrt_mtl *records = material_bytes ? malloc(material_bytes) : NULL;
-    if (material_bytes && !records) {
+    size_t material_bytes = (size_t)model->material_count * sizeof(vkrt_material);
+    vkrt_material *records = material_bytes ? malloc(material_bytes) : NULL;
+    mesh_record *table = calloc(model->mesh_count ? model->mesh_count : 1, sizeof *table);
+    if ((material_bytes && !records) || !table) {
+        free(records);
+        free(table);
         free(text.data);
         *why = "out of memory";
         return false;
     }
-    for (uint32_t i = 0; i < mesh->material_count; ++i) {
-        /* Byte for byte, padding included (calloc'd by the loader): the entry's hash covers it. */
-        memcpy(&records[i], &mesh->materials[i], sizeof records[i]);
-        char **fields[MTL_STRINGS];
-        mtl_strings(&records[i], fields);
-        for (int k = 0; k < MTL_STRINGS; ++k)
+    for (uint32_t i = 0; i < model->material_count; ++i) {
+        /* Byte for byte, padding included (zeroed by vkrt_material_defaults): the entry's hash
+         * covers it. */
+        memcpy(&records[i], &model->materials[i], sizeof records[i]);
+        char **fields[MATERIAL_STRINGS];
+        material_strings(&records[i], fields);
+        for (int k = 0; k < MATERIAL_STRINGS; ++k)
             *fields[k] = NULL;
     }
-    const void *sections[SECTION_COUNT] = {text.data,       records,         mesh->positions,
-                                           mesh->normals,   mesh->texcoords, mesh->material};
-    mesh_header h = {
-        .magic = MESH_MAGIC,
+    for (uint32_t i = 0; i < model->mesh_count; ++i) {
+        vkrt_mesh *mesh = &model->meshes[i];
+        void **arrays[ARRAY_COUNT];
+        mesh_arrays(mesh, arrays);
+        table[i].triangle_count = mesh->triangle_count;
+        memcpy(table[i].bounds_min, mesh->bounds_min, sizeof mesh->bounds_min);
+        memcpy(table[i].bounds_max, mesh->bounds_max, sizeof mesh->bounds_max);
+        for (int a = 0; a < ARRAY_COUNT; ++a) {
+            table[i].bytes[a] = *arrays[a] ? array_bytes(a, mesh->triangle_count) : 0;
+            table[i].hash[a] =
+                table[i].bytes[a] ? vkrt_hash64_parallel(*arrays[a], table[i].bytes[a]) : 0;
+        }
+    }
+    const void *sections[SECTION_COUNT] = {text.data,     records,        model->instances,
+                                           model->lights, model->cameras, table};
+    model_header h = {
+        .magic = MODEL_MAGIC,
         .key = {key[0], key[1]},
-        .triangle_count = mesh->triangle_count,
-        .material_count = mesh->material_count,
-        .has_normals = mesh->normals != NULL,
-        .has_texcoords = mesh->texcoords != NULL,
+        .mesh_count = model->mesh_count,
+        .instance_count = model->instance_count,
+        .material_count = model->material_count,
+        .light_count = model->light_count,
+        .camera_count = model->camera_count,
+        .triangle_count = model->triangle_count,
     };
-    memcpy(h.bounds_min, mesh->bounds_min, sizeof h.bounds_min);
-    memcpy(h.bounds_max, mesh->bounds_max, sizeof h.bounds_max);
-    array_bytes(h.triangle_count, h.material_count, h.has_normals, h.has_texcoords, h.bytes);
+    memcpy(h.bounds_min, model->bounds_min, sizeof h.bounds_min);
+    memcpy(h.bounds_max, model->bounds_max, sizeof h.bounds_max);
+    section_bytes(&h, h.bytes);
     h.bytes[SECTION_TEXT] = text.size;
     for (int s = 0; s < SECTION_COUNT; ++s)
         h.hash[s] = h.bytes[s] ? vkrt_hash64_parallel(sections[s], (size_t)h.bytes[s]) : 0;
-    h.header_hash = vkrt_hash64(&h, offsetof(mesh_header, header_hash), 0);
+    h.header_hash = vkrt_hash64(&h, offsetof(model_header, header_hash), 0);
     vkrt_cache_writer w;
     bool stored = false;
     if (vkrt_cache_writer_open(&w, VKRT_CACHE_SCENES, "scene cache", key, ext)) {
         vkrt_cache_writer_put(&w, &h, sizeof h);
         for (int s = 0; s < SECTION_COUNT; ++s)
             vkrt_cache_writer_put(&w, sections[s], (size_t)h.bytes[s]);
+        for (uint32_t i = 0; i < model->mesh_count; ++i) {
+            void **arrays[ARRAY_COUNT];
+            mesh_arrays(&model->meshes[i], arrays);
+            for (int a = 0; a < ARRAY_COUNT; ++a)
+                vkrt_cache_writer_put(&w, *arrays[a], (size_t)table[i].bytes[a]);
+        }
         stored = vkrt_cache_writer_commit(&w);
     }
     if (stored)
@@ -370,6 +482,7 @@ static bool store_entry(const uint64_t key[2], const char *ext, const vkrt_mesh 
     if (!stored)
         *why = "the cache could not be written";
     free(records);
+    free(table);
     free(text.data);
     return stored;
 }
@@ -381,12 +494,12 @@ static bool same_file(const vkrt_file_identity *a, const char *path)
            (int64_t)st.st_mtim.tv_sec * 1000000000 + st.st_mtim.tv_nsec == a->mtime_ns;
 }
 
-/* An entry written on a thread (vkrt_scene_cache_obj_load with a report). */
+/* An entry written on a thread (vkrt_scene_cache_load with a report). */
 struct scene_cache_store {
     pthread_t thread;
     uint64_t key[2];
     char ext[32];
-    const vkrt_mesh *mesh;
+    const vkrt_model *model;
     bool stored;
     const char *why;
     double ms;
@@ -397,13 +510,13 @@ static void *store_thread(void *arg)
     struct scene_cache_store *st = arg;
     double start = vkrt_clock_ms();
     st->why = "";
-    st->stored = store_entry(st->key, st->ext, st->mesh, &st->why);
+    st->stored = store_entry(st->key, st->ext, st->model, &st->why);
     st->ms = vkrt_clock_ms() - start;
     return NULL;
 }
 
 /* Starts the store on a thread; false (nothing started) when no thread could be made. */
-static bool store_in_background(const uint64_t key[2], const char *ext, const vkrt_mesh *mesh,
+static bool store_in_background(const uint64_t key[2], const char *ext, const vkrt_model *model,
                                 vkrt_scene_cache_report *report)
 {
     struct scene_cache_store *st = calloc(1, sizeof *st);
@@ -412,7 +525,7 @@ static bool store_in_background(const uint64_t key[2], const char *ext, const vk
     st->key[0] = key[0];
     st->key[1] = key[1];
     snprintf(st->ext, sizeof st->ext, "%s", ext);
-    st->mesh = mesh;
+    st->model = model;
     if (pthread_create(&st->thread, NULL, store_thread, st) != 0) {
         free(st);
         return false;
@@ -422,8 +535,8 @@ static bool store_in_background(const uint64_t key[2], const char *ext, const vk
     return true;
 }
 
-bool vkrt_scene_cache_obj_load(const char *path, vkrt_mesh *mesh,
-                               vkrt_scene_cache_report *report, vkrt_error *err)
+bool vkrt_scene_cache_load(const vkrt_scene_loader *loader, const char *path, vkrt_model *model,
+                           vkrt_scene_cache_report *report, vkrt_error *err)
 {
     vkrt_scene_cache_report own;
     if (!report)
@@ -434,34 +547,34 @@ bool vkrt_scene_cache_obj_load(const char *path, vkrt_mesh *mesh,
     uint64_t key[2];
     char ext[32];
     double start = vkrt_clock_ms();
-    bool cached = path && mesh && vkrt_cache_dir(VKRT_CACHE_SCENES, dir, sizeof dir) &&
+    bool cached = path && model && vkrt_cache_dir(VKRT_CACHE_SCENES, dir, sizeof dir) &&
                   vkrt_file_identity_of(path, &id);
     report->hash_ms = vkrt_clock_ms() - start;
     if (cached) {
-        key_of(path, &id, key);
+        key_of(loader, path, &id, key);
         extension_of(path, ext);
-        memset(mesh, 0, sizeof *mesh);
+        memset(model, 0, sizeof *model);
         start = vkrt_clock_ms();
-        if (load_entry(key, ext, mesh, &report->rejected)) {
+        if (load_entry(key, ext, model, &report->rejected)) {
             report->read_ms = vkrt_clock_ms() - start;
             report->outcome = VKRT_SCENE_CACHE_HIT;
             return true;
         }
     }
-    if (!vkrt_obj_load(path, mesh, err))
+    if (!loader->load(path, model, err))
         return false;
     if (!cached)
         return true;
     report->outcome = VKRT_SCENE_CACHE_SKIPPED;
-    if (id.size < MIN_OBJ_BYTES)
-        report->why = "an OBJ under 1 MiB";
-    else if (mesh->mtl_missing)
-        report->why = "an mtllib names a file not found";
+    if (id.size < MIN_SCENE_BYTES)
+        report->why = "a scene file under 1 MiB";
+    else if (model->inputs_missing)
+        report->why = "the scene file names a file not found";
     else if (!same_file(&id, path))
-        report->why = "the OBJ changed while it was read";
-    else if (report == &own || !store_in_background(key, ext, mesh, report)) {
+        report->why = "the scene file changed while it was read";
+    else if (report == &own || !store_in_background(key, ext, model, report)) {
         start = vkrt_clock_ms();
-        if (store_entry(key, ext, mesh, &report->why))
+        if (store_entry(key, ext, model, &report->why))
             report->outcome = VKRT_SCENE_CACHE_STORED;
         report->store_ms = vkrt_clock_ms() - start;
     }

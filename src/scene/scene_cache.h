@@ -1,24 +1,25 @@
 /*
- * scene_cache.h: an OBJ's loaded mesh kept in the cache directory (cache_file.h), so that a
- * second start reads the arrays instead of parsing the text.
+ * scene_cache.h: a loaded scene model kept in the cache directory (cache_file.h), so that a second
+ * start reads the arrays instead of parsing the scene file's text.
  *
- * Parsing Lost Empire tiled to 10 M triangles (388 MB of OBJ) takes 2.2 s on the H200's 16
- * cores; reading the 966 MB of arrays it makes back from the page cache takes a fraction of that.
- * An entry holds everything vkrt_obj_load gives: the per-triangle arrays (read straight into the
- * mesh's own arrays, in chunks on every core, no conversion), the .mtl materials, the bounds and the
- * warnings, which a warm start prints exactly as the parse did.
+ * A big scene file takes seconds to parse; reading back the arrays its model holds from the page
+ * cache takes a fraction of that (docs/performance.md has the figures). An entry holds everything
+ * the loader gives: every mesh's arrays (read straight into the model's own arrays, in chunks on
+ * every core, no conversion), the instances, the material records, lights, cameras, the box and
+ * the warnings, which a warm start prints exactly as the parse did.
  *
- * Its key: the OBJ's path (and the working folder when the path is relative: the materials' texture
- * paths are resolved against it), size, modification time and a hash of its bytes (read on
- * every core: about 0.1 s for 388 MB on the H200), the layout's version and the vkrt program's
- * own identity. The .mtl files read are listed in the entry with their size, time and hash, and
- * checked before it is used. Size and time alone would miss a file rewritten within the clock's
- * resolution, or a copy that keeps its time (cp -p, rsync -t, tar): then the cache would
- * render the old scene, so the contents are hashed. Each array's hash is checked too: a short,
- * damaged or foreign entry is a miss and the OBJ is parsed again. An OBJ under 1 MiB is parsed
- * in milliseconds and is not stored; nor is one whose mtllib names a file not found (that file
- * appearing later would go unnoticed). The cache keeps one version per OBJ path: storing a new
- * one removes the older.
+ * Its key names the loader and its inputs: the loader's name, the scene file's path (and the
+ * working folder when the path is relative: the materials' texture paths are resolved against
+ * it), size, modification time and a hash of its bytes (read on every core), the layout's version
+ * and the vkrt program's own identity. The other files the load read (an OBJ's .mtl files) are
+ * listed in the entry with their size, time and hash, and checked before it is used. Size and
+ * time alone would miss a file rewritten within the clock's resolution, or a copy that keeps its
+ * time (cp -p, rsync -t, tar): then the cache would render the old scene, so the contents are
+ * hashed. Each array's hash is checked too: a short, damaged, foreign or older-layout entry is a
+ * miss and the scene file is parsed again. A scene file under 1 MiB is parsed in milliseconds and
+ * is not stored; nor is one that names a file not found (that file appearing later would go
+ * unnoticed). The cache keeps one version per scene file path: storing a new one removes the
+ * older.
  */
 #ifndef VKRT_SCENE_CACHE_H
 #define VKRT_SCENE_CACHE_H
@@ -26,12 +27,13 @@
 #include <stdbool.h>
 
 #include "../error.h"
-#include "obj_load.h"
+#include "loader.h"
+#include "model.h"
 
 /* What the cache did for a load, for --verbose. */
 typedef enum vkrt_scene_cache_outcome {
     VKRT_SCENE_CACHE_OFF,     /* no cache directory (--no-cache, VKRT_CACHE_DIR empty) */
-    VKRT_SCENE_CACHE_HIT,     /* the mesh was read from the cache */
+    VKRT_SCENE_CACHE_HIT,     /* the model was read from the cache */
     VKRT_SCENE_CACHE_STORING, /* parsed, and being stored on a thread (vkrt_scene_cache_finish) */
     VKRT_SCENE_CACHE_STORED,  /* parsed, and stored for the next start */
     VKRT_SCENE_CACHE_SKIPPED, /* parsed, not stored: see why */
@@ -39,7 +41,7 @@ typedef enum vkrt_scene_cache_outcome {
 
 typedef struct vkrt_scene_cache_report {
     vkrt_scene_cache_outcome outcome;
-    double hash_ms;  /* hashing the OBJ's bytes for the key */
+    double hash_ms;  /* hashing the scene file's bytes for the key */
     double read_ms;  /* reading (and checking) the entry, on a hit */
     double store_ms; /* writing the entry, when stored */
     const char *why;      /* why not stored ("" when stored or off) */
@@ -47,14 +49,13 @@ typedef struct vkrt_scene_cache_report {
     struct scene_cache_store *store; /* the thread storing the entry, while STORING */
 } vkrt_scene_cache_report;
 
-/* Loads the OBJ at path into *mesh with vkrt_obj_load's contract, taking the mesh from the cache
- * when a valid entry has the OBJ's key, else parsing it and storing it (best effort: a cache that
- * cannot be written warns once and the load goes on). report (may be NULL) says which.
- * With a report, the entry is written on a thread while the caller goes on (10 M triangles'
- * 966 MB took 0.57 s of the H200's cold start in the foreground): the mesh must then stay
- * unchanged and alive until vkrt_scene_cache_finish(report), which vkrt_scene_free calls. */
-bool vkrt_scene_cache_obj_load(const char *path, vkrt_mesh *mesh,
-                               vkrt_scene_cache_report *report, vkrt_error *err);
+/* Loads the scene file at path into *model with loader's contract, taking the model from the
+ * cache when a valid entry has the file's key, else loading it and storing it (best effort: a
+ * cache that cannot be written warns once and the load goes on). report (may be NULL) says which.
+ * With a report, the entry is written on a thread while the caller goes on: the model must then
+ * stay unchanged and alive until vkrt_scene_cache_finish(report), which vkrt_scene_free calls. */
+bool vkrt_scene_cache_load(const vkrt_scene_loader *loader, const char *path, vkrt_model *model,
+                           vkrt_scene_cache_report *report, vkrt_error *err);
 
 /* Waits for the entry being stored, if any, and completes the report (outcome, store_ms, why).
  * Call it before forking (a child has no such thread) and before reading the report. */

@@ -4,7 +4,7 @@
  * Images are read with stb_image (PNG, JPEG, TGA and Radiance HDR; whatever else stb_image
  * decodes, such as BMP, is accepted too). Every texture of a scene lives in one array of uints
  * that the renderer uploads as-is, with a TextureInfo per texture saying where it starts, because
- * Debian's lavapipe has no descriptor indexing to bind an array of images. The layout is fixed by
+ * a device without descriptor indexing cannot bind an array of images. The layout is fixed by
  * TextureInfo in glsl/shared.h: rows top first as the file stores them, one uint per texel (RGBA8,
  * r in the low byte) or, for HDR images, two (RGBA as half floats, flag VKRT_TEXTURE_HALF).
  * glsl/lib/texture.glsl samples them; vkrt_texture_sample is its reference on the CPU.

@@ -245,7 +245,7 @@ static void on_key(viewer *v, int key, bool down)
         break;
     }
     case GLFW_KEY_F:
-        view_camera_frame(&v->camera, v->scene->mesh.bounds_min, v->scene->mesh.bounds_max,
+        view_camera_frame(&v->camera, v->scene->model.bounds_min, v->scene->model.bounds_max,
                           aspect(v));
         break;
     case GLFW_KEY_P:
@@ -689,7 +689,7 @@ int vkrt_view_run(const vkrt_view_desc *opts)
     if (ok) {
         view_camera_init(
             &v->camera, &v->scene->config.cameras[0],
-            view_camera_default_speed(v->scene->mesh.bounds_min, v->scene->mesh.bounds_max));
+            view_camera_default_speed(v->scene->model.bounds_min, v->scene->model.bounds_max));
         ok = open_window(v, &err) && create_gpu(v, &err);
     }
     if (ok && !opts->quiet) {
@@ -697,7 +697,7 @@ int vkrt_view_run(const vkrt_view_desc *opts)
         vkrt_integrator integrator = vkrt_renderer_integrator(v->renderer, &why);
         fprintf(stderr,
                 "vkrt: view: %s | %u triangles | accel %s | integrator %s | %ux%u | %u spp\n",
-                v->ctx.properties.deviceName, v->scene->mesh.triangle_count,
+                v->ctx.properties.deviceName, v->scene->model.triangle_count,
                 vkrt_accel_name(vkrt_renderer_accel_stats(v->renderer)->kind),
                 vkrt_integrator_name(integrator), v->desc.width, v->desc.height, v->desc.samples);
         if (opts->verbose)

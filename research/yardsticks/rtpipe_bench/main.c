@@ -156,9 +156,9 @@ static bool bench_scene(rtpipe_device *dev, const rtpipe_shaders *shaders,
                         const vkrt_scene *scene, bench_row *row, vkrt_error *err)
 {
     rtpipe_accel accel;
-    if (!rtpipe_accel_create(dev, scene->mesh.positions, scene->mesh.triangle_count, &accel, err))
+    if (!rtpipe_accel_create(dev, scene->model.meshes[0].positions, scene->model.meshes[0].triangle_count, &accel, err))
         return false;
-    row->triangles = scene->mesh.triangle_count;
+    row->triangles = scene->model.meshes[0].triangle_count;
     row->build_ms = accel.build_ms;
     row->build_ms_first = accel.build_ms_first;
     row->blas_ms = accel.blas_ms;

@@ -30,11 +30,7 @@
  *     out of range (...)", except that vt/vn references in a file with no vt/vn records at all
  *     are dropped with a warning.
  *
- * Materials come through our own tinyobj::MaterialReader so we know which .mtl each came from
- * (map_Kd and map_d are resolved against that .mtl's folder, falling back to the OBJ's folder when
- * the file only exists there), which fields were actually present (tinyobjloader's defaults differ
- * from the ones obj_load.h documents, e.g. Kd 0 vs 0.8, illum 0 vs 2, Tf 0 vs 1), and on which line
- * of the .mtl each texture was named, so that a missing texture's error can point there.
+ * Materials are read by mtl_read.h and become the model's records by mtl.h's translation.
  *
  * tinyobjloader's own messages are never passed on as it words them: its errors (an index of 0)
  * become "path:LINE: ..." errors naming the index, and its warnings are translated into vkrt's
@@ -66,8 +62,9 @@
 
 extern "C" {
 #include "obj_load.h"
-#include "text_file.h"
+#include "../text_file.h"
 }
+#include "mtl_read.h"
 #include "obj_geometry.h"
 #include "obj_scan.h"
 #include "obj_warnings.h"
@@ -83,320 +80,15 @@ using obj_scan::LineWalker;
 using obj_scan::next_token;
 using obj_scan::ObjScan;
 using obj_scan::Span;
-using obj_warnings::MtlLibraries;
+using mtl_read::copy_string;
+using mtl_read::folder_of;
+using mtl_read::MemoryBuffer;
+using mtl_read::MtlReader;
+using mtl_read::OBJ_MAX_FILE_BYTES;
 using obj_warnings::number_after;
 using obj_warnings::quoted;
 using obj_warnings::starts_with;
 using obj_warnings::Warnings;
-
-/* Only a pipe that never ends reaches this: 16 GiB of OBJ text is hundreds of millions of triangles. */
-constexpr uint64_t OBJ_MAX_BYTES_64 = uint64_t(16) << 30;
-constexpr size_t OBJ_MAX_FILE_BYTES = OBJ_MAX_BYTES_64 < SIZE_MAX ? size_t(OBJ_MAX_BYTES_64) : SIZE_MAX;
-
-/* ---------------------------------------------------------------------------- file reading */
-
-/* The whole of path as a string, read by text_file.h (a file or a pipe); kind names the format in
- * the message for a file over OBJ_MAX_FILE_BYTES. */
-bool read_whole_file(const char *path, const char *kind, std::string *text, vkrt_error *err)
-{
-    char *bytes;
-    size_t size;
-    if (!vkrt_text_read_file(path, OBJ_MAX_FILE_BYTES, kind, &bytes, &size, err))
-        return false;
-    std::unique_ptr<char, void (*)(void *)> owned(bytes, free);
-    text->assign(bytes, size);
-    return true;
-}
-
-/* Read-only std::streambuf over bytes in memory, so tinyobjloader parses the very bytes we
- * scanned without a second copy. */
-class MemoryBuffer : public std::streambuf {
-public:
-    explicit MemoryBuffer(const std::string &s) : MemoryBuffer(s.data(), s.size()) {}
-    MemoryBuffer(const char *data, size_t size)
-    {
-        char *p = const_cast<char *>(data); /* only read through the get area */
-        setg(p, p, p + size);
-    }
-};
-
-/* ------------------------------------------------------------------------------ materials */
-
-bool file_exists(const std::string &path)
-{
-    struct stat st;
-    return stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
-}
-
-/* A malloc'd string from text_file.c as a std::string; NULL is text_file.c's out of memory. */
-std::string take_string(char *s)
-{
-    if (!s)
-        throw std::bad_alloc();
-    std::unique_ptr<char, void (*)(void *)> owned(s, free);
-    return std::string(s);
-}
-
-/* The folder of path, "" for a bare name (vkrt_text_dir_of). */
-std::string folder_of(const std::string &path)
-{
-    return take_string(vkrt_text_dir_of(path.c_str()));
-}
-
-/* name under folder, unless name is absolute or folder is "" (vkrt_text_join_path). */
-std::string join_path(const std::string &folder, const std::string &name)
-{
-    return take_string(vkrt_text_join_path(folder.c_str(), name.c_str(), false));
-}
-
-/* Which fields a material's .mtl block set, so absent ones get obj_load.h's defaults, and where
- * its texture statements are, so texture errors can name the line. */
-struct MtlOrigin {
-    std::string folder; /* of the .mtl that defined it */
-    std::string path;   /* the .mtl itself */
-    bool kd = true, ks = true, ke = true, ns = true, ni = true, d = true, illum = true, tf = true;
-    /* Unknown (the mirror disagreed): pbr only where maps say so. */
-    bool pr = false, pm = false, pc = false, ps = false;
-    uint32_t pc_line = 0; /* the first Pc statement's */
-    uint32_t ps_line = 0; /* the first Ps or map_Ps statement's */
-    uint32_t map_kd_line = 0, map_d_line = 0, map_pr_line = 0, map_pm_line = 0, map_ps_line = 0;
-    uint32_t norm_line = 0, map_bump_line = 0, map_ke_line = 0;
-};
-
-/* Mirrors tinyobj::LoadMtl's line handling to see which keywords each material block has, and on
- * which line each texture statement is (tinyobjloader keeps no line numbers). The blocks line up
- * with the materials LoadMtl pushes: one per named newmtl, plus the last one. */
-std::vector<MtlOrigin> scan_mtl_fields(const std::string &text, const std::string &path)
-{
-    std::vector<MtlOrigin> out;
-    MtlOrigin cur;
-    bool named = false;
-    std::string folder = folder_of(path);
-    auto none = [&folder, &path]() {
-        MtlOrigin m;
-        m.folder = folder;
-        m.path = path;
-        m.kd = m.ks = m.ke = m.ns = m.ni = m.d = m.illum = m.tf = false;
-        return m;
-    };
-    cur = none();
-    LineWalker walker(text.data(), text.data() + text.size());
-    Span line;
-    while (walker.next(&line)) {
-        while (line.e > line.b && is_blank(line.e[-1]))
-            line.e--;
-        while (line.b < line.e && is_blank(*line.b))
-            line.b++;
-        if (has_keyword(line, "newmtl")) {
-            if (named)
-                out.push_back(cur);
-            cur = none();
-            named = line.len() > 7;
-            continue;
-        }
-        cur.kd |= has_keyword(line, "Kd");
-        cur.ks |= has_keyword(line, "Ks");
-        cur.ke |= has_keyword(line, "Ke");
-        cur.ns |= has_keyword(line, "Ns");
-        cur.ni |= has_keyword(line, "Ni");
-        cur.d |= has_keyword(line, "d") || has_keyword(line, "Tr");
-        cur.illum |= has_keyword(line, "illum");
-        cur.tf |= has_keyword(line, "Tf") || has_keyword(line, "Kt"); /* LoadMtl reads both */
-        /* LoadMtl assigns the texture name, so a later statement replaces an earlier one. */
-        if (has_keyword(line, "map_Kd"))
-            cur.map_kd_line = walker.number;
-        if (has_keyword(line, "map_d"))
-            cur.map_d_line = walker.number;
-        cur.pr |= has_keyword(line, "Pr");
-        cur.pm |= has_keyword(line, "Pm");
-        cur.pc |= has_keyword(line, "Pc");
-        if (!cur.pc_line && has_keyword(line, "Pc"))
-            cur.pc_line = walker.number;
-        cur.map_pr_line = has_keyword(line, "map_Pr") ? walker.number : cur.map_pr_line;
-        cur.map_pm_line = has_keyword(line, "map_Pm") ? walker.number : cur.map_pm_line;
-        cur.ps |= has_keyword(line, "Ps");
-        cur.map_ps_line = has_keyword(line, "map_Ps") ? walker.number : cur.map_ps_line;
-        cur.norm_line = has_keyword(line, "norm") ? walker.number : cur.norm_line;
-        if (has_keyword(line, "map_Bump") || has_keyword(line, "map_bump") || has_keyword(line, "bump"))
-            cur.map_bump_line = walker.number;
-        cur.map_ke_line = has_keyword(line, "map_Ke") ? walker.number : cur.map_ke_line;
-        if (!cur.ps_line && (has_keyword(line, "Ps") || has_keyword(line, "map_Ps")))
-            cur.ps_line = walker.number;
-    }
-    out.push_back(cur);
-    return out;
-}
-
-/* "newmtl  RearLights" (two blanks, as a real exporter wrote it) names "RearLights" for other OBJ
- * readers; rc10 keeps the leading blank, so `usemtl RearLights` would miss it. The names LoadMtl
- * just added (from index `from` on) are trimmed, and the name map follows them. (LoadMtl trims
- * the ends of lines already, so trailing blanks never reach a name.) */
-void trim_material_names(std::vector<tinyobj::material_t> *materials, size_t from,
-                         std::map<std::string, int> *material_map)
-{
-    for (size_t i = from; i < materials->size(); i++) {
-        std::string &name = (*materials)[i].name;
-        size_t b = name.find_first_not_of(" \t");
-        if (b == 0 || b == std::string::npos)
-            continue;
-        auto it = material_map->find(name);
-        if (it != material_map->end() && it->second == static_cast<int>(i))
-            material_map->erase(it);
-        name.erase(0, b);
-        material_map->insert({name, static_cast<int>(i)}); /* as LoadMtl does: the first one wins */
-    }
-}
-
-/* Loads each mtllib file relative to the OBJ's folder (not tinyobjloader's MaterialFileReader, which
- * splits its base folder at ':' and does not say which file a material came from). */
-class MtlReader : public tinyobj::MaterialReader {
-public:
-    MtlReader(std::string obj_folder, Warnings *warnings)
-        : obj_folder_(std::move(obj_folder)), warnings_(warnings)
-    {
-    }
-
-    std::vector<MtlOrigin> origins; /* parallel to the materials vector */
-    MtlLibraries libraries;         /* the .mtl files read, and the mtllib names not found */
-
-    bool operator()(const std::string &name, std::vector<tinyobj::material_t> *materials,
-                    std::map<std::string, int> *material_map, std::string *warn, std::string *err) override
-    {
-        (void)warn; /* ours go to warnings_, in our words */
-        std::string path = join_path(obj_folder_, name);
-        std::string text;
-        if (!file_exists(path) || !read_whole_file(path.c_str(), "material library", &text, nullptr)) {
-            libraries.missing.emplace_back(name, path);
-            return false;
-        }
-        std::vector<MtlOrigin> fields = scan_mtl_fields(text, path);
-        size_t before = materials->size();
-        MemoryBuffer buffer(text);
-        std::istream stream(&buffer);
-        std::string mtl_warn; /* LoadMtl assigns, not appends, to its warning string */
-        tinyobj::LoadMtl(material_map, materials, &stream, &mtl_warn, err);
-        trim_material_names(materials, before, material_map);
-        obj_warnings::translate_mtl_warnings(path, mtl_warn, warnings_);
-        libraries.loaded.push_back(path);
-        size_t added = materials->size() - before;
-        if (fields.size() != added) /* our mirror disagreed: trust all of tinyobjloader's values */
-            fields.assign(added, MtlOrigin{folder_of(path), path});
-        origins.insert(origins.end(), fields.begin(), fields.end());
-        for (size_t k = 0; k < added; k++) { /* the line is 0 where there is nothing to say */
-            const tinyobj::material_t &m = (*materials)[before + k];
-            /* illum 3 and 5 are the mirror built-in, which has no coat (materials.c); illum 3 to
-             * 7 are mirrors and glass, which have no sheen (the diffuse bases carry it). */
-            bool mirror = m.illum == 3 || m.illum == 5;
-            if (mirror && m.clearcoat_thickness > 0.0f)
-                obj_warnings::warn_uncoated_mirror(path, fields[k].pc_line, m.name, warnings_);
-            bool sheen = (fields[k].ps && m.sheen > 0.0f) || !m.sheen_texname.empty();
-            if (sheen && m.illum >= 3 && m.illum <= 7)
-                obj_warnings::warn_unrendered_sheen(path, fields[k].ps_line, m.name, warnings_);
-        }
-        return true;
-    }
-
-private:
-    std::string obj_folder_;
-    Warnings *warnings_;
-};
-
-char *copy_string(const std::string &s)
-{
-    char *out = static_cast<char *>(malloc(s.size() + 1));
-    if (!out)
-        throw std::bad_alloc();
-    memcpy(out, s.c_str(), s.size() + 1);
-    return out;
-}
-
-/* Windows exporters write ".\tex.jpg"; the file is found relative to the .mtl, or the OBJ. */
-std::string resolve_texture(std::string name, const std::string &mtl_folder, const std::string &obj_folder)
-{
-    for (char &c : name)
-        if (c == '\\')
-            c = '/';
-    std::string beside_mtl = join_path(mtl_folder, name);
-    if (!file_exists(beside_mtl) && mtl_folder != obj_folder && file_exists(join_path(obj_folder, name)))
-        return join_path(obj_folder, name);
-    return beside_mtl;
-}
-
-/* Non-finite .mtl values (tinyobjloader reads "1e999" as inf) fall back to the default. */
-float finite_or(float v, float fallback) { return std::isfinite(v) ? v : fallback; }
-
-void copy3(float dst[3], const float src[3], bool present, float fallback)
-{
-    for (int i = 0; i < 3; i++)
-        dst[i] = present ? finite_or(src[i], fallback) : fallback;
-}
-
-void convert_material(const tinyobj::material_t &m, const MtlOrigin &o, const std::string &obj_folder,
-                      vkrt_mtl *out)
-{
-    copy3(out->kd, m.diffuse, o.kd, 0.8f);
-    copy3(out->ks, m.specular, o.ks, 0.0f);
-    copy3(out->ke, m.emission, o.ke, 0.0f);
-    out->ns = o.ns ? finite_or(m.shininess, 0.0f) : 0.0f;
-    out->ni = o.ni ? finite_or(m.ior, 1.0f) : 1.0f;
-    out->d = o.d ? finite_or(m.dissolve, 1.0f) : 1.0f;
-    out->illum = o.illum ? m.illum : 2;
-    copy3(out->tf, m.transmittance, o.tf, 1.0f);
-    out->name = copy_string(m.name);
-    if (!o.path.empty())
-        out->mtl_path = copy_string(o.path);
-    out->map_kd_line = static_cast<int>(o.map_kd_line);
-    out->map_d_line = static_cast<int>(o.map_d_line);
-    out->map_pr_line = static_cast<int>(o.map_pr_line);
-    out->map_pm_line = static_cast<int>(o.map_pm_line);
-    out->map_ps_line = static_cast<int>(o.map_ps_line);
-    auto map = [&](const std::string &name) -> char * {
-        return name.empty() ? nullptr : copy_string(resolve_texture(name, o.folder, obj_folder));
-    };
-    out->map_kd = map(m.diffuse_texname);
-    out->map_d = map(m.alpha_texname);
-    out->map_pr = map(m.roughness_texname);
-    out->map_pm = map(m.metallic_texname);
-    out->map_ps = map(m.sheen_texname);
-    out->norm_line = static_cast<int>(o.norm_line);
-    out->map_bump_line = static_cast<int>(o.map_bump_line);
-    out->map_ke_line = static_cast<int>(o.map_ke_line);
-    out->norm = map(m.normal_texname);
-    out->map_bump = map(m.bump_texname);
-    out->map_ke = map(m.emissive_texname);
-    /* -bm is read from whichever statement names the map vkrt uses (norm before map_Bump). */
-    const tinyobj::texture_option_t &bump = out->norm ? m.normal_texopt : m.bump_texopt;
-    out->bump_multiplier = finite_or(bump.bump_multiplier, 1.0f);
-    out->ke_given = o.ke;
-    /* A clear coat (Pc above 0) and a sheen (Ps above 0, or map_Ps) are the PBR extension's
-     * too: the GGX built-ins render them. Glass has no sheen, so a sheen alone leaves it the
-     * smooth glass (the loader warns). */
-    bool coated = o.pc && finite_or(m.clearcoat_thickness, 0.0f) > 0.0f;
-    bool glass = out->illum == 4 || out->illum == 6 || out->illum == 7;
-    bool sheen = !glass && ((o.ps && finite_or(m.sheen, 0.0f) > 0.0f) || out->map_ps);
-    out->pbr = o.pr || o.pm || coated || sheen || out->map_pr || out->map_pm;
-    out->ps = o.ps ? finite_or(m.sheen, 0.0f) : 0.0f;
-    out->pr = o.pr ? finite_or(m.roughness, 0.0f) : -1.0f;
-    out->pm = o.pm ? finite_or(m.metallic, 0.0f) : 0.0f;
-    out->pc = finite_or(m.clearcoat_thickness, 0.0f);
-    out->pcr = finite_or(m.clearcoat_roughness, 0.0f);
-}
-
-void convert_materials(const std::vector<tinyobj::material_t> &materials, const MtlReader &reader,
-                       const std::string &obj_folder, vkrt_mesh *mesh)
-{
-    if (materials.empty())
-        return;
-    mesh->materials = static_cast<vkrt_mtl *>(calloc(materials.size(), sizeof(vkrt_mtl)));
-    if (!mesh->materials)
-        throw std::bad_alloc();
-    mesh->material_count = static_cast<uint32_t>(materials.size());
-    for (size_t i = 0; i < materials.size(); i++) {
-        MtlOrigin origin =
-            i < reader.origins.size() ? reader.origins[i] : MtlOrigin{obj_folder, std::string()};
-        convert_material(materials[i], origin, obj_folder, &mesh->materials[i]);
-    }
-}
 
 /* ---------------------------------------------------------------------------- validation */
 
@@ -976,7 +668,7 @@ const char *why_no_triangles(const obj_geometry::Geometry &g)
  * messages, mtl_folder is where mtllib files are looked up (nullptr: .mtl files are not read),
  * and split says how the geometry is read in parallel. */
 bool parse(const char *path, std::string_view text, const std::string *mtl_folder, obj_geometry::Split split,
-           vkrt_mesh *mesh, vkrt_error *err)
+           vkrt_model *model, vkrt_error *err)
 {
     size_t start = 0;
     Parsed p;
@@ -1006,22 +698,29 @@ bool parse(const char *path, std::string_view text, const std::string *mtl_folde
     if (plan.triangles > UINT32_MAX / 9) /* 9 floats per triangle must stay addressable by uint32 */
         return vkrt_error_set(err, "%s: too many triangles (%zu)", path, plan.triangles);
 
+    /* One mesh, one identity instance of it. */
+    model->meshes = static_cast<vkrt_mesh *>(checked_alloc(1, sizeof(vkrt_mesh)));
+    model->mesh_count = 1;
+    model->instances = static_cast<vkrt_instance *>(checked_alloc(1, sizeof(vkrt_instance)));
+    model->instance_count = 1;
+    memcpy(model->instances[0].transform, vkrt_identity_transform, sizeof vkrt_identity_transform);
+    vkrt_mesh *mesh = &model->meshes[0];
     mesh->triangle_count = static_cast<uint32_t>(plan.triangles);
     allocate_output(plan, mesh);
     compute_unit_normals(&p, split.threads);
     size_t replaced = write_triangles(p, faces, split.threads, mesh);
-    convert_materials(p.materials, reader, obj_folder, mesh);
+    mtl_read::convert_materials(p.materials, reader, obj_folder, model);
     obj_warnings::warn_unusable_normals(path, replaced, &warnings);
-    obj_warnings::set_warnings(warnings, mesh);
+    obj_warnings::set_warnings(warnings, model);
     std::string mtl_files;
     for (const std::string &file : reader.libraries.loaded)
         mtl_files += file + "\n";
-    mesh->mtl_files = mtl_files.empty() ? nullptr : copy_string(mtl_files);
-    mesh->mtl_missing = !reader.libraries.missing.empty();
-    return true;
+    model->inputs = mtl_files.empty() ? nullptr : copy_string(mtl_files);
+    model->inputs_missing = !reader.libraries.missing.empty();
+    return vkrt_model_finish(model, err);
 }
 
-bool load(const char *path, vkrt_mesh *mesh, vkrt_error *err)
+bool load(const char *path, vkrt_model *model, vkrt_error *err)
 {
     char *bytes;
     size_t size;
@@ -1029,13 +728,13 @@ bool load(const char *path, vkrt_mesh *mesh, vkrt_error *err)
         return false;
     std::unique_ptr<char, void (*)(void *)> owned(bytes, free);
     std::string folder = folder_of(path);
-    return parse(path, std::string_view(bytes, size), &folder, obj_geometry::Split{0, 0}, mesh, err);
+    return parse(path, std::string_view(bytes, size), &folder, obj_geometry::Split{0, 0}, model, err);
 }
 
-/* Runs body (a load or parse into mesh) with every C++ exception turned into a message about name,
- * and mesh freed on any failure, so nothing C++ crosses into the C side. */
+/* Runs body (a load or parse into model) with every C++ exception turned into a message about
+ * name, and model freed on any failure, so nothing C++ crosses into the C side. */
 template <typename Body>
-bool guarded(const char *name, vkrt_mesh *mesh, vkrt_error *err, Body body)
+bool guarded(const char *name, vkrt_model *model, vkrt_error *err, Body body)
 {
     bool ok = false;
     try {
@@ -1048,77 +747,41 @@ bool guarded(const char *name, vkrt_mesh *mesh, vkrt_error *err, Body body)
         ok = vkrt_error_set(err, "%s: unexpected error while loading", name);
     }
     if (!ok)
-        vkrt_mesh_free(mesh);
+        vkrt_model_free(model);
     return ok;
 }
 
 } // namespace
 
-extern "C" bool vkrt_obj_load(const char *path, vkrt_mesh *mesh, vkrt_error *err)
+extern "C" bool vkrt_obj_load(const char *path, vkrt_model *model, vkrt_error *err)
 {
-    if (!mesh)
-        return vkrt_error_set(err, "%s: no mesh to load into", path ? path : "(null)");
-    memset(mesh, 0, sizeof *mesh);
+    if (!model)
+        return vkrt_error_set(err, "%s: no model to load into", path ? path : "(null)");
+    memset(model, 0, sizeof *model);
     if (!path)
         return vkrt_error_set(err, "(null): no OBJ path given");
-    return guarded(path, mesh, err, [&] { return load(path, mesh, err); });
+    return guarded(path, model, err, [&] { return load(path, model, err); });
 }
 
 extern "C" bool vkrt_obj_parse(const char *text, size_t size, const char *name, const char *base_dir,
-                               vkrt_mesh *mesh, vkrt_error *err)
+                               vkrt_model *model, vkrt_error *err)
 {
-    return vkrt_obj_parse_split(text, size, name, base_dir, 0, 0, mesh, err);
+    return vkrt_obj_parse_split(text, size, name, base_dir, 0, 0, model, err);
 }
 
 extern "C" bool vkrt_obj_parse_split(const char *text, size_t size, const char *name, const char *base_dir,
-                                     size_t chunk_bytes, unsigned threads, vkrt_mesh *mesh, vkrt_error *err)
+                                     size_t chunk_bytes, unsigned threads, vkrt_model *model, vkrt_error *err)
 {
     if (!name)
         name = "(obj)";
-    if (!mesh)
-        return vkrt_error_set(err, "%s: no mesh to load into", name);
-    memset(mesh, 0, sizeof *mesh);
+    if (!model)
+        return vkrt_error_set(err, "%s: no model to load into", name);
+    memset(model, 0, sizeof *model);
     if (!text && size > 0)
         return vkrt_error_set(err, "%s: no OBJ text given", name);
-    return guarded(name, mesh, err, [&] {
+    return guarded(name, model, err, [&] {
         std::string folder = base_dir ? base_dir : "";
         return parse(name, std::string_view(size ? text : "", size), base_dir ? &folder : nullptr,
-                     obj_geometry::Split{chunk_bytes, threads}, mesh, err);
+                     obj_geometry::Split{chunk_bytes, threads}, model, err);
     });
-}
-
-extern "C" void vkrt_mesh_free(vkrt_mesh *mesh)
-{
-    if (!mesh)
-        return;
-    free(mesh->positions);
-    free(mesh->normals);
-    free(mesh->texcoords);
-    free(mesh->material);
-    for (uint32_t i = 0; mesh->materials && i < mesh->material_count; i++) {
-        free(mesh->materials[i].name);
-        free(mesh->materials[i].map_kd);
-        free(mesh->materials[i].map_d);
-        free(mesh->materials[i].map_pr);
-        free(mesh->materials[i].map_pm);
-        free(mesh->materials[i].map_ps);
-        free(mesh->materials[i].norm);
-        free(mesh->materials[i].map_bump);
-        free(mesh->materials[i].map_ke);
-        free(mesh->materials[i].mtl_path);
-    }
-    free(mesh->materials);
-    free(mesh->warnings_all);
-    free(mesh->mtl_files);
-    memset(mesh, 0, sizeof *mesh);
-}
-
-extern "C" void vkrt_mesh_print_warnings(const vkrt_mesh *mesh, const char *prefix, bool verbose, FILE *out)
-{
-    const char *text = verbose && mesh->warnings_all ? mesh->warnings_all : mesh->warnings;
-    while (*text) {
-        size_t n = strcspn(text, "\n");
-        fprintf(out, "%s%.*s\n", prefix ? prefix : "", static_cast<int>(n), text);
-        text += n + (text[n] == '\n');
-    }
 }

@@ -21,7 +21,7 @@
 #include <vector>
 
 extern "C" {
-#include "../error.h"
+#include "../../error.h"
 }
 
 namespace obj_scan {

@@ -117,29 +117,29 @@ std::string Warnings::folded() const
     return out;
 }
 
-/* Copies the folded warnings into mesh->warnings, whole lines while they fit, and all of them into
- * mesh->warnings_all. */
-void set_warnings(const Warnings &warnings, vkrt_mesh *mesh)
+/* Copies the folded warnings into model->warnings, whole lines while they fit, and all of them into
+ * model->warnings_all. */
+void set_warnings(const Warnings &warnings, vkrt_model *model)
 {
     if (warnings.empty())
         return;
     std::string out;
     for (const std::string &line : lines_of(warnings.folded())) {
         std::string next = out.empty() ? line : out + "\n" + line;
-        if (next.size() >= sizeof mesh->warnings) {
+        if (next.size() >= sizeof model->warnings) {
             if (out.empty())
-                out = line.substr(0, sizeof mesh->warnings - 1);
+                out = line.substr(0, sizeof model->warnings - 1);
             break;
         }
         out = next;
     }
-    memcpy(mesh->warnings, out.c_str(), out.size() + 1);
+    memcpy(model->warnings, out.c_str(), out.size() + 1);
     std::string all = warnings.all();
     all.pop_back(); /* the last "\n" */
-    mesh->warnings_all = static_cast<char *>(malloc(all.size() + 1));
-    if (!mesh->warnings_all)
+    model->warnings_all = static_cast<char *>(malloc(all.size() + 1));
+    if (!model->warnings_all)
         throw std::bad_alloc();
-    memcpy(mesh->warnings_all, all.c_str(), all.size() + 1);
+    memcpy(model->warnings_all, all.c_str(), all.size() + 1);
 }
 
 /* --------------------------------------------------------------------------- text helpers */

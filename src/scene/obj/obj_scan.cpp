@@ -24,7 +24,7 @@
  */
 #include "obj_scan.h"
 
-#include "coordinate_limit.h"
+#include "../coordinate_limit.h"
 #include "obj_number.h"
 
 #include <cctype>

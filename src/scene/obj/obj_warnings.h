@@ -121,11 +121,11 @@ void warn_unrendered_sheen(const std::string &path, uint32_t line, const std::st
 void warn_uncoated_mirror(const std::string &path, uint32_t line, const std::string &name,
                           Warnings *out);
 
-/* Writes warnings into mesh: the folded lines into mesh->warnings, whole lines while they fit (a
- * first line too long for it is cut), and all of them, unfolded, into mesh->warnings_all
- * (malloc'd). Leaves mesh untouched when there are none; throws std::bad_alloc when out of
+/* Writes warnings into model: the folded lines into model->warnings, whole lines while they fit (a
+ * first line too long for it is cut), and all of them, unfolded, into model->warnings_all
+ * (malloc'd). Leaves model untouched when there are none; throws std::bad_alloc when out of
  * memory. */
-void set_warnings(const Warnings &warnings, vkrt_mesh *mesh);
+void set_warnings(const Warnings &warnings, vkrt_model *model);
 
 } // namespace obj_warnings
 

@@ -19,7 +19,7 @@
 #include <vector>
 
 extern "C" {
-#include "../error.h"
+#include "../../error.h"
 }
 #include "obj_scan.h"
 

@@ -1,0 +1,25 @@
+/*
+ * loader.h: the scene-file formats vkrt reads, each a function that fills the scene model
+ * (model.h) from a file. A new format is one more entry in loader.c and a folder of its own
+ * beside src/scene/obj/.
+ */
+#ifndef VKRT_LOADER_H
+#define VKRT_LOADER_H
+
+#include <stdbool.h>
+
+#include "../error.h"
+#include "model.h"
+
+typedef struct vkrt_scene_loader {
+    const char *name; /* stable and short ("obj"): messages and the scene cache's key name it */
+    /* Fills *model from the file at path: on failure false with err set to "path:LINE: what"
+     * and *model left empty. The model's inputs list every other file read. */
+    bool (*load)(const char *path, vkrt_model *model, vkrt_error *err);
+} vkrt_scene_loader;
+
+/* The loader of the scene file at path, chosen by its extension (case ignored); a file of any
+ * other extension is read as Wavefront OBJ, which vkrt has always done. Never NULL. */
+const vkrt_scene_loader *vkrt_scene_loader_for(const char *path);
+
+#endif

@@ -1,0 +1,241 @@
+/*
+ * test_model.c: the scene model (src/scene/model.h) and the OBJ loader's part in it: an OBJ is
+ * one mesh and one identity instance, an .mtl record keeps every field in the model's units, the
+ * renderer's flattening of instances into world space matches a case computed by hand, and
+ * materials.c refuses a sampler the kernels do not have.
+ */
+#define _XOPEN_SOURCE 700
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "scene/materials.h"
+#include "scene/model.h"
+#include "scene/obj/mtl.h"
+#include "scene/obj/obj_load.h"
+
+static void assert_vec3_near(const float *got, double x, double y, double z)
+{
+    const double want[3] = {x, y, z};
+    for (int k = 0; k < 3; ++k)
+        if (fabs(got[k] - want[k]) > 1e-6)
+            fail_msg("component %d: got %.9g, want %.9g", k, (double)got[k], want[k]);
+}
+
+static void obj_is_one_mesh_and_one_identity_instance(void **state)
+{
+    (void)state;
+    const char *text = "v 0 0 0\nv 2 0 0\nv 2 3 0\nv 0 3 -1\nf 1 2 3 4\n";
+    vkrt_model m;
+    vkrt_error err = {{0}};
+    assert_true(vkrt_obj_parse(text, strlen(text), "q.obj", NULL, &m, &err));
+    assert_int_equal(m.mesh_count, 1);
+    assert_int_equal(m.instance_count, 1);
+    assert_int_equal(m.instances[0].mesh, 0);
+    assert_memory_equal(m.instances[0].transform, vkrt_identity_transform,
+                        sizeof vkrt_identity_transform);
+    assert_int_equal(m.triangle_count, 2);
+    assert_int_equal(m.meshes[0].triangle_count, 2);
+    assert_null(m.meshes[0].tangents);
+    assert_memory_equal(m.bounds_min, m.meshes[0].bounds_min, sizeof m.bounds_min);
+    assert_memory_equal(m.bounds_max, m.meshes[0].bounds_max, sizeof m.bounds_max);
+    assert_int_equal(m.light_count, 0);
+    assert_int_equal(m.camera_count, 0);
+    /* One identity instance: the world is the mesh's own arrays, not a copy. */
+    vkrt_mesh world;
+    bool copied = true;
+    assert_true(vkrt_model_world(&m, &world, &copied, &err));
+    assert_false(copied);
+    assert_ptr_equal(world.positions, m.meshes[0].positions);
+    assert_ptr_equal(world.material, m.meshes[0].material);
+    vkrt_model_free(&m);
+}
+
+/* An .mtl record as the file says it, with mtl.h's defaults for what it leaves out. */
+static vkrt_mtl plain_mtl(char *name)
+{
+    vkrt_mtl m = {.name = name, .kd = {0.8f, 0.8f, 0.8f}, .ni = 1, .d = 1, .illum = 2,
+                  .tf = {1, 1, 1}, .pr = -1, .bump_multiplier = 1};
+    return m;
+}
+
+static void mtl_record_maps_into_the_model(void **state)
+{
+    (void)state;
+    vkrt_material out;
+    /* illum 4 with Ni: the smooth dielectric of that index; Pr (the PBR extension) makes it
+     * rough, with Pr as the roughness. */
+    vkrt_mtl glass = plain_mtl("glass");
+    glass.illum = 4;
+    glass.ni = 1.33f;
+    glass.tf[1] = 0.5f;
+    assert_true(vkrt_mtl_to_material(&glass, &out));
+    assert_int_equal(out.bsdf, VKRT_BSDF_DIELECTRIC);
+    assert_float_equal(out.ior, 1.33f, 0);
+    assert_vec3_near(out.transmission_filter, 1, 0.5, 1);
+    assert_string_equal(out.name, "glass");
+    assert_string_equal(out.file, "(.mtl)");
+    vkrt_material_free_strings(&out);
+    glass.pbr = true;
+    glass.pr = 0.4f;
+    assert_true(vkrt_mtl_to_material(&glass, &out));
+    assert_int_equal(out.bsdf, VKRT_BSDF_ROUGH_DIELECTRIC);
+    assert_float_equal(out.roughness, 0.4f, 0);
+    vkrt_material_free_strings(&out);
+    /* Ns without Pr: roughness sqrt(alpha), alpha = sqrt(2 / (Ns + 2)); Ns 98 gives
+     * alpha = sqrt(0.02), roughness 0.02^(1/4). */
+    vkrt_mtl phong = plain_mtl("phong");
+    phong.ks[0] = phong.ks[1] = phong.ks[2] = 0.5f;
+    phong.ns = 98;
+    assert_true(vkrt_mtl_to_material(&phong, &out));
+    assert_int_equal(out.bsdf, VKRT_BSDF_GLOSSY_PHONG);
+    assert_float_equal(out.roughness, powf(0.02f, 0.25f), 1e-6);
+    assert_float_equal(out.specular_exponent, 98, 0);
+    vkrt_material_free_strings(&out);
+    /* map_Kd: an sRGB colour texture with its line, repeat and bilinear; a diffuse family. */
+    vkrt_mtl wood = plain_mtl("wood");
+    wood.map_kd = "wood.png";
+    wood.map_kd_line = 4;
+    wood.mtl_path = "x.mtl";
+    wood.pc = 2; /* the coat weight is Pc / 4 */
+    assert_true(vkrt_mtl_to_material(&wood, &out));
+    assert_int_equal(out.bsdf, VKRT_BSDF_DIFFUSE);
+    assert_string_equal(out.maps[VKRT_MAP_BASE_COLOUR].path, "wood.png");
+    assert_int_equal(out.maps[VKRT_MAP_BASE_COLOUR].line, 4);
+    assert_int_equal(out.maps[VKRT_MAP_BASE_COLOUR].space, VKRT_TEXTURE_COLOUR);
+    assert_int_equal(out.maps[VKRT_MAP_BASE_COLOUR].sampler.wrap_u, VKRT_WRAP_REPEAT);
+    assert_int_equal(out.maps[VKRT_MAP_BASE_COLOUR].sampler.filter, VKRT_FILTER_LINEAR);
+    assert_string_equal(out.file, "x.mtl");
+    assert_float_equal(out.coat, 0.5f, 0);
+    vkrt_material_free_strings(&out);
+    /* Ke alone: the emitter family. */
+    vkrt_mtl lamp = plain_mtl("lamp");
+    memset(lamp.kd, 0, sizeof lamp.kd);
+    lamp.ke[0] = 5;
+    assert_true(vkrt_mtl_to_material(&lamp, &out));
+    assert_int_equal(out.bsdf, VKRT_BSDF_EMITTER);
+    assert_vec3_near(out.emission, 5, 0, 0);
+    vkrt_material_free_strings(&out);
+}
+
+/* A one-triangle mesh placed twice: as it is, and scaled by 2 along y, moved by (5, 0, -1). The
+ * corners go to (5, 0, -1), (6, 0, -1), (5, 2, -1); the normal (0, 1, 1) / sqrt 2 goes by the
+ * inverse transpose diag(1, 1/2, 1) to (0, 1/2, 1), made unit: (0, 1, 2) / sqrt 5. */
+static void instances_flatten_into_world_space(void **state)
+{
+    (void)state;
+    vkrt_model m = {0};
+    m.mesh_count = 1;
+    m.meshes = calloc(1, sizeof *m.meshes);
+    m.instance_count = 2;
+    m.instances = calloc(2, sizeof *m.instances);
+    assert_non_null(m.meshes);
+    assert_non_null(m.instances);
+    vkrt_mesh *mesh = &m.meshes[0];
+    mesh->triangle_count = 1;
+    mesh->positions = malloc(9 * sizeof(float));
+    mesh->normals = malloc(9 * sizeof(float));
+    mesh->texcoords = malloc(6 * sizeof(float));
+    mesh->material = malloc(sizeof(int32_t));
+    const float p[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    const float uv[6] = {0, 0, 1, 0, 0, 1};
+    memcpy(mesh->positions, p, sizeof p);
+    for (int c = 0; c < 3; ++c) {
+        mesh->normals[3 * c] = 0;
+        mesh->normals[3 * c + 1] = mesh->normals[3 * c + 2] = (float)M_SQRT1_2;
+    }
+    memcpy(mesh->texcoords, uv, sizeof uv);
+    mesh->material[0] = -1;
+    mesh->bounds_max[0] = mesh->bounds_max[1] = 1;
+    memcpy(m.instances[0].transform, vkrt_identity_transform, sizeof vkrt_identity_transform);
+    const float moved[12] = {1, 0, 0, 5, 0, 2, 0, 0, 0, 0, 1, -1};
+    memcpy(m.instances[1].transform, moved, sizeof moved);
+    vkrt_error err = {{0}};
+    assert_true(vkrt_model_finish(&m, &err));
+    assert_int_equal(m.triangle_count, 2);
+    assert_vec3_near(m.bounds_min, 0, 0, -1);
+    assert_vec3_near(m.bounds_max, 6, 2, 0);
+
+    vkrt_mesh world;
+    bool copied = false;
+    assert_true(vkrt_model_world(&m, &world, &copied, &err));
+    assert_true(copied);
+    assert_int_equal(world.triangle_count, 2);
+    assert_memory_equal(world.positions, p, sizeof p);
+    assert_vec3_near(world.positions + 9, 5, 0, -1);
+    assert_vec3_near(world.positions + 12, 6, 0, -1);
+    assert_vec3_near(world.positions + 15, 5, 2, -1);
+    for (int c = 0; c < 3; ++c) {
+        assert_vec3_near(world.normals + 3 * c, 0, M_SQRT1_2, M_SQRT1_2);
+        assert_vec3_near(world.normals + 9 + 3 * c, 0, 1 / sqrt(5), 2 / sqrt(5));
+    }
+    assert_memory_equal(world.texcoords, uv, sizeof uv);
+    assert_memory_equal(world.texcoords + 6, uv, sizeof uv);
+    assert_int_equal(world.material[0], -1);
+    assert_int_equal(world.material[1], -1);
+    assert_null(world.tangents);
+    assert_vec3_near(world.bounds_min, 0, 0, -1);
+    assert_vec3_near(world.bounds_max, 6, 2, 0);
+    vkrt_mesh_free(&world);
+
+    /* The materials follow the instances: one entry per world triangle. */
+    vkrt_config cfg = {0};
+    vkrt_scene_materials mats;
+    assert_true(vkrt_scene_materials_resolve(&cfg, &m, NULL, &mats, &err));
+    assert_int_equal(mats.triangle_material[0], mats.triangle_material[1]);
+    vkrt_scene_materials_free(&mats);
+
+    /* An instance naming a mesh that is not there is refused. */
+    m.instances[1].mesh = 3;
+    assert_false(vkrt_model_finish(&m, &err));
+    assert_non_null(strstr(err.msg, "instance 1 names mesh 3 of 1"));
+    vkrt_model_free(&m);
+}
+
+/* The kernels sample textures repeating and bilinear: any other sampler is refused, naming the
+ * material file and line that asked for the texture. */
+static void other_samplers_are_refused(void **state)
+{
+    (void)state;
+    vkrt_model m = {0};
+    m.mesh_count = m.instance_count = m.material_count = 1;
+    m.meshes = calloc(1, sizeof *m.meshes);
+    m.instances = calloc(1, sizeof *m.instances);
+    m.materials = calloc(1, sizeof *m.materials);
+    vkrt_material_defaults(&m.materials[0]);
+    m.materials[0].name = strdup("tiles");
+    m.materials[0].file = strdup("scene.gltf");
+    m.materials[0].maps[VKRT_MAP_BASE_COLOUR].path = strdup("tiles.png");
+    m.materials[0].maps[VKRT_MAP_BASE_COLOUR].line = 7;
+    m.materials[0].maps[VKRT_MAP_BASE_COLOUR].sampler.wrap_u = VKRT_WRAP_CLAMP;
+    vkrt_mesh *mesh = &m.meshes[0];
+    mesh->triangle_count = 1;
+    mesh->positions = calloc(9, sizeof(float));
+    mesh->material = calloc(1, sizeof(int32_t));
+    memcpy(m.instances[0].transform, vkrt_identity_transform, sizeof vkrt_identity_transform);
+    vkrt_error err = {{0}};
+    assert_true(vkrt_model_finish(&m, &err));
+    vkrt_config cfg = {0};
+    vkrt_scene_materials mats;
+    assert_false(vkrt_scene_materials_resolve(&cfg, &m, NULL, &mats, &err));
+    assert_string_equal(err.msg, "scene.gltf:7: texture 'tiles.png': only repeating, bilinear "
+                                 "sampling is supported");
+    vkrt_model_free(&m);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(obj_is_one_mesh_and_one_identity_instance),
+        cmocka_unit_test(mtl_record_maps_into_the_model),
+        cmocka_unit_test(instances_flatten_into_world_space),
+        cmocka_unit_test(other_samplers_are_refused),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
