@@ -71,9 +71,8 @@ typedef struct shadow_target {
 
 static shadow_target choose_target(const vkrt_scene *scene)
 {
-    const vkrt_config *cfg = &scene->config;
-    for (uint32_t i = 0; i < cfg->light_count; ++i) {
-        const vkrt_config_light *l = &cfg->lights[i];
+    for (uint32_t i = 0; i < scene->light_count; ++i) {
+        const vkrt_config_light *l = &scene->lights[i];
         if (l->kind == VKRT_LIGHT_POINT || l->kind == VKRT_LIGHT_SPOT)
             return (shadow_target){true, {l->position[0], l->position[1], l->position[2]}};
         if (l->kind == VKRT_LIGHT_DIRECTIONAL)

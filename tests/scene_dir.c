@@ -70,9 +70,9 @@ bool scene_dir_render_accel(uint32_t w, uint32_t h, const vkrt_render_desc *desc
     bool ok = vkrt_renderer_create(&r, &ctx, &scene, &d, err);
     /* The first camera, moving towards the second while the shutter is open (as vkrt render's
      * frame 0 does). */
-    if (ok && scene.config.camera_count > 1)
-        vkrt_renderer_set_next_camera(r, &scene.config.cameras[1]);
-    ok = ok && vkrt_renderer_render(r, &scene.config.cameras[0], 0, rgb, stats, err);
+    if (ok && scene.camera_count > 1)
+        vkrt_renderer_set_next_camera(r, &scene.cameras[1]);
+    ok = ok && vkrt_renderer_render(r, &scene.cameras[0], 0, rgb, stats, err);
     if (ok && accel)
         *accel = *vkrt_renderer_accel_stats(r);
     vkrt_renderer_destroy(r);

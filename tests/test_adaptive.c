@@ -76,7 +76,7 @@ static void render(const vkrt_render_desc *desc, float *rgb, float *estimates, u
     d.height = H;
     vkrt_renderer *r = NULL;
     bool ok = vkrt_renderer_create(&r, &ctx, &scene, &d, &err) &&
-              vkrt_renderer_render(r, &scene.config.cameras[0], 0, rgb, NULL, &err) &&
+              vkrt_renderer_render(r, &scene.cameras[0], 0, rgb, NULL, &err) &&
               (d.target_error <= 0 || vkrt_renderer_convergence(r, c, estimates, samples, &err));
     vkrt_renderer_destroy(r);
     fixture_context_destroy(&ctx);

@@ -418,14 +418,14 @@ static void test_passes_added_one_by_one_equal_the_whole_frame(void **state)
     vkrt_render_desc desc = {.width = W, .height = H, .samples = 4};
     vkrt_renderer *r = NULL;
     if (!vkrt_renderer_create(&r, &ctx, &scene, &desc, &err) ||
-        !vkrt_renderer_render(r, &scene.config.cameras[0], 3, whole, NULL, &err))
+        !vkrt_renderer_render(r, &scene.cameras[0], 3, whole, NULL, &err))
         fail_msg("%s", err.msg);
     for (uint32_t pass = 0; pass < 4; ++pass)
-        if (!vkrt_renderer_add_samples(r, &scene.config.cameras[0], 3, pass, 1, NULL, &err))
+        if (!vkrt_renderer_add_samples(r, &scene.cameras[0], 3, pass, 1, NULL, &err))
             fail_msg("%s", err.msg);
     if (!vkrt_renderer_read_image(r, 4, parts, &err))
         fail_msg("%s", err.msg);
-    assert_false(vkrt_renderer_add_samples(r, &scene.config.cameras[0], 3, 4, 1, NULL, &err));
+    assert_false(vkrt_renderer_add_samples(r, &scene.cameras[0], 3, 4, 1, NULL, &err));
     vkrt_renderer_destroy(r);
     fixture_context_destroy(&ctx);
     double sum = 0;

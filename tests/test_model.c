@@ -19,6 +19,7 @@
 #include "scene/model.h"
 #include "scene/obj/mtl.h"
 #include "scene/obj/obj_load.h"
+#include "scene/scene.h"
 
 static void assert_vec3_near(const float *got, double x, double y, double z)
 {
@@ -229,6 +230,41 @@ static void other_samplers_are_refused(void **state)
     vkrt_model_free(&m);
 }
 
+/* A scene's lights are its geometry file's, then scene.cfg's, in that order; where only one of
+ * them gives lights the scene reads that array itself; the cameras are scene.cfg's. */
+static void scene_lights_are_the_model_then_the_config(void **state)
+{
+    (void)state;
+    vkrt_scene scene = {0};
+    vkrt_error err = {{0}};
+    scene.config.lights = calloc(2, sizeof *scene.config.lights);
+    scene.config.cameras = calloc(1, sizeof *scene.config.cameras);
+    assert_non_null(scene.config.lights);
+    assert_non_null(scene.config.cameras);
+    scene.config.light_count = 2;
+    scene.config.camera_count = 1;
+    scene.config.lights[0].kind = VKRT_LIGHT_DIRECTIONAL;
+    scene.config.lights[1].kind = VKRT_LIGHT_AMBIENT;
+    assert_true(vkrt_scene_compose(&scene, &err));
+    assert_ptr_equal(scene.lights, scene.config.lights); /* no copy */
+    assert_int_equal(scene.light_count, 2);
+    assert_ptr_equal(scene.cameras, scene.config.cameras);
+    assert_int_equal(scene.camera_count, 1);
+
+    scene.model.lights = calloc(1, sizeof *scene.model.lights);
+    assert_non_null(scene.model.lights);
+    scene.model.light_count = 1;
+    scene.model.lights[0].kind = VKRT_LIGHT_POINT;
+    scene.model.lights[0].position[1] = 3.0f;
+    assert_true(vkrt_scene_compose(&scene, &err));
+    assert_int_equal(scene.light_count, 3);
+    assert_int_equal(scene.lights[0].kind, VKRT_LIGHT_POINT);
+    assert_true(scene.lights[0].position[1] == 3.0f);
+    assert_int_equal(scene.lights[1].kind, VKRT_LIGHT_DIRECTIONAL);
+    assert_int_equal(scene.lights[2].kind, VKRT_LIGHT_AMBIENT);
+    vkrt_scene_free(&scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -236,6 +272,7 @@ int main(void)
         cmocka_unit_test(mtl_record_maps_into_the_model),
         cmocka_unit_test(instances_flatten_into_world_space),
         cmocka_unit_test(other_samplers_are_refused),
+        cmocka_unit_test(scene_lights_are_the_model_then_the_config),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -679,7 +679,7 @@ static void render_prefixes(int w, uint32_t mode, const uint32_t *ends, int n, f
                                                        .light_sampling = mode},
                                    &err);
     for (int k = 0; ok && k < n; ++k)
-        ok = vkrt_renderer_add_samples(r, &scene.config.cameras[0], 0, k ? ends[k - 1] : 0,
+        ok = vkrt_renderer_add_samples(r, &scene.cameras[0], 0, k ? ends[k - 1] : 0,
                                        ends[k] - (k ? ends[k - 1] : 0), NULL, &err) &&
              vkrt_renderer_read_image(r, ends[k], rgb[k], &err);
     vkrt_renderer_destroy(r);

@@ -205,7 +205,7 @@ static d3 shade(const vkrt_scene *scene, d3 o, d3 d, int depth, d3 importance)
 /* Pixel centres through the camera of scene.cfg's definition: vertical fov, row 0 on top. */
 static void reference_render(const vkrt_scene *scene, uint32_t w, uint32_t h, float *rgb)
 {
-    const vkrt_config_camera *cam = &scene->config.cameras[0];
+    const vkrt_config_camera *cam = &scene->cameras[0];
     d3 eye = from_floats(cam->eye);
     d3 forward = normalize(sub(from_floats(cam->look), eye));
     d3 right = normalize(cross(forward, from_floats(cam->up)));
@@ -234,7 +234,7 @@ static void gpu_render(const vkrt_scene *scene, uint32_t w, uint32_t h, float *r
     vkrt_render_desc desc = {.width = w, .height = h, .samples = 1};
     if (!vkrt_renderer_create(&r, &ctx, scene, &desc, &err))
         fail_msg("renderer: %s", err.msg);
-    if (!vkrt_renderer_render(r, &scene->config.cameras[0], 0, rgb, NULL, &err))
+    if (!vkrt_renderer_render(r, &scene->cameras[0], 0, rgb, NULL, &err))
         fail_msg("render: %s", err.msg);
     vkrt_renderer_destroy(r);
     fixture_context_destroy(&ctx);
@@ -441,7 +441,7 @@ static void render_transformed(double scale, double offset, vkrt_accel_kind kind
     vkrt_renderer *r = NULL;
     vkrt_render_desc desc = {.width = w, .height = h, .samples = 1, .accel = kind};
     if (!vkrt_renderer_create(&r, &ctx, &scene, &desc, &err) ||
-        !vkrt_renderer_render(r, &scene.config.cameras[0], 0, rgb, NULL, &err))
+        !vkrt_renderer_render(r, &scene.cameras[0], 0, rgb, NULL, &err))
         fail_msg("%s", err.msg);
     vkrt_renderer_destroy(r);
     fixture_context_destroy(&ctx);

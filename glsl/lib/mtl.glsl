@@ -3,7 +3,8 @@
  * mapping fills (docs/materials.md has the table), so one .mtl material maps to any of them:
  *   0-2 Kd (diffuse albedo)   3 transparency (1 - d)   4-6 Ks (specular)   7 Ns (Phong exponent)
  *   8-10 Ke (emission)        11 Ni (index of refraction)   12-14 Tf (transmission filter)
- *   15 illum   16 Pr (roughness)   17 Pm (metallic)   18 Pc (clearcoat)   19 Pcr (its roughness)
+ *   15 the BSDF family (no built-in reads it)   16 Pr (roughness)   17 Pm (metallic)
+ *   18 Pc (clearcoat)   19 Pcr (its roughness)
  * and texture slot 0 is map_Kd (colour), slot 1 map_d (coverage), 2 map_Pr, 3 map_Pm, 6 map_Ps;
  * the sheen Ps (a material file's number 20) is Material.maps.z.
  */

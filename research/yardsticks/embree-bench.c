@@ -230,7 +230,7 @@ static bool bench_scene(RTCDevice device, const char *path, const options *opts,
         ok = false;
     if (ok) {
         out->rays = pixels;
-        bench_primary_rays(&s.config.cameras[0], out->width, out->height, primary);
+        bench_primary_rays(&s.cameras[0], out->width, out->height, primary);
         ok = timed_trace(scene, primary, pixels, false, hits, opts->threads, &out->primary, err);
     }
     for (uint32_t i = 0; ok && i < pixels; ++i)

@@ -553,7 +553,7 @@ int main(int argc, char **argv)
     printf("%s at %ux%u, leaves <= %u, node cost %.2f: %u pair records\n", argv[1], width, height,
            leaf, (double)cost, pairs.node_count);
 
-    bench_primary_rays(&scene.config.cameras[0], width, height, primary);
+    bench_primary_rays(&scene.cameras[0], width, height, primary);
     uint32_t hit_count = 0;
     for (uint32_t i = 0; i < pixels; ++i) {
         counts[i] = walk(&w, &primary[i], false, &hits[i]);

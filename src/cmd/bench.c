@@ -112,7 +112,7 @@ static bool bench_one(gpu_context *ctx, const vkrt_scene *scene, const vkrt_rend
             timed = pixels;
     }
     if (ok) {
-        bench_primary_rays(&scene->config.cameras[0], desc->width, desc->height, primary);
+        bench_primary_rays(&scene->cameras[0], desc->width, desc->height, primary);
         /* A subset for brute force: every stride-th ray, so it sees the whole image. */
         uint32_t stride = pixels / timed;
         for (uint32_t i = 0; stride > 1 && i < timed; ++i)

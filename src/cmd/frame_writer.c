@@ -131,8 +131,8 @@ bool frame_writer_start(frame_writer *w, int device, bool tell, vkrt_error *err)
         return false;
     }
     if (tell && integrator == VKRT_INTEGRATOR_PATH && !opts->common.quiet)
-        for (uint32_t i = 0; i < cfg->light_count; ++i)
-            if (cfg->lights[i].kind == VKRT_LIGHT_AMBIENT) {
+        for (uint32_t i = 0; i < w->scene->light_count; ++i)
+            if (w->scene->lights[i].kind == VKRT_LIGHT_AMBIENT) {
                 fprintf(stderr, "vkrt: note: the path integrator computes indirect light and "
                                 "ignores `light ambient`, Whitted's stand-in for it\n");
                 break;
@@ -160,16 +160,15 @@ bool frame_writer_start(frame_writer *w, int device, bool tell, vkrt_error *err)
 bool frame_writer_write(frame_writer *w, uint32_t f, vkrt_frame_stats *stats, vkrt_error *err)
 {
     const vkrt_render_options *opts = &w->cl->render;
-    const vkrt_config *cfg = &w->scene->config;
     char path[4096];
     if (!vkrt_frame_path(path, sizeof path, w->output, f, err))
         return false;
     vkrt_image_remove_stale_temporaries(path);
     /* Motion blur towards the next frame's camera; the last frame has none and is sharp. */
     vkrt_renderer_set_next_camera(w->renderer,
-                                  f + 1 < cfg->camera_count ? &cfg->cameras[f + 1] : NULL);
+                                  f + 1 < w->scene->camera_count ? &w->scene->cameras[f + 1] : NULL);
     float *rgb = vkrt_write_pool_buffer(w->pool, err);
-    if (!rgb || !vkrt_renderer_render(w->renderer, &cfg->cameras[f], f, rgb, stats, err))
+    if (!rgb || !vkrt_renderer_render(w->renderer, &w->scene->cameras[f], f, rgb, stats, err))
         return false;
     if (w->clock && !w->clock->frame)
         w->clock->frame = vkrt_clock_ms();
@@ -230,7 +229,7 @@ bool frame_list_make(const vkrt_command_line *cl, const vkrt_scene *scene, const
     const vkrt_config *cfg = &scene->config;
     vkrt_render_desc desc = vkrt_render_desc_for(cfg, cl);
     uint32_t first = opts->frames_given ? opts->frame_first : 0;
-    uint32_t last = opts->frames_given ? opts->frame_last : cfg->camera_count - 1;
+    uint32_t last = opts->frames_given ? opts->frame_last : scene->camera_count - 1;
     uint32_t step = opts->frames_given ? opts->frame_step : 1;
     *list = (frame_list){.total = (last - first) / step + 1};
     list->frames = malloc(list->total * sizeof *list->frames);

@@ -306,7 +306,7 @@ int vkrt_cmd_render(const vkrt_command_line *cl, double main_ms)
     if (!opts->common.quiet)
         vkrt_model_print_warnings(&scene.model, "vkrt: ", opts->common.verbose, stderr);
     const char *output = opts->output ? opts->output : scene.config.output;
-    uint32_t cameras = scene.config.camera_count;
+    uint32_t cameras = scene.camera_count;
     if (opts->frames_given && opts->frame_last >= cameras) {
         fprintf(stderr, "vkrt: --frames %u:%u: %s has %u camera%s (frames 0 to %u)\n",
                 opts->frame_first, opts->frame_last, opts->scene_path, cameras,
@@ -316,9 +316,9 @@ int vkrt_cmd_render(const vkrt_command_line *cl, double main_ms)
         return 1;
     }
     frame_list list;
-    if (!check_output(output, scene.config.camera_count, &err) ||
+    if (!check_output(output, scene.camera_count, &err) ||
         (opts->sample_count_image &&
-         !check_output(opts->sample_count_image, scene.config.camera_count, &err)) ||
+         !check_output(opts->sample_count_image, scene.camera_count, &err)) ||
         !frame_list_make(cl, &scene, output, &list, &err)) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
         early_context_discard(&early);

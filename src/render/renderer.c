@@ -196,7 +196,7 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
     /* Whitted sees the emissive triangles as one more light after the scene's, with a visibility
      * bit of its own (lib/emitters.glsl). */
     r->emitter_light = ok && r->integrator == VKRT_INTEGRATOR_WHITTED && first_emitter(mats);
-    r->light_words = (scene->config.light_count + r->emitter_light + 31) / 32;
+    r->light_words = (scene->light_count + r->emitter_light + 31) / 32;
     r->clamp = desc->clamp;
     r->seed = desc->seed;
     r->shutter = desc->shutter;
@@ -255,7 +255,7 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
          lap(&at, &times->structure_ms) && renderer_upload_geometry(r, &world, mats, err) &&
          renderer_create_texel_views(r, err) && lap(&at, &times->geometry_ms) &&
          renderer_upload_materials(r, mats, &kernel, err) && lap(&at, &times->materials_ms) &&
-         renderer_upload_lights(r, &scene->config, err) &&
+         renderer_upload_lights(r, scene->lights, scene->light_count, err) &&
          renderer_upload_light_sampling(r, scene, &world, mats, err) &&
          lap(&at, &times->lights_ms) &&
          renderer_upload_split_addresses(r, err) && renderer_create_frame_buffers(r, err) &&

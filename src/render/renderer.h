@@ -172,7 +172,7 @@ void vkrt_renderer_split_text(const vkrt_renderer *r, char *text, size_t size);
 const vkrt_tuning *vkrt_renderer_tuning(const vkrt_renderer *r);
 bool vkrt_renderer_texel_loads(const vkrt_renderer *r);
 
-/* Wall-clock ms of the steps of vkrt_renderer_create, for --verbose's start-up line (issue 20):
+/* Wall-clock ms of the steps of vkrt_renderer_create, for --verbose's start-up line:
  * the structure (build, layout and upload of its nodes), the per-triangle arrays' upload, the
  * materials and textures, the lights and their sampling tables, the frame's buffers, and the
  * wait for the kernels at the end (compiled on threads alongside the rest, renderer_kernels.c). */

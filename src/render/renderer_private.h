@@ -73,7 +73,8 @@ bool renderer_upload_geometry(vkrt_renderer *r, const vkrt_mesh *mesh,
                               const vkrt_scene_materials *mats, vkrt_error *err);
 bool renderer_upload_materials(vkrt_renderer *r, const vkrt_scene_materials *mats,
                                const vkrt_material_kernel *kernel, vkrt_error *err);
-bool renderer_upload_lights(vkrt_renderer *r, const vkrt_config *cfg, vkrt_error *err);
+bool renderer_upload_lights(vkrt_renderer *r, const vkrt_config_light *lights, uint32_t count,
+                            vkrt_error *err);
 /* renderer_plastic.c: the coat tables of the scene's @roughplastic materials (binding
  * VKRT_BINDING_PLASTIC_TABLES; a minimal buffer without one), and where each material's table
  * starts in materials[m].maps.w (-1: none). */

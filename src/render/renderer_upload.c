@@ -250,17 +250,18 @@ static float radians(float degrees)
     return degrees * 3.14159265358979f / 180.0f;
 }
 
-bool renderer_upload_lights(vkrt_renderer *r, const vkrt_config *cfg, vkrt_error *err)
+bool renderer_upload_lights(vkrt_renderer *r, const vkrt_config_light *config_lights, uint32_t count,
+                            vkrt_error *err)
 {
-    r->light_count = cfg->light_count;
-    r->light_kinds = calloc(cfg->light_count ? cfg->light_count : 1, sizeof *r->light_kinds);
+    r->light_count = count;
+    r->light_kinds = calloc(count ? count : 1, sizeof *r->light_kinds);
     if (!r->light_kinds)
         return vkrt_error_set(err, "out of memory");
-    Light *lights = calloc(cfg->light_count ? cfg->light_count : 1, sizeof *lights);
+    Light *lights = calloc(count ? count : 1, sizeof *lights);
     if (!lights)
         return vkrt_error_set(err, "out of memory");
-    for (uint32_t i = 0; i < cfg->light_count; ++i) {
-        const vkrt_config_light *l = &cfg->lights[i];
+    for (uint32_t i = 0; i < count; ++i) {
+        const vkrt_config_light *l = &config_lights[i];
         Light *g = &lights[i];
         g->position = (vec4){l->position[0], l->position[1], l->position[2], 0};
         g->direction = (vec4){l->direction[0], l->direction[1], l->direction[2], 0};
@@ -282,7 +283,7 @@ bool renderer_upload_lights(vkrt_renderer *r, const vkrt_config *cfg, vkrt_error
         g->info = (uvec4){kinds[l->kind], 0, 0, 0};
         r->light_kinds[i] = kinds[l->kind];
     }
-    bool ok = gpu_buffer_create_from(r->ctx, &r->lights, lights, cfg->light_count * sizeof *lights, "lights", err);
+    bool ok = gpu_buffer_create_from(r->ctx, &r->lights, lights, count * sizeof *lights, "lights", err);
     free(lights);
     return ok;
 }

@@ -118,8 +118,8 @@ typedef struct vkrt_model {
     uint32_t instance_count;
     vkrt_material *materials;
     uint32_t material_count;
-    /* Lights and cameras the scene file itself defines (none for OBJ); scene.cfg's are in its
-     * vkrt_config, which the renderer reads today. */
+    /* Lights and cameras the geometry file itself defines (none for OBJ); vkrt_scene puts them
+     * together with scene.cfg's (scene.h), and downstream reads only that. */
     vkrt_config_light *lights;
     uint32_t light_count;
     vkrt_config_camera *cameras;

@@ -28,8 +28,8 @@
 void vkrt_plastic_rules_init(void);
 
 /* Fills row (VKRT_PLASTIC_ROW_FLOATS floats) for a GGX coat of alpha (roughness squared) and
- * relative index eta (not 1) over the base: Ri, then T(k / 63) for k = 0..63. About 10 ms
- * (300 000 integrand evaluations) on one core. */
+ * relative index eta (not 1) over the base: Ri, then T(k / 63) for k = 0..63: 300 000
+ * integrand evaluations, so callers with many rows spread them over threads. */
 void vkrt_plastic_row(double alpha, double eta, float *row);
 
 /* The row in pieces, for threads: vkrt_plastic_entry fills T at cosine k (row[1 + k]) and sets

@@ -1,9 +1,38 @@
 /* scene.c: loading a scene.cfg with everything it names (see scene.h). */
 #include "scene.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 #include "../clock.h"
+
+/* The model's lights before scene.cfg's, so a scene.cfg adds to what its geometry file says; a
+ * copy only where both gave some. */
+bool vkrt_scene_compose(vkrt_scene *scene, vkrt_error *err)
+{
+    const vkrt_model *model = &scene->model;
+    const vkrt_config *cfg = &scene->config;
+    free(scene->composed_lights);
+    scene->composed_lights = NULL;
+    scene->cameras = cfg->cameras;
+    scene->camera_count = cfg->camera_count;
+    if (model->light_count == 0 || cfg->light_count == 0) {
+        bool from_model = model->light_count > 0;
+        scene->lights = from_model ? model->lights : cfg->lights;
+        scene->light_count = from_model ? model->light_count : cfg->light_count;
+        return true;
+    }
+    uint32_t count = model->light_count + cfg->light_count;
+    scene->composed_lights = malloc(count * sizeof *scene->composed_lights);
+    if (!scene->composed_lights)
+        return vkrt_error_set(err, "out of memory");
+    memcpy(scene->composed_lights, model->lights, model->light_count * sizeof *model->lights);
+    memcpy(scene->composed_lights + model->light_count, cfg->lights,
+           cfg->light_count * sizeof *cfg->lights);
+    scene->lights = scene->composed_lights;
+    scene->light_count = count;
+    return true;
+}
 
 bool vkrt_scene_load_geometry(const char *path, vkrt_scene *scene, vkrt_error *err)
 {
@@ -18,6 +47,10 @@ bool vkrt_scene_load_geometry(const char *path, vkrt_scene *scene, vkrt_error *e
     if (!loaded) {
         /* Say which scene.cfg line asked for the file: the loader's own message follows. */
         vkrt_error_prefix(err, "%s:%d: geometry", path, scene->config.geometry_line);
+        vkrt_scene_free(scene);
+        return false;
+    }
+    if (!vkrt_scene_compose(scene, err)) {
         vkrt_scene_free(scene);
         return false;
     }
@@ -45,6 +78,7 @@ bool vkrt_scene_load(const char *path, vkrt_scene *scene, vkrt_error *err)
 void vkrt_scene_free(vkrt_scene *scene)
 {
     vkrt_scene_cache_finish(&scene->model_cache); /* its thread reads the model */
+    free(scene->composed_lights);
     vkrt_scene_materials_free(&scene->materials);
     vkrt_material_file_free(&scene->material_file);
     vkrt_model_free(&scene->model);

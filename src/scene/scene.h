@@ -20,6 +20,15 @@ typedef struct vkrt_scene {
     vkrt_model model;
     vkrt_material_file material_file;  /* empty when scene.cfg names none */
     vkrt_scene_materials materials;
+    /* The lights and cameras everything downstream reads (the renderer, the commands, the viewer):
+     * the geometry file's lights, then scene.cfg's; scene.cfg's cameras, one per frame (it has at
+     * least one). They point into model and config, or into composed_lights where both gave
+     * lights; nothing downstream reads config or model for them. */
+    const vkrt_config_light *lights;
+    uint32_t light_count;
+    const vkrt_config_camera *cameras;
+    uint32_t camera_count;
+    vkrt_config_light *composed_lights; /* malloc'd where the model and scene.cfg both gave lights */
     double model_ms; /* wall-clock time of loading the model (--verbose) */
     vkrt_scene_cache_report model_cache; /* whether it came from the scene cache (--verbose) */
 } vkrt_scene;
@@ -33,6 +42,10 @@ bool vkrt_scene_load(const char *path, vkrt_scene *scene, vkrt_error *err);
  * or texture): what tracing alone needs (`vkrt bench`). The renderer then shades every triangle
  * with the default material. Same contract as vkrt_scene_load. */
 bool vkrt_scene_load_geometry(const char *path, vkrt_scene *scene, vkrt_error *err);
+
+/* Sets the scene's lights and cameras from its model and config (the loads above call it): the
+ * model's lights, then scene.cfg's; scene.cfg's cameras. False only when out of memory. */
+bool vkrt_scene_compose(vkrt_scene *scene, vkrt_error *err);
 
 /* Frees the scene and zeroes it. Safe on a zeroed scene. */
 void vkrt_scene_free(vkrt_scene *scene);

@@ -241,7 +241,7 @@ static void on_key(viewer *v, int key, bool down)
         break;
     case GLFW_KEY_R: {
         float speed = v->camera.speed;
-        view_camera_init(&v->camera, &v->scene->config.cameras[0], speed);
+        view_camera_init(&v->camera, &v->scene->cameras[0], speed);
         break;
     }
     case GLFW_KEY_F:
@@ -688,7 +688,7 @@ int vkrt_view_run(const vkrt_view_desc *opts)
     }
     if (ok) {
         view_camera_init(
-            &v->camera, &v->scene->config.cameras[0],
+            &v->camera, &v->scene->cameras[0],
             view_camera_default_speed(v->scene->model.bounds_min, v->scene->model.bounds_max));
         ok = open_window(v, &err) && create_gpu(v, &err);
     }

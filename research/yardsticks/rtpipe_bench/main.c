@@ -181,7 +181,7 @@ static bool bench_scene(rtpipe_device *dev, const rtpipe_shaders *shaders,
     if (!ok)
         vkrt_error_set(err, "out of memory for %u rays", pixels);
     if (ok) {
-        bench_primary_rays(&scene->config.cameras[0], row->width, row->height, primary);
+        bench_primary_rays(&scene->cameras[0], row->width, row->height, primary);
         ok = timed_trace(dev, &tracer, primary, pixels, false, primary_hits, &row->primary, err) &&
              check_hits(primary_hits, pixels, row->triangles, err);
         row->primary_timed = pixels;
