@@ -110,8 +110,15 @@ static void hit_frame(const vkrt_mesh *world, const Ray *primary, const Hit *hit
     offset_origin(p, nrm, ray_offset_magnitude(largest, size), origin);
 }
 
-uint32_t bench_shadow_rays(const vkrt_scene *scene, const Ray *primary, const Hit *hits,
-                           uint32_t count, Ray *shadow)
+/* A secondary ray's direction and length from a hit's origin and normal: towards the light
+ * (shadow_direction) or a diffuse bounce (diffuse_direction); i numbers the primary ray. */
+typedef void (*secondary_direction)(const shadow_target *target, uint32_t i, const float nrm[3],
+                                    const float origin[3], float dir[3], float *tmax);
+
+/* One secondary ray per primary ray that hit, in the order of the primary rays, each carrying
+ * its primary ray's index; 0 when the world-space triangles cannot be had (out of memory). */
+static uint32_t secondary_rays(const vkrt_scene *scene, const Ray *primary, const Hit *hits,
+                               uint32_t count, secondary_direction direction, Ray *out)
 {
     shadow_target target = choose_target(scene);
     vkrt_mesh world;
@@ -124,17 +131,8 @@ uint32_t bench_shadow_rays(const vkrt_scene *scene, const Ray *primary, const Hi
             continue;
         float origin[3], nrm[3], dir[3], tmax = 3.4e38f;
         hit_frame(&world, primary, hits, i, origin, nrm);
-        if (target.is_point) {
-            for (int k = 0; k < 3; ++k)
-                dir[k] = target.v[k] - origin[k];
-            tmax = sqrtf(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
-            for (int k = 0; k < 3; ++k)
-                dir[k] /= tmax;
-        } else {
-            for (int k = 0; k < 3; ++k)
-                dir[k] = -target.v[k];
-        }
-        shadow[n++] = (Ray){
+        direction(&target, i, nrm, origin, dir, &tmax);
+        out[n++] = (Ray){
             .origin = {origin[0], origin[1], origin[2], 0},
             .direction = {dir[0], dir[1], dir[2], tmax},
             .importance = {1, 1, 1, 0},
@@ -144,6 +142,29 @@ uint32_t bench_shadow_rays(const vkrt_scene *scene, const Ray *primary, const Hi
     if (copied)
         vkrt_mesh_free(&world);
     return n;
+}
+
+static void shadow_direction(const shadow_target *target, uint32_t i, const float nrm[3],
+                             const float origin[3], float dir[3], float *tmax)
+{
+    (void)i;
+    (void)nrm;
+    if (target->is_point) {
+        for (int k = 0; k < 3; ++k)
+            dir[k] = target->v[k] - origin[k];
+        *tmax = sqrtf(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+        for (int k = 0; k < 3; ++k)
+            dir[k] /= *tmax;
+    } else {
+        for (int k = 0; k < 3; ++k)
+            dir[k] = -target->v[k];
+    }
+}
+
+uint32_t bench_shadow_rays(const vkrt_scene *scene, const Ray *primary, const Hit *hits,
+                           uint32_t count, Ray *shadow)
+{
+    return secondary_rays(scene, primary, hits, count, shadow_direction, shadow);
 }
 
 /* A 32-bit hash (the low-bias finaliser of glsl/lib/rng.glsl) to a float in [0, 1). */
@@ -157,45 +178,36 @@ static float hash_float(uint32_t x)
     return (float)(x >> 8) * (1.0f / 16777216.0f);
 }
 
+/* Cosine-distributed about nrm: a disc sample lifted onto the hemisphere. */
+static void diffuse_direction(const shadow_target *target, uint32_t i, const float nrm[3],
+                              const float origin[3], float dir[3], float *tmax)
+{
+    (void)target;
+    (void)origin;
+    (void)tmax;
+    float u1 = hash_float(2 * i + 1), u2 = hash_float(2 * i + 2);
+    float r = sqrtf(u1), phi = 6.28318531f * u2;
+    float t[3], b[3];
+    float a[3] = {fabsf(nrm[0]) > 0.5f ? 0.0f : 1.0f, fabsf(nrm[0]) > 0.5f ? 1.0f : 0.0f, 0};
+    t[0] = nrm[1] * a[2] - nrm[2] * a[1];
+    t[1] = nrm[2] * a[0] - nrm[0] * a[2];
+    t[2] = nrm[0] * a[1] - nrm[1] * a[0];
+    float tl = sqrtf(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+    for (int k = 0; k < 3; ++k)
+        t[k] /= tl;
+    b[0] = nrm[1] * t[2] - nrm[2] * t[1];
+    b[1] = nrm[2] * t[0] - nrm[0] * t[2];
+    b[2] = nrm[0] * t[1] - nrm[1] * t[0];
+    float z = sqrtf(fmaxf(0.0f, 1 - u1));
+    for (int k = 0; k < 3; ++k)
+        dir[k] = r * cosf(phi) * t[k] + r * sinf(phi) * b[k] + z * nrm[k];
+    float dl = sqrtf(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+    for (int k = 0; k < 3; ++k)
+        dir[k] /= dl;
+}
+
 uint32_t bench_diffuse_rays(const vkrt_scene *scene, const Ray *primary, const Hit *hits,
                             uint32_t count, Ray *diffuse)
 {
-    vkrt_mesh world;
-    bool copied;
-    if (!vkrt_model_world(&scene->model, &world, &copied, NULL))
-        return 0;
-    uint32_t n = 0;
-    for (uint32_t i = 0; i < count; ++i) {
-        if (hits[i].triangle == VKRT_NO_HIT)
-            continue;
-        float origin[3], nrm[3];
-        hit_frame(&world, primary, hits, i, origin, nrm);
-        /* Cosine-distributed about nrm: a disc sample lifted onto the hemisphere. */
-        float u1 = hash_float(2 * i + 1), u2 = hash_float(2 * i + 2);
-        float r = sqrtf(u1), phi = 6.28318531f * u2;
-        float t[3], b[3];
-        float a[3] = {fabsf(nrm[0]) > 0.5f ? 0.0f : 1.0f, fabsf(nrm[0]) > 0.5f ? 1.0f : 0.0f, 0};
-        t[0] = nrm[1] * a[2] - nrm[2] * a[1];
-        t[1] = nrm[2] * a[0] - nrm[0] * a[2];
-        t[2] = nrm[0] * a[1] - nrm[1] * a[0];
-        float tl = sqrtf(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
-        for (int k = 0; k < 3; ++k)
-            t[k] /= tl;
-        b[0] = nrm[1] * t[2] - nrm[2] * t[1];
-        b[1] = nrm[2] * t[0] - nrm[0] * t[2];
-        b[2] = nrm[0] * t[1] - nrm[1] * t[0];
-        float z = sqrtf(fmaxf(0.0f, 1 - u1)), dir[3];
-        for (int k = 0; k < 3; ++k)
-            dir[k] = r * cosf(phi) * t[k] + r * sinf(phi) * b[k] + z * nrm[k];
-        float dl = sqrtf(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
-        diffuse[n++] = (Ray){
-            .origin = {origin[0], origin[1], origin[2], 0},
-            .direction = {dir[0] / dl, dir[1] / dl, dir[2] / dl, 3.4e38f},
-            .importance = {1, 1, 1, 0},
-            .info = {i, 0, 0, 0},
-        };
-    }
-    if (copied)
-        vkrt_mesh_free(&world);
-    return n;
+    return secondary_rays(scene, primary, hits, count, diffuse_direction, diffuse);
 }
