@@ -41,7 +41,9 @@
  * vkrt_obj_parse takes the same path from text in memory (vkrt_obj_load reads the file and hands
  * its bytes over). All C++ exceptions stop at those two entry points; all output arrays are malloc'ed for the C side.
  */
-#include <tiny_obj_loader.h>
+/* tinyobjloader comes through mtl_read.h: included once, so that a build that compiles the
+ * library's implementation here (the fuzz build's TINYOBJLOADER_IMPLEMENTATION) gets it once. */
+#include "mtl_read.h"
 
 #include <sys/stat.h>
 
@@ -64,7 +66,6 @@ extern "C" {
 #include "obj_load.h"
 #include "../text_file.h"
 }
-#include "mtl_read.h"
 #include "obj_geometry.h"
 #include "obj_scan.h"
 #include "obj_warnings.h"
