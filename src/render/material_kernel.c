@@ -13,6 +13,15 @@
 
 static const char generated_path[] = "generated/materials.glsl";
 
+/* generated/light_stage.glsl, which light.comp includes first: for the path integrator the material
+ * module and next-event estimation, which evaluates the materials' BSDFs; for Whitted only a stub
+ * of the call the kernel makes under the other value of its INTEGRATOR constant, so that the light
+ * kernel carries neither the path tracer's light sampling nor the shaders' code (Whitted's light
+ * stage traces shadow rays and reads no material code), and no pipeline pays to compile them. */
+static const char light_stage_path[] = "generated/light_stage.glsl";
+static const char light_stage_for_path[] = "#include \"materials.glsl\"\n#include \"../lib/nee.glsl\"\n";
+static const char light_stage_for_whitted[] = "uint nee_at(uint index)\n{\n    return 0u;\n}\n";
+
 typedef struct text {
     char *data;
     size_t length, capacity;
@@ -82,6 +91,30 @@ static char *shader_text(const vkrt_shader_source *s, char *display, size_t size
     if (s->builtin)
         return vkrt_kernel_source_lookup(NULL, display + strlen("glsl/"));
     return strdup(s->text);
+}
+
+/* Whitted's switches over the shaders: the rays a hit casts and its shading. For the path
+ * integrator each is its default alone, as add_path_dispatch's are for Whitted: the kernels name
+ * them whatever the integrator, but under path they are dead, and leaving the shaders' Whitted
+ * code uncalled keeps it out of the kernels the driver compiles. */
+static void add_whitted_dispatch(text *t, uint32_t shader_count, uint32_t environment_shader,
+                                 bool path)
+{
+    if (path) {
+        add(t, "uint material_count_rays(uint shader, Surface s)\n{\n    return 0u;\n}\n"
+               "void material_shade(uint shader, Surface s)\n{\n}\n");
+        return;
+    }
+    add(t, "uint material_count_rays(uint shader, Surface s)\n{\n    switch (shader) {\n");
+    for (uint32_t i = 0; i < shader_count; ++i)
+        if (i != environment_shader)
+            add(t, "    case %uu: return vkrt_count_rays_%u(s);\n", i, i);
+    add(t, "    }\n    return 0u;\n}\n");
+    add(t, "void material_shade(uint shader, Surface s)\n{\n    switch (shader) {\n");
+    for (uint32_t i = 0; i < shader_count; ++i)
+        if (i != environment_shader)
+            add(t, "    case %uu: vkrt_shade_%u(s); break;\n", i, i);
+    add(t, "    }\n}\n");
 }
 
 /* The path integrator's switches over the shaders: emitted light, BSDF value and sample. Each
@@ -168,16 +201,7 @@ bool vkrt_material_kernel_create(vkrt_material_kernel *k, const vkrt_scene_mater
             add(&t, "#undef count_rays\n#undef shade\n#undef emitted\n#undef bsdf_eval\n"
                     "#undef bsdf_sample\n");
     }
-    add(&t, "uint material_count_rays(uint shader, Surface s)\n{\n    switch (shader) {\n");
-    for (uint32_t i = 0; i < materials->shader_count; ++i)
-        if (i != environment_shader)
-            add(&t, "    case %uu: return vkrt_count_rays_%u(s);\n", i, i);
-    add(&t, "    }\n    return 0u;\n}\n");
-    add(&t, "void material_shade(uint shader, Surface s)\n{\n    switch (shader) {\n");
-    for (uint32_t i = 0; i < materials->shader_count; ++i)
-        if (i != environment_shader)
-            add(&t, "    case %uu: vkrt_shade_%u(s); break;\n", i, i);
-    add(&t, "    }\n}\n");
+    add_whitted_dispatch(&t, materials->shader_count, environment_shader, path);
     add_path_dispatch(&t, materials->shader_count, environment_shader, path);
     add(&t, "vec3 material_environment(vec3 direction, vec4 payload)\n{\n"
             "    return vkrt_environment_%u(direction, payload);\n}\n",
@@ -188,6 +212,7 @@ bool vkrt_material_kernel_create(vkrt_material_kernel *k, const vkrt_scene_mater
         return vkrt_error_set(err, "out of memory generating the material kernel");
     }
     k->text = t.data;
+    k->path = path;
     return true;
 }
 
@@ -196,6 +221,8 @@ static char *lookup(void *user, const char *path)
     const vkrt_material_kernel *k = user;
     if (strcmp(path, generated_path) == 0)
         return strdup(k->text);
+    if (strcmp(path, light_stage_path) == 0)
+        return strdup(k->path ? light_stage_for_path : light_stage_for_whitted);
     return vkrt_kernel_source_lookup(NULL, path);
 }
 

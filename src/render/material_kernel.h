@@ -19,6 +19,7 @@
 
 typedef struct vkrt_material_kernel {
     char *text;               /* generated/materials.glsl */
+    bool path;                /* made for the path integrator (generated/light_stage.glsl) */
     bool *shader_uses_lights; /* per shader: reads light samples, so needs shadow rays */
     uint32_t shader_count;
 } vkrt_material_kernel;
