@@ -27,8 +27,11 @@ typedef struct vkrt_material_kernel {
 /* Writes the module for materials. float_atomics: the device adds floats atomically
  * (VK_EXT_shader_atomic_float), else shade.comp falls back to compare-and-swap. path: for the
  * path integrator: the switches over each shader's emitted, bsdf_eval and bsdf_sample, which a
- * shader then must define (for Whitted they return their defaults and call no shader). The
- * integrator itself is the kernels' INTEGRATOR specialization constant. */
+ * shader then must define (for Whitted they return their defaults and call no shader; under path
+ * Whitted's count_rays and shade switches do), and generated/light_stage.glsl with next-event
+ * estimation (for Whitted a stub). The integrator itself is the kernels' INTEGRATOR
+ * specialization constant; the module only leaves out what that constant makes dead, so the
+ * driver does not compile it. */
 bool vkrt_material_kernel_create(vkrt_material_kernel *k, const vkrt_scene_materials *materials,
                                  bool float_atomics, bool path, vkrt_error *err);
 
