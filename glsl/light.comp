@@ -10,8 +10,9 @@
  *
  * Path: next-event estimation (lib/nee.glsl), whose light is added to the pixel here.
  */
-/* The path tracer's part (the material module and lib/nee.glsl), or for Whitted a stub of nee_at:
- * src/render/material_kernel.c writes it for the integrator the kernels are built for. */
+/* The path tracer's part (the material module and lib/nee.glsl), or for Whitted a nee_at that
+ * returns 0 and is never called: src/render/material_kernel.c writes it for the integrator the
+ * kernels are built for. */
 #include "generated/light_stage.glsl"
 #include "lib/bindings.glsl"
 #include "lib/emitters.glsl"

@@ -14,10 +14,10 @@
 static const char generated_path[] = "generated/materials.glsl";
 
 /* generated/light_stage.glsl, which light.comp includes first: for the path integrator the material
- * module and next-event estimation, which evaluates the materials' BSDFs; for Whitted only a stub
- * of the call the kernel makes under the other value of its INTEGRATOR constant, so that the light
- * kernel carries neither the path tracer's light sampling nor the shaders' code (Whitted's light
- * stage traces shadow rays and reads no material code), and no pipeline pays to compile them. */
+ * module and next-event estimation, which evaluates the materials' BSDFs; for Whitted a nee_at that
+ * returns 0, the branch light.comp names but its INTEGRATOR constant never takes there. So the
+ * Whitted light kernel carries neither the path tracer's light sampling nor the shaders' code
+ * (its stage traces shadow rays and reads no material code), and no pipeline compiles them. */
 static const char light_stage_path[] = "generated/light_stage.glsl";
 static const char light_stage_for_path[] = "#include \"materials.glsl\"\n#include \"../lib/nee.glsl\"\n";
 static const char light_stage_for_whitted[] = "uint nee_at(uint index)\n{\n    return 0u;\n}\n";

@@ -29,7 +29,7 @@ typedef struct vkrt_material_kernel {
  * path integrator: the switches over each shader's emitted, bsdf_eval and bsdf_sample, which a
  * shader then must define (for Whitted they return their defaults and call no shader; under path
  * Whitted's count_rays and shade switches do), and generated/light_stage.glsl with next-event
- * estimation (for Whitted a stub). The integrator itself is the kernels' INTEGRATOR
+ * estimation (for Whitted a nee_at returning 0, never called). The integrator itself is the kernels' INTEGRATOR
  * specialization constant; the module only leaves out what that constant makes dead, so the
  * driver does not compile it. */
 bool vkrt_material_kernel_create(vkrt_material_kernel *k, const vkrt_scene_materials *materials,
