@@ -57,6 +57,9 @@ typedef struct vkrt_config_camera {
     float fov_deg;         /* vertical field of view, in (0, 180) */
     float aperture;        /* the thin lens's radius, scene units; 0: a pinhole */
     float focus;           /* distance of the plane in focus along the view axis; 0: |look - eye| */
+    float ortho_width;     /* > 0: an orthographic camera whose view is this wide in scene units
+                              (fov_deg then unused); 0: perspective */
+    char name[64];         /* the scene file's name for it ("" when none), for --camera NAME */
     int line;
 } vkrt_config_camera;
 

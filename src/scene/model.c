@@ -44,6 +44,11 @@ void vkrt_model_free(vkrt_model *model)
     free(model->materials);
     free(model->lights);
     free(model->cameras);
+    for (uint32_t i = 0; model->images && i < model->image_count; ++i) {
+        free(model->images[i].name);
+        free(model->images[i].bytes);
+    }
+    free(model->images);
     free(model->warnings_all);
     free(model->inputs);
     memset(model, 0, sizeof *model);
@@ -67,8 +72,11 @@ void vkrt_material_defaults(vkrt_material *m)
         [VKRT_MAP_SHEEN] = VKRT_TEXTURE_DATA,         [VKRT_MAP_DETAIL] = VKRT_TEXTURE_DATA,
         [VKRT_MAP_EMISSION] = VKRT_TEXTURE_COLOUR,
     };
-    for (int k = 0; k < VKRT_MAP_COUNT; ++k)
+    for (int k = 0; k < VKRT_MAP_COUNT; ++k) {
         m->maps[k].space = space[k];
+        m->maps[k].embedded = -1;
+        m->maps[k].uv_scale[0] = m->maps[k].uv_scale[1] = 1.0f;
+    }
     m->detail_kind = VKRT_DETAIL_BY_IMAGE;
 }
 

@@ -61,11 +61,27 @@ typedef struct vkrt_sampler {
 /* An image a material reads, and how: its colour space (VKRT_TEXTURE_COLOUR: sRGB-encoded colour,
  * _DATA: linear numbers, _ALPHA: coverage, texture.h) and its sampler. */
 typedef struct vkrt_texture_ref {
-    char *path;              /* resolved against the referring file's folder, or NULL: none */
+    char *path;              /* resolved against the referring file's folder, or NULL: none; for
+                                an embedded image a name for messages ("model.glb#image 3") */
     int line;                /* the line of the material's file that named it, 0 if unknown */
     vkrt_texture_usage space;
     vkrt_sampler sampler;
+    int32_t embedded;        /* index into vkrt_model.images when the image's bytes live in the
+                                scene file (a .glb's buffer, a data URI), else -1: read path */
+    uint32_t channel;        /* which channel a one-number map reads: 0 red .. 3 alpha (glTF's
+                                metallicRoughness: metal in 2 blue, roughness in 1 green) */
+    uint32_t uv_set;         /* which texture coordinates: 0 (TEXCOORD_0) or 1 (TEXCOORD_1) */
+    /* KHR_texture_transform: uv' = uv_offset + R(uv_rotation) * (uv_scale * uv), rotation in
+     * radians counter-clockwise as the extension defines it; identity: offset 0, scale 1. */
+    float uv_offset[2], uv_scale[2], uv_rotation;
 } vkrt_texture_ref;
+
+/* An image held in memory as its file's encoded bytes (PNG, JPEG, ...): a .glb's or data URI's. */
+typedef struct vkrt_image_blob {
+    char *name;          /* for messages: "model.glb: image 3 (\"wood\")" */
+    unsigned char *bytes;
+    size_t size;
+} vkrt_image_blob;
 
 /* A normal-detail texture's meaning. */
 typedef enum vkrt_detail_kind {
@@ -124,6 +140,8 @@ typedef struct vkrt_model {
     uint32_t light_count;
     vkrt_config_camera *cameras;
     uint32_t camera_count;
+    vkrt_image_blob *images; /* embedded images the texture refs name by index */
+    uint32_t image_count;
     uint32_t triangle_count;            /* over all instances: the triangles the renderer traces */
     float bounds_min[3], bounds_max[3]; /* a world-space box of all instances: an identity
                                            instance's mesh box, else its corners transformed */
