@@ -101,7 +101,7 @@ static void test_every_keyword(void **state)
     parse_ok(text, "scenes/demo", &cfg);
 
     assert_string_equal(cfg.path, "t.cfg");
-    assert_string_equal(cfg.geometry, "scenes/demo/model.obj");
+    assert_string_equal(cfg.geometries[0].path, "scenes/demo/model.obj");
     assert_string_equal(cfg.materials, "scenes/demo/model.materials");
     assert_string_equal(cfg.output, "scenes/demo/cornell.exr");
     assert_int_equal(cfg.width, 320);
@@ -155,7 +155,7 @@ static void test_defaults(void **state)
     (void)state;
     vkrt_config cfg;
     parse_ok("geometry m.obj\n" CAMERA, NULL, &cfg);
-    assert_string_equal(cfg.geometry, "m.obj");
+    assert_string_equal(cfg.geometries[0].path, "m.obj");
     assert_null(cfg.materials);
     assert_null(cfg.output);
     assert_int_equal(cfg.width, 640);
@@ -199,22 +199,22 @@ static void test_path_resolution(void **state)
 
     parse_ok("geometry /abs/m.obj\nmaterials ../shared/x.materials\noutput out/f%04d.png\n" CAMERA,
              "scenes/a/", &cfg);
-    assert_string_equal(cfg.geometry, "/abs/m.obj"); /* absolute: kept */
+    assert_string_equal(cfg.geometries[0].path, "/abs/m.obj"); /* absolute: kept */
     assert_string_equal(cfg.materials, "scenes/a/../shared/x.materials"); /* no doubled '/' */
     assert_string_equal(cfg.output, "scenes/a/out/f%04d.png");
     vkrt_config_free(&cfg);
 
     parse_ok("geometry o'brien.obj\n" CAMERA, "", &cfg);
-    assert_string_equal(cfg.geometry, "o'brien.obj");
+    assert_string_equal(cfg.geometries[0].path, "o'brien.obj");
     vkrt_config_free(&cfg);
 
     parse_ok("geometry m.obj\n" CAMERA, "/", &cfg);
-    assert_string_equal(cfg.geometry, "/m.obj");
+    assert_string_equal(cfg.geometries[0].path, "/m.obj");
     vkrt_config_free(&cfg);
 
     /* The output is a frame pattern, so a '%' in the folder must not become a conversion. */
     parse_ok("geometry m.obj\noutput f%d.PNG\n" CAMERA, "100%done", &cfg);
-    assert_string_equal(cfg.geometry, "100%done/m.obj");
+    assert_string_equal(cfg.geometries[0].path, "100%done/m.obj");
     assert_string_equal(cfg.output, "100%%done/f%d.PNG");
     vkrt_config_free(&cfg);
 
@@ -230,7 +230,7 @@ static void test_crlf_bom_and_no_final_newline(void **state)
     parse_ok("\xEF\xBB\xBFgeometry m.obj\r\nresolution 10 20\r\n\r\n"
              "camera eye 0 0 5 look 0 0 0 up 0 1 0 fov 45\r\nsamples 3",
              "d", &cfg);
-    assert_string_equal(cfg.geometry, "d/m.obj");
+    assert_string_equal(cfg.geometries[0].path, "d/m.obj");
     assert_int_equal(cfg.width, 10);
     assert_int_equal(cfg.height, 20);
     assert_int_equal(cfg.samples, 3);
@@ -252,7 +252,7 @@ static void test_comments_and_whitespace(void **state)
              "# resolution 1 1\n"
              "# café, and not UTF-8: \xE9\n" CAMERA,
              NULL, &cfg);
-    assert_string_equal(cfg.geometry, "m.obj");
+    assert_string_equal(cfg.geometries[0].path, "m.obj");
     assert_int_equal(cfg.samples, 4);
     assert_int_equal(cfg.accel, VKRT_ACCEL_GRID);
     assert_int_equal(cfg.width, 640);
@@ -384,6 +384,54 @@ static void test_environment_map(void **state)
     vkrt_config_free(&cfg);
 }
 
+/* Several geometry lines, each placed: the transforms are the operations in the order written
+ * (scale, then rotate, then translate here), checked against the matrices written out by hand. */
+static void test_geometry_placement(void **state)
+{
+    (void)state;
+    const char *text = "geometry a.obj\n"
+                       "geometry tree.glb scale 2 rotate y 90 translate 1 2 3\n"
+                       "geometry tree.glb rotate 0 0 2 90 scale 1 2 3\n";
+    vkrt_config cfg;
+    parse_ok(text, "", &cfg);
+    assert_int_equal(cfg.geometry_count, 3);
+    assert_string_equal(cfg.geometries[1].path, "tree.glb");
+    assert_false(cfg.geometries[0].placed);
+    assert_true(cfg.geometries[1].placed);
+    assert_int_equal(cfg.geometries[2].line, 3);
+    static const float identity[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    /* rotate y 90 takes x to -z and z to x; after scale 2 and the translation: */
+    static const float second[12] = {0, 0, 2, 1, 0, 2, 0, 2, -2, 0, 0, 3};
+    /* rotate z 90 takes x to y and y to -x, then scale (1, 2, 3) multiplies the rows: */
+    static const float third[12] = {0, -1, 0, 0, 2, 0, 0, 0, 0, 0, 3, 0};
+    for (int i = 0; i < 12; i++) {
+        assert_float_equal(cfg.geometries[0].transform[i], identity[i], 0.0f);
+        assert_float_equal(cfg.geometries[1].transform[i], second[i], 1e-6f);
+        assert_float_equal(cfg.geometries[2].transform[i], third[i], 1e-6f);
+    }
+    assert_int_equal(cfg.camera_count, 0); /* cameras may come from the scene file */
+    vkrt_config_free(&cfg);
+}
+
+/* A scene file given alone: scene.cfg's defaults, the file placed as it is, its stem as output. */
+static void test_for_geometry(void **state)
+{
+    (void)state;
+    vkrt_config cfg;
+    vkrt_error err = {0};
+    assert_true(vkrt_config_for_geometry("some/dir/Duck.v2.glb", &cfg, &err));
+    assert_true(cfg.from_scene_file);
+    assert_int_equal(cfg.geometry_count, 1);
+    assert_string_equal(cfg.geometries[0].path, "some/dir/Duck.v2.glb");
+    assert_false(cfg.geometries[0].placed);
+    assert_float_equal(cfg.geometries[0].transform[0], 1.0f, 0.0f);
+    assert_float_equal(cfg.geometries[0].transform[10], 1.0f, 0.0f);
+    assert_string_equal(cfg.output, "Duck.v2.png");
+    assert_int_equal(cfg.width, 640);
+    assert_int_equal(cfg.samples, 1);
+    vkrt_config_free(&cfg);
+}
+
 static void test_free_zeroed_struct(void **state)
 {
     (void)state;
@@ -413,7 +461,13 @@ static const bad_case bad_cases[] = {
     {G "foo 1 2\n", "t.cfg:2: ", "unknown keyword 'foo'"},
     {G "Samples 2\n", "t.cfg:2: ", "unknown keyword 'Samples'"},
     {G "resolution 1 1\n\nresolution 2 2\n", "t.cfg:4: ", "resolution given twice (first on line 2)"},
-    {G "# x\n" G, "t.cfg:3: ", "geometry given twice (first on line 1)"},
+    {G "geometry b.obj translate 1 2\n", "t.cfg:2: ", "geometry translate needs 3 numbers"},
+    {G "geometry b.obj rotate q 90\n", "t.cfg:2: ", "geometry rotate needs an axis and an angle"},
+    {G "geometry b.obj rotate 0 0 0 90\n", "t.cfg:2: ", "geometry rotate axis has zero length"},
+    {G "geometry b.obj scale 0\n", "t.cfg:2: ", "geometry scale must not be 0"},
+    {G "geometry b.obj scale\n", "t.cfg:2: ", "geometry scale needs 1 or 3 numbers"},
+    {G "geometry b.obj spin 3\n", "t.cfg:2: ", "geometry: unexpected 'spin'"},
+    {G "geometry b.obj translate 1e12 0 0\n", "t.cfg:2: ", "geometry translate 1e+12 is outside"},
     {G "output a.png\noutput b.png\n", "t.cfg:3: ", "output given twice (first on line 2)"},
     {G "accel bvh\naccel grid\n", "t.cfg:3: ", "accel given twice (first on line 2)"},
     {G "integrator path\nintegrator path\n", "t.cfg:3: ", "integrator given twice (first on line 2)"},
@@ -474,7 +528,7 @@ static const bad_case bad_cases[] = {
     {G "output my frame.png\n", "t.cfg:2: ", "paths may not contain spaces"},
     /* paths */
     {"geometry\n", "t.cfg:1: ", "geometry needs a path"},
-    {"geometry my model.obj\n", "t.cfg:1: ", "geometry needs 1 path, got 2 parts"},
+    {"geometry my model.obj\n", "t.cfg:1: ", "geometry: unexpected 'model.obj'"},
     {"geometry \"my model.obj\"\n", "t.cfg:1: ", "quotes are not supported"},
     {G "materials a b\n", "t.cfg:2: ", "paths may not contain spaces"},
     {G "materials 'a b'\n", "t.cfg:2: ", "quotes are not supported"},
@@ -522,7 +576,6 @@ static const bad_case bad_cases[] = {
     /* whole file */
     {"", "t.cfg: ", "no 'geometry' line"},
     {"# only a comment\n" CAMERA, "t.cfg: ", "no 'geometry' line"},
-    {G "samples 2\n", "t.cfg: ", "no 'camera' line"},
 };
 
 /* Points up to 1e11 from the origin are taken as given; up is a direction, which any finite
@@ -567,8 +620,8 @@ static void test_nul_and_binary(void **state)
     /* size bounds the text: nothing past it is read (the sanitizer checks that). */
     char *exact = malloc(14);
     assert_non_null(exact);
-    memcpy(exact, "geometry m.obj", 14);
-    parse_fails(exact, 14, "t.cfg: ", "no 'camera' line");
+    memcpy(exact, "geometry m.ob\x01", 14);
+    parse_fails(exact, 14, "t.cfg:1: ", "not a text line");
     free(exact);
 
     /* NULL text of size 0 is an empty file. */
@@ -624,7 +677,7 @@ static void test_load_file(void **state)
     char want[160];
     snprintf(want, sizeof want, "%s/model.obj", dir);
     assert_string_equal(cfg.path, path);
-    assert_string_equal(cfg.geometry, want);
+    assert_string_equal(cfg.geometries[0].path, want);
     assert_string_equal(cfg.output, "/tmp/x.png");
     vkrt_config_free(&cfg);
 
@@ -670,7 +723,7 @@ static void test_load_relative_name(void **state)
     assert_int_equal(chdir(old), 0);
     rmdir(dir);
     assert_true(ok);
-    assert_string_equal(cfg.geometry, "m.obj");
+    assert_string_equal(cfg.geometries[0].path, "m.obj");
     vkrt_config_free(&cfg);
 }
 
@@ -700,6 +753,8 @@ int main(void)
         cmocka_unit_test(test_accel_names),
         cmocka_unit_test(test_integrator_names),
         cmocka_unit_test(test_environment_map),
+        cmocka_unit_test(test_geometry_placement),
+        cmocka_unit_test(test_for_geometry),
         cmocka_unit_test(test_free_zeroed_struct),
         cmocka_unit_test(test_malformed),
         cmocka_unit_test(test_coordinates_at_the_limit),

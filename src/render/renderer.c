@@ -98,6 +98,13 @@ static void choose_integrator(vkrt_renderer *r, const vkrt_render_desc *desc,
         r->integrator = VKRT_INTEGRATOR_PATH;
         snprintf(r->integrator_reason, sizeof r->integrator_reason,
                  "an environment map lights the scene: path");
+    } else if (scene->light_count == 0 && (scene->config.environment[0] > 0.0f ||
+                                           scene->config.environment[1] > 0.0f ||
+                                           scene->config.environment[2] > 0.0f)) {
+        /* Whitted would light nothing: the sky is the scene's only light. */
+        r->integrator = VKRT_INTEGRATOR_PATH;
+        snprintf(r->integrator_reason, sizeof r->integrator_reason,
+                 "no light but the environment's: path");
     } else {
         r->integrator = VKRT_INTEGRATOR_WHITTED;
         snprintf(r->integrator_reason, sizeof r->integrator_reason,
@@ -222,7 +229,8 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
         .kd_traversal_cost = t->kd_traversal_cost,
         .grid_competes = t->grid_competes,
         .kdtree_competes = t->kdtree_competes,
-        .source = scene->config.geometry,
+        .source = scene->config.geometry_count == 1 ? scene->config.geometries[0].path
+                                                       : scene->config.path,
     };
     /* The instances' triangles in world space: the mesh's own arrays for one identity instance,
      * else a copy made here and dropped once uploaded. */

@@ -49,7 +49,7 @@ typedef struct parser {
     const char *base_dir; /* "" for the current folder */
     vkrt_config *cfg;
     int first_line[16];   /* per single-valued keyword: where it was given, 0 if not yet */
-    uint32_t light_cap, camera_cap;
+    uint32_t light_cap, camera_cap, geometry_cap;
 } parser;
 
 /* ---------------------------------------------------------------------------------------------
@@ -254,10 +254,129 @@ static const char *frame_pattern_problem(const char *pattern, bool *two_numbers)
  * Keywords
  * ------------------------------------------------------------------------------------------- */
 
+/* m = op * m for 3x4 row-major affine matrices (op applied after m). */
+static void affine_then(double m[12], const double op[12])
+{
+    double r[12];
+    for (int row = 0; row < 3; row++)
+        for (int col = 0; col < 4; col++) {
+            double v = col == 3 ? op[4 * row + 3] : 0.0;
+            for (int k = 0; k < 3; k++)
+                v += op[4 * row + k] * m[4 * k + col];
+            r[4 * row + col] = v;
+        }
+    memcpy(m, r, sizeof r);
+}
+
+/* The rotation by deg degrees about the unit axis a, counter-clockwise looking down the axis
+ * (right-handed, as Blender and glTF rotate), Rodrigues' formula. */
+static void rotation(const double a[3], double deg, double op[12])
+{
+    double rad = deg * (3.14159265358979323846 / 180.0), c = cos(rad), s = sin(rad), t = 1.0 - c;
+    double r[12] = {t * a[0] * a[0] + c,        t * a[0] * a[1] - s * a[2], t * a[0] * a[2] + s * a[1], 0,
+                    t * a[0] * a[1] + s * a[2], t * a[1] * a[1] + c,        t * a[1] * a[2] - s * a[0], 0,
+                    t * a[0] * a[2] - s * a[1], t * a[1] * a[2] + s * a[0], t * a[2] * a[2] + c,        0};
+    memcpy(op, r, sizeof r);
+}
+
+/* The placement words after a geometry line's path, applied in the order written:
+ * translate X Y Z | rotate x|y|z DEG | rotate AX AY AZ DEG | scale S | scale SX SY SZ. */
+static bool parse_placement(parser *p, const tokens *t, vkrt_config_geometry *g)
+{
+    static const char *const usage =
+        "geometry FILE [translate X Y Z] [rotate x|y|z DEGREES] [rotate AX AY AZ DEGREES] "
+        "[scale S] [scale SX SY SZ]";
+    char buf[SHOWN_TOKEN_BYTES + 4];
+    double m[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    for (int at = 2; at < t->count;) {
+        const char *word = t->tok[at];
+        int left = t->count - at - 1; /* tokens after the word */
+        double op[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+        float v[4];
+        if (strcmp(word, "translate") == 0) {
+            if (left < 3 || !parse_vec3(p, t, at + 1, "geometry translate", v))
+                return left < 3 ? fail(p, "geometry translate needs 3 numbers (write: %s)", usage)
+                                : false;
+            op[3] = v[0], op[7] = v[1], op[11] = v[2];
+            at += 4;
+        } else if (strcmp(word, "rotate") == 0) {
+            double axis[3] = {0, 0, 0};
+            const char *name = left >= 1 ? t->tok[at + 1] : "";
+            int named = !strcmp(name, "x") ? 0 : !strcmp(name, "y") ? 1 : !strcmp(name, "z") ? 2 : -1;
+            if (named >= 0 && left >= 2) {
+                axis[named] = 1.0;
+                if (!parse_float(p, t->tok[at + 2], "geometry rotate angle", &v[3]))
+                    return false;
+                at += 3;
+            } else if (named < 0 && left >= 4) {
+                if (!parse_vec3(p, t, at + 1, "geometry rotate axis", v) ||
+                    !normalise(p, v, "geometry rotate axis") ||
+                    !parse_float(p, t->tok[at + 4], "geometry rotate angle", &v[3]))
+                    return false;
+                axis[0] = v[0], axis[1] = v[1], axis[2] = v[2];
+                at += 5;
+            } else {
+                return fail(p, "geometry rotate needs an axis and an angle in degrees (write: %s)",
+                            usage);
+            }
+            rotation(axis, v[3], op);
+        } else if (strcmp(word, "scale") == 0) {
+            /* One number scales uniformly; three scale each axis. */
+            bool three = left >= 3 && vkrt_text_float(t->tok[at + 2], &v[1]) == NULL;
+            if (left < 1)
+                return fail(p, "geometry scale needs 1 or 3 numbers (write: %s)", usage);
+            if (three ? !parse_vec3(p, t, at + 1, "geometry scale", v)
+                      : !parse_float(p, t->tok[at + 1], "geometry scale", &v[0]))
+                return false;
+            if (!three)
+                v[1] = v[2] = v[0];
+            /* A zero scale flattens the file into a plane whose normals are undefined. */
+            for (int i = 0; i < 3; i++)
+                if (v[i] == 0.0f)
+                    return fail(p, "geometry scale must not be 0");
+            op[0] = v[0], op[5] = v[1], op[10] = v[2];
+            at += three ? 4 : 2;
+        } else {
+            return fail(p, "geometry: unexpected '%s' (write: %s; paths may not contain spaces)",
+                        shown(word, buf), usage);
+        }
+        affine_then(m, op);
+        g->placed = true;
+    }
+    for (int i = 0; i < 12; i++) {
+        g->transform[i] = (float)m[i];
+        if (i % 4 == 3 && fabs(m[i]) > VKRT_COORDINATE_LIMIT)
+            return fail(p, "geometry translate %g is outside [-%g, %g], the range vkrt's float "
+                           "arithmetic renders",
+                        m[i], VKRT_COORDINATE_LIMIT, VKRT_COORDINATE_LIMIT);
+    }
+    return true;
+}
+
 static bool kw_geometry(parser *p, const tokens *t)
 {
-    p->cfg->geometry_line = p->at.line;
-    return parse_path(p, t, "geometry", false, &p->cfg->geometry);
+    vkrt_config *cfg = p->cfg;
+    if (t->count < 2)
+        return fail(p, "geometry needs a path");
+    if (strchr(t->tok[1], '"') || t->tok[1][0] == '\'')
+        return fail(p, "geometry: quotes are not supported; paths may not contain spaces");
+    if (cfg->geometry_count == p->geometry_cap) {
+        uint32_t cap = p->geometry_cap ? 2 * p->geometry_cap : 4;
+        vkrt_config_geometry *grown = realloc(cfg->geometries, cap * sizeof *grown);
+        if (!grown)
+            return fail(p, "out of memory");
+        cfg->geometries = grown;
+        p->geometry_cap = cap;
+    }
+    vkrt_config_geometry *g = &cfg->geometries[cfg->geometry_count];
+    memset(g, 0, sizeof *g);
+    g->line = p->at.line;
+    if (!parse_placement(p, t, g))
+        return false;
+    if (!(g->path = vkrt_text_join_path(p->base_dir, t->tok[1], false)))
+        return fail(p, "out of memory");
+    cfg->geometry_count++;
+    return true;
 }
 
 static bool kw_materials(parser *p, const tokens *t)
@@ -607,7 +726,7 @@ typedef struct keyword {
 } keyword;
 
 static const keyword keywords[] = {
-    {"geometry", true, kw_geometry},
+    {"geometry", false, kw_geometry},
     {"materials", true, kw_materials},
     {"resolution", true, kw_resolution},
     {"samples", true, kw_samples},
@@ -659,11 +778,9 @@ static bool parse_all(parser *p, const char *text, size_t size)
     if (!vkrt_line_parse_all(&p->at, text, size, "scene.cfg", parse_line, p))
         return false;
     vkrt_config *cfg = p->cfg;
-    if (!cfg->geometry)
-        return vkrt_error_set(p->at.err, "%s: no 'geometry' line; the OBJ file is required",
-                              p->at.name);
-    if (cfg->camera_count == 0)
-        return vkrt_error_set(p->at.err, "%s: no 'camera' line; at least one is required",
+    if (cfg->geometry_count == 0)
+        return vkrt_error_set(p->at.err,
+                              "%s: no 'geometry' line; a scene file (OBJ or glTF) is required",
                               p->at.name);
     return true;
 }
@@ -671,6 +788,48 @@ static bool parse_all(parser *p, const char *text, size_t size)
 /* ---------------------------------------------------------------------------------------------
  * Public API
  * ------------------------------------------------------------------------------------------- */
+
+/* What a setting is when no line gives it (docs/scene-format.md). */
+static void config_defaults(vkrt_config *c)
+{
+    memset(c, 0, sizeof *c);
+    c->width = 640;
+    c->height = 480;
+    c->samples = 1;
+    c->max_depth = 6;
+    c->accel = VKRT_ACCEL_AUTO;
+    c->integrator = VKRT_INTEGRATOR_AUTO;
+    c->environment_scale = 1.0f;
+}
+
+bool vkrt_config_for_geometry(const char *path, vkrt_config *cfg, vkrt_error *err)
+{
+    if (cfg)
+        memset(cfg, 0, sizeof *cfg);
+    if (!path || !cfg)
+        return vkrt_error_set(err, "scene file: no path given");
+    vkrt_config c;
+    config_defaults(&c);
+    c.from_scene_file = true;
+    c.geometries = calloc(1, sizeof *c.geometries);
+    const char *file = strrchr(path, '/');
+    file = file ? file + 1 : path;
+    const char *dot = strrchr(file, '.');
+    size_t stem = dot && dot != file ? (size_t)(dot - file) : strlen(file);
+    c.path = strdup(path);
+    c.output = malloc(stem + 5);
+    if (!c.geometries || !c.path || !c.output || !(c.geometries[0].path = strdup(path))) {
+        vkrt_config_free(&c);
+        return vkrt_error_set(err, "%s: out of memory", path);
+    }
+    for (int i = 0; i < 3; i++)
+        c.geometries[0].transform[5 * i] = 1.0f; /* the identity: calloc zeroed the rest */
+    c.geometry_count = 1;
+    memcpy(c.output, file, stem);
+    memcpy(c.output + stem, ".png", 5);
+    *cfg = c;
+    return true;
+}
 
 bool vkrt_config_parse(const char *text, size_t size, const char *name, const char *base_dir,
                        vkrt_config *cfg, vkrt_error *err)
@@ -680,14 +839,7 @@ bool vkrt_config_parse(const char *text, size_t size, const char *name, const ch
     memset(cfg, 0, sizeof *cfg);
 
     vkrt_config c;
-    memset(&c, 0, sizeof c);
-    c.width = 640;
-    c.height = 480;
-    c.samples = 1;
-    c.max_depth = 6;
-    c.accel = VKRT_ACCEL_AUTO;
-    c.integrator = VKRT_INTEGRATOR_AUTO;
-    c.environment_scale = 1.0f;
+    config_defaults(&c);
 
     parser p;
     memset(&p, 0, sizeof p);
@@ -732,7 +884,9 @@ void vkrt_config_free(vkrt_config *cfg)
     if (!cfg)
         return;
     free(cfg->path);
-    free(cfg->geometry);
+    for (uint32_t i = 0; cfg->geometries && i < cfg->geometry_count; i++)
+        free(cfg->geometries[i].path);
+    free(cfg->geometries);
     free(cfg->materials);
     free(cfg->output);
     free(cfg->environment_map);

@@ -63,10 +63,20 @@ typedef struct vkrt_config_camera {
     int line;
 } vkrt_config_camera;
 
+/* One `geometry` line: a scene file placed in the world. Several lines compose a scene; lines
+ * naming the same file share its meshes (each placement is an instance of them). */
+typedef struct vkrt_config_geometry {
+    char *path;            /* resolved against the scene.cfg's folder */
+    int line;              /* the line that named it, for messages about the file (0: none) */
+    float transform[12];   /* placement, 3x4 row-major: world = transform * (x, y, z, 1) */
+    bool placed;           /* false: the identity (no translate, rotate or scale was given) */
+} vkrt_config_geometry;
+
 typedef struct vkrt_config {
-    char *path;            /* the scene.cfg itself, as given */
-    char *geometry;        /* OBJ path, resolved against the scene.cfg's folder */
-    int geometry_line;     /* the line that named it, for messages about the OBJ */
+    char *path;            /* the scene.cfg itself, as given (the scene file's own path when
+                              there is no scene.cfg: vkrt_config_for_geometry) */
+    vkrt_config_geometry *geometries; /* in file order; at least one */
+    uint32_t geometry_count;
     char *materials;       /* material file, resolved; NULL when absent (the OBJ's .mtl is used) */
     char *output;          /* output path or frame pattern, resolved; NULL when absent */
     uint32_t width, height;   /* default 640 x 480 */
@@ -85,8 +95,10 @@ typedef struct vkrt_config {
     int environment_map_line; /* the line that named the map, for messages about the file */
     vkrt_config_light *lights;
     uint32_t light_count;
-    vkrt_config_camera *cameras; /* one per frame, in file order; at least one */
+    vkrt_config_camera *cameras; /* one per frame, in file order; none: the scene file's cameras
+                                    are used, or a view framed on the scene (scene.h) */
     uint32_t camera_count;
+    bool from_scene_file;     /* no scene.cfg: made by vkrt_config_for_geometry */
 } vkrt_config;
 
 /* Reads and parses the scene.cfg at path. Relative paths inside it are resolved against the
@@ -100,6 +112,11 @@ bool vkrt_config_load(const char *path, vkrt_config *cfg, vkrt_error *err);
  * are read; a NUL byte among them is an error ("not a text line"), never a silent end. */
 bool vkrt_config_parse(const char *text, size_t size, const char *name, const char *base_dir,
                        vkrt_config *cfg, vkrt_error *err);
+
+/* The settings a scene file given alone gets (`vkrt render model.glb`): scene.cfg's defaults,
+ * one geometry entry of path placed as it is, no lights or cameras, and an output named after
+ * the file in the current folder ("model.png"). Same contract as vkrt_config_load. */
+bool vkrt_config_for_geometry(const char *path, vkrt_config *cfg, vkrt_error *err);
 
 /* Frees what a successful load or parse allocated, and zeroes *cfg. Safe on a zeroed struct. */
 void vkrt_config_free(vkrt_config *cfg);

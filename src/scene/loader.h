@@ -22,4 +22,8 @@ typedef struct vkrt_scene_loader {
  * other extension is read as Wavefront OBJ, which vkrt has always done. Never NULL. */
 const vkrt_scene_loader *vkrt_scene_loader_for(const char *path);
 
+/* Whether a loader claims path's extension (case ignored): such a file is a scene file, which
+ * may be rendered without a scene.cfg. */
+bool vkrt_scene_loader_claims(const char *path);
+
 #endif

@@ -21,22 +21,27 @@ typedef struct vkrt_scene {
     vkrt_material_file material_file;  /* empty when scene.cfg names none */
     vkrt_scene_materials materials;
     /* The lights and cameras everything downstream reads (the renderer, the commands, the viewer):
-     * the geometry file's lights, then scene.cfg's; scene.cfg's cameras, one per frame (it has at
-     * least one). They point into model and config, or into composed_lights where both gave
-     * lights; nothing downstream reads config or model for them. */
+     * the geometry files' lights, then scene.cfg's; scene.cfg's cameras, one per frame, or where it
+     * has none the geometry files', or else framed_camera (at least one). They point into model
+     * and config, or into composed_lights where both gave lights, or framed_camera; nothing
+     * downstream reads config or model for them. */
     const vkrt_config_light *lights;
     uint32_t light_count;
     const vkrt_config_camera *cameras;
     uint32_t camera_count;
     vkrt_config_light *composed_lights; /* malloc'd where the model and scene.cfg both gave lights */
+    vkrt_config_camera framed_camera;   /* the view of the whole scene when no file gave a camera */
     double model_ms; /* wall-clock time of loading the model (--verbose) */
     vkrt_scene_cache_report model_cache; /* whether it came from the scene cache (--verbose) */
 } vkrt_scene;
 
-/* Loads the scene.cfg at path, the scene file it names, the material file and every shader and
+/* Loads the scene.cfg at path, the scene files it names, the material file and every shader and
  * texture the used materials need. On failure returns false with err naming the file and line,
  * and *scene left empty. */
 bool vkrt_scene_load(const char *path, vkrt_scene *scene, vkrt_error *err);
+/* path may also be a scene file alone (`vkrt render model.glb`: an extension a loader claims,
+ * loader.h): it then gets vkrt_config_for_geometry's settings, its own cameras or a framed view,
+ * and a uniform white sky (environment 1 1 1) when nothing in it gives light. */
 
 /* Loads only the scene.cfg and its model (with the material records, but no material file, shader
  * or texture): what tracing alone needs (`vkrt bench`). The renderer then shades every triangle
