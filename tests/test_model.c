@@ -17,6 +17,7 @@
 
 #include "scene/materials.h"
 #include "scene/model.h"
+#include "scene/model_place.h"
 #include "scene/obj/mtl.h"
 #include "scene/obj/obj_load.h"
 #include "scene/scene.h"
@@ -230,6 +231,67 @@ static void other_samplers_are_refused(void **state)
     vkrt_model_free(&m);
 }
 
+
+/* Two files placed into one model (model_place.h): the second file's meshes, materials and
+ * images move past the first's, its instances come once per placement with the placement applied
+ * after the file's own transform, and its lights are placed with it. Checked against the numbers
+ * written out by hand. */
+static void files_are_placed_as_instances(void **state)
+{
+    (void)state;
+    const char *a_text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    const char *b_text = "v 0 0 0\nv 2 0 0\nv 0 2 0\nv 0 0 2\nf 1 2 3\nf 1 3 4\n";
+    vkrt_model a, b, scene = {0};
+    vkrt_error err = {{0}};
+    assert_true(vkrt_obj_parse(a_text, strlen(a_text), "a.obj", NULL, &a, &err));
+    assert_true(vkrt_obj_parse(b_text, strlen(b_text), "b.obj", NULL, &b, &err));
+    /* Give each file a material and b an embedded image and a light, as a glTF would. */
+    vkrt_model *files[2] = {&a, &b};
+    for (int f = 0; f < 2; f++) {
+        files[f]->materials = calloc(1, sizeof(vkrt_material));
+        assert_non_null(files[f]->materials);
+        vkrt_material_defaults(&files[f]->materials[0]);
+        files[f]->material_count = 1;
+        files[f]->meshes[0].material[0] = 0;
+    }
+    a.images = calloc(1, sizeof *a.images);
+    b.images = calloc(1, sizeof *b.images);
+    a.image_count = b.image_count = 1;
+    b.materials[0].maps[VKRT_MAP_BASE_COLOUR].embedded = 0;
+    b.lights = calloc(1, sizeof *b.lights);
+    b.light_count = 1;
+    b.lights[0].kind = VKRT_LIGHT_SPOT;
+    b.lights[0].position[0] = 1.0f;
+    b.lights[0].direction[2] = -1.0f;
+
+    static const float identity[1][12] = {{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0}};
+    /* b twice: moved by (10, 0, 0), and turned 90 degrees about y (x -> -z, z -> x). */
+    static const float twice[2][12] = {{1, 0, 0, 10, 0, 1, 0, 0, 0, 0, 1, 0},
+                                       {0, 0, 1, 0, 0, 1, 0, 0, -1, 0, 0, 0}};
+    assert_true(vkrt_model_place(&scene, &a, identity, 1, &err));
+    assert_true(vkrt_model_place(&scene, &b, twice, 2, &err));
+    assert_true(vkrt_model_finish(&scene, &err));
+    assert_int_equal(a.mesh_count, 0); /* moved: src is left empty */
+    assert_int_equal(scene.mesh_count, 2);
+    assert_int_equal(scene.material_count, 2);
+    assert_int_equal(scene.image_count, 2);
+    assert_int_equal(scene.instance_count, 3);
+    assert_int_equal(scene.instances[1].mesh, 1);
+    assert_int_equal(scene.instances[2].mesh, 1);
+    assert_int_equal(scene.triangle_count, 1 + 2 * 2);
+    assert_int_equal(scene.meshes[1].material[0], 1);
+    assert_int_equal(scene.meshes[1].material[1], -1);
+    assert_int_equal(scene.materials[1].maps[VKRT_MAP_BASE_COLOUR].embedded, 1);
+    assert_int_equal(scene.light_count, 2);
+    assert_vec3_near(scene.lights[0].position, 11, 0, 0);
+    assert_vec3_near(scene.lights[1].position, 0, 0, -1);
+    assert_vec3_near(scene.lights[1].direction, -1, 0, 0);
+    /* The world box: b's far corner (2 on each axis) at x 12, and turned to z -2 and x 2. */
+    assert_vec3_near(scene.bounds_min, 0, 0, -2);
+    assert_vec3_near(scene.bounds_max, 12, 2, 2);
+    vkrt_model_free(&scene);
+}
+
 /* A scene's lights are its geometry file's, then scene.cfg's, in that order; where only one of
  * them gives lights the scene reads that array itself; the cameras are scene.cfg's. */
 static void scene_lights_are_the_model_then_the_config(void **state)
@@ -273,6 +335,7 @@ int main(void)
         cmocka_unit_test(instances_flatten_into_world_space),
         cmocka_unit_test(other_samplers_are_refused),
         cmocka_unit_test(scene_lights_are_the_model_then_the_config),
+        cmocka_unit_test(files_are_placed_as_instances),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
