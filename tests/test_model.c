@@ -2,7 +2,8 @@
  * test_model.c: the scene model (src/scene/model.h) and the OBJ loader's part in it: an OBJ is
  * one mesh and one identity instance, an .mtl record keeps every field in the model's units, the
  * renderer's flattening of instances into world space matches a case computed by hand, and
- * materials.c refuses a sampler the kernels do not have.
+ * materials.c refuses a sampler the kernels do not have, and several files placed into one model
+ * keep their meshes once.
  */
 #define _XOPEN_SOURCE 700
 #include <math.h>
