@@ -170,12 +170,9 @@ uint32_t bench_shadow_rays(const vkrt_scene *scene, const Ray *primary, const Hi
 /* A 32-bit hash (the low-bias finaliser of glsl/lib/rng.glsl) to a float in [0, 1). */
 static float hash_float(uint32_t x)
 {
-    x ^= x >> 16;
-    x *= 0x7FEB352Du;
-    x ^= x >> 15;
-    x *= 0x846CA68Bu;
-    x ^= x >> 16;
-    return (float)(x >> 8) * (1.0f / 16777216.0f);
+    x = (x ^ (x >> 16)) * 0x7FEB352Du;
+    x = (x ^ (x >> 15)) * 0x846CA68Bu;
+    return (float)((x ^ (x >> 16)) >> 8) * (1.0f / 16777216.0f);
 }
 
 /* Cosine-distributed about nrm: a disc sample lifted onto the hemisphere. */
