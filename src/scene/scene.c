@@ -41,8 +41,8 @@ bool vkrt_scene_load_geometry(const char *path, vkrt_scene *scene, vkrt_error *e
         return false;
     double start = vkrt_clock_ms();
     const char *geometry = scene->config.geometry;
-    bool loaded = vkrt_scene_cache_load(vkrt_scene_loader_for(geometry), geometry, &scene->model,
-                                        &scene->model_cache, err);
+    bool loaded = vkrt_scene_cache_load(vkrt_scene_loader_for(geometry), geometry, NULL,
+                                        &scene->model, &scene->model_cache, err);
     scene->model_ms = vkrt_clock_ms() - start;
     if (!loaded) {
         /* Say which scene.cfg line asked for the file: the loader's own message follows. */
