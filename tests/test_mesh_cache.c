@@ -84,7 +84,8 @@ static void use_cache(temp_dir *fx)
 static void load(const char *path, vkrt_model *model, vkrt_scene_cache_report *report)
 {
     vkrt_error err = {{0}};
-    bool ok = vkrt_scene_cache_load(vkrt_scene_loader_for(path), path, model, report, &err);
+    bool ok = vkrt_scene_cache_load(vkrt_scene_loader_for(path), path, NULL, model, report,
+                                    &err);
     /* The entry is written on a thread: the report is complete once it is done. */
     vkrt_scene_cache_finish(report);
     if (!ok)

@@ -175,12 +175,17 @@ static void mark_layers(vkrt_scene_material *mat, float sheen)
         mat->maps |= VKRT_MATERIAL_SHEEN;
 }
 
+/* Puts the texture into slot: the file at path, or with an image (not NULL) that image's bytes,
+ * path then its name. */
 static bool add_texture(vkrt_scene_materials *out, vkrt_scene_material *mat, uint32_t slot,
-                        const char *path, vkrt_texture_usage usage, const char *referrer,
-                        vkrt_error *err)
+                        const char *path, const vkrt_image_blob *image, vkrt_texture_usage usage,
+                        const char *referrer, vkrt_error *err)
 {
     uint32_t index;
-    if (!vkrt_texture_set_add(&out->textures, path, usage, referrer, &index, err))
+    bool added = image ? vkrt_texture_set_add_memory(&out->textures, image->bytes, image->size,
+                                                     path, usage, referrer, &index, err)
+                       : vkrt_texture_set_add(&out->textures, path, usage, referrer, &index, err);
+    if (!added)
         return false;
     mat->textures[slot] = index;
     if (slot + 1 > mat->texture_count)
@@ -220,13 +225,13 @@ static bool from_definition(vkrt_scene_materials *out, vkrt_scene_material *mat,
                             shader_referrer, &mat->shader, err))
         return false;
     for (uint32_t k = 0; k < def->texture_count; ++k)
-        if (!add_texture(out, mat, k, def->textures[k], VKRT_TEXTURE_COLOUR, referrer, err))
+        if (!add_texture(out, mat, k, def->textures[k], NULL, VKRT_TEXTURE_COLOUR, referrer, err))
             return false;
     return true;
 }
 
 static bool from_record(vkrt_scene_materials *out, vkrt_scene_material *mat,
-                        const vkrt_material *m, vkrt_error *err)
+                        const vkrt_model *model, const vkrt_material *m, vkrt_error *err)
 {
     if (!init_material(mat, m->name, m->file, err))
         return false;
@@ -250,7 +255,11 @@ static bool from_record(vkrt_scene_materials *out, vkrt_scene_material *mat,
                                   "%s: texture '%s': only repeating, bilinear sampling is "
                                   "supported",
                                   referrer, t->path);
-        if (!add_texture(out, mat, slot_of_map[k], t->path, t->space, referrer, err))
+        if (t->embedded >= 0 && (uint32_t)t->embedded >= model->image_count)
+            return vkrt_error_set(err, "%s: texture '%s': embedded image %d of %u", referrer,
+                                  t->path, t->embedded, model->image_count);
+        const vkrt_image_blob *image = t->embedded >= 0 ? &model->images[t->embedded] : NULL;
+        if (!add_texture(out, mat, slot_of_map[k], t->path, image, t->space, referrer, err))
             return false;
     }
     uint32_t detail = mat->textures[VKRT_SLOT_DETAIL];
@@ -306,7 +315,7 @@ static bool material_for(vkrt_scene_materials *out, const vkrt_model *model,
         const vkrt_material_def *def =
             record && file ? vkrt_material_file_find(file, record->name) : NULL;
         bool ok = def      ? from_definition(out, mat, file, def, err)
-                  : record ? from_record(out, mat, record, err)
+                  : record ? from_record(out, mat, model, record, err)
                            : default_material(out, mat, err);
         used[key] = out->count++;
         if (!ok)

@@ -85,11 +85,12 @@ bool vkrt_scene_compose(vkrt_scene *scene, vkrt_error *err)
 }
 
 /* Loads geometry line i's file (through the scene cache) into *model; the error names the line. */
-static bool load_file(vkrt_scene *scene, uint32_t i, vkrt_model *model,
-                      vkrt_scene_cache_report *report, vkrt_error *err)
+static bool load_file(vkrt_scene *scene, uint32_t i, const vkrt_load_options *options,
+                      vkrt_model *model, vkrt_scene_cache_report *report, vkrt_error *err)
 {
     const vkrt_config_geometry *g = &scene->config.geometries[i];
-    if (vkrt_scene_cache_load(vkrt_scene_loader_for(g->path), g->path, model, report, err))
+    if (vkrt_scene_cache_load(vkrt_scene_loader_for(g->path), g->path, options, model, report,
+                              err))
         return true;
     /* Say which scene.cfg line asked for the file: the loader's own message follows. */
     if (!scene->config.from_scene_file)
@@ -100,11 +101,11 @@ static bool load_file(vkrt_scene *scene, uint32_t i, vkrt_model *model,
 /* Every geometry line's file placed into scene->model: one unplaced file is the model as its
  * loader gave it (to the bit); otherwise each file is loaded once and placed once per line that
  * names it. */
-static bool load_geometries(vkrt_scene *scene, vkrt_error *err)
+static bool load_geometries(vkrt_scene *scene, const vkrt_load_options *options, vkrt_error *err)
 {
     const vkrt_config *cfg = &scene->config;
     if (cfg->geometry_count == 1 && !cfg->geometries[0].placed)
-        return load_file(scene, 0, &scene->model, &scene->model_cache, err);
+        return load_file(scene, 0, options, &scene->model, &scene->model_cache, err);
     float(*placements)[12] = malloc(cfg->geometry_count * sizeof *placements);
     if (!placements)
         return vkrt_error_set(err, "out of memory");
@@ -123,7 +124,7 @@ static bool load_geometries(vkrt_scene *scene, vkrt_error *err)
         /* The first file's report is the one --verbose shows; its entry is stored before the
          * model moves (the storing thread reads it). */
         vkrt_scene_cache_report *report = i == 0 ? &scene->model_cache : NULL;
-        ok = load_file(scene, i, &file, report, err);
+        ok = load_file(scene, i, options, &file, report, err);
         if (ok && report)
             vkrt_scene_cache_finish(report);
         ok = ok && vkrt_model_place(&scene->model, &file, placements, count, err);
@@ -143,13 +144,14 @@ static bool load_config(const char *path, vkrt_config *cfg, vkrt_error *err)
                       : vkrt_config_load(path, cfg, err);
 }
 
-bool vkrt_scene_load_geometry(const char *path, vkrt_scene *scene, vkrt_error *err)
+static bool load_geometry_with(const char *path, const vkrt_load_options *options,
+                               vkrt_scene *scene, vkrt_error *err)
 {
     memset(scene, 0, sizeof *scene);
     if (!load_config(path, &scene->config, err))
         return false;
     double start = vkrt_clock_ms();
-    bool loaded = load_geometries(scene, err);
+    bool loaded = load_geometries(scene, options, err);
     scene->model_ms = vkrt_clock_ms() - start;
     if (!loaded || !vkrt_scene_compose(scene, err)) {
         vkrt_scene_free(scene);
@@ -173,9 +175,20 @@ bool vkrt_scene_load_geometry(const char *path, vkrt_scene *scene, vkrt_error *e
     return true;
 }
 
+bool vkrt_scene_load_geometry(const char *path, vkrt_scene *scene, vkrt_error *err)
+{
+    return load_geometry_with(path, NULL, scene, err);
+}
+
 bool vkrt_scene_load(const char *path, vkrt_scene *scene, vkrt_error *err)
 {
-    if (!vkrt_scene_load_geometry(path, scene, err))
+    return vkrt_scene_load_with(path, NULL, scene, err);
+}
+
+bool vkrt_scene_load_with(const char *path, const vkrt_load_options *options, vkrt_scene *scene,
+                          vkrt_error *err)
+{
+    if (!load_geometry_with(path, options, scene, err))
         return false;
     if (scene->config.materials &&
         !vkrt_material_file_load(scene->config.materials, &scene->material_file, err)) {

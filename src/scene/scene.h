@@ -10,6 +10,7 @@
 
 #include "../error.h"
 #include "config.h"
+#include "loader.h"
 #include "material_file.h"
 #include "materials.h"
 #include "model.h"
@@ -42,6 +43,11 @@ bool vkrt_scene_load(const char *path, vkrt_scene *scene, vkrt_error *err);
 /* path may also be a scene file alone (`vkrt render model.glb`: an extension a loader claims,
  * loader.h): it then gets vkrt_config_for_geometry's settings, its own cameras or a framed view,
  * and a uniform white sky (environment 1 1 1) when nothing in it gives light. */
+
+/* vkrt_scene_load with the loaders' options (loader.h: the rate an animated camera is sampled
+ * at); NULL: their defaults. */
+bool vkrt_scene_load_with(const char *path, const vkrt_load_options *options, vkrt_scene *scene,
+                          vkrt_error *err);
 
 /* Loads only the scene.cfg and its model (with the material records, but no material file, shader
  * or texture): what tracing alone needs (`vkrt bench`). The renderer then shades every triangle

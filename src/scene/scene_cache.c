@@ -6,7 +6,7 @@
  * size and hash, and a hash of the header itself), then its sections in order: the text (the
  * loader's other inputs with their identities, the materials' strings, the warnings), the
  * materials' records (vkrt_material with its pointers zeroed), the instances, lights and cameras,
- * the meshes' table (counts, boxes, and each array's size and hash), then every mesh's arrays
+ * the embedded images (each its name and its encoded bytes), the meshes' table (counts, boxes, and each array's size and hash), then every mesh's arrays
  * exactly as vkrt_mesh holds them. The file's size must be the sum the header and the table
  * give: a truncated entry is found before an array is read.
  */
@@ -28,14 +28,14 @@
 
 /* "VKRTMDL" and the layout's version: a new layout gets a new number (it is in the key too), so
  * an entry of an older layout is never found, and is replaced by the next store. */
-static const uint64_t MODEL_MAGIC = 0x324C444D54524B56ull; /* "VKRTMDL2", little-endian */
-enum { LAYOUT_VERSION = 2 };
+static const uint64_t MODEL_MAGIC = 0x334C444D54524B56ull; /* "VKRTMDL3", little-endian */
+enum { LAYOUT_VERSION = 3 };
 
 /* A scene file smaller than this loads in milliseconds: the cache would only fill the disk. */
 static const uint64_t MIN_SCENE_BYTES = 1u << 20;
 
 enum { SECTION_TEXT, SECTION_MATERIALS, SECTION_INSTANCES, SECTION_LIGHTS, SECTION_CAMERAS,
-       SECTION_MESHES, SECTION_COUNT };
+       SECTION_IMAGES, SECTION_MESHES, SECTION_COUNT };
 
 /* A mesh's arrays, in the order the entry holds them. */
 enum { ARRAY_POSITIONS, ARRAY_NORMALS, ARRAY_TEXCOORDS, ARRAY_TANGENTS, ARRAY_MATERIAL,
@@ -45,7 +45,7 @@ typedef struct model_header {
     uint64_t magic;
     uint64_t key[2];
     uint32_t mesh_count, instance_count, material_count, light_count, camera_count;
-    uint32_t triangle_count;
+    uint32_t triangle_count, image_count, padding; /* padding: zero, the header is hashed */
     float bounds_min[3], bounds_max[3];
     uint64_t bytes[SECTION_COUNT];
     uint64_t hash[SECTION_COUNT];
@@ -105,18 +105,19 @@ static void where_of(const char *path, char *text, size_t size)
 
 /* The key of the scene file at path with identity id as loader reads it: two hashes of one
  * description of them. */
-static void key_of(const vkrt_scene_loader *loader, const char *path, const vkrt_file_identity *id,
-                   uint64_t key[2])
+static void key_of(const vkrt_scene_loader *loader, const vkrt_load_options *options,
+                   const char *path, const vkrt_file_identity *id, uint64_t key[2])
 {
     char where[8400], text[8900];
     where_of(path, where, sizeof where);
     int n = snprintf(text, sizeof text,
                      "vkrt scene cache layout %d, vkrt_material %zu bytes, instance %zu, light "
-                     "%zu, camera %zu, program %016llx; loader %s; %s, %llu bytes, mtime %lld, "
-                     "hash %016llx",
+                     "%zu, camera %zu, program %016llx; loader %s, fps %a; %s, %llu bytes, mtime "
+                     "%lld, hash %016llx",
                      LAYOUT_VERSION, sizeof(vkrt_material), sizeof(vkrt_instance),
                      sizeof(vkrt_config_light), sizeof(vkrt_config_camera),
-                     (unsigned long long)vkrt_cache_program_id(), loader->name, where,
+                     (unsigned long long)vkrt_cache_program_id(), loader->name,
+                     (double)options->fps, where,
                      (unsigned long long)id->size, (long long)id->mtime_ns,
                      (unsigned long long)id->hash);
     size_t size = n < 0 ? 0 : (size_t)n < sizeof text ? (size_t)n : sizeof text - 1;
@@ -283,9 +284,47 @@ static bool read_text(cursor *c, vkrt_model *model, const char **why)
     return true;
 }
 
+/* ---------------------------------------------------------------- the images section */
+
+/* Each embedded image as its name (a string) and its bytes' count (uint64) and bytes. */
+static bool images_of(const vkrt_model *model, blob *b)
+{
+    for (uint32_t i = 0; i < model->image_count; ++i) {
+        const vkrt_image_blob *image = &model->images[i];
+        uint64_t size = image->size;
+        blob_put_string(b, image->name);
+        blob_put(b, &size, sizeof size);
+        blob_put(b, image->bytes, image->size);
+    }
+    return !b->failed;
+}
+
+/* Reads count images back into model->images; false when the section is malformed. */
+static bool read_images(cursor *c, uint32_t count, vkrt_model *model)
+{
+    model->images = count ? calloc(count, sizeof *model->images) : NULL;
+    if (count && !model->images)
+        return false;
+    model->image_count = count;
+    for (uint32_t i = 0; i < count && !c->failed; ++i) {
+        vkrt_image_blob *image = &model->images[i];
+        uint64_t size = 0;
+        image->name = cursor_string(c);
+        cursor_get(c, &size, sizeof size);
+        if (c->failed || !image->name || size == 0 || size > c->size - c->at)
+            return false;
+        image->bytes = malloc((size_t)size);
+        if (!image->bytes)
+            return false;
+        cursor_get(c, image->bytes, (size_t)size);
+        image->size = (size_t)size;
+    }
+    return !c->failed && c->at == c->size;
+}
+
 /* ---------------------------------------------------------------- load and store */
 
-/* The bytes of each fixed section the header's counts imply (the text's and the table's aside:
+/* The bytes of each fixed section the header's counts imply (the text's and the images' aside;
  * the table is one record per mesh). */
 static void section_bytes(const model_header *h, uint64_t bytes[SECTION_COUNT])
 {
@@ -343,8 +382,9 @@ static bool load_entry(const uint64_t key[2], const char *ext, vkrt_model *model
     if (r.ok) {
         section_bytes(&h, expected);
         for (int s = SECTION_MATERIALS; s < SECTION_COUNT; ++s)
-            r.ok = r.ok && h.bytes[s] == expected[s];
-        r.ok = r.ok && h.bytes[SECTION_TEXT] < (1u << 30);
+            r.ok = r.ok && (s == SECTION_IMAGES || h.bytes[s] == expected[s]);
+        r.ok = r.ok && h.bytes[SECTION_TEXT] < (1u << 30) &&
+               h.bytes[SECTION_IMAGES] < (UINT64_C(1) << 36);
     }
     char *text = read_section(&r, &h, SECTION_TEXT);
     model->materials = read_section(&r, &h, SECTION_MATERIALS);
@@ -363,6 +403,12 @@ static bool load_entry(const uint64_t key[2], const char *ext, vkrt_model *model
     model->instances = read_section(&r, &h, SECTION_INSTANCES);
     model->lights = read_section(&r, &h, SECTION_LIGHTS);
     model->cameras = read_section(&r, &h, SECTION_CAMERAS);
+    char *images = read_section(&r, &h, SECTION_IMAGES);
+    if (r.ok) {
+        cursor c = {images, (size_t)h.bytes[SECTION_IMAGES], 0, false};
+        r.ok = read_images(&c, h.image_count, model);
+    }
+    free(images);
     mesh_record *table = read_section(&r, &h, SECTION_MESHES);
     r.ok = r.ok && table_ok(&h, table, r.size);
     if (r.ok) {
@@ -406,10 +452,12 @@ static bool load_entry(const uint64_t key[2], const char *ext, vkrt_model *model
 static bool store_entry(const uint64_t key[2], const char *ext, const vkrt_model *model,
                         const char **why)
 {
-    blob text = {0};
-    if (!text_of(model, &text)) {
+    blob text = {0}, images = {0};
+    if (!text_of(model, &text) || !images_of(model, &images)) {
+        *why = text.failed || images.failed ? "out of memory"
+                                            : "a file the scene file names could not be read again";
         free(text.data);
-        *why = "a file the scene file names could not be read again";
+        free(images.data);
         return false;
     }
     size_t material_bytes = (size_t)model->material_count * sizeof(vkrt_material);
@@ -419,6 +467,7 @@ static bool store_entry(const uint64_t key[2], const char *ext, const vkrt_model
         free(records);
         free(table);
         free(text.data);
+        free(images.data);
         *why = "out of memory";
         return false;
     }
@@ -444,8 +493,9 @@ static bool store_entry(const uint64_t key[2], const char *ext, const vkrt_model
                 table[i].bytes[a] ? vkrt_hash64_parallel(*arrays[a], table[i].bytes[a]) : 0;
         }
     }
-    const void *sections[SECTION_COUNT] = {text.data,     records,        model->instances,
-                                           model->lights, model->cameras, table};
+    const void *sections[SECTION_COUNT] = {text.data,      records,     model->instances,
+                                           model->lights,  model->cameras, images.data,
+                                           table};
     model_header h = {
         .magic = MODEL_MAGIC,
         .key = {key[0], key[1]},
@@ -455,11 +505,13 @@ static bool store_entry(const uint64_t key[2], const char *ext, const vkrt_model
         .light_count = model->light_count,
         .camera_count = model->camera_count,
         .triangle_count = model->triangle_count,
+        .image_count = model->image_count,
     };
     memcpy(h.bounds_min, model->bounds_min, sizeof h.bounds_min);
     memcpy(h.bounds_max, model->bounds_max, sizeof h.bounds_max);
     section_bytes(&h, h.bytes);
     h.bytes[SECTION_TEXT] = text.size;
+    h.bytes[SECTION_IMAGES] = images.size;
     for (int s = 0; s < SECTION_COUNT; ++s)
         h.hash[s] = h.bytes[s] ? vkrt_hash64_parallel(sections[s], (size_t)h.bytes[s]) : 0;
     h.header_hash = vkrt_hash64(&h, offsetof(model_header, header_hash), 0);
@@ -484,6 +536,7 @@ static bool store_entry(const uint64_t key[2], const char *ext, const vkrt_model
     free(records);
     free(table);
     free(text.data);
+    free(images.data);
     return stored;
 }
 
@@ -535,9 +588,11 @@ static bool store_in_background(const uint64_t key[2], const char *ext, const vk
     return true;
 }
 
-bool vkrt_scene_cache_load(const vkrt_scene_loader *loader, const char *path, vkrt_model *model,
+bool vkrt_scene_cache_load(const vkrt_scene_loader *loader, const char *path,
+                           const vkrt_load_options *options, vkrt_model *model,
                            vkrt_scene_cache_report *report, vkrt_error *err)
 {
+    vkrt_load_options resolved = vkrt_load_options_resolve(options);
     vkrt_scene_cache_report own;
     if (!report)
         report = &own;
@@ -551,7 +606,7 @@ bool vkrt_scene_cache_load(const vkrt_scene_loader *loader, const char *path, vk
                   vkrt_file_identity_of(path, &id);
     report->hash_ms = vkrt_clock_ms() - start;
     if (cached) {
-        key_of(loader, path, &id, key);
+        key_of(loader, &resolved, path, &id, key);
         extension_of(path, ext);
         memset(model, 0, sizeof *model);
         start = vkrt_clock_ms();
@@ -561,7 +616,7 @@ bool vkrt_scene_cache_load(const vkrt_scene_loader *loader, const char *path, vk
             return true;
         }
     }
-    if (!loader->load(path, model, err))
+    if (!loader->load(path, &resolved, model, err))
         return false;
     if (!cached)
         return true;

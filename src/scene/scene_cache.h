@@ -8,7 +8,7 @@
  * every core, no conversion), the instances, the material records, lights, cameras, the box and
  * the warnings, which a warm start prints exactly as the parse did.
  *
- * Its key names the loader and its inputs: the loader's name, the scene file's path (and the
+ * Its key names the loader and its inputs: the loader's name and options, the scene file's path (and the
  * working folder when the path is relative: the materials' texture paths are resolved against
  * it), size, modification time and a hash of its bytes (read on every core), the layout's version
  * and the vkrt program's own identity. The other files the load read (an OBJ's .mtl files) are
@@ -49,12 +49,14 @@ typedef struct vkrt_scene_cache_report {
     struct scene_cache_store *store; /* the thread storing the entry, while STORING */
 } vkrt_scene_cache_report;
 
-/* Loads the scene file at path into *model with loader's contract, taking the model from the
- * cache when a valid entry has the file's key, else loading it and storing it (best effort: a
- * cache that cannot be written warns once and the load goes on). report (may be NULL) says which.
+/* Loads the scene file at path into *model with loader's contract under options (NULL: the
+ * defaults), taking the model from the cache when a valid entry has the file's key (which holds
+ * the options), else loading it and storing it (best effort: a cache that cannot be written warns
+ * once and the load goes on). report (may be NULL) says which.
  * With a report, the entry is written on a thread while the caller goes on: the model must then
  * stay unchanged and alive until vkrt_scene_cache_finish(report), which vkrt_scene_free calls. */
-bool vkrt_scene_cache_load(const vkrt_scene_loader *loader, const char *path, vkrt_model *model,
+bool vkrt_scene_cache_load(const vkrt_scene_loader *loader, const char *path,
+                           const vkrt_load_options *options, vkrt_model *model,
                            vkrt_scene_cache_report *report, vkrt_error *err);
 
 /* Waits for the entry being stored, if any, and completes the report (outcome, store_ms, why).

@@ -444,6 +444,39 @@ static bool decode(vkrt_texture_set *set, FILE *f, vkrt_texture_usage usage, con
     return true;
 }
 
+/* Whether the set holds a texture of key (a canonical path or an embedded image's name) for
+ * usage, its index then in *index. */
+static bool find_added(const vkrt_texture_set *set, const char *key, vkrt_texture_usage usage,
+                       uint32_t *index)
+{
+    for (uint32_t i = 0; i < set->count; i++)
+        if (set->usages[i] == (uint32_t)usage && strcmp(set->paths[i], key) == 0) {
+            *index = i;
+            return true;
+        }
+    return false;
+}
+
+/* Decodes the open image f and appends it to the set under key (which the set then owns); on
+ * failure the set is as it was and key is the caller's. path names the image in messages. */
+static bool decode_and_append(vkrt_texture_set *set, FILE *f, vkrt_texture_usage usage,
+                              const char *referrer, const char *path, char *key, uint32_t *index,
+                              vkrt_error *err)
+{
+    vkrt_texture_info info;
+    size_t words = 0;
+    if (!decode(set, f, usage, referrer, path, &info, &words, err)) {
+        give_back_room(set);
+        return false;
+    }
+    set->info[set->count] = info;
+    set->paths[set->count] = key;
+    set->usages[set->count] = (uint32_t)usage;
+    set->texel_words += words;
+    *index = set->count++;
+    return true;
+}
+
 bool vkrt_texture_set_add(vkrt_texture_set *set, const char *path, vkrt_texture_usage usage,
                           const char *referrer, uint32_t *index, vkrt_error *err)
 {
@@ -467,19 +500,15 @@ bool vkrt_texture_set_add(vkrt_texture_set *set, const char *path, vkrt_texture_
         canonical = found;
         found = NULL;
     }
-    for (uint32_t i = 0; i < set->count; i++)
-        if (set->usages[i] == (uint32_t)usage && strcmp(set->paths[i], canonical) == 0) {
-            free(found);
-            free(canonical);
-            *index = i;
-            return true;
-        }
+    if (find_added(set, canonical, usage, index)) {
+        free(found);
+        free(canonical);
+        return true;
+    }
 
     FILE *f = fopen(found ? found : canonical, "rb");
     struct stat st;
     bool ok = false;
-    vkrt_texture_info info;
-    size_t words = 0;
     if (!f)
         fail(err, referrer, path, "cannot open: %s", strerror(errno));
     else if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode))
@@ -487,21 +516,46 @@ bool vkrt_texture_set_add(vkrt_texture_set *set, const char *path, vkrt_texture_
     else if (st.st_size == 0)
         fail(err, referrer, path, "the file is empty");
     else
-        ok = decode(set, f, usage, referrer, path, &info, &words, err);
+        ok = decode_and_append(set, f, usage, referrer, path, canonical, index, err);
     if (f)
         fclose(f);
     free(found);
-    if (!ok) {
-        give_back_room(set);
+    if (!ok)
         free(canonical);
-        return false;
-    }
-    set->info[set->count] = info;
-    set->paths[set->count] = canonical;
-    set->usages[set->count] = (uint32_t)usage;
-    set->texel_words += words;
-    *index = set->count++;
-    return true;
+    return ok;
+}
+
+bool vkrt_texture_set_add_memory(vkrt_texture_set *set, const void *bytes, size_t size,
+                                 const char *name, vkrt_texture_usage usage,
+                                 const char *referrer, uint32_t *index, vkrt_error *err)
+{
+    if (!name || !*name)
+        name = "(embedded image)";
+    if (!set || !index)
+        return fail(err, referrer, name, "no texture set to add to");
+    if (usage != VKRT_TEXTURE_COLOUR && usage != VKRT_TEXTURE_DATA && usage != VKRT_TEXTURE_ALPHA)
+        return fail(err, referrer, name, "unknown usage %d", (int)usage);
+    if (set->count == UINT32_MAX)
+        return fail(err, referrer, name, "too many textures");
+    if (find_added(set, name, usage, index))
+        return true;
+    if (!bytes || size == 0)
+        return fail(err, referrer, name, "the image is empty");
+    char *key = strdup(name);
+    /* stb_image's _from_file readers and the failure diagnosis read a FILE: the bytes as one. */
+    FILE *f = key ? fmemopen((void *)bytes, size, "rb") : NULL;
+    bool ok = false;
+    if (!key)
+        fail(err, referrer, name, "out of memory");
+    else if (!f)
+        fail(err, referrer, name, "cannot read the image's bytes: %s", strerror(errno));
+    else
+        ok = decode_and_append(set, f, usage, referrer, name, key, index, err);
+    if (f)
+        fclose(f);
+    if (!ok)
+        free(key);
+    return ok;
 }
 
 void vkrt_texture_set_free(vkrt_texture_set *set)

@@ -44,7 +44,8 @@ typedef struct vkrt_texture_info {
  * then add textures. info, paths and usages have count entries; texels has texel_words. */
 typedef struct vkrt_texture_set {
     vkrt_texture_info *info;
-    char **paths;     /* the file each texture was read from, canonical (realpath) */
+    char **paths;     /* the file each texture was read from, canonical (realpath), or an
+                         embedded image's name */
     uint32_t *usages; /* vkrt_texture_usage of each texture */
     uint32_t count;
     uint32_t *texels; /* every texture's texels, one after the other */
@@ -68,6 +69,15 @@ typedef struct vkrt_texture_set {
  * Only a unique match is taken, silently; several matches are an error that lists them. */
 bool vkrt_texture_set_add(vkrt_texture_set *set, const char *path, vkrt_texture_usage usage,
                           const char *referrer, uint32_t *index, vkrt_error *err);
+
+/* Adds an image held in memory as its file's encoded bytes (a glTF's embedded image), with the
+ * same decoding, checks and messages as vkrt_texture_set_add; name stands for the path in them
+ * and identifies the image: one already in the set with the same name and usage is returned, not
+ * decoded again, so a loader gives each image a name of its own ("model.glb: image 3"). The set
+ * keeps no pointer to bytes. */
+bool vkrt_texture_set_add_memory(vkrt_texture_set *set, const void *bytes, size_t size,
+                                 const char *name, vkrt_texture_usage usage,
+                                 const char *referrer, uint32_t *index, vkrt_error *err);
 
 /* Frees what the set holds and zeroes it, keeping max_texel_bytes. Safe on a zeroed set. */
 void vkrt_texture_set_free(vkrt_texture_set *set);
