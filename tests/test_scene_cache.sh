@@ -5,7 +5,7 @@
 # (a new time; new bytes under the old size and time) or .mtl is parsed again; a damaged or
 # truncated entry is parsed or built again; the OBJ's warnings are printed again from the cache;
 # four runs at once on an empty cache agree; an unwritable cache or a full disk only warns;
-# --no-cache writes nothing; VKRT_SCENE_CACHE_DIR moves the meshes and structures, or (empty)
+# --no-cache writes nothing; a .glb with an embedded texture comes back with it; VKRT_SCENE_CACHE_DIR moves the meshes and structures, or (empty)
 # keeps none. Run by meson test with VKRT_BINARY, VKRT_SOURCE_DIR and
 # VKRT_SCENES_DIR; the shared scenes' cases are skipped where they are absent.
 set -u
@@ -163,6 +163,57 @@ rm -rf "$tmp/scenes"
 VKRT_SCENE_CACHE_DIR= render nowhere "$made" --accel bvh
 check "VKRT_SCENE_CACHE_DIR= keeps no mesh" test -z "$(find "$tmp" -name '*.mesh')"
 check "and reads the kernels" said nowhere "kernels: 0 compiled"
+
+# A glTF over 1 MiB with its texture embedded in the .glb (model.images): stored cold, read
+# warm with the image, the same picture; its framed camera and white sky need no scene.cfg.
+python3 - "$tmp/made/made.glb" <<'PY'
+import json, struct, sys, zlib
+n = 300  # an n x n grid of quads: 180000 triangles
+pos, uv, idx = bytearray(), bytearray(), bytearray()
+for j in range(n + 1):
+    for i in range(n + 1):
+        pos += struct.pack("<3f", i / n - 0.5, j / n - 0.5, 0.0)
+        uv += struct.pack("<2f", i / n, 1.0 - j / n)
+for j in range(n):
+    for i in range(n):
+        a = j * (n + 1) + i
+        idx += struct.pack("<6I", a, a + 1, a + n + 2, a, a + n + 2, a + n + 1)
+# A 2 x 2 texture: red, green over blue, white (PNG rows top first).
+raw = b"\0" + bytes([255, 0, 0, 0, 255, 0]) + b"\0" + bytes([0, 0, 255, 255, 255, 255])
+def chunk(kind, data):
+    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+png = (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 2, 2, 8, 2, 0, 0, 0)) +
+       chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+png += b"\0" * (-len(png) % 4)
+blob = bytes(pos + uv + idx) + png
+views = [(0, len(pos)), (len(pos), len(uv)), (len(pos) + len(uv), len(idx)), (len(pos) + len(uv) + len(idx), len(png))]
+doc = {
+    "asset": {"version": "2.0"},
+    "buffers": [{"byteLength": len(blob)}],
+    "bufferViews": [{"buffer": 0, "byteOffset": o, "byteLength": l} for o, l in views],
+    "accessors": [
+        {"bufferView": 0, "componentType": 5126, "count": (n + 1) ** 2, "type": "VEC3",
+         "min": [-0.5, -0.5, 0], "max": [0.5, 0.5, 0]},
+        {"bufferView": 1, "componentType": 5126, "count": (n + 1) ** 2, "type": "VEC2"},
+        {"bufferView": 2, "componentType": 5125, "count": 6 * n * n, "type": "SCALAR"}],
+    "images": [{"bufferView": 3, "mimeType": "image/png"}],
+    "samplers": [{"magFilter": 9729}],
+    "textures": [{"source": 0, "sampler": 0}],
+    "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0}}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2, "material": 0}]}],
+    "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}], "scene": 0}
+text = json.dumps(doc).encode()
+text += b" " * (-len(text) % 4)
+with open(sys.argv[1], "wb") as f:
+    f.write(struct.pack("<III", 0x46546C67, 2, 12 + 8 + len(text) + 8 + len(blob)))
+    f.write(struct.pack("<II", len(text), 0x4E4F534A) + text)
+    f.write(struct.pack("<II", len(blob), 0x004E4942) + blob)
+PY
+render glb-cold "$tmp/made/made.glb"
+check "glTF: cold parse stored" said glb-cold "^vkrt: scene cache: scene file parsed, model stored"
+render glb-warm "$tmp/made/made.glb"
+check "glTF: warm read from the cache" said glb-warm "^vkrt: scene cache: model read in"
+check "glTF: warm renders the cold image" same glb-cold glb-warm
 
 # The shared scenes: the bunny, Sponza with its textures, and the bunny's arrays split over
 # buffers, each cold then warm (the made scene above took lavapipe's kd-tree).
