@@ -7,6 +7,7 @@
 #include "../scene/scene.h"
 #include "../view/viewer.h"
 #include "render_desc.h"
+#include "scene_options.h"
 
 int vkrt_cmd_view(const vkrt_command_line *cl)
 {
@@ -15,6 +16,12 @@ int vkrt_cmd_view(const vkrt_command_line *cl)
     vkrt_scene scene;
     if (!vkrt_scene_load(opts->scene_path, &scene, &err)) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
+        return 1;
+    }
+    if (!vkrt_scene_options_apply(&opts->scene_options, &scene,
+                                  opts->common.quiet ? NULL : stderr, &err)) {
+        fprintf(stderr, "vkrt: %s\n", err.msg);
+        vkrt_scene_free(&scene);
         return 1;
     }
     if (!opts->common.quiet)
