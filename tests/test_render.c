@@ -307,29 +307,33 @@ static void test_cornell_point_light(void **state)
     compare_with_reference(cfg);
 }
 
-/* Every light kind at once, and an environment seen past the box's edges. */
-static void test_cornell_all_lights(void **state)
+/* The Cornell box's geometry under the scene.cfg lines given (lights, environment, camera),
+ * against the reference. */
+static void compare_cornell_with_reference(const char *lines)
 {
-    (void)state;
     char dir[] = "/tmp/vkrt-render-XXXXXX";
     assert_non_null(mkdtemp(dir));
     char path[4200];
-    snprintf(path, sizeof path, "%s/lights.cfg", dir);
+    snprintf(path, sizeof path, "%s/variant.cfg", dir);
     FILE *f = fopen(path, "w");
     assert_non_null(f);
-    fprintf(f,
-            "geometry %s\n"
-            "environment 0.1 0.2 0.3\n"
-            "light ambient 0.02 0.02 0.02\n"
-            "light directional 0.2 -0.3 1  0.5 0.4 0.3\n"
-            "light spot 278 540 278  0 -1 0  30  300000 250000 200000\n"
-            "light point 100 400 100  50000 60000 70000\n"
-            "camera eye 278 273 -800 look 278 273 0 up 0 1 0 fov 39.3077\n",
-            cornell_obj);
+    fprintf(f, "geometry %s\n%s", cornell_obj, lines);
     fclose(f);
     compare_with_reference(path);
     unlink(path);
     rmdir(dir);
+}
+
+/* Every light kind at once, and an environment seen past the box's edges. */
+static void test_cornell_all_lights(void **state)
+{
+    (void)state;
+    compare_cornell_with_reference("environment 0.1 0.2 0.3\n"
+                                   "light ambient 0.02 0.02 0.02\n"
+                                   "light directional 0.2 -0.3 1  0.5 0.4 0.3\n"
+                                   "light spot 278 540 278  0 -1 0  30  300000 250000 200000\n"
+                                   "light point 100 400 100  50000 60000 70000\n"
+                                   "camera eye 278 273 -800 look 278 273 0 up 0 1 0 fov 39.3077\n");
 }
 
 /* An orthographic view of the box from above and to the side (its walls, blocks, shadows and
@@ -337,23 +341,11 @@ static void test_cornell_all_lights(void **state)
 static void test_cornell_orthographic(void **state)
 {
     (void)state;
-    char dir[] = "/tmp/vkrt-render-XXXXXX";
-    assert_non_null(mkdtemp(dir));
-    char path[4200];
-    snprintf(path, sizeof path, "%s/ortho.cfg", dir);
-    FILE *f = fopen(path, "w");
-    assert_non_null(f);
-    fprintf(f,
-            "geometry %s\n"
-            "environment 0.1 0.2 0.3\n"
-            "light ambient 0.05 0.05 0.05\n"
-            "light point 278 500 279.5  250000 250000 250000\n"
-            "camera eye 900 800 -600 look 278 273 279 up 0 1 0 ortho 900\n",
-            cornell_obj);
-    fclose(f);
-    compare_with_reference(path);
-    unlink(path);
-    rmdir(dir);
+    compare_cornell_with_reference(
+        "environment 0.1 0.2 0.3\n"
+        "light ambient 0.05 0.05 0.05\n"
+        "light point 278 500 279.5  250000 250000 250000\n"
+        "camera eye 900 800 -600 look 278 273 279 up 0 1 0 ortho 900\n");
 }
 
 /* The Cornell box with its short block made of glass and its tall block a mirror (the OBJ's faces

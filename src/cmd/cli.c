@@ -153,6 +153,16 @@ static bool parse_float(const char *option, const char *text, float *out, vkrt_e
     return true;
 }
 
+/* A float option that must be positive (and finite). */
+static bool parse_positive(const char *option, const char *text, float *out, vkrt_error *err)
+{
+    if (!parse_float(option, text, out, err))
+        return false;
+    if (!(*out > 0))
+        return vkrt_error_set(err, "%s: '%s' is not a positive number", option, text);
+    return true;
+}
+
 /* Which commands take each option; the parser refuses an option its command does not take. */
 enum { RENDER = 1 << VKRT_COMMAND_RENDER, VIEW = 1 << VKRT_COMMAND_VIEW,
        BENCH = 1 << VKRT_COMMAND_BENCH, ALL = RENDER | VIEW | BENCH };
@@ -239,16 +249,10 @@ static bool parse_common(const char *arg, const char *value, vkrt_common_options
                                   value ? value : "");
     } else if (strcmp(arg, "--clamp") == 0) {
         *consumed = 1;
-        if (!parse_float(arg, value, &c->clamp, err))
-            return false;
-        if (!(c->clamp > 0))
-            return vkrt_error_set(err, "--clamp: '%s' is not a positive number", value);
+        return parse_positive(arg, value, &c->clamp, err);
     } else if (strcmp(arg, "--target-error") == 0) {
         *consumed = 1;
-        if (!parse_float(arg, value, &c->target_error, err))
-            return false;
-        if (!(c->target_error > 0))
-            return vkrt_error_set(err, "--target-error: '%s' is not a positive number", value);
+        return parse_positive(arg, value, &c->target_error, err);
     } else if (strcmp(arg, "--validation") == 0) {
         c->validation = true;
     } else if (strcmp(arg, "--quiet") == 0) {
@@ -278,10 +282,7 @@ static bool parse_scene_option(const char *arg, char *const *values, int count,
                                   value ? ", not '" : "", value ? value : "", value ? "'" : "");
         o->camera = value;
     } else if (strcmp(arg, "--fps") == 0) {
-        if (!parse_float(arg, value, &o->fps, err))
-            return false;
-        if (!(o->fps > 0))
-            return vkrt_error_set(err, "--fps: '%s' is not a positive number", value);
+        return parse_positive(arg, value, &o->fps, err);
     } else if (strcmp(arg, "--environment") == 0) {
         for (int i = 0; i < 3; ++i) {
             if (i >= count)
