@@ -109,18 +109,28 @@ void main()
     float y = 1.0 - 2.0 * (float(p.y) + offset.y) / float(height);
     vec3 through = frame.forward.xyz + x * frame.right.xyz + y * frame.up.xyz;
     vec3 origin = frame.eye.xyz, dir = normalize(through);
+    if (frame.forward.w != 0.0) {
+        /* Orthographic (pbrt's OrthographicCamera): parallel rays along the view axis, from the
+         * pixel's point of the image plane through the eye; right and up span half the view in
+         * scene units, so a scene unit covers width / (2 |right|) pixels at any distance. */
+        origin = frame.eye.xyz + x * frame.right.xyz + y * frame.up.xyz;
+        through = frame.forward.xyz;
+        dir = frame.forward.xyz;
+    }
+    vec3 pinhole = origin;
     if (frame.right.w > 0.0) {
-        /* A thin lens of radius right.w (Mitsuba's thinlens, pbrt's PerspectiveCamera): the ray
-         * leaves a point of the lens towards where the pinhole ray meets the plane in focus, at
-         * distance up.w along the view axis (through has 1 along it). Whitted draws the lens
-         * point from a stream of its own, not from the ray's, which its shaders use. */
+        /* A thin lens of radius right.w (Mitsuba's thinlens, pbrt's PerspectiveCamera and
+         * OrthographicCamera): the ray leaves a point of the lens (centred on the pinhole ray's
+         * origin) towards where the pinhole ray meets the plane in focus, at distance up.w along
+         * the view axis (through has 1 along it). Whitted draws the lens point from a stream of
+         * its own, not from the ray's, which its shaders use. */
         vec2 u = INTEGRATOR == VKRT_INTEGRATE_PATH
                      ? sampler_2d(ray, frame.counts.w, SAMPLER_DIM_LENS)
                      : vec2(rng_float(pcg_hash(ray_seed(ray) ^ 0x1B873593u)),
                             rng_float(pcg_hash(ray_seed(ray) ^ 0x68E31DA4u)));
         vec2 lens = frame.right.w * concentric_disk(u);
         origin += lens.x * normalize(frame.right.xyz) + lens.y * normalize(frame.up.xyz);
-        dir = normalize(frame.eye.xyz + frame.up.w * through - origin);
+        dir = normalize(pinhole + frame.up.w * through - origin);
     }
 
     ray_set_segment(ray, origin, dir, 0.0, FAR);

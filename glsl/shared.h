@@ -249,9 +249,11 @@ VKRT_STRUCT(Light) {
 /* Everything a frame's kernels need besides buffers; sent as push constants (<= 128 bytes). */
 VKRT_STRUCT(FrameParams) {
     vec4 eye;         /* xyz camera position, w: importance under which a cast ray is dropped */
-    vec4 right;       /* camera right axis scaled by tan(fov/2) * aspect; w: lens radius (0: pinhole) */
-    vec4 up;          /* camera up axis scaled by tan(fov/2); w: distance in focus */
-    vec4 forward;     /* unit view direction */
+    vec4 right;       /* camera right axis scaled by tan(fov/2) * aspect, or by half the view's
+                         width when orthographic; w: lens radius (0: pinhole) */
+    vec4 up;          /* camera up axis scaled by tan(fov/2), or by half the view's height when
+                         orthographic; w: distance in focus */
+    vec4 forward;     /* unit view direction; w: 0 perspective, 1 orthographic (raygen.comp) */
     uvec4 image;      /* x: width, y: height, z: index of this sample pass, w: samples per pixel */
     uvec4 counts;     /* x: triangles, y: lights, z: rays in this dispatch or VKRT_RAYS_OF_WAVE,
                          w: frame seed */

@@ -45,9 +45,17 @@ void bench_primary_rays(const vkrt_config_camera *camera, uint32_t width, uint32
         float d[3] = {forward[0] + sx * right[0] + sy * up[0],
                       forward[1] + sx * right[1] + sy * up[1],
                       forward[2] + sx * right[2] + sy * up[2]};
-        normalize3(d);
+        float o[3] = {camera->eye[0], camera->eye[1], camera->eye[2]};
+        if (p.forward.w != 0) { /* orthographic: parallel rays from the image plane */
+            for (int k = 0; k < 3; ++k) {
+                o[k] = camera->eye[k] + sx * right[k] + sy * up[k];
+                d[k] = forward[k];
+            }
+        } else {
+            normalize3(d);
+        }
         rays[i] = (Ray){
-            .origin = {camera->eye[0], camera->eye[1], camera->eye[2], 0},
+            .origin = {o[0], o[1], o[2], 0},
             .direction = {d[0], d[1], d[2], 3.4e38f},
             .importance = {1, 1, 1, 0},
             .info = {y * width + x, 0, 0, 0},

@@ -85,11 +85,36 @@ static void focus_follows_the_look_distance(void **state)
     assert_true(fabsf(c.focus - 6) < 1e-5f);
 }
 
+/* The projection is the first camera's; its size moves only towards a camera of the same
+ * projection: two orthographic cameras' widths are interpolated, and a perspective camera's
+ * fov never leaks into an orthographic one (nor the other way). */
+static void projection_sizes(void **state)
+{
+    (void)state;
+    vkrt_config_camera a = looking(0, 0), b = looking(30, 2), c;
+    a.ortho_width = 2;
+    a.fov_deg = b.fov_deg = 0;
+    b.ortho_width = 6;
+    vkrt_camera_between(&a, &b, 0.25f, &c);
+    assert_true(c.ortho_width == 3 && c.fov_deg == 0);
+    assert_yaw(&c, 7.5);
+    b = looking(30, 2); /* perspective, fov 40 */
+    vkrt_camera_between(&a, &b, 0.5f, &c);
+    assert_true(c.ortho_width == 2 && c.fov_deg == 0);
+    vkrt_camera_between(&b, &a, 0.5f, &c);
+    assert_true(c.ortho_width == 0 && c.fov_deg == 40);
+    b.fov_deg = 60;
+    vkrt_config_camera d = looking(0, 0);
+    vkrt_camera_between(&d, &b, 0.5f, &c);
+    assert_true(c.ortho_width == 0 && c.fov_deg == 50);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(ends_and_midpoints),
         cmocka_unit_test(focus_follows_the_look_distance),
+        cmocka_unit_test(projection_sizes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

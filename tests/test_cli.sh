@@ -73,6 +73,93 @@ check "frame 1 written" test -s "$tmp/fly01.png"
 check "two cameras without a frame number is refused" test $? -ne 0
 check "and says why" grep -q "frame number" "$tmp/err"
 
+# --camera N|NAME: one camera of a flythrough, by its number or its name, as a single frame (a
+# plain file name will do); Whitted at one sample has no random numbers, so it is the flythrough's
+# frame to the byte. The last camera is orthographic (`ortho W`).
+cat >"$tmp/named.cfg" <<CFG
+geometry $src/scenes/cornell/cornell.obj
+resolution 16 16
+light point 278 500 279 250000 250000 250000
+camera eye 278 273 -800 look 278 273 0 up 0 1 0 fov 40
+camera eye 300 273 -800 look 278 273 0 up 0 1 0 fov 40 name side
+camera eye 278 273 -800 look 278 273 0 up 0 1 0 ortho 700 name front
+output named%d.png
+CFG
+"$vkrt" render "$tmp/named.cfg" --quiet
+"$vkrt" render "$tmp/named.cfg" --camera 1 --quiet -o "$tmp/cam1.png"
+check "--camera 1 renders one frame into a plain file name" test $? -eq 0
+check "and it is the flythrough's frame 1" cmp -s "$tmp/cam1.png" "$tmp/named1.png"
+"$vkrt" render "$tmp/named.cfg" --camera front --quiet -o "$tmp/front.png"
+check "--camera NAME renders the camera of that name" cmp -s "$tmp/front.png" "$tmp/named2.png"
+check "the orthographic camera sees another picture than the perspective one at its place" \
+    sh -c "! cmp -s '$tmp/named0.png' '$tmp/named2.png'"
+"$vkrt" render "$tmp/named.cfg" --camera 3 -o "$tmp/nocam.png" 2>"$tmp/err"
+check "--camera 3 of 3 cameras exits 1" test $? -eq 1
+check "and lists the cameras" grep -q "^vkrt: --camera 3: no camera 3: the scene has 3 cameras, numbered from 0: 0 (no name), 1 'side', 2 'front'$" "$tmp/err"
+"$vkrt" render "$tmp/named.cfg" --camera top -o "$tmp/nocam.png" 2>"$tmp/err"
+check "--camera top (no such name) exits 1" test $? -eq 1
+check "and says so with the names" grep -q "^vkrt: --camera top: no camera named 'top': the scene has 3 cameras" "$tmp/err"
+"$vkrt" render "$tmp/named.cfg" --camera -o "$tmp/nocam.png" 2>"$tmp/err"
+check "--camera without a camera is refused" test $? -eq 2
+check "and says what it needs" grep -q -- "--camera needs a camera's number (from 0) or name, not '-o'" "$tmp/err"
+check "and nothing was written" test ! -e "$tmp/nocam.png"
+# --fps: the rate a file's camera animation is sampled at (a scene.cfg has none: the same frame).
+"$vkrt" render "$tmp/named.cfg" --camera 1 --fps 30 --quiet -o "$tmp/fps.png"
+check "--fps 30 exits 0" cmp -s "$tmp/fps.png" "$tmp/named1.png"
+for bad in 0 -24 x inf; do
+    "$vkrt" render "$tmp/named.cfg" --fps $bad -o "$tmp/fpsbad%d.png" 2>"$tmp/err"
+    check "--fps $bad is refused" test $? -eq 2
+    check "and the message names --fps" grep -q -- "--fps: '$bad' is not a" "$tmp/err"
+done
+"$vkrt" view "$tmp/named.cfg" --fps 0 2>"$tmp/err"
+check "view --fps 0 is refused" grep -q -- "--fps: '0' is not a positive number" "$tmp/err"
+"$vkrt" bench "$tmp/named.cfg" --camera 0 >/dev/null 2>"$tmp/err"
+check "bench --camera is refused" grep -q "vkrt bench does not take --camera (an option of vkrt render and view)" "$tmp/err"
+
+# --environment R G B over the scene's `environment` line: a camera that sees no geometry shows
+# the radiance given in every pixel, scaled by 2^exposure and through the sRGB curve (closed form).
+cat >"$tmp/away.cfg" <<CFG
+geometry $src/scenes/cornell/cornell.obj
+resolution 8 6
+environment 1 0 0
+light point 278 500 279 250000 250000 250000
+camera eye 278 273 -800 look 278 273 -1600 up 0 1 0 fov 40
+CFG
+srgb8() { # srgb8 LINEAR...: the 8-bit sRGB codes (IEC 61966-2-1, rounded to nearest)
+    awk 'BEGIN { for (i = 1; i < ARGC; ++i) { v = ARGV[i]; s = v <= 0.0031308 ? 12.92 * v : 1.055 * exp(log(v) / 2.4) - 0.055
+                 printf("%s%d", (i > 1 ? " " : ""), int(s * 255 + 0.5)) } print "" }' "$@"
+}
+pixel=${VKRT_PNG_PIXEL:?}
+"$vkrt" render "$tmp/away.cfg" --environment 0.025 0.15 0.35 --exposure 1 --quiet -o "$tmp/env.png"
+check "--environment R G B exits 0" test $? -eq 0
+check "a pixel that sees nothing is the radiance given x 2^exposure, sRGB-encoded ($(srgb8 0.05 0.3 0.7))" \
+    test "$("$pixel" "$tmp/env.png" 3 2)" = "$(srgb8 0.05 0.3 0.7)"
+check "and so is the opposite corner" test "$("$pixel" "$tmp/env.png" 7 5)" = "$(srgb8 0.05 0.3 0.7)"
+"$vkrt" render "$tmp/away.cfg" --quiet -o "$tmp/noenv.png"
+check "without it, the scene's environment line" test "$("$pixel" "$tmp/noenv.png" 3 2)" = "255 0 0"
+for bad in "1 2" "1 -2 3" "1 x 3"; do
+    # shellcheck disable=SC2086
+    "$vkrt" render "$tmp/away.cfg" --environment $bad -o "$tmp/envbad.png" 2>"$tmp/err"
+    check "--environment $bad is refused" test $? -eq 2
+    check "and the message names --environment" grep -q -- "^vkrt: --environment" "$tmp/err"
+done
+# --environment-map FILE, relative to the working folder: a 2 x 1 Radiance map of one colour,
+# (40, 100, 205) / 256 (RGBE with exponent 128), replaces the scene's environment (path traced:
+# a map lights the scene).
+printf '#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 2\n\050\144\315\200\050\144\315\200' >"$tmp/plain.hdr"
+(cd "$tmp" && "$vkrt" render away.cfg --environment-map plain.hdr --quiet -o envmap.png)
+check "--environment-map FILE exits 0" test $? -eq 0
+check "a pixel that sees nothing is the map's radiance, sRGB-encoded ($(srgb8 0.15625 0.390625 0.80078125))" \
+    test "$("$pixel" "$tmp/envmap.png" 3 2)" = "$(srgb8 0.15625 0.390625 0.80078125)"
+"$vkrt" render "$tmp/away.cfg" --environment-map "$tmp/nowhere.hdr" -o "$tmp/envbad.png" 2>"$tmp/err"
+check "a missing --environment-map exits 1" test $? -eq 1
+check "and names the option and the file" grep -q "^vkrt: --environment-map $tmp/nowhere.hdr: cannot open: No such file or directory$" "$tmp/err"
+"$vkrt" render "$tmp/away.cfg" --environment 1 1 1 --environment-map "$tmp/plain.hdr" -o "$tmp/envbad.png" 2>"$tmp/err"
+check "--environment with --environment-map is refused" test $? -eq 2
+check "and nothing was written" test ! -e "$tmp/envbad.png"
+"$vkrt" view "$tmp/away.cfg" --environment 1 1 2>"$tmp/err"
+check "view --environment with two numbers is refused" grep -q -- "--environment needs 3 numbers (R G B), got 2" "$tmp/err"
+
 # --frames A:B[:STEP]: only those frames, numbered as the output pattern numbers them.
 "$vkrt" render "$tmp/fly.cfg" --frames 1:2 -o "$tmp/fr%d.png" 2>"$tmp/err"
 check "--frames 1:2 exits 0" test $? -eq 0

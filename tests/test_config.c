@@ -287,6 +287,28 @@ static void test_flythrough(void **state)
     vkrt_config_free(&cfg);
 }
 
+/* `ortho W` in place of `fov F`, and `name NAME` among the optional parts. */
+static void test_orthographic_and_named_cameras(void **state)
+{
+    (void)state;
+    vkrt_config cfg;
+    parse_ok("geometry m.obj\n"
+             "camera eye 0 0 5 look 0 0 0 up 0 1 0 ortho 7.5\n"
+             "camera eye 0 0 5 look 0 0 0 up 0 1 0 ortho 2 name top aperture 0.1 focus 4\n"
+             "camera eye 0 0 5 look 0 0 0 up 0 1 0 fov 30 name "
+             "a123456789b123456789c123456789d123456789e123456789f123456789g12\n",
+             NULL, &cfg);
+    assert_int_equal(cfg.camera_count, 3);
+    assert_true(cfg.cameras[0].ortho_width == 7.5f && cfg.cameras[0].fov_deg == 0);
+    assert_string_equal(cfg.cameras[0].name, "");
+    assert_true(cfg.cameras[1].ortho_width == 2 && cfg.cameras[1].aperture == 0.1f &&
+                cfg.cameras[1].focus == 4);
+    assert_string_equal(cfg.cameras[1].name, "top");
+    assert_true(cfg.cameras[2].ortho_width == 0 && cfg.cameras[2].fov_deg == 30);
+    assert_int_equal(strlen(cfg.cameras[2].name), 63);
+    vkrt_config_free(&cfg);
+}
+
 static void test_many_lights_and_cameras(void **state)
 {
     (void)state;
@@ -567,6 +589,19 @@ static const bad_case bad_cases[] = {
     {G "camera eye 0 0 5 look 0 0 0 up 0 1 0 fov 45 60\n", "t.cfg:2: ", "camera: unexpected '60' after fov"},
     {G "camera eye 0 a 5 look 0 0 0 up 0 1 0 fov 45\n", "t.cfg:2: ", "camera eye y 'a' is not a number"},
     {G "camera eye 0 0 5 look 0 0 0 up 0 1 0 fov wide\n", "t.cfg:2: ", "camera fov 'wide' is not a number"},
+    /* orthographic cameras and names */
+    {G "camera eye 0 0 5 look 0 0 0 up 0 1 0 ortho 0\n", "t.cfg:2: ", "camera ortho (the view's width in scene units) must be positive and at most 1e+11, got 0"},
+    {G "camera eye 0 0 5 look 0 0 0 up 0 1 0 ortho -2\n", "t.cfg:2: ", "camera ortho (the view's width in scene units) must be positive"},
+    {G "camera eye 0 0 5 look 0 0 0 up 0 1 0 ortho 2e11\n", "t.cfg:2: ", "at most 1e+11, got 2e11"},
+    {G "camera eye 0 0 5 look 0 0 0 up 0 1 0 ortho wide\n", "t.cfg:2: ", "camera ortho 'wide' is not a number"},
+    {G "camera eye 0 0 5 look 0 0 0 up 0 1 0 ortho\n", "t.cfg:2: ", "camera ortho needs 1 number, got 0"},
+    {G "camera eye 0 0 5 look 0 0 0 up 0 1 0 fov 45 ortho 3\n", "t.cfg:2: ", "camera: unexpected 'ortho' after fov"},
+    {G "camera eye 0 0 5 look 0 0 0 up 0 1 0 ortho 3 fov 45\n", "t.cfg:2: ", "camera: unexpected 'fov' after ortho"},
+    {G "camera eye 0 0 5 look 0 0 0 up 0 1 0 width 3\n", "t.cfg:2: ", "camera: expected 'fov' or 'ortho' but found 'width'"},
+    {G "camera eye 0 0 5 look 0 0 0 up 0 1 0 fov 45 name\n", "t.cfg:2: ", "camera name needs a word"},
+    {G "camera eye 0 0 5 look 0 0 0 up 0 1 0 fov 45 name "
+       "a123456789b123456789c123456789d123456789e123456789f123456789g123\n", "t.cfg:2: ",
+     "camera name 'a123456789b123456789c123456789d123456789e123456789f123456789...' is longer than 63 bytes"},
     /* the first error wins, and its line is counted across CRLF, blanks and comments */
     {"# c\r\n\r\n" G "samples 0\r\nfoo\r\n", "t.cfg:4: ", "samples must be between 1 and 65536"},
     /* text that is not a scene.cfg */
@@ -749,6 +784,7 @@ int main(void)
         cmocka_unit_test(test_crlf_bom_and_no_final_newline),
         cmocka_unit_test(test_comments_and_whitespace),
         cmocka_unit_test(test_flythrough),
+        cmocka_unit_test(test_orthographic_and_named_cameras),
         cmocka_unit_test(test_many_lights_and_cameras),
         cmocka_unit_test(test_accel_names),
         cmocka_unit_test(test_integrator_names),

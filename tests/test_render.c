@@ -202,7 +202,9 @@ static d3 shade(const vkrt_scene *scene, d3 o, d3 d, int depth, d3 importance)
     return sum;
 }
 
-/* Pixel centres through the camera of scene.cfg's definition: vertical fov, row 0 on top. */
+/* Pixel centres through the camera of scene.cfg's definition: vertical fov, row 0 on top; or,
+ * orthographic, parallel rays along the view from the plane through the eye, ortho_width wide
+ * with square pixels. */
 static void reference_render(const vkrt_scene *scene, uint32_t w, uint32_t h, float *rgb)
 {
     const vkrt_config_camera *cam = &scene->cameras[0];
@@ -210,14 +212,17 @@ static void reference_render(const vkrt_scene *scene, uint32_t w, uint32_t h, fl
     d3 forward = normalize(sub(from_floats(cam->look), eye));
     d3 right = normalize(cross(forward, from_floats(cam->up)));
     d3 up = cross(right, forward);
-    double tan_half = tan(cam->fov_deg * M_PI / 360);
+    bool ortho = cam->ortho_width > 0;
     double aspect = (double)w / h;
+    double half_height = ortho ? cam->ortho_width / (2 * aspect) : tan(cam->fov_deg * M_PI / 360);
     for (uint32_t y = 0; y < h; ++y)
         for (uint32_t x = 0; x < w; ++x) {
-            double sx = (2 * (x + 0.5) / w - 1) * tan_half * aspect;
-            double sy = (1 - 2 * (y + 0.5) / h) * tan_half;
-            d3 d = normalize(add(forward, add(scale(right, sx), scale(up, sy))));
-            d3 c = shade(scene, eye, d, (int)scene->config.max_depth, make(1, 1, 1));
+            double sx = (2 * (x + 0.5) / w - 1) * half_height * aspect;
+            double sy = (1 - 2 * (y + 0.5) / h) * half_height;
+            d3 across = add(scale(right, sx), scale(up, sy));
+            d3 o = ortho ? add(eye, across) : eye;
+            d3 d = ortho ? forward : normalize(add(forward, across));
+            d3 c = shade(scene, o, d, (int)scene->config.max_depth, make(1, 1, 1));
             float *out = rgb + 3 * ((size_t)y * w + x);
             out[0] = (float)c.x;
             out[1] = (float)c.y;
@@ -302,29 +307,45 @@ static void test_cornell_point_light(void **state)
     compare_with_reference(cfg);
 }
 
-/* Every light kind at once, and an environment seen past the box's edges. */
-static void test_cornell_all_lights(void **state)
+/* The Cornell box's geometry under the scene.cfg lines given (lights, environment, camera),
+ * against the reference. */
+static void compare_cornell_with_reference(const char *lines)
 {
-    (void)state;
     char dir[] = "/tmp/vkrt-render-XXXXXX";
     assert_non_null(mkdtemp(dir));
     char path[4200];
-    snprintf(path, sizeof path, "%s/lights.cfg", dir);
+    snprintf(path, sizeof path, "%s/variant.cfg", dir);
     FILE *f = fopen(path, "w");
     assert_non_null(f);
-    fprintf(f,
-            "geometry %s\n"
-            "environment 0.1 0.2 0.3\n"
-            "light ambient 0.02 0.02 0.02\n"
-            "light directional 0.2 -0.3 1  0.5 0.4 0.3\n"
-            "light spot 278 540 278  0 -1 0  30  300000 250000 200000\n"
-            "light point 100 400 100  50000 60000 70000\n"
-            "camera eye 278 273 -800 look 278 273 0 up 0 1 0 fov 39.3077\n",
-            cornell_obj);
+    fprintf(f, "geometry %s\n%s", cornell_obj, lines);
     fclose(f);
     compare_with_reference(path);
     unlink(path);
     rmdir(dir);
+}
+
+/* Every light kind at once, and an environment seen past the box's edges. */
+static void test_cornell_all_lights(void **state)
+{
+    (void)state;
+    compare_cornell_with_reference("environment 0.1 0.2 0.3\n"
+                                   "light ambient 0.02 0.02 0.02\n"
+                                   "light directional 0.2 -0.3 1  0.5 0.4 0.3\n"
+                                   "light spot 278 540 278  0 -1 0  30  300000 250000 200000\n"
+                                   "light point 100 400 100  50000 60000 70000\n"
+                                   "camera eye 278 273 -800 look 278 273 0 up 0 1 0 fov 39.3077\n");
+}
+
+/* An orthographic view of the box from above and to the side (its walls, blocks, shadows and
+ * the environment past its edges), against the reference's parallel rays. */
+static void test_cornell_orthographic(void **state)
+{
+    (void)state;
+    compare_cornell_with_reference(
+        "environment 0.1 0.2 0.3\n"
+        "light ambient 0.05 0.05 0.05\n"
+        "light point 278 500 279.5  250000 250000 250000\n"
+        "camera eye 900 800 -600 look 278 273 279 up 0 1 0 ortho 900\n");
 }
 
 /* The Cornell box with its short block made of glass and its tall block a mirror (the OBJ's faces
@@ -524,6 +545,7 @@ int main(void)
         cmocka_unit_test(test_cornell_point_light),
         cmocka_unit_test(test_cornell_all_lights),
         cmocka_unit_test(test_cornell_mirror_and_glass),
+        cmocka_unit_test(test_cornell_orthographic),
         cmocka_unit_test(test_camera_up_of_any_length),
         cmocka_unit_test(test_scale_and_offset),
     };

@@ -58,8 +58,9 @@ static vkrt_config_camera make_camera(float ex, float ey, float ez, float lx, fl
         .eye = {ex, ey, ez}, .look = {lx, ly, lz}, .up = {ux, uy, uz}, .fov_deg = fov};
 }
 
-/* A level camera, one looking steeply down, and one whose world up is z and not unit length. */
-static vkrt_config_camera cameras[3];
+/* A level camera, one looking steeply down, and one whose world up is z and not unit length;
+ * ortho_camera is the first made orthographic. */
+static vkrt_config_camera cameras[3], ortho_camera;
 
 static int setup(void **state)
 {
@@ -67,6 +68,8 @@ static int setup(void **state)
     cameras[0] = make_camera(278, 273, -800, 278, 273, 0, 0, 1, 0, 39.3077f);
     cameras[1] = make_camera(-14, 2.5f, 0, 10, -20, 3, 0, 1, 0, 60);
     cameras[2] = make_camera(1, 2, 3, 4, -1, 2.5f, 0, 0, 7, 50);
+    ortho_camera = make_camera(278, 273, -800, 278, 273, 0, 0, 1, 0, 0);
+    ortho_camera.ortho_width = 600;
     return 0;
 }
 
@@ -307,9 +310,9 @@ static void test_frame_the_scene(void **state)
 static void test_camera_line_reads_back_exactly(void **state)
 {
     (void)state;
-    for (int c = 0; c < 3; ++c) {
+    for (int c = 0; c < 4; ++c) {
         view_camera cam;
-        view_camera_init(&cam, &cameras[c], 1.37f);
+        view_camera_init(&cam, c < 3 ? &cameras[c] : &ortho_camera, 1.37f);
         for (int step = 0; step < 4; ++step) {
             view_camera_look(&cam, 13.3f * step - 7, 3.1f - step);
             view_camera_move(&cam, 1, step & 1 ? 1.0f : -1.0f, step == 2, 0.731f);
@@ -332,6 +335,41 @@ static void test_camera_line_reads_back_exactly(void **state)
     vkrt_error err = {{0}};
     assert_false(view_camera_format(&cam, tiny, sizeof tiny, &err));
     assert_non_null(strstr(err.msg, "bytes"));
+}
+
+/* F with an orthographic camera: the direction kept, every corner of the box in front of the
+ * image plane and inside the view, whose width fits the bounding sphere on the tighter side. */
+static void test_frame_the_scene_orthographic(void **state)
+{
+    (void)state;
+    const float lo[3] = {-20, -1, -9}, hi[3] = {18, 15, 9};
+    double radius = 0.5 * sqrt(38.0 * 38 + 16 * 16 + 18 * 18);
+    float aspects[] = {1, 16.0f / 9, 0.5f};
+    for (int a = 0; a < 3; ++a) {
+        view_camera cam;
+        view_camera_init(&cam, &ortho_camera, 1);
+        view_camera_look(&cam, 37, 11);
+        float before[3], forward[3], right[3], up[3];
+        view_camera_forward(&cam, before);
+        view_camera_frame(&cam, lo, hi, aspects[a]);
+        vkrt_config_camera c;
+        view_camera_to_config(&cam, &c);
+        view_direction(&c, forward);
+        assert_true(angle_degrees(before, forward) < 1e-4);
+        double width = 2 * radius * fmax(1, aspects[a]);
+        assert_true(fabs(c.ortho_width - width) < 1e-5 * width);
+        cross(forward, c.up, right);
+        normalize(right);
+        cross(right, forward, up);
+        for (int corner = 0; corner < 8; ++corner) {
+            float to[3];
+            for (int i = 0; i < 3; ++i)
+                to[i] = ((corner >> i & 1) ? hi[i] : lo[i]) - c.eye[i];
+            assert_true(dot(to, forward) > 0);
+            assert_true(fabs(dot(to, right)) <= 0.5 * c.ortho_width * (1 + 1e-5));
+            assert_true(fabs(dot(to, up)) <= 0.5 * c.ortho_width / aspects[a] * (1 + 1e-5));
+        }
+    }
 }
 
 static void test_reset_by_init(void **state)
@@ -358,6 +396,7 @@ int main(void)
         cmocka_unit_test(test_moves),
         cmocka_unit_test(test_speed_steps),
         cmocka_unit_test(test_frame_the_scene),
+        cmocka_unit_test(test_frame_the_scene_orthographic),
         cmocka_unit_test(test_camera_line_reads_back_exactly),
         cmocka_unit_test(test_reset_by_init),
     };

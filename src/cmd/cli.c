@@ -27,6 +27,14 @@ const char *vkrt_usage(void)
            "  --accel A         auto | brute | grid | bvh | kdtree (overrides `accel`)\n"
            "  --bvh-splits S    auto | on | off: spatial splits in the BVH, which put a\n"
            "                    triangle in several leaves (overrides `bvh-splits`)\n"
+           "  --camera N|NAME   render only the scene's camera N (from 0, in the order the\n"
+           "                    scene lists them) or the one named NAME, as a single frame\n"
+           "  --fps F           frames per second at which a scene file's camera animation\n"
+           "                    is sampled into frames (default 24)\n"
+           "  --environment R G B  the radiance of rays that miss, each >= 0 (overrides the\n"
+           "                    scene's `environment` and `environment-map`)\n"
+           "  --environment-map FILE  an equirectangular map (.exr, .hdr, ...; relative to\n"
+           "                    the working folder) as the environment, over the scene's\n"
            "  --integrator I    auto | whitted | path (overrides `integrator`): Whitted's\n"
            "                    delta lights and perfect mirrors, or the path tracer\n"
            "  --clamp L         scale each contribution a path adds to a pixel down so that\n"
@@ -81,8 +89,9 @@ const char *vkrt_usage(void)
            "  --bvh-cost C  --kd-cost C  --loads storage|texel  --walk one-loop|nested\n"
            "\n"
            "view options: --width, --height, --spp, --accel, --bvh-splits, --integrator, --clamp,\n"
-           "  --exposure, --target-error, --device, --validation, --quiet, --no-cache as for\n"
-           "  render; the window opens at the scene's resolution, from its first camera, and a\n"
+           "  --exposure, --target-error, --camera, --fps, --environment, --environment-map,\n"
+           "  --device, --validation, --quiet, --no-cache as for render; the window opens at the\n"
+           "  scene's resolution, from its first camera (or --camera's), and a\n"
            "  still picture gathers samples until it has --spp of them (default: the scene's\n"
            "  `samples`, at least 16), or with --target-error until every pixel is within it (--spp\n"
            "  the cap)\n"
@@ -144,6 +153,16 @@ static bool parse_float(const char *option, const char *text, float *out, vkrt_e
     return true;
 }
 
+/* A float option that must be positive (and finite). */
+static bool parse_positive(const char *option, const char *text, float *out, vkrt_error *err)
+{
+    if (!parse_float(option, text, out, err))
+        return false;
+    if (!(*out > 0))
+        return vkrt_error_set(err, "%s: '%s' is not a positive number", option, text);
+    return true;
+}
+
 /* Which commands take each option; the parser refuses an option its command does not take. */
 enum { RENDER = 1 << VKRT_COMMAND_RENDER, VIEW = 1 << VKRT_COMMAND_VIEW,
        BENCH = 1 << VKRT_COMMAND_BENCH, ALL = RENDER | VIEW | BENCH };
@@ -165,7 +184,8 @@ static const struct known_option {
     {"--loads", BENCH},
     {"--walk", BENCH},       {"--integrator", RENDER | VIEW}, {"--clamp", RENDER | VIEW},
     {"--target-error", RENDER | VIEW},                  {"--sample-count-image", RENDER},
-    {"--bvh-splits", ALL},
+    {"--bvh-splits", ALL},   {"--camera", RENDER | VIEW}, {"--fps", RENDER | VIEW},
+    {"--environment", RENDER | VIEW},                   {"--environment-map", RENDER | VIEW},
 };
 
 static const char *command_name(vkrt_command command)
@@ -229,16 +249,10 @@ static bool parse_common(const char *arg, const char *value, vkrt_common_options
                                   value ? value : "");
     } else if (strcmp(arg, "--clamp") == 0) {
         *consumed = 1;
-        if (!parse_float(arg, value, &c->clamp, err))
-            return false;
-        if (!(c->clamp > 0))
-            return vkrt_error_set(err, "--clamp: '%s' is not a positive number", value);
+        return parse_positive(arg, value, &c->clamp, err);
     } else if (strcmp(arg, "--target-error") == 0) {
         *consumed = 1;
-        if (!parse_float(arg, value, &c->target_error, err))
-            return false;
-        if (!(c->target_error > 0))
-            return vkrt_error_set(err, "--target-error: '%s' is not a positive number", value);
+        return parse_positive(arg, value, &c->target_error, err);
     } else if (strcmp(arg, "--validation") == 0) {
         c->validation = true;
     } else if (strcmp(arg, "--quiet") == 0) {
@@ -249,6 +263,45 @@ static bool parse_common(const char *arg, const char *value, vkrt_common_options
         c->verbose = true;
     } else {
         *used = false;
+    }
+    return true;
+}
+
+/* Parses a scene option (render and view) into o; *used says whether arg was one, *consumed how
+ * many of the `count` arguments after it (values) were its values. */
+static bool parse_scene_option(const char *arg, char *const *values, int count,
+                               vkrt_scene_options *o, bool *used, int *consumed, vkrt_error *err)
+{
+    *used = true;
+    *consumed = 1;
+    const char *value = count > 0 ? values[0] : NULL;
+    if (strcmp(arg, "--camera") == 0) {
+        /* A name never starts with '-' here: `--camera -o x.png` forgot the camera. */
+        if (!value || !*value || value[0] == '-')
+            return vkrt_error_set(err, "--camera needs a camera's number (from 0) or name%s%s%s",
+                                  value ? ", not '" : "", value ? value : "", value ? "'" : "");
+        o->camera = value;
+    } else if (strcmp(arg, "--fps") == 0) {
+        return parse_positive(arg, value, &o->fps, err);
+    } else if (strcmp(arg, "--environment") == 0) {
+        for (int i = 0; i < 3; ++i) {
+            if (i >= count)
+                return vkrt_error_set(err, "--environment needs 3 numbers (R G B), got %d", i);
+            if (!parse_float(arg, values[i], &o->environment[i], err))
+                return false;
+            if (!(o->environment[i] >= 0))
+                return vkrt_error_set(err, "--environment: '%s' is negative (radiance is >= 0)",
+                                      values[i]);
+        }
+        *consumed = 3;
+        o->environment_given = true;
+    } else if (strcmp(arg, "--environment-map") == 0) {
+        if (!value || !*value)
+            return vkrt_error_set(err, "--environment-map needs a path");
+        o->environment_map = value;
+    } else {
+        *used = false;
+        *consumed = 0;
     }
     return true;
 }
@@ -425,6 +478,8 @@ bool vkrt_command_line_parse(int argc, char **argv, vkrt_command_line *cl, vkrt_
                                   : cl->command == VKRT_COMMAND_VIEW ? &cl->view.common
                                                                      : &cl->bench.common;
     common->device = -1;
+    cl->render.scene_options.fps = VKRT_LOAD_DEFAULT_FPS;
+    cl->view.scene_options.fps = VKRT_LOAD_DEFAULT_FPS;
     const char *env = getenv("VKRT_VALIDATION");
     common->validation = env && strcmp(env, "0") != 0 && *env;
     const char *scene = NULL;
@@ -454,6 +509,12 @@ bool vkrt_command_line_parse(int argc, char **argv, vkrt_command_line *cl, vkrt_
         bool used;
         int consumed;
         bool ok = parse_common(arg, value, common, &used, &consumed, err);
+        vkrt_scene_options *scene_options = cl->command == VKRT_COMMAND_RENDER
+                                                ? &cl->render.scene_options
+                                                : &cl->view.scene_options;
+        if (ok && !used && cl->command != VKRT_COMMAND_BENCH)
+            ok = parse_scene_option(arg, argv + i + 1, argc - i - 1, scene_options, &used,
+                                    &consumed, err);
         if (ok && !used)
             ok = cl->command == VKRT_COMMAND_RENDER ? parse_render(arg, value, &cl->render,
                                                                    &consumed, err)
@@ -471,6 +532,11 @@ bool vkrt_command_line_parse(int argc, char **argv, vkrt_command_line *cl, vkrt_
     if (cl->render.devices && cl->render.common.device >= 0)
         return vkrt_error_set(err, "--device and --devices: give one (--devices %d for that device "
                               "alone)", cl->render.common.device);
+    const vkrt_scene_options *so = cl->command == VKRT_COMMAND_VIEW ? &cl->view.scene_options
+                                                                    : &cl->render.scene_options;
+    if (so->environment_given && so->environment_map)
+        return vkrt_error_set(err, "--environment and --environment-map: give one (a map is the "
+                                   "whole environment)");
     if (cl->render.sample_count_image && !cl->render.common.target_error)
         return vkrt_error_set(err, "--sample-count-image needs --target-error (without it every "
                                    "pixel has --spp samples)");

@@ -13,6 +13,7 @@
 #include "../error.h"
 #include "../render/renderer.h"
 #include "../scene/config.h"
+#include "../scene/loader.h"
 
 typedef enum vkrt_command {
     VKRT_COMMAND_NONE = 0,
@@ -44,8 +45,23 @@ typedef struct vkrt_common_options {
     bool no_cache;            /* --no-cache: compile every kernel (gpu/spirv_cache.h) */
 } vkrt_common_options;
 
+/* What render and view ask of the scene over what its files say (applied to the loaded scene by
+ * scene_options.h, but fps, which the loader takes). */
+typedef struct vkrt_scene_options {
+    const char *camera;          /* --camera N|NAME: only that camera of the scene, as one frame;
+                                    NULL when not given (every camera, one frame each) */
+    float fps;                   /* --fps: frames per second at which a file's camera animation
+                                    is sampled into frames, positive and finite (the loader's
+                                    vkrt_load_options.fps); VKRT_LOAD_DEFAULT_FPS when not given */
+    bool environment_given;      /* --environment R G B: rays that miss see this radiance */
+    float environment[3];        /* each finite and >= 0 */
+    const char *environment_map; /* --environment-map FILE, the path as given (relative to the
+                                    working folder); NULL when not given */
+} vkrt_scene_options;
+
 typedef struct vkrt_render_options {
     vkrt_common_options common;
+    vkrt_scene_options scene_options;
     const char *scene_path;
     const char *output;       /* -o: overrides the scene's output; NULL when not given */
     uint32_t samples;         /* --spp; 0 when not given */
@@ -64,6 +80,7 @@ typedef struct vkrt_render_options {
 
 typedef struct vkrt_view_options {
     vkrt_common_options common;
+    vkrt_scene_options scene_options;
     const char *scene_path;
     uint32_t samples;         /* --spp; 0 when not given */
     float exposure;           /* --exposure, stops */

@@ -17,6 +17,7 @@
 #include "../scene/scene.h"
 #include "frame_writer.h"
 #include "report.h"
+#include "scene_options.h"
 
 /* The folder part of path must exist before any frame is rendered: failing after minutes of GPU
  * work for a typo in a folder name would waste them. */
@@ -297,9 +298,17 @@ int vkrt_cmd_render(const vkrt_command_line *cl, double main_ms)
     early_context early = {.joined = true};
     if (!opts->devices)
         early_context_start(&early, opts);
-    if (!vkrt_scene_load(opts->scene_path, &scene, &err)) {
+    vkrt_load_options load = {.fps = opts->scene_options.fps};
+    if (!vkrt_scene_load_with(opts->scene_path, &load, &scene, &err)) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
         early_context_discard(&early);
+        return 1;
+    }
+    if (!vkrt_scene_options_apply(&opts->scene_options, &scene,
+                                  opts->common.quiet ? NULL : stderr, &err)) {
+        fprintf(stderr, "vkrt: %s\n", err.msg);
+        early_context_discard(&early);
+        vkrt_scene_free(&scene);
         return 1;
     }
     clock.scene = vkrt_clock_ms();

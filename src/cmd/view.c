@@ -7,14 +7,22 @@
 #include "../scene/scene.h"
 #include "../view/viewer.h"
 #include "render_desc.h"
+#include "scene_options.h"
 
 int vkrt_cmd_view(const vkrt_command_line *cl)
 {
     const vkrt_view_options *opts = &cl->view;
     vkrt_error err = {{0}};
     vkrt_scene scene;
-    if (!vkrt_scene_load(opts->scene_path, &scene, &err)) {
+    vkrt_load_options load = {.fps = opts->scene_options.fps};
+    if (!vkrt_scene_load_with(opts->scene_path, &load, &scene, &err)) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
+        return 1;
+    }
+    if (!vkrt_scene_options_apply(&opts->scene_options, &scene,
+                                  opts->common.quiet ? NULL : stderr, &err)) {
+        fprintf(stderr, "vkrt: %s\n", err.msg);
+        vkrt_scene_free(&scene);
         return 1;
     }
     if (!opts->common.quiet)

@@ -28,6 +28,18 @@ static void cross3(const float a[3], const float b[3], float out[3])
     out[2] = a[0] * b[1] - a[1] * b[0];
 }
 
+/* The thin lens (raygen.comp): its radius in right.w, the distance in focus in up.w. */
+static void set_lens(const vkrt_config_camera *camera, FrameParams *params)
+{
+    if (camera->aperture > 0.0f) {
+        float d[3] = {camera->look[0] - camera->eye[0], camera->look[1] - camera->eye[1],
+                      camera->look[2] - camera->eye[2]};
+        params->right.w = camera->aperture;
+        params->up.w = camera->focus > 0.0f ? camera->focus
+                                            : sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    }
+}
+
 /* Camera basis of a right-handed camera looking down -z in its own space: right = forward x up. */
 void vkrt_camera_params(const vkrt_config_camera *camera, uint32_t width, uint32_t height,
                         FrameParams *params)
@@ -41,21 +53,25 @@ void vkrt_camera_params(const vkrt_config_camera *camera, uint32_t width, uint32
     cross3(forward, given_up, right);
     normalize3(right);
     cross3(right, forward, up);
-    float tan_half = tanf(radians(camera->fov_deg) * 0.5f);
     float aspect = (float)width / (float)height;
     params->eye = (vec4){camera->eye[0], camera->eye[1], camera->eye[2], 0};
     params->forward = (vec4){forward[0], forward[1], forward[2], 0};
+    if (camera->ortho_width > 0.0f) {
+        /* Orthographic: right and up span half the view in scene units, and forward.w says so
+         * (raygen.comp). Square pixels: the height is the width over the aspect. */
+        float half_width = 0.5f * camera->ortho_width, half_height = half_width / aspect;
+        params->forward.w = 1.0f;
+        params->right = (vec4){right[0] * half_width, right[1] * half_width,
+                               right[2] * half_width, 0};
+        params->up = (vec4){up[0] * half_height, up[1] * half_height, up[2] * half_height, 0};
+        set_lens(camera, params);
+        return;
+    }
+    float tan_half = tanf(radians(camera->fov_deg) * 0.5f);
     params->right = (vec4){right[0] * tan_half * aspect, right[1] * tan_half * aspect,
                            right[2] * tan_half * aspect, 0};
     params->up = (vec4){up[0] * tan_half, up[1] * tan_half, up[2] * tan_half, 0};
-    /* The thin lens (raygen.comp): its radius in right.w, the distance in focus in up.w. */
-    if (camera->aperture > 0.0f) {
-        float d[3] = {camera->look[0] - camera->eye[0], camera->look[1] - camera->eye[1],
-                      camera->look[2] - camera->eye[2]};
-        params->right.w = camera->aperture;
-        params->up.w = camera->focus > 0.0f ? camera->focus
-                                            : sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    }
+    set_lens(camera, params);
 }
 
 /* The rotation of a camera's frame as a unit quaternion (w, x, y, z): the matrix whose columns
@@ -144,7 +160,13 @@ void vkrt_camera_between(const vkrt_config_camera *a, const vkrt_config_camera *
         out->look[i] = out->eye[i] - (float)back[i];
         out->up[i] = (float)up[i];
     }
-    out->fov_deg = (1 - t) * a->fov_deg + t * b->fov_deg;
+    /* The projection is a's; its size moves towards b's where b has the same projection (a
+     * perspective camera's fov, an orthographic one's width), and stays a's where it has not. */
+    bool a_ortho = a->ortho_width > 0, b_ortho = b->ortho_width > 0;
+    if (!a_ortho && !b_ortho)
+        out->fov_deg = (1 - t) * a->fov_deg + t * b->fov_deg;
+    else if (a_ortho && b_ortho)
+        out->ortho_width = (1 - t) * a->ortho_width + t * b->ortho_width;
     /* look is now one unit ahead: the focus distance that defaulted to |look - eye| is kept. */
     if (a->aperture > 0 && !(a->focus > 0)) {
         float da = 0, db = 0;

@@ -530,9 +530,12 @@ static bool build_environment(const vkrt_config *cfg, LightInfo *info, float **f
     *count = 0;
     if (!cfg->environment_map)
         return true;
-    char referrer[64];
-    snprintf(referrer, sizeof referrer, "%s:%d", cfg->path ? cfg->path : "scene.cfg",
-             cfg->environment_map_line);
+    /* Where the map was named: a scene.cfg line, or (line 0) the command line, whose message
+     * needs no referrer ("environment-map 'sky.hdr': ..."). */
+    char referrer[64] = "";
+    if (cfg->environment_map_line > 0)
+        snprintf(referrer, sizeof referrer, "%s:%d", cfg->path ? cfg->path : "scene.cfg",
+                 cfg->environment_map_line);
     vkrt_envmap_image image;
     vkrt_envmap_distribution dist;
     if (!vkrt_envmap_load(cfg->environment_map, referrer, &image, err))

@@ -22,7 +22,7 @@
 
 /* Limits. A scene.cfg is short; anything far past these is a mistake or not a scene.cfg. */
 enum {
-    MAX_TOKENS = VKRT_TEXT_MAX_TOKENS, /* the longest valid line (camera) has 15 */
+    MAX_TOKENS = VKRT_TEXT_MAX_TOKENS, /* the longest valid line (camera) has 21 */
     MAX_SIZE = 16384,
     MAX_SAMPLES = 65536,
     MAX_DEPTH = 64,
@@ -606,11 +606,21 @@ static bool kw_light(parser *p, const tokens *t)
     return true;
 }
 
+/* The fourth part of a camera line names its projection: `fov F` (perspective) or `ortho W`. */
+static bool is_camera_part(const char *tok)
+{
+    static const char *const names[] = {"eye", "look", "up", "fov", "ortho"};
+    for (size_t j = 0; j < sizeof names / sizeof *names; j++)
+        if (strcmp(tok, names[j]) == 0)
+            return true;
+    return false;
+}
+
 static bool kw_camera(parser *p, const tokens *t)
 {
     char buf[SHOWN_TOKEN_BYTES + 4];
-    static const char *const usage =
-        "camera eye X Y Z look X Y Z up X Y Z fov F [aperture A] [focus D]";
+    static const char *const usage = "camera eye X Y Z look X Y Z up X Y Z fov F|ortho W "
+                                     "[aperture A] [focus D] [name NAME]";
     static const struct {
         const char *name;
         int numbers;
@@ -622,50 +632,65 @@ static bool kw_camera(parser *p, const tokens *t)
     float *dest[4] = {c.eye, c.look, c.up, &c.fov_deg};
 
     int at = 1;
+    bool ortho = false;
     for (int i = 0; i < 4; i++) {
         const char *name = parts[i].name;
         if (at >= t->count)
-            return fail(p, "camera is missing '%s' (write: %s)", name, usage);
+            return fail(p, "camera is missing '%s' (write: %s)", i == 3 ? "fov' or 'ortho" : name,
+                        usage);
+        /* The projection: `ortho W` in place of `fov F` makes an orthographic camera. */
+        ortho = i == 3 && at < MAX_TOKENS && strcmp(t->tok[at], "ortho") == 0;
+        if (ortho) {
+            name = "ortho";
+            dest[3] = &c.ortho_width;
+        }
         if (at >= MAX_TOKENS || strcmp(t->tok[at], name) != 0)
-            return fail(p, "camera: expected '%s' but found '%s' (write: %s)", name,
+            return fail(p, "camera: expected '%s' but found '%s' (write: %s)",
+                        i == 3 ? "fov' or 'ortho" : name,
                         at < MAX_TOKENS ? shown(t->tok[at], buf) : "...", usage);
         at++;
         int n = parts[i].numbers;
         /* Count the numbers up to the next word, so "eye 1 2 look" says "got 2". */
         int got = 0;
-        while (got < n && at + got < t->count && at + got < MAX_TOKENS) {
-            const char *tok = t->tok[at + got];
-            bool is_part = false;
-            for (int j = 0; j < 4; j++)
-                is_part = is_part || strcmp(tok, parts[j].name) == 0;
-            if (is_part)
-                break;
+        while (got < n && at + got < t->count && at + got < MAX_TOKENS &&
+               !is_camera_part(t->tok[at + got]))
             got++;
-        }
         if (got < n)
             return fail(p, "camera %s needs %d number%s, got %d", name, n, n == 1 ? "" : "s",
                         got);
         char what[32];
+        snprintf(what, sizeof what, "camera %s", name);
         if (n == 3) {
-            snprintf(what, sizeof what, "camera %s", name);
             bool point = i < 2; /* eye and look are points; up is a direction */
             if (!(point ? parse_point : parse_vec3)(p, t, at, what, dest[i]))
                 return false;
-        } else if (!parse_float(p, t->tok[at], "camera fov", dest[i])) {
+        } else if (!parse_float(p, t->tok[at], what, dest[i])) {
             return false;
         }
         at += n;
     }
-    /* The thin lens, optional: `aperture A` (its radius) and `focus D`, in either order. */
+    const char *projection_token = t->tok[at - 1];
+    /* Then, optional and in any order: the thin lens (`aperture A`, its radius, and `focus D`)
+     * and the camera's name (`name NAME`, what --camera NAME picks). */
     bool focus_given = false;
     while (at < t->count && at < MAX_TOKENS) {
         const char *word = t->tok[at];
         bool is_aperture = strcmp(word, "aperture") == 0, is_focus = strcmp(word, "focus") == 0;
-        if (!is_aperture && !is_focus)
-            return fail(p, "camera: unexpected '%s' after fov (write: %s)", shown(word, buf),
-                        usage);
+        bool is_name = strcmp(word, "name") == 0;
+        if (!is_aperture && !is_focus && !is_name)
+            return fail(p, "camera: unexpected '%s' after %s (write: %s)", shown(word, buf),
+                        ortho ? "ortho" : "fov", usage);
         if (at + 1 >= t->count || at + 1 >= MAX_TOKENS)
-            return fail(p, "camera %s needs a number", word);
+            return fail(p, "camera %s needs a %s", word, is_name ? "word" : "number");
+        if (is_name) {
+            const char *name = t->tok[at + 1];
+            if (strlen(name) >= sizeof c.name)
+                return fail(p, "camera name '%s' is longer than %zu bytes", shown(name, buf),
+                            sizeof c.name - 1);
+            memcpy(c.name, name, strlen(name) + 1);
+            at += 2;
+            continue;
+        }
         float *value = is_aperture ? &c.aperture : &c.focus;
         if (!parse_float(p, t->tok[at + 1], is_aperture ? "camera aperture" : "camera focus",
                          value))
@@ -680,14 +705,18 @@ static bool kw_camera(parser *p, const tokens *t)
         at += 2;
     }
     if (at < t->count)
-        return fail(p, "camera: unexpected '%s' after fov",
-                    at < MAX_TOKENS ? shown(t->tok[at], buf) : "...");
+        return fail(p, "camera: unexpected '%s' after %s",
+                    at < MAX_TOKENS ? shown(t->tok[at], buf) : "...", ortho ? "ortho" : "fov");
     if (focus_given && c.aperture == 0.0f)
         return fail(p, "camera focus needs an aperture (a pinhole is in focus everywhere)");
 
-    if (!(c.fov_deg > 0.0f && c.fov_deg < 180.0f))
+    if (ortho && !(c.ortho_width > 0.0f && c.ortho_width <= VKRT_COORDINATE_LIMIT))
+        return fail(p, "camera ortho (the view's width in scene units) must be positive and at "
+                       "most %g, got %s",
+                    VKRT_COORDINATE_LIMIT, shown(projection_token, buf));
+    if (!ortho && !(c.fov_deg > 0.0f && c.fov_deg < 180.0f))
         return fail(p, "camera fov must be between 0 and 180 degrees (exclusive), got %s",
-                    shown(t->tok[at - 1], buf));
+                    shown(projection_token, buf));
     /* In double: the difference of two finite floats may not be a finite float. */
     double view[3] = {(double)c.look[0] - c.eye[0], (double)c.look[1] - c.eye[1],
                       (double)c.look[2] - c.eye[2]};

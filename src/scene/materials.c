@@ -285,11 +285,27 @@ static bool default_material(vkrt_scene_materials *out, vkrt_scene_material *mat
     return find_or_add_shader(out, "diffuse", NULL, "(default material)", &mat->shader, err);
 }
 
+/* The material file's `environment` entry, which takes the place of scene.cfg's colour; NULL
+ * where there is none. */
+static const vkrt_material_def *file_environment(const vkrt_material_file *file)
+{
+    return file ? vkrt_material_file_find(file, "environment") : NULL;
+}
+
+bool vkrt_scene_materials_update_environment(vkrt_scene_materials *m, const vkrt_config *cfg,
+                                             const vkrt_material_file *file)
+{
+    if (file_environment(file))
+        return false;
+    memcpy(m->list[m->environment].params, cfg->environment, sizeof cfg->environment);
+    return true;
+}
+
 static bool environment_material(vkrt_scene_materials *out, vkrt_scene_material *mat,
                                  const vkrt_config *cfg, const vkrt_material_file *file,
                                  vkrt_error *err)
 {
-    const vkrt_material_def *def = file ? vkrt_material_file_find(file, "environment") : NULL;
+    const vkrt_material_def *def = file_environment(file);
     if (def)
         return from_definition(out, mat, file, def, err);
     if (!init_material(mat, "environment", cfg->path ? cfg->path : "(scene)", err))

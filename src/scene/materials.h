@@ -72,6 +72,12 @@ bool vkrt_scene_materials_resolve(const vkrt_config *cfg, const vkrt_model *mode
                                   const vkrt_material_file *file, vkrt_scene_materials *out,
                                   vkrt_error *err);
 
+/* After cfg->environment has changed (vkrt_scene_set_environment): the built-in constant
+ * environment takes its radiance. Returns false, changing nothing, where file's `environment`
+ * entry is the environment: as with scene.cfg's `environment` line, the entry takes its place. */
+bool vkrt_scene_materials_update_environment(vkrt_scene_materials *m, const vkrt_config *cfg,
+                                             const vkrt_material_file *file);
+
 /* Frees and zeroes. Safe on a zeroed struct. */
 void vkrt_scene_materials_free(vkrt_scene_materials *m);
 

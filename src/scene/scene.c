@@ -1,6 +1,8 @@
 /* scene.c: loading a scene.cfg with everything it names (see scene.h). */
+#define _POSIX_C_SOURCE 200809L
 #include "scene.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -201,6 +203,78 @@ bool vkrt_scene_load_with(const char *path, const vkrt_load_options *options, vk
         vkrt_scene_free(scene);
         return false;
     }
+    return true;
+}
+
+/* Writes into out (size bytes) what the scene has: "the scene has 3 cameras, numbered from 0:
+ * 0 'front', 1 (no name), 2 'top'", the first few listed. */
+static void describe_cameras(const vkrt_scene *scene, char *out, size_t size)
+{
+    enum { LISTED = 8 };
+    uint32_t count = scene->camera_count;
+    size_t used = (size_t)snprintf(out, size, "the scene has %u camera%s, numbered from 0",
+                                   count, count == 1 ? "" : "s");
+    for (uint32_t i = 0; i < count && i < LISTED && used < size; ++i) {
+        const char *name = scene->cameras[i].name;
+        used += (size_t)snprintf(out + used, size - used, "%s %u %s%s%s", i ? "," : ":", i,
+                                 name[0] ? "'" : "(no name)", name, name[0] ? "'" : "");
+    }
+    if (count > LISTED && used < size)
+        snprintf(out + used, size - used, ", ... %u", count - 1);
+}
+
+bool vkrt_scene_select_camera(vkrt_scene *scene, const char *which, vkrt_error *err)
+{
+    uint32_t count = scene->camera_count;
+    char *end;
+    errno = 0;
+    unsigned long long number = strtoull(which, &end, 10);
+    bool is_number = which[0] >= '0' && which[0] <= '9' && *end == '\0' && errno == 0;
+    char about[600];
+    if (is_number) {
+        if (number < count) {
+            scene->cameras += number;
+            scene->camera_count = 1;
+            return true;
+        }
+        describe_cameras(scene, about, sizeof about);
+        return vkrt_error_set(err, "no camera %s: %s", which, about);
+    }
+    for (uint32_t i = 0; i < count; ++i)
+        if (strcmp(scene->cameras[i].name, which) == 0) {
+            scene->cameras += i;
+            scene->camera_count = 1;
+            return true;
+        }
+    describe_cameras(scene, about, sizeof about);
+    return vkrt_error_set(err, "no camera named '%s': %s", which, about);
+}
+
+bool vkrt_scene_set_environment(vkrt_scene *scene, const float radiance[3], const char *map,
+                                bool *constant_used, vkrt_error *err)
+{
+    vkrt_config *cfg = &scene->config;
+    if (map) {
+        char *copy = strdup(map);
+        if (!copy)
+            return vkrt_error_set(err, "out of memory");
+        free(cfg->environment_map);
+        cfg->environment_map = copy;
+        cfg->environment_map_line = 0; /* named on the command line, not on a line */
+        cfg->environment_scale = 1;
+        cfg->environment_rotate = 0;
+    }
+    bool used = false;
+    if (radiance) {
+        free(cfg->environment_map);
+        cfg->environment_map = NULL;
+        cfg->environment_map_line = 0;
+        memcpy(cfg->environment, radiance, sizeof cfg->environment);
+        used = vkrt_scene_materials_update_environment(
+            &scene->materials, cfg, cfg->materials ? &scene->material_file : NULL);
+    }
+    if (constant_used)
+        *constant_used = used;
     return true;
 }
 

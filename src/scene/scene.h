@@ -58,6 +58,23 @@ bool vkrt_scene_load_geometry(const char *path, vkrt_scene *scene, vkrt_error *e
  * model's lights, then scene.cfg's; scene.cfg's cameras. False only when out of memory. */
 bool vkrt_scene_compose(vkrt_scene *scene, vkrt_error *err);
 
+/* Keeps only the camera `which` names (what `--camera` picks): a whole number N, the scene's
+ * camera N counted from 0 in the order scene->cameras lists them, or else the name of one (the
+ * first of that name, compared exactly). scene->cameras then points at it and camera_count is
+ * 1: a flythrough becomes that one frame. On failure returns false with err saying what the
+ * scene has ("no camera named 'x': the scene has 3 cameras, numbered from 0: 0 'front', 1
+ * 'top', 2 (no name)", at most a few listed) and leaves the scene as it was. */
+bool vkrt_scene_select_camera(vkrt_scene *scene, const char *which, vkrt_error *err);
+
+/* Replaces the scene's environment, whatever scene.cfg said (`--environment`,
+ * `--environment-map`): radiance (non-NULL) makes it that constant radiance with no map; map
+ * (non-NULL) makes it that equirectangular image (the path as given, opened by the renderer),
+ * at scale 1 and rotate 0. A material file's `environment` entry still takes the place of a
+ * constant, as it does of scene.cfg's line: *constant_used (may be NULL) says whether the
+ * constant is what rays that miss see. False with err only when out of memory. */
+bool vkrt_scene_set_environment(vkrt_scene *scene, const float radiance[3], const char *map,
+                                bool *constant_used, vkrt_error *err);
+
 /* Frees the scene and zeroes it. Safe on a zeroed scene. */
 void vkrt_scene_free(vkrt_scene *scene);
 

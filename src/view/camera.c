@@ -45,7 +45,10 @@ static float normalize3(float v[3])
 
 void view_camera_init(view_camera *cam, const vkrt_config_camera *scene_camera, float speed)
 {
-    *cam = (view_camera){.fov_deg = scene_camera->fov_deg, .speed = speed, .scene = *scene_camera};
+    *cam = (view_camera){.fov_deg = scene_camera->fov_deg,
+                         .ortho_width = scene_camera->ortho_width,
+                         .speed = speed,
+                         .scene = *scene_camera};
     float view[3];
     for (int i = 0; i < 3; ++i) {
         cam->position[i] = scene_camera->eye[i];
@@ -94,7 +97,11 @@ void view_camera_to_config(const view_camera *cam, vkrt_config_camera *out)
     }
     float forward[3];
     view_camera_forward(cam, forward);
-    *out = (vkrt_config_camera){.fov_deg = cam->fov_deg, .line = cam->scene.line};
+    /* One projection: an orthographic camera's fov is unused, and written as the parser reads
+     * an `ortho` line (0). */
+    *out = (vkrt_config_camera){.fov_deg = cam->ortho_width > 0 ? 0 : cam->fov_deg,
+                                .ortho_width = cam->ortho_width,
+                                .line = cam->scene.line};
     for (int i = 0; i < 3; ++i) {
         out->eye[i] = cam->position[i];
         out->look[i] = cam->position[i] + cam->look_distance * forward[i];
@@ -142,11 +149,20 @@ void view_camera_frame(view_camera *cam, const float lo[3], const float hi[3], f
     float radius = 0.5f * sqrtf(dot3(diagonal, diagonal));
     if (!(radius > 0))
         radius = 1;
+    view_camera_forward(cam, forward);
+    if (cam->ortho_width > 0) {
+        /* Parallel rays: the distance changes nothing but what is in front of the image plane. */
+        cam->ortho_width = 2 * radius * (aspect > 1 ? aspect : 1);
+        for (int i = 0; i < 3; ++i)
+            cam->position[i] = centre[i] - radius * forward[i];
+        cam->look_distance = radius;
+        cam->moved = true;
+        return;
+    }
     /* A sphere of radius r fits a view of half angle a from distance r / sin(a). */
     float half_vertical = 0.5f * radians(cam->fov_deg);
     float half_horizontal = atanf(tanf(half_vertical) * (aspect > 0 ? aspect : 1));
     float distance = radius / sinf(fminf(half_vertical, half_horizontal));
-    view_camera_forward(cam, forward);
     for (int i = 0; i < 3; ++i)
         cam->position[i] = centre[i] - distance * forward[i];
     cam->look_distance = distance;
@@ -165,10 +181,11 @@ bool view_camera_format(const view_camera *cam, char *out, size_t size, vkrt_err
     vkrt_config_camera c;
     view_camera_to_config(cam, &c);
     /* Nine significant digits read back as the same float (IEEE 754 single precision). */
+    bool ortho = c.ortho_width > 0;
     int n = snprintf(out, size,
-                     "camera eye %.9g %.9g %.9g look %.9g %.9g %.9g up %.9g %.9g %.9g fov %.9g",
+                     "camera eye %.9g %.9g %.9g look %.9g %.9g %.9g up %.9g %.9g %.9g %s %.9g",
                      c.eye[0], c.eye[1], c.eye[2], c.look[0], c.look[1], c.look[2], c.up[0],
-                     c.up[1], c.up[2], c.fov_deg);
+                     c.up[1], c.up[2], ortho ? "ortho" : "fov", ortho ? c.ortho_width : c.fov_deg);
     if (n < 0 || (size_t)n >= size)
         return vkrt_error_set(err, "a camera line needs more than %zu bytes", size);
     return true;

@@ -20,7 +20,8 @@ typedef struct view_camera {
     float yaw, pitch;          /* radians: yaw turns right around up, pitch looks up */
     float up[3];               /* the world up, unit length */
     float ahead[3], right[3];  /* the horizon's frame at yaw 0: unit, perpendicular to up */
-    float fov_deg;             /* vertical field of view */
+    float fov_deg;             /* vertical field of view (perspective) */
+    float ortho_width;         /* > 0: orthographic, the view's width in scene units; 0: perspective */
     float look_distance;       /* how far ahead `look` is put when the camera is written out */
     float speed;               /* scene units per second */
     float pitch_limit;         /* radians; VIEW_PITCH_LIMIT_DEGREES or the scene camera's pitch */
@@ -61,15 +62,18 @@ void view_camera_scale_speed(view_camera *cam, float steps);
 /* Keeps the view direction and moves the camera back from the centre of the box [lo, hi] until
  * the box's bounding sphere (radius half its diagonal, or 1 when that is 0) fits the view, both
  * the vertical fov and the horizontal one of aspect = width / height; look_distance becomes the
- * distance to the centre. */
+ * distance to the centre. An orthographic camera instead steps back by the radius (the sphere
+ * wholly in front of its image plane) and takes the width at which the sphere fits: 2 radius
+ * times the larger of 1 and aspect. */
 void view_camera_frame(view_camera *cam, const float lo[3], const float hi[3], float aspect);
 
 /* A default speed for a scene whose geometry spans [lo, hi]: a tenth of its diagonal per second. */
 float view_camera_default_speed(const float lo[3], const float hi[3]);
 
-/* Writes the camera as a scene.cfg line, "camera eye X Y Z look X Y Z up X Y Z fov F" (no
- * newline), with every number printed so that it reads back as the same float. Returns false with
- * err set when size is too small. */
+/* Writes the camera as a scene.cfg line, "camera eye X Y Z look X Y Z up X Y Z fov F" (or
+ * "ortho W" in place of "fov F" for an orthographic camera; no newline), with every number
+ * printed so that it reads back as the same float. Returns false with err set when size is too
+ * small. */
 bool view_camera_format(const view_camera *cam, char *out, size_t size, vkrt_error *err);
 
 #endif
