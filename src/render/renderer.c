@@ -137,7 +137,8 @@ static bool choose_two_level(vkrt_renderer *r, const vkrt_render_desc *desc,
      * its share of the nodes (about a 64-byte record per two triangles). */
     double flat_bytes = (double)c.instanced * (sizeof(Triangle) + sizeof(uint32_t) + 32.0);
     r->two_level = vkrt_instancing_pays(&scene->model) ||
-                   flat_bytes > (double)r->ctx->memory_limit;
+                   flat_bytes > (double)r->ctx->memory_limit ||
+                   c.instanced > VKRT_MODEL_FLAT_MAX_TRIANGLES;
     return true;
 }
 

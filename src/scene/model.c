@@ -128,10 +128,11 @@ bool vkrt_model_finish(vkrt_model *model, vkrt_error *err)
                                                                           : model->bounds_max[a];
         }
     }
-    /* 9 floats per triangle must stay addressable by uint32 (the kernels' indices). */
-    if (triangles > UINT32_MAX / 9)
-        return vkrt_error_set(err, "too many triangles over all instances (%llu)",
-                              (unsigned long long)triangles);
+    /* Hits number the instances' triangles in 32 bits, one value kept for "no hit"; a flat
+     * structure holds fewer (vkrt_model_world), a two-level BVH this many. */
+    if (triangles >= UINT32_MAX)
+        return vkrt_error_set(err, "too many triangles over all instances (%llu, at most %u)",
+                              (unsigned long long)triangles, UINT32_MAX - 1);
     model->triangle_count = (uint32_t)triangles;
     return true;
 }
@@ -187,6 +188,12 @@ bool vkrt_model_world(const vkrt_model *model, vkrt_mesh *world, bool *copied, v
         world->tangents = NULL;
         return true;
     }
+    /* 9 floats per triangle must stay addressable by uint32 (the kernels' indices). */
+    if (model->triangle_count > VKRT_MODEL_FLAT_MAX_TRIANGLES)
+        return vkrt_error_set(err,
+                              "%u triangles over all instances are too many to flatten (at most "
+                              "%u); a two-level BVH holds them (accel bvh)",
+                              model->triangle_count, VKRT_MODEL_FLAT_MAX_TRIANGLES);
     bool normals = false, texcoords = false;
     for (uint32_t i = 0; i < model->instance_count; ++i) {
         const vkrt_mesh *mesh = &model->meshes[model->instances[i].mesh];
