@@ -54,20 +54,9 @@ Hit instanced_traverse(vec3 origin, vec3 dir, float tmin, float tmax, bool any_h
                     break;
             }
             ref = NO_NODE;
-        } else if (BVH_WIDTH == 2u) {
-            uint push;
-            ref = bvh_pair_step(b, tmin, hit.t, any_hit, ref, push);
-            if (push != NO_NODE && top < BVH_STACK_SIZE)
-                stack[top++] = push;
         } else {
-            uint far, mid, near;
-            ref = bvh_quad_step(b, tmin, hit.t, ref, far, mid, near);
-            if (far != NO_NODE && top < BVH_STACK_SIZE)
-                stack[top++] = far;
-            if (mid != NO_NODE && top < BVH_STACK_SIZE)
-                stack[top++] = mid;
-            if (near != NO_NODE && top < BVH_STACK_SIZE)
-                stack[top++] = near;
+            /* The host refused structures whose two levels' stacks together exceed it. */
+            BVH_ONE_LOOP_STEP(b, tmin, hit.t, any_hit, ref, stack, top);
         }
         if (ref == NO_NODE) {
             if (instance != IN_TOP_LEVEL && top == instance_floor) {

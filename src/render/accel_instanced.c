@@ -124,17 +124,8 @@ bool vkrt_unique_meshes_make(const vkrt_model *model, const uint32_t *triangle_m
 /* The inverse of the affine map t (3x4 rows) into inv, in double; false when t is singular. */
 static bool invert_affine(const float t[12], double inv[12])
 {
-    double m[3][3];
-    for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c)
-            m[r][c] = t[4 * r + c];
     double cof[3][3];
-    for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) {
-            int r1 = (r + 1) % 3, r2 = (r + 2) % 3, c1 = (c + 1) % 3, c2 = (c + 2) % 3;
-            cof[r][c] = m[r1][c1] * m[r2][c2] - m[r1][c2] * m[r2][c1];
-        }
-    double det = m[0][0] * cof[0][0] + m[0][1] * cof[0][1] + m[0][2] * cof[0][2];
+    double det = vkrt_transform_cofactors(t, cof);
     if (!(fabs(det) > 0) || !isfinite(det))
         return false;
     /* inverse = adjugate / det, the adjugate the cofactors' transpose; then -inverse * offset. */

@@ -137,21 +137,26 @@ bool vkrt_model_finish(vkrt_model *model, vkrt_error *err)
     return true;
 }
 
-/* The unit normal n transformed by the inverse transpose of t's 3x3 part (the cofactor matrix:
- * the same direction, the determinant's scale aside), in double. */
-static void transform_normal(const float t[12], const float n[3], float out[3])
+double vkrt_transform_cofactors(const float t[12], double cof[3][3])
 {
     double m[3][3];
     for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c)
             m[r][c] = t[4 * r + c];
-    double cof[3][3];
     for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) {
             int r1 = (r + 1) % 3, r2 = (r + 2) % 3, c1 = (c + 1) % 3, c2 = (c + 2) % 3;
             cof[r][c] = m[r1][c1] * m[r2][c2] - m[r1][c2] * m[r2][c1];
         }
-    double det = m[0][0] * cof[0][0] + m[0][1] * cof[0][1] + m[0][2] * cof[0][2];
+    return m[0][0] * cof[0][0] + m[0][1] * cof[0][1] + m[0][2] * cof[0][2];
+}
+
+/* The unit normal n transformed by the inverse transpose of t's 3x3 part (the cofactor matrix:
+ * the same direction, the determinant's scale aside), in double. */
+static void transform_normal(const float t[12], const float n[3], float out[3])
+{
+    double cof[3][3];
+    double det = vkrt_transform_cofactors(t, cof);
     double sign = det < 0 ? -1.0 : 1.0; /* a mirroring transform keeps normals outward */
     double v[3], len = 0;
     for (int r = 0; r < 3; ++r) {

@@ -176,6 +176,10 @@ void vkrt_material_defaults(vkrt_material *material);
  * there or the triangles do not fit 32-bit counts of 9 floats. Loaders call it last. */
 bool vkrt_model_finish(vkrt_model *model, vkrt_error *err);
 
+/* The cofactor matrix of t's 3x3 part into cof, and its determinant, in double: the inverse of
+ * the 3x3 part is cof's transpose over the determinant, its inverse transpose cof over it. */
+double vkrt_transform_cofactors(const float t[12], double cof[3][3]);
+
 /* The most triangles a flattened model may have: 9 floats each, addressed by uint32. */
 #define VKRT_MODEL_FLAT_MAX_TRIANGLES (UINT32_MAX / 9)
 
