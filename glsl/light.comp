@@ -28,7 +28,7 @@ uint whitted_visibility(uint index)
     Hit hit = hits[index];
     uint words = frame_light_words(frame);
     bool lit = !ray_is_dead(ray) && hit.triangle != VKRT_NO_HIT &&
-               (materials[material_of(hit.triangle)].info.y & VKRT_MATERIAL_USES_LIGHTS) != 0u;
+               (materials[material_of(hit_uploaded_triangle(hit.triangle))].info.y & VKRT_MATERIAL_USES_LIGHTS) != 0u;
     Surface s;
     if (lit)
         s = surface_at(ray, hit);

@@ -14,6 +14,7 @@
  * depth at the start of each sample pass.
  */
 #include "lib/bindings.glsl"
+#include "lib/instances.glsl"
 
 shared uint bin_hits[VKRT_ORDER_BINS];
 shared uint bin_place[VKRT_ORDER_BINS];
@@ -24,7 +25,7 @@ uint bin_of(uint index)
     Hit hit = hits[index];
     if (ray_is_dead(load_ray(index)) || hit.triangle == VKRT_NO_HIT)
         return VKRT_ORDER_BINS - 1u;
-    return min(materials[material_of(hit.triangle)].info.x, VKRT_ORDER_BINS - 2u);
+    return min(materials[material_of(hit_uploaded_triangle(hit.triangle))].info.x, VKRT_ORDER_BINS - 2u);
 }
 
 void main()

@@ -323,6 +323,10 @@ VKRT_STRUCT(TextureInfo) {
 #define VKRT_TRAVERSE_GRID 1u
 #define VKRT_TRAVERSE_BVH 2u
 #define VKRT_TRAVERSE_KDTREE 3u
+/* The two-level BVH of an instanced scene (glsl/lib/traverse_instanced.glsl): a top-level tree
+ * over the instances' world boxes and a bottom-level tree per unique mesh, in the same node
+ * binding and layout (BVH_WIDTH) as VKRT_TRAVERSE_BVH's one tree. */
+#define VKRT_TRAVERSE_BVH_INSTANCED 4u
 
 /* A node of the kd-tree, 16 bytes, one texel (src/accel/kdtree.h, kd_node, has the same bytes).
  * axis 0-2: split at `split` on that axis, children a (below the plane) and b (above);
@@ -334,6 +338,25 @@ VKRT_STRUCT(KdNode) {
     uint axis;
     uint a;
     uint b;
+};
+
+/* One placed mesh of the two-level BVH (src/render/accel_instanced.c makes them; the references
+ * binding holds them, in the top-level tree's leaf order; GridInfo.dims.x says how many).
+ * The uploaded per-triangle arrays (triangles, normals, texture coordinates, materials) hold each
+ * unique mesh once, in its own (object) space, its bottom-level tree's leaf order, mesh after
+ * mesh. A hit's triangle (Hit.triangle) is then its index in the instanced order: instance
+ * after instance (this array's order), each instance's triangles in its mesh's uploaded order:
+ *   Hit.triangle = info.z + (uploaded triangle - info.y).
+ * glsl/lib/instances.glsl finds the instance of such an index by binary search over info.z
+ * (ascending), and its uploaded triangle. The instanced count must stay below VKRT_NO_HIT.
+ * world_to_object and object_to_world are the rows of 3x4 affine maps; normals go to world space
+ * by the transpose of world_to_object's 3x3 part (the inverse transpose of object_to_world's). */
+VKRT_STRUCT(Instance) {
+    vec4 world_to_object[3];
+    vec4 object_to_world[3];
+    uvec4 info;       /* x: root node of its mesh's bottom-level tree, y: its mesh's first uploaded
+                         triangle, z: its first triangle in the instanced order, w: its mesh's
+                         triangle count */
 };
 
 /* The uniform grid's frame (src/accel/grid.h): cell c = x + dims.x * (y + dims.y * z). */

@@ -13,6 +13,7 @@
 #include "gpu/pipeline.h"
 #include "gpu/shader.h"
 #include "render/kernel_sources.h"
+#include "scene/scene.h"
 
 void fixture_context_create(gpu_context *ctx)
 {
@@ -71,4 +72,21 @@ void fixture_run_kernel(gpu_context *ctx, const char *kernel_source, gpu_buffer 
         fail_msg("%s", err.msg);
     gpu_pipeline_destroy(ctx, &pipe);
     gpu_storage_set_destroy(ctx, &set);
+}
+
+void fixture_render(const vkrt_scene *scene, const vkrt_render_desc *desc, float *rgb,
+                    vkrt_accel_stats *accel)
+{
+    gpu_context ctx;
+    fixture_context_create(&ctx);
+    vkrt_error err = {{0}};
+    vkrt_renderer *r = NULL;
+    if (!vkrt_renderer_create(&r, &ctx, scene, desc, &err))
+        fail_msg("renderer: %s", err.msg);
+    if (accel)
+        *accel = *vkrt_renderer_accel_stats(r);
+    if (!vkrt_renderer_render(r, &scene->cameras[0], 0, rgb, NULL, &err))
+        fail_msg("render: %s", err.msg);
+    vkrt_renderer_destroy(r);
+    fixture_context_destroy(&ctx);
 }

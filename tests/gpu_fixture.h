@@ -12,6 +12,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/context.h"
+#include "render/renderer.h"
 
 /* Creates a context on the default device with validation layers on (fails the test if the layer
  * is missing). */
@@ -25,5 +26,11 @@ void fixture_context_destroy(gpu_context *ctx);
  * `items` invocations in workgroups of 64 (local_size_x_id = 0). Fails the test on any error. */
 void fixture_run_kernel(gpu_context *ctx, const char *kernel_source, gpu_buffer *buffers,
                         uint32_t count, const void *push, uint32_t push_size, uint32_t items);
+
+/* Renders the scene's first camera through the real renderer on a context of its own, with desc,
+ * into rgb (desc's width * height * 3 floats); copies the structure's statistics into *accel
+ * when accel is not NULL. Fails the test on any error. */
+void fixture_render(const vkrt_scene *scene, const vkrt_render_desc *desc, float *rgb,
+                    vkrt_accel_stats *accel);
 
 #endif

@@ -319,6 +319,7 @@ static void test_sizes(void **state)
     assert_int_equal(sizeof(BvhQuad), 64);
     assert_int_equal(sizeof(BvhPair), 64);
     assert_int_equal(sizeof(GridInfo), 64);
+    assert_int_equal(sizeof(Instance), 112);
     assert_int_equal(sizeof(LightInfo), 48);
     assert_int_equal(sizeof(Emitter), 16);
     assert_int_equal(sizeof(KdNode), 16);

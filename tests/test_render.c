@@ -232,17 +232,7 @@ static void reference_render(const vkrt_scene *scene, uint32_t w, uint32_t h, fl
 
 static void gpu_render(const vkrt_scene *scene, uint32_t w, uint32_t h, float *rgb)
 {
-    gpu_context ctx;
-    fixture_context_create(&ctx);
-    vkrt_error err = {{0}};
-    vkrt_renderer *r = NULL;
-    vkrt_render_desc desc = {.width = w, .height = h, .samples = 1};
-    if (!vkrt_renderer_create(&r, &ctx, scene, &desc, &err))
-        fail_msg("renderer: %s", err.msg);
-    if (!vkrt_renderer_render(r, &scene->cameras[0], 0, rgb, NULL, &err))
-        fail_msg("render: %s", err.msg);
-    vkrt_renderer_destroy(r);
-    fixture_context_destroy(&ctx);
+    fixture_render(scene, &(vkrt_render_desc){.width = w, .height = h, .samples = 1}, rgb, NULL);
 }
 
 /* Renders the scene both ways at 64x64 and compares every pixel. */

@@ -43,6 +43,9 @@ layout(std430, set = 0, binding = VKRT_BINDING_ACCEL_NODES) readonly buffer BvhP
 layout(std430, set = 0, binding = VKRT_BINDING_ACCEL_NODES) readonly buffer KdNodeBuffer { KdNode kd_nodes[]; };
 layout(std430, set = 0, binding = VKRT_BINDING_ACCEL_NODES) readonly buffer GridCellBuffer { uint grid_cell_start[]; };
 layout(std430, set = 0, binding = VKRT_BINDING_GRID_REFS) readonly buffer GridRefBuffer { uint grid_refs[]; };
+/* The two-level BVH's instances (VKRT_TRAVERSE_BVH_INSTANCED) in the references binding, their
+ * count in the frame's dims.x (lib/instances.glsl). */
+layout(std430, set = 0, binding = VKRT_BINDING_GRID_REFS) readonly buffer InstanceBuffer { Instance instances[]; };
 
 /* The triangles and the structure's nodes once more, as uniform texel buffers of 16-byte texels:
  * views of the triangle and node buffers (src/render/renderer_upload.c). Traversal reads them

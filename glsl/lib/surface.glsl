@@ -6,6 +6,7 @@
 #define VKRT_SURFACE_GLSL
 
 #include "bindings.glsl"
+#include "instances.glsl"
 #include "intersect.glsl"
 #include "surface_maps.glsl"
 
@@ -30,7 +31,21 @@ struct Surface {
 
 Surface surface_at(Ray ray, Hit hit)
 {
-    Triangle tri = triangle_at(hit.triangle);
+    /* An instanced mesh's hit: its uploaded triangle, moved to world space, so that everything
+     * below (position, normals, texture space, offsets) is as for a flat scene's. */
+    uint instance = 0u;
+    uint triangle = hit.triangle;
+    if (INSTANCED) {
+        instance = instance_of(hit.triangle);
+        triangle = instance_triangle(instance, hit.triangle);
+    }
+    Triangle tri = triangle_at(triangle);
+    if (INSTANCED) {
+        vec4 m[3] = instances[instance].object_to_world;
+        tri.v0.xyz = transform_point(m, tri.v0.xyz);
+        tri.v1.xyz = transform_point(m, tri.v1.xyz);
+        tri.v2.xyz = transform_point(m, tri.v2.xyz);
+    }
     float w = 1.0 - hit.u - hit.v;
     Surface s;
     s.position = w * tri.v0.xyz + hit.u * tri.v1.xyz + hit.v * tri.v2.xyz;
@@ -41,7 +56,14 @@ Surface surface_at(Ray ray, Hit hit)
     s.geometric_normal = ng;
     s.normal = ng;
     if (HAS_NORMALS) {
-        TriangleNormals tn = normals_at(hit.triangle);
+        TriangleNormals tn = normals_at(triangle);
+        /* An instance's vertex normals each in world space and unit, as flattening makes them
+         * (vkrt_model_world), before they are interpolated. */
+        if (INSTANCED) {
+            tn.n0.xyz = instance_normal(instance, tn.n0.xyz);
+            tn.n1.xyz = instance_normal(instance, tn.n1.xyz);
+            tn.n2.xyz = instance_normal(instance, tn.n2.xyz);
+        }
         vec3 ns = w * tn.n0.xyz + hit.u * tn.n1.xyz + hit.v * tn.n2.xyz;
         if (dot(ns, ns) > 0.0) {
             ns = normalize(ns);
@@ -50,9 +72,9 @@ Surface surface_at(Ray ray, Hit hit)
     }
     s.uv = vec2(0.0);
     s.incoming = ray.direction.xyz;
-    s.material = material_of(hit.triangle);
+    s.material = material_of(triangle);
     if (HAS_TEXCOORDS) {
-        TriangleTexcoords tc = texcoords_at(hit.triangle);
+        TriangleTexcoords tc = texcoords_at(triangle);
         s.uv = w * tc.uv01.xy + hit.u * tc.uv01.zw + hit.v * tc.uv2.xy;
         vec3 dpdu, dpdv;
         if ((SURFACE_MAPS & (VKRT_MATERIAL_NORMAL_MAP | VKRT_MATERIAL_BUMP_MAP)) != 0u &&

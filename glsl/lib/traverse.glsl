@@ -11,6 +11,8 @@
 #include "intersect.glsl"
 #include "traverse_brute.glsl"
 #include "traverse_bvh.glsl"
+#include "instances.glsl"
+#include "traverse_instanced.glsl"
 #include "traverse_grid.glsl"
 #include "traverse_kdtree.glsl"
 
@@ -21,6 +23,8 @@ Hit trace_closest(vec3 origin, vec3 dir, float tmin, float tmax)
     cutout_begin_ray(origin, dir);
     if (ACCEL_KIND == VKRT_TRAVERSE_BVH)
         return bvh_traverse(s, dir, tmin, tmax, false);
+    if (ACCEL_KIND == VKRT_TRAVERSE_BVH_INSTANCED)
+        return instanced_traverse(origin, dir, tmin, tmax, false);
     if (ACCEL_KIND == VKRT_TRAVERSE_KDTREE)
         return kd_traverse(s, dir, tmin, tmax, false);
     if (ACCEL_KIND == VKRT_TRAVERSE_GRID)
@@ -35,6 +39,8 @@ bool trace_any(vec3 origin, vec3 dir, float tmin, float tmax)
     cutout_begin_ray(origin, dir);
     if (ACCEL_KIND == VKRT_TRAVERSE_BVH)
         return bvh_traverse(s, dir, tmin, tmax, true).triangle != VKRT_NO_HIT;
+    if (ACCEL_KIND == VKRT_TRAVERSE_BVH_INSTANCED)
+        return instanced_traverse(origin, dir, tmin, tmax, true).triangle != VKRT_NO_HIT;
     if (ACCEL_KIND == VKRT_TRAVERSE_KDTREE)
         return kd_traverse(s, dir, tmin, tmax, true).triangle != VKRT_NO_HIT;
     if (ACCEL_KIND == VKRT_TRAVERSE_GRID)

@@ -275,6 +275,28 @@ bool bvh_leaf_ref(RayShear s, uint leaf, float tmin, inout Hit hit)
     return bvh_leaf(s, leaf & 0x07FFFFFFu, ((leaf >> 27) & 0xFu) + 1u, tmin, hit);
 }
 
+/* One step of a one-loop walk at inner node ref of either width, on its own stack (an array of
+ * the walk's function, which the GPUs keep faster than a global one): ref becomes the child to
+ * visit next, or NO_NODE, and the other children hit are pushed, the nearest last. A macro, not
+ * a function: GLSL would copy the stack in and out of a call. The pairs' push is unchecked (one
+ * entry per level at most, and the host refused deeper trees). */
+#define BVH_ONE_LOOP_STEP(b, tmin, hit_t, any_hit, ref, stack, top)                            \
+    if (BVH_WIDTH == 2u) {                                                                     \
+        uint push;                                                                             \
+        ref = bvh_pair_step(b, tmin, hit_t, any_hit, ref, push);                               \
+        if (push != NO_NODE)                                                                   \
+            stack[top++] = push;                                                               \
+    } else {                                                                                   \
+        uint far, mid, near;                                                                   \
+        ref = bvh_quad_step(b, tmin, hit_t, ref, far, mid, near);                              \
+        if (far != NO_NODE && top < BVH_STACK_SIZE)                                            \
+            stack[top++] = far;                                                                \
+        if (mid != NO_NODE && top < BVH_STACK_SIZE)                                            \
+            stack[top++] = mid;                                                                \
+        if (near != NO_NODE && top < BVH_STACK_SIZE)                                           \
+            stack[top++] = near;                                                               \
+    }
+
 /* The walk as one loop that visits a node or a leaf per iteration ("if-if", Aila and Laine, HPG
  * 2009): the default on GPUs. Its stack is an array of this function's, and the pairs' push is
  * unchecked (the host refused deeper trees): the nested walk's stack and helpers made it slower
@@ -290,22 +312,8 @@ Hit bvh_traverse_one_loop(RayShear s, SlabRay b, float tmin, float tmax, bool an
             if (bvh_leaf_ref(s, ref, tmin, hit) && any_hit)
                 return hit;
             ref = NO_NODE;
-        } else if (BVH_WIDTH == 2u) {
-            uint push;
-            ref = bvh_pair_step(b, tmin, hit.t, any_hit, ref, push);
-            /* The stack cannot overflow: one entry per level at most, and the host refused
-             * deeper trees. */
-            if (push != NO_NODE)
-                stack[top++] = push;
         } else {
-            uint far, mid, near;
-            ref = bvh_quad_step(b, tmin, hit.t, ref, far, mid, near);
-            if (far != NO_NODE && top < BVH_STACK_SIZE)
-                stack[top++] = far;
-            if (mid != NO_NODE && top < BVH_STACK_SIZE)
-                stack[top++] = mid;
-            if (near != NO_NODE && top < BVH_STACK_SIZE)
-                stack[top++] = near;
+            BVH_ONE_LOOP_STEP(b, tmin, hit.t, any_hit, ref, stack, top);
         }
         if (ref == NO_NODE) {
             /* Pop the next subtree or leaf; its box was hit when it was pushed, and may since lie

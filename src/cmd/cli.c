@@ -34,7 +34,10 @@ const char *vkrt_usage(void)
            "  --environment R G B  the radiance of rays that miss, each >= 0 (overrides the\n"
            "                    scene's `environment` and `environment-map`)\n"
            "  --environment-map FILE  an equirectangular map (.exr, .hdr, ...; relative to\n"
-           "                    the working folder) as the environment, over the scene's\n"
+           "                    the working folder) as the environment (overrides the scene's)\n"
+           "  --instancing M    auto | flat | two-level: each mesh once on the device under a\n"
+           "                    two-level BVH (auto: where instances repeat meshes), or every\n"
+           "                    instance's triangles in world space\n"
            "  --integrator I    auto | whitted | path (overrides `integrator`): Whitted's\n"
            "                    delta lights and perfect mirrors, or the path tracer\n"
            "  --clamp L         scale each contribution a path adds to a pixel down so that\n"
@@ -77,9 +80,9 @@ const char *vkrt_usage(void)
            "  --list-devices    list Vulkan devices and exit\n"
            "  --help, --version\n"
            "\n"
-           "bench options: --width, --height, --accel, --bvh-splits, --device, --validation,\n"
-           "  --quiet, --verbose, --no-cache as for render (without --accel: brute, grid, bvh and\n"
-           "  kdtree in turn)\n"
+           "bench options: --width, --height, --accel, --bvh-splits, --instancing, --device,\n"
+           "  --validation, --quiet, --verbose, --no-cache as for render (without --accel: brute,\n"
+           "  grid, bvh and kdtree in turn)\n"
            "  --json PATH       write the results as JSON too\n"
            "  --stats           count nodes, triangles and SIMD use per ray instead of timing\n"
            "  --kernel-stats    print the driver's statistics of the trace kernels\n"
@@ -88,10 +91,10 @@ const char *vkrt_usage(void)
            "  --workgroup N  --grid-density CELLS_PER_TRIANGLE  --bvh-width 2|4  --bvh-leaf N\n"
            "  --bvh-cost C  --kd-cost C  --loads storage|texel  --walk one-loop|nested\n"
            "\n"
-           "view options: --width, --height, --spp, --accel, --bvh-splits, --integrator, --clamp,\n"
-           "  --exposure, --target-error, --camera, --fps, --environment, --environment-map,\n"
-           "  --device, --validation, --quiet, --no-cache as for render; the window opens at the\n"
-           "  scene's resolution, from its first camera (or --camera's), and a\n"
+           "view options: --width, --height, --spp, --accel, --bvh-splits, --instancing,\n"
+           "  --integrator, --clamp, --exposure, --target-error, --camera, --fps, --environment,\n"
+           "  --environment-map, --device, --validation, --quiet, --no-cache as for render; the\n"
+           "  window opens at the scene's resolution, from its first camera (or --camera's), and a\n"
            "  still picture gathers samples until it has --spp of them (default: the scene's\n"
            "  `samples`, at least 16), or with --target-error until every pixel is within it (--spp\n"
            "  the cap)\n"
@@ -184,8 +187,9 @@ static const struct known_option {
     {"--loads", BENCH},
     {"--walk", BENCH},       {"--integrator", RENDER | VIEW}, {"--clamp", RENDER | VIEW},
     {"--target-error", RENDER | VIEW},                  {"--sample-count-image", RENDER},
-    {"--bvh-splits", ALL},   {"--camera", RENDER | VIEW}, {"--fps", RENDER | VIEW},
-    {"--environment", RENDER | VIEW},                   {"--environment-map", RENDER | VIEW},
+    {"--bvh-splits", ALL},   {"--instancing", ALL},     {"--camera", RENDER | VIEW},
+    {"--fps", RENDER | VIEW},                           {"--environment", RENDER | VIEW},
+    {"--environment-map", RENDER | VIEW},
 };
 
 static const char *command_name(vkrt_command command)
@@ -242,6 +246,16 @@ static bool parse_common(const char *arg, const char *value, vkrt_common_options
             return vkrt_error_set(err, "--bvh-splits: '%s' is not one of auto, on, off",
                                   value ? value : "");
         c->bvh_splits_given = true;
+    } else if (strcmp(arg, "--instancing") == 0) {
+        *consumed = 1;
+        static const char *const names[] = {"auto", "flat", "two-level"};
+        size_t k = 0;
+        while (value && k < sizeof names / sizeof *names && strcmp(value, names[k]) != 0)
+            ++k;
+        if (!value || k == sizeof names / sizeof *names)
+            return vkrt_error_set(err, "--instancing: '%s' is not one of auto, flat, two-level",
+                                  value ? value : "");
+        c->instancing = (vkrt_instancing)k;
     } else if (strcmp(arg, "--integrator") == 0) {
         *consumed = 1;
         if (!value || !vkrt_integrator_parse(value, &c->integrator))

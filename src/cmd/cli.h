@@ -33,6 +33,7 @@ typedef struct vkrt_common_options {
     vkrt_integrator integrator; /* --integrator (render, view); auto (0) when not given */
     vkrt_bvh_splits bvh_splits; /* --bvh-splits, when bvh_splits_given */
     bool bvh_splits_given;
+    vkrt_instancing instancing; /* --instancing; auto (0) when not given */
     float clamp;              /* --clamp (render, view): the largest channel one path may add
                                  to a pixel, > 0; 0 when not given (no clamp) */
     float target_error;       /* --target-error (render, view): sample each pixel until its

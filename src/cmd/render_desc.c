@@ -18,6 +18,7 @@ vkrt_render_desc vkrt_render_desc_for(const vkrt_config *cfg, const vkrt_command
         /* Given, `--accel auto` beats the scene's `accel` line: 0 here means auto, not unset. */
         .accel = common->accel_given ? common->accel : cfg->accel,
         .bvh_splits = common->bvh_splits_given ? common->bvh_splits : cfg->bvh_splits,
+        .instancing = common->instancing,
         .integrator = common->integrator,
         .clamp = common->clamp,
         .target_error = common->target_error,

@@ -14,6 +14,11 @@ void report_accel_stats(FILE *out, const vkrt_accel_stats *s)
     /* A structure from the cache (render/accel_cache.h) was read, not built, in build_ms. */
     const char *built = s->from_cache ? "read from the structure cache in" : "built in";
     fprintf(out, "vkrt: accel %s: %s\n", vkrt_accel_name(s->kind), s->reason);
+    if (s->two_level)
+        fprintf(out,
+                "vkrt: instancing: %u instances of %u meshes, %llu triangles instanced, %u "
+                "unique on the device\n",
+                s->instances, s->meshes, (unsigned long long)s->instanced_triangles, s->triangles);
     if (s->kind == VKRT_ACCEL_BVH)
         fprintf(out,
                 "vkrt: BVH: %u nodes, %u leaves, %u references, %.2f per leaf, depth %u, SAH cost "
@@ -90,11 +95,17 @@ void report_memory(FILE *out, const vkrt_renderer *renderer, const gpu_context *
 {
     vkrt_renderer_memory m = vkrt_renderer_memory_use(renderer);
     const double MiB = 1048576.0;
+    /* Under a two-level BVH the device holds each mesh once: say how many triangles that is. */
+    const vkrt_accel_stats *accel = vkrt_renderer_accel_stats(renderer);
+    char counts[128] = "";
+    if (accel->two_level)
+        snprintf(counts, sizeof counts, " (%u unique of %llu instanced)", accel->triangles,
+                 (unsigned long long)accel->instanced_triangles);
     fprintf(out,
-            "vkrt: device memory: triangles %.1f MiB, nodes %.1f MiB, textures %.1f MiB, rays "
+            "vkrt: device memory: triangles %.1f MiB%s, nodes %.1f MiB, textures %.1f MiB, rays "
             "%.1f MiB, image %.1f MiB, other %.1f MiB: %.1f MiB of the device's %.1f MiB\n",
-            m.triangles / MiB, m.nodes / MiB, m.textures / MiB, m.rays / MiB, m.image / MiB,
-            m.other / MiB, m.total / MiB, ctx->memory_limit / MiB);
+            m.triangles / MiB, counts, m.nodes / MiB, m.textures / MiB, m.rays / MiB,
+            m.image / MiB, m.other / MiB, m.total / MiB, ctx->memory_limit / MiB);
     char split[256];
     vkrt_renderer_split_text(renderer, split, sizeof split);
     fprintf(out, "vkrt: arrays split past %llu bytes (%s): %s\n",

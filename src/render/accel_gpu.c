@@ -49,30 +49,22 @@ static void grid_arrays(grid *g, vkrt_accel_arrays *out)
     grid_free(g);
 }
 
-/* The GPU layout of b, width children per node: its nodes (malloc'd), their count and bytes, and
- * the deepest stack a walk needs. */
-typedef struct gpu_layout {
-    void *nodes;
-    uint32_t count, depth, stack;
-    size_t bytes, node_size;
-} gpu_layout;
-
-static bool lay_out(const bvh *b, uint32_t width, gpu_layout *out, vkrt_error *err)
+bool vkrt_bvh_lay_out(const bvh *b, uint32_t width, vkrt_bvh_layout *out, vkrt_error *err)
 {
     if (width == 2) {
         bvh_pairs p;
         if (!bvh_pairs_build(b, &p, err))
             return false;
         /* One push per level at most: the far child of a node whose two children were hit. */
-        *out = (gpu_layout){p.nodes, p.node_count, b->max_depth, b->max_depth,
-                            p.node_count * sizeof *p.nodes, sizeof *p.nodes};
+        *out = (vkrt_bvh_layout){p.nodes, p.node_count, b->max_depth, b->max_depth,
+                                 p.node_count * sizeof *p.nodes, sizeof *p.nodes};
         return true;
     }
     bvh_quads q;
     if (!bvh_quads_build(b, &q, err))
         return false;
-    *out = (gpu_layout){q.nodes, q.node_count, q.max_depth, q.max_stack,
-                        q.node_count * sizeof *q.nodes, sizeof *q.nodes};
+    *out = (vkrt_bvh_layout){q.nodes, q.node_count, q.max_depth, q.max_stack,
+                             q.node_count * sizeof *q.nodes, sizeof *q.nodes};
     return true;
 }
 
@@ -174,8 +166,8 @@ static bool bvh_arrays(vkrt_accel_arrays *a, const vkrt_accel_desc *desc,
 {
     uint32_t width = desc->bvh_width;
     double start = vkrt_clock_ms();
-    gpu_layout g = {0};
-    bool ok = lay_out(b, width, &g, err);
+    vkrt_bvh_layout g = {0};
+    bool ok = vkrt_bvh_lay_out(b, width, &g, err);
     double layout_ms = vkrt_clock_ms() - start;
     /* glsl/lib/traverse_bvh.glsl's stack; a tree needing more would lose subtrees. */
     if (ok && g.stack > VKRT_BVH_STACK_SIZE)
@@ -395,9 +387,10 @@ static void buffer_names(vkrt_accel_kind kind, const char *names[3])
     names[2] = kind == VKRT_ACCEL_KDTREE ? "kd-tree references" : "grid references";
 }
 
-/* Uploads the arrays of arr into a's buffers and takes its triangle order and statistics. */
-static bool upload(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_accel_arrays *arr, vkrt_error *err)
+bool vkrt_accel_gpu_upload(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_accel_arrays *arr,
+                           vkrt_error *err)
 {
+    memset(a, 0, sizeof *a);
     const char *names[3];
     buffer_names(arr->stats.kind, names);
     /* A brute-force walk reads no nodes; the binding keeps a minimal buffer. */
@@ -415,6 +408,10 @@ static bool upload(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_accel_arrays *arr, 
     a->triangle_count = arr->triangle_count;
     a->prim_order = arr->prim_order;
     arr->prim_order = NULL;
+    a->instances = arr->instances;
+    memset(&arr->instances, 0, sizeof arr->instances);
+    if (!ok)
+        vkrt_accel_gpu_destroy(a, ctx);
     return ok;
 }
 
@@ -433,10 +430,8 @@ bool vkrt_accel_gpu_create(vkrt_accel_gpu *a, gpu_context *ctx, const vkrt_accel
         if (cached && arr.stats.kind != VKRT_ACCEL_BRUTE)
             vkrt_accel_cache_store(&name, &arr);
     }
-    bool ok = upload(a, ctx, &arr, err);
+    bool ok = vkrt_accel_gpu_upload(a, ctx, &arr, err);
     vkrt_accel_arrays_free(&arr);
-    if (!ok)
-        vkrt_accel_gpu_destroy(a, ctx);
     return ok;
 }
 
@@ -445,7 +440,16 @@ void vkrt_accel_arrays_free(vkrt_accel_arrays *a)
     free(a->nodes);
     free(a->refs);
     free(a->prim_order);
+    vkrt_instance_map_free(&a->instances);
     memset(a, 0, sizeof *a);
+}
+
+void vkrt_instance_map_free(vkrt_instance_map *m)
+{
+    free(m->first);
+    free(m->mesh_base);
+    free(m->flat_first);
+    memset(m, 0, sizeof *m);
 }
 
 void vkrt_accel_gpu_destroy(vkrt_accel_gpu *a, gpu_context *ctx)
@@ -454,10 +458,30 @@ void vkrt_accel_gpu_destroy(vkrt_accel_gpu *a, gpu_context *ctx)
     gpu_array_destroy(ctx, &a->nodes);
     gpu_buffer_destroy(ctx, &a->info);
     free(a->prim_order);
+    vkrt_instance_map_free(&a->instances);
     memset(a, 0, sizeof *a);
 }
 
 uint32_t vkrt_accel_original_triangle(const vkrt_accel_gpu *a, uint32_t i)
 {
     return a->prim_order && i < a->triangle_count ? a->prim_order[i] : i;
+}
+
+uint64_t vkrt_accel_original_hit(const vkrt_accel_gpu *a, uint32_t hit_triangle)
+{
+    const vkrt_instance_map *m = &a->instances;
+    if (m->count == 0)
+        return vkrt_accel_original_triangle(a, hit_triangle);
+    /* The last instance whose first triangle is at most the hit's. */
+    uint32_t lo = 0, hi = m->count;
+    while (hi - lo > 1) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (m->first[mid] <= hit_triangle)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    uint32_t uploaded = m->mesh_base[lo] + (hit_triangle - m->first[lo]);
+    uint32_t in_mesh = vkrt_accel_original_triangle(a, uploaded) - m->mesh_base[lo];
+    return m->flat_first[lo] + in_mesh;
 }

@@ -48,7 +48,26 @@ typedef struct vkrt_accel_stats {
     float bvh_traversal_cost;   /* BVH: the build's SAH cost of a node against a triangle */
     bool from_cache;            /* read from the structure cache (accel_cache.h): build_ms is the
                                    time of reading it, choose_ms 0 */
+    /* A two-level BVH (accel_instanced.h): triangles, references and triangles_per_leaf are then
+     * its unique meshes', sah_cost the top level's, max_depth the deepest top-level path plus
+     * the deepest mesh tree. */
+    bool two_level;
+    uint32_t instances;          /* instances in the top level */
+    uint32_t meshes;             /* unique meshes with a tree of their own */
+    uint64_t instanced_triangles; /* triangles over all instances: what a flat structure holds */
 } vkrt_accel_stats;
+
+/* How a two-level BVH's hits map back to the model (accel_instanced.h builds it): the
+ * structure's instances in the top-level tree's leaf order, each with its first triangle in the
+ * instanced order (glsl/shared.h Instance: ascending), its mesh's first uploaded triangle, and its
+ * first triangle in vkrt_model_world's order (instance after instance of the model). count 0: the
+ * structure is one flat tree. */
+typedef struct vkrt_instance_map {
+    uint32_t count;
+    uint32_t *first;
+    uint32_t *mesh_base;
+    uint64_t *flat_first;
+} vkrt_instance_map;
 
 typedef struct vkrt_accel_gpu {
     gpu_buffer info;            /* GridInfo; for other kinds a zeroed one keeps the binding valid */
@@ -56,7 +75,9 @@ typedef struct vkrt_accel_gpu {
     gpu_array refs;             /* grid or kd-tree references; for other kinds a minimal buffer,
                                    unread */
     uint32_t *prim_order;       /* NULL for identity order; else prim_order[i] = original index */
-    uint32_t triangle_count;    /* triangles uploaded: the scene's, or more with spatial splits */
+    uint32_t triangle_count;    /* triangles uploaded: the scene's, or more with spatial splits;
+                                   a two-level BVH's: its unique meshes' */
+    vkrt_instance_map instances; /* a two-level BVH's instances; count 0 for one flat tree */
     vkrt_accel_stats stats;
 } vkrt_accel_gpu;
 
@@ -94,6 +115,7 @@ typedef struct vkrt_accel_arrays {
     size_t ref_count;
     uint32_t *prim_order;
     uint32_t triangle_count; /* triangles uploaded: the scene's, or more with spatial splits */
+    vkrt_instance_map instances; /* a two-level BVH's (accel_instanced.h), else zeroed */
     vkrt_accel_stats stats;
 } vkrt_accel_arrays;
 
@@ -105,6 +127,25 @@ bool vkrt_accel_build(const vkrt_accel_desc *desc, const float *positions,
 
 /* Frees the arrays and zeroes *a. Safe on a zeroed struct. */
 void vkrt_accel_arrays_free(vkrt_accel_arrays *a);
+
+/* A binary BVH laid out in the GPU's nodes of width 2 (BvhPair) or 4 (BvhQuad): the nodes
+ * (malloc'd, count of node_size bytes), the depth of the layout and the deepest stack a walk
+ * needs. */
+typedef struct vkrt_bvh_layout {
+    void *nodes;
+    uint32_t count, depth, stack;
+    size_t bytes, node_size;
+} vkrt_bvh_layout;
+
+struct bvh;
+/* Lays b out in width-wide nodes; false with err set (nothing allocated) when memory runs out
+ * or a leaf does not fit a reference. */
+bool vkrt_bvh_lay_out(const struct bvh *b, uint32_t width, vkrt_bvh_layout *out, vkrt_error *err);
+
+/* Uploads arr into a (zeroed first), taking its triangle order, instance map and statistics;
+ * on failure false with err set and a destroyed. */
+bool vkrt_accel_gpu_upload(vkrt_accel_gpu *a, gpu_context *ctx, vkrt_accel_arrays *arr,
+                           vkrt_error *err);
 
 /* Takes the structure desc asks for over positions (9 floats per triangle) from the structure
  * cache, or builds it (and stores it there), and uploads it. On failure returns false with err
@@ -121,7 +162,16 @@ vkrt_accel_kind vkrt_accel_gpu_predict(const vkrt_accel_desc *desc, uint32_t tri
 /* Frees buffers and the order. Safe on a zeroed struct. */
 void vkrt_accel_gpu_destroy(vkrt_accel_gpu *a, gpu_context *ctx);
 
-/* The original index of the triangle stored at position i (i < a->triangle_count). */
+/* The original index of the triangle stored at position i (i < a->triangle_count): for a
+ * two-level BVH, its index in the unique meshes' concatenation (accel_instanced.h). */
 uint32_t vkrt_accel_original_triangle(const vkrt_accel_gpu *a, uint32_t i);
+
+/* The original index of a hit's triangle as traversal reports it (Hit.triangle): for one tree
+ * vkrt_accel_original_triangle's; for a two-level BVH its index in vkrt_model_world's order
+ * (which may pass 32 bits). */
+uint64_t vkrt_accel_original_hit(const vkrt_accel_gpu *a, uint32_t hit_triangle);
+
+/* Frees the map's arrays and zeroes it. Safe on a zeroed map. */
+void vkrt_instance_map_free(vkrt_instance_map *m);
 
 #endif

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "renderer_private.h"
+#include "accel_instanced.h"
 #include "render_desc.h"
 #include "../clock.h"
 #include "../scene/colour.h"
@@ -110,6 +111,42 @@ static void choose_integrator(vkrt_renderer *r, const vkrt_render_desc *desc,
         snprintf(r->integrator_reason, sizeof r->integrator_reason,
                  "no emissive material and no environment map: whitted");
     }
+}
+
+/* Whether the instances go under a two-level BVH (vkrt_instancing), into r->two_level; false
+ * with err set where it was asked for and cannot be. */
+static bool choose_two_level(vkrt_renderer *r, const vkrt_render_desc *desc,
+                             const vkrt_scene *scene, const vkrt_scene_materials *mats,
+                             vkrt_error *err)
+{
+    r->two_level = false;
+    if (desc->instancing == VKRT_INSTANCING_FLAT)
+        return true;
+    const char *emitter = first_emitter(mats);
+    bool bvh = desc->accel == VKRT_ACCEL_AUTO || desc->accel == VKRT_ACCEL_BVH;
+    if (desc->instancing == VKRT_INSTANCING_TWO_LEVEL) {
+        if (emitter)
+            return vkrt_error_set(err,
+                                  "the two-level BVH takes no emissive triangles (material '%s' "
+                                  "emits light): light sampling reads them in world space",
+                                  emitter);
+        if (!bvh)
+            return vkrt_error_set(err, "the two-level structure is a BVH, not a %s",
+                                  vkrt_accel_name(desc->accel));
+        r->two_level = true;
+        return true;
+    }
+    /* Emissive triangles are sampled from a world-space list: such scenes are flattened. */
+    if (emitter || !bvh)
+        return true;
+    vkrt_instancing_counts c = vkrt_instancing_count(&scene->model);
+    /* What a flattened triangle takes on the device at least: its positions and material, and
+     * its share of the nodes (about a 64-byte record per two triangles). */
+    double flat_bytes = (double)c.instanced * (sizeof(Triangle) + sizeof(uint32_t) + 32.0);
+    r->two_level = vkrt_instancing_pays(&scene->model) ||
+                   flat_bytes > (double)r->ctx->memory_limit ||
+                   c.instanced > VKRT_MODEL_FLAT_MAX_TRIANGLES;
+    return true;
 }
 
 /* Adds the ms since *at to *into and restarts *at; true, to sit in a chain of && steps. */
@@ -233,10 +270,22 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
                                                        : scene->config.path,
     };
     /* The instances' triangles in world space: the mesh's own arrays for one identity instance,
-     * else a copy made here and dropped once uploaded. */
+     * else a copy made here and dropped once uploaded. Under a two-level BVH, the meshes that
+     * instances use, each once in its own space, with their materials (accel_instanced.h). */
     vkrt_mesh world = {0};
     bool world_copied = false;
-    ok = ok && vkrt_model_world(&scene->model, &world, &world_copied, err);
+    vkrt_unique_meshes unique = {0};
+    vkrt_scene_materials unique_mats;
+    ok = ok && choose_two_level(r, desc, scene, mats, err);
+    if (ok && r->two_level) {
+        ok = vkrt_unique_meshes_make(&scene->model, mats->triangle_material, &unique, err);
+        world = unique.mesh;
+        unique_mats = *mats;
+        unique_mats.triangle_material = unique.scene_material;
+        mats = &unique_mats;
+    } else {
+        ok = ok && vkrt_model_world(&scene->model, &world, &world_copied, err);
+    }
     bool has_texcoords = mats->reads_texcoords && world.texcoords;
     bool has_normals = world.normals != NULL;
     vkrt_renderer_startup *times = &r->startup;
@@ -258,8 +307,10 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
     }
     bool early = r->kernels != NULL, predicted = false;
     ok = ok && lap(&at, &times->materials_ms) &&
-         vkrt_accel_gpu_create(&r->accel, ctx, &accel, world.positions, world.triangle_count,
-                               err) &&
+         (r->two_level ? vkrt_accel_gpu_create_instanced(&r->accel, ctx, &accel, &scene->model,
+                                                         &unique, err)
+                       : vkrt_accel_gpu_create(&r->accel, ctx, &accel, world.positions,
+                                               world.triangle_count, err)) &&
          lap(&at, &times->structure_ms) && renderer_upload_geometry(r, &world, mats, err) &&
          renderer_create_texel_views(r, err) && lap(&at, &times->geometry_ms) &&
          renderer_upload_materials(r, mats, &kernel, err) && lap(&at, &times->materials_ms) &&
@@ -284,6 +335,7 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
     vkrt_scene_materials_free(&own);
     if (world_copied)
         vkrt_mesh_free(&world);
+    vkrt_unique_meshes_free(&unique);
     if (!ok) {
         vkrt_renderer_destroy(r);
         return false;

@@ -38,11 +38,24 @@ typedef struct vkrt_renderer vkrt_renderer;
 /* What the renderer renders and how. Fields left zero where the scene has a setting take the
  * scene's (render_desc.h: resolution, samples, integrator, max-depth); the commands resolve theirs
  * in one place, cmd/render_desc.h. */
+/* Where instances (vkrt_model.instances) live on the GPU: auto (0) puts each mesh once under a
+ * two-level BVH where that pays (render/accel_instanced.h: the instances hold at least twice the
+ * triangles of their meshes, or the flattened scene would not fit the device) and the structure
+ * is a BVH, else flattens them into world-space triangles; flat always flattens; two_level
+ * always builds the two-level BVH (an error for a scene with emissive triangles, which the light
+ * sampling reads in world space). */
+typedef enum vkrt_instancing {
+    VKRT_INSTANCING_AUTO,
+    VKRT_INSTANCING_FLAT,
+    VKRT_INSTANCING_TWO_LEVEL,
+} vkrt_instancing;
+
 typedef struct vkrt_render_desc {
     uint32_t width, height;   /* 0: the scene's resolution */
     uint32_t samples;         /* samples per pixel; 0: the scene's `samples` (at least 1) */
     vkrt_accel_kind accel;    /* auto (0) chooses from the scene */
     vkrt_bvh_splits bvh_splits; /* auto (0): spatial splits where they pay (accel_gpu.h) */
+    vkrt_instancing instancing; /* auto (0): a two-level BVH where instancing pays */
     uint32_t max_depth;       /* generations of secondary rays; 0: the scene's max-depth */
     uint32_t ray_capacity;    /* rays per buffer to start with; 0 (or below the pixel count):
                                  one per pixel. Tests start small to force growth. */

@@ -249,9 +249,10 @@ bool renderer_kernels_compile_occlusion(vkrt_renderer *r, vkrt_error *err)
     return ok;
 }
 
-static uint32_t traverse_kind(vkrt_accel_kind kind)
+static uint32_t traverse_kind(vkrt_accel_kind kind, bool two_level)
 {
-    return kind == VKRT_ACCEL_BVH      ? VKRT_TRAVERSE_BVH
+    return two_level                   ? VKRT_TRAVERSE_BVH_INSTANCED
+           : kind == VKRT_ACCEL_BVH    ? VKRT_TRAVERSE_BVH
            : kind == VKRT_ACCEL_GRID   ? VKRT_TRAVERSE_GRID
            : kind == VKRT_ACCEL_KDTREE ? VKRT_TRAVERSE_KDTREE
                                        : VKRT_TRAVERSE_BRUTE;
@@ -269,7 +270,7 @@ void renderer_kernel_plan_make(const vkrt_renderer *r, const renderer_data_layou
     const uint32_t *shift = layout->split_shift;
     const gpu_spec_constant constants[RENDERER_KERNEL_CONSTANTS] = {
         {VKRT_SPEC_HAS_NORMALS, has_normals},
-        {VKRT_SPEC_ACCEL_KIND, traverse_kind(layout->kind)},
+        {VKRT_SPEC_ACCEL_KIND, traverse_kind(layout->kind, layout->two_level)},
         {VKRT_SPEC_HAS_TEXCOORDS, has_texcoords},
         {VKRT_SPEC_WAVE_WORKGROUP, workgroup_size},
         {VKRT_SPEC_TRAVERSAL_STATS, traversal_stats},

@@ -41,6 +41,8 @@ struct vkrt_renderer {
     char integrator_reason[256];
     uint32_t light_sampling;  /* VKRT_SAMPLING_* */
     bool has_cutouts;         /* a material is cut out by a texture (lib/cutout.glsl) */
+    bool two_level;           /* instances under a two-level BVH (accel_instanced.h), decided
+                                 before the structure is built */
     uint32_t surface_maps;    /* VKRT_MATERIAL_*_MAP of any material (lib/surface_maps.glsl) */
     bool emitter_light;       /* Whitted on a scene with emissive triangles: a point on them is
                                  one more light (lib/emitters.glsl) */
@@ -147,6 +149,7 @@ bool renderer_adaptive_render(vkrt_renderer *r, const vkrt_config_camera *camera
  * (renderer_data_layout_predict). */
 typedef struct renderer_data_layout {
     vkrt_accel_kind kind;
+    bool two_level;           /* a two-level BVH over instances (accel_instanced.h) */
     uint32_t bvh_width;       /* the BVH's, else 0 */
     bool texel_loads;         /* r->texel_loads */
     bool emitter_light;       /* r->emitter_light */

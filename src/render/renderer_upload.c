@@ -341,6 +341,7 @@ void renderer_data_layout_of(const vkrt_renderer *r, renderer_data_layout *layou
 {
     memset(layout, 0, sizeof *layout);
     layout->kind = r->accel.stats.kind;
+    layout->two_level = r->accel.stats.two_level;
     layout->bvh_width = r->accel.stats.bvh_width;
     layout->texel_loads = r->texel_loads;
     layout->emitter_light = r->emitter_light;
@@ -362,7 +363,9 @@ bool renderer_data_layout_predict(const vkrt_renderer *r, const vkrt_accel_desc 
 {
     memset(layout, 0, sizeof *layout);
     size_t n = mesh->triangle_count;
-    layout->kind = vkrt_accel_gpu_predict(accel, mesh->triangle_count);
+    layout->two_level = r->two_level;
+    layout->kind = r->two_level ? VKRT_ACCEL_BVH
+                                : vkrt_accel_gpu_predict(accel, mesh->triangle_count);
     if (layout->kind == VKRT_ACCEL_AUTO)
         return false;
     /* The structure's nodes: a guess where only the build knows their number (a BVH's leaves

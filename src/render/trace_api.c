@@ -47,7 +47,7 @@ bool vkrt_renderer_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool
     if (!any_hit)
         for (uint32_t i = 0; i < count; ++i)
             if (hits[i].triangle != VKRT_NO_HIT)
-                hits[i].triangle = vkrt_accel_original_triangle(&r->accel, hits[i].triangle);
+                hits[i].triangle = (uint32_t)vkrt_accel_original_hit(&r->accel, hits[i].triangle);
     return true;
 }
 

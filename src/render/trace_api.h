@@ -26,7 +26,8 @@ typedef struct vkrt_traversal_stats {
 
 /* Traces count rays (count <= width * height of the renderer) with the renderer's structure: to
  * their closest hits, or (any_hit) to whether anything blocks them (hit.triangle 0 or
- * VKRT_NO_HIT; the any-hit kernel compiles on the first such call: a render never needs it). Closest-hit triangles are reported as original (OBJ order) indices. The trace
+ * VKRT_NO_HIT; the any-hit kernel compiles on the first such call: a render never needs it). Closest-hit triangles are reported as original (OBJ order) indices; under a
+ * two-level BVH as indices into vkrt_model_world's order (their low 32 bits). The trace
  * runs `repeats` times (0 means 1) back to back in one submission; when gpu_ms is not NULL it
  * receives each run's GPU time from timestamps (repeats entries). */
 bool vkrt_renderer_trace(vkrt_renderer *r, const Ray *rays, uint32_t count, bool any_hit,

@@ -128,29 +128,35 @@ bool vkrt_model_finish(vkrt_model *model, vkrt_error *err)
                                                                           : model->bounds_max[a];
         }
     }
-    /* 9 floats per triangle must stay addressable by uint32 (the kernels' indices). */
-    if (triangles > UINT32_MAX / 9)
-        return vkrt_error_set(err, "too many triangles over all instances (%llu)",
-                              (unsigned long long)triangles);
+    /* Hits number the instances' triangles in 32 bits, one value kept for "no hit"; a flat
+     * structure holds fewer (vkrt_model_world), a two-level BVH this many. */
+    if (triangles >= UINT32_MAX)
+        return vkrt_error_set(err, "too many triangles over all instances (%llu, at most %u)",
+                              (unsigned long long)triangles, UINT32_MAX - 1);
     model->triangle_count = (uint32_t)triangles;
     return true;
+}
+
+double vkrt_transform_cofactors(const float t[12], double cof[3][3])
+{
+    double m[3][3];
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+            m[r][c] = t[4 * r + c];
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) {
+            int r1 = (r + 1) % 3, r2 = (r + 2) % 3, c1 = (c + 1) % 3, c2 = (c + 2) % 3;
+            cof[r][c] = m[r1][c1] * m[r2][c2] - m[r1][c2] * m[r2][c1];
+        }
+    return m[0][0] * cof[0][0] + m[0][1] * cof[0][1] + m[0][2] * cof[0][2];
 }
 
 /* The unit normal n transformed by the inverse transpose of t's 3x3 part (the cofactor matrix:
  * the same direction, the determinant's scale aside), in double. */
 static void transform_normal(const float t[12], const float n[3], float out[3])
 {
-    double m[3][3];
-    for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c)
-            m[r][c] = t[4 * r + c];
     double cof[3][3];
-    for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) {
-            int r1 = (r + 1) % 3, r2 = (r + 2) % 3, c1 = (c + 1) % 3, c2 = (c + 2) % 3;
-            cof[r][c] = m[r1][c1] * m[r2][c2] - m[r1][c2] * m[r2][c1];
-        }
-    double det = m[0][0] * cof[0][0] + m[0][1] * cof[0][1] + m[0][2] * cof[0][2];
+    double det = vkrt_transform_cofactors(t, cof);
     double sign = det < 0 ? -1.0 : 1.0; /* a mirroring transform keeps normals outward */
     double v[3], len = 0;
     for (int r = 0; r < 3; ++r) {
@@ -187,6 +193,12 @@ bool vkrt_model_world(const vkrt_model *model, vkrt_mesh *world, bool *copied, v
         world->tangents = NULL;
         return true;
     }
+    /* 9 floats per triangle must stay addressable by uint32 (the kernels' indices). */
+    if (model->triangle_count > VKRT_MODEL_FLAT_MAX_TRIANGLES)
+        return vkrt_error_set(err,
+                              "%u triangles over all instances are too many to flatten (at most "
+                              "%u); a two-level BVH holds them (accel bvh)",
+                              model->triangle_count, VKRT_MODEL_FLAT_MAX_TRIANGLES);
     bool normals = false, texcoords = false;
     for (uint32_t i = 0; i < model->instance_count; ++i) {
         const vkrt_mesh *mesh = &model->meshes[model->instances[i].mesh];

@@ -176,12 +176,20 @@ void vkrt_material_defaults(vkrt_material *material);
  * there or the triangles do not fit 32-bit counts of 9 floats. Loaders call it last. */
 bool vkrt_model_finish(vkrt_model *model, vkrt_error *err);
 
+/* The cofactor matrix of t's 3x3 part into cof, and its determinant, in double: the inverse of
+ * the 3x3 part is cof's transpose over the determinant, its inverse transpose cof over it. */
+double vkrt_transform_cofactors(const float t[12], double cof[3][3]);
+
+/* The most triangles a flattened model may have: 9 floats each, addressed by uint32. */
+#define VKRT_MODEL_FLAT_MAX_TRIANGLES (UINT32_MAX / 9)
+
 /* The triangles of every instance in world space, instance after instance, as one mesh: with one
  * identity instance, that mesh's own arrays (*copied false, nothing allocated: the caller must
  * not free them); otherwise new arrays (*copied true, freed with vkrt_mesh_free): positions
  * transformed, normals by the inverse transpose and made unit again (meshes without normals get
  * their geometric normal where another mesh has some), texture coordinates and material indices
- * copied (0 where a mesh has none), tangents NULL, the box that of the positions. False with err set when memory runs out. */
+ * copied (0 where a mesh has none), tangents NULL, the box that of the positions. False with
+ * err set when memory runs out or there are more than VKRT_MODEL_FLAT_MAX_TRIANGLES. */
 bool vkrt_model_world(const vkrt_model *model, vkrt_mesh *world, bool *copied, vkrt_error *err);
 
 /* The bytes the model's mesh arrays take in host memory. */
