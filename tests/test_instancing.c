@@ -2,8 +2,8 @@
  * test_instancing.c: the two-level BVH (src/render/accel_instanced.h) against the same scene
  * flattened into world-space triangles (vkrt_model_world).
  *
- * The scene: one OBJ mesh (an octahedron of two materials, with smooth normals and texture
- * coordinates) placed six times: a translation, two rotations, a non-uniform scale, a mirror
+ * The scene: one OBJ mesh (a sphere of two materials, with smooth normals and texture
+ * coordinates, big enough for a tree of several levels) placed six times: a translation, two rotations, a non-uniform scale, a mirror
  * (negative determinant), a shear, and a flat non-uniform scale as the ground. Rays traced
  * through the two-level BVH (both GPU layouts) must find what a CPU brute force over the
  * flattened triangles finds (closest and any hit); a Whitted render through it must match the
@@ -33,20 +33,36 @@
 
 enum { W = 96, H = 72, RAYS = 2048 };
 
-/* The octahedron: 6 vertices, 8 faces, the upper four of material a, the lower of b. */
+/* A sphere of 12 x 10 quads (216 triangles, enough that its tree has inner nodes of every
+ * width: a mesh of one leaf would hide a wrong node link), the upper half of material a, the lower
+ * of b, with its smooth normals and texture coordinates. */
 static void write_scene(void)
 {
-    scene_dir_write("scene.obj",
-                    "mtllib scene.mtl\n"
-                    "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n"
-                    "vn 1 0 0\nvn -1 0 0\nvn 0 1 0\nvn 0 -1 0\nvn 0 0 1\nvn 0 0 -1\n"
-                    "vt 0 0\nvt 1 0\nvt 0 1\n"
-                    "usemtl a\n"
-                    "f 1/1/1 3/2/3 5/3/5\nf 5/1/5 3/2/3 2/3/2\nf 2/1/2 3/2/3 6/3/6\n"
-                    "f 6/1/6 3/2/3 1/3/1\n"
-                    "usemtl b\n"
-                    "f 1/1/1 5/2/5 4/3/4\nf 5/1/5 2/2/2 4/3/4\nf 2/1/2 6/2/6 4/3/4\n"
-                    "f 6/1/6 1/2/1 4/3/4\n");
+    enum { SLICES = 12, STACKS = 10 };
+    static char obj[64 * 1024];
+    int at = snprintf(obj, sizeof obj, "mtllib scene.mtl\n");
+    for (int j = 0; j <= STACKS; ++j)
+        for (int i = 0; i <= SLICES; ++i) {
+            double th = 3.14159265358979 * j / STACKS, ph = 2 * 3.14159265358979 * i / SLICES;
+            double x = sin(th) * cos(ph), y = cos(th), z = sin(th) * sin(ph);
+            at += snprintf(obj + at, sizeof obj - at, "v %.6f %.6f %.6f\nvn %.6f %.6f %.6f\nvt %.4f %.4f\n",
+                           x, y, z, x, y, z, (double)i / SLICES, (double)j / STACKS);
+        }
+    for (int j = 0; j < STACKS; ++j) {
+        at += snprintf(obj + at, sizeof obj - at, "usemtl %s\n", j < STACKS / 2 ? "a" : "b");
+        for (int i = 0; i < SLICES; ++i) {
+            int v = j * (SLICES + 1) + i + 1, w = v + SLICES + 1;
+            /* Counter-clockwise seen from outside; the poles' slivers of zero area are kept. */
+            if (j > 0)
+                at += snprintf(obj + at, sizeof obj - at, "f %d/%d/%d %d/%d/%d %d/%d/%d\n", v, v,
+                               v, v + 1, v + 1, v + 1, w, w, w);
+            if (j < STACKS - 1)
+                at += snprintf(obj + at, sizeof obj - at, "f %d/%d/%d %d/%d/%d %d/%d/%d\n", v + 1,
+                               v + 1, v + 1, w + 1, w + 1, w + 1, w, w, w);
+        }
+    }
+    assert_true(at < (int)sizeof obj);
+    scene_dir_write("scene.obj", obj);
     scene_dir_write("scene.mtl", "newmtl a\nKd 0.8 0.3 0.2\nnewmtl b\nKd 0.2 0.6 0.8\n");
     scene_dir_write("scene.cfg",
                     "geometry scene.obj\nmax-depth 1\nenvironment 0.05 0.05 0.1\n"
@@ -238,8 +254,8 @@ static void trace(gpu_context *ctx, const vkrt_scene *scene, uint32_t width, con
     const vkrt_accel_stats *s = vkrt_renderer_accel_stats(r);
     assert_true(s->two_level);
     assert_int_equal(s->instances, 6);
-    assert_int_equal(s->triangles, 8);
-    assert_int_equal(s->instanced_triangles, 48);
+    assert_int_equal(s->triangles, 216);
+    assert_int_equal(s->instanced_triangles, 6 * 216);
     if (!vkrt_renderer_trace(r, rays, RAYS, any_hit, hits, 1, NULL, &err))
         fail_msg("trace: %s", err.msg);
     vkrt_renderer_destroy(r);
@@ -387,8 +403,9 @@ static void compare_renders(bool cutout, float *flat)
     assert_true(covered > W * H / 3);
     assert_true(sum / (W * H * 3) > 0.05);
     assert_true(coverage <= (cutout ? W * H / 200 : 0));
-    /* A shadow ray that grazes an edge may go either way between the two: a few pixels. */
-    assert_true(differ <= W * H * 3 / (cutout ? 100 : 500));
+    /* A shadow ray that grazes an edge may go either way between the two: a few pixels; more
+     * with the cut-out, whose stochastic seams follow the sphere's many edges. */
+    assert_true(differ <= W * H * 3 / (cutout ? 50 : 500));
     free(two);
     vkrt_scene_free(&scene);
 }

@@ -194,10 +194,11 @@ static void two_level_free(two_level *t)
     memset(t, 0, sizeof *t);
 }
 
-/* The child words of node i of a layout of width 2 or 4 and how many of them are children. */
-static uint32_t *child_words(const vkrt_bvh_layout *l, uint32_t i, uint32_t *count)
+/* The child words of node i of a layout of width 2 or 4 and how many of them are children. (The
+ * width is not the node's size: pairs and quads are both 64 bytes.) */
+static uint32_t *child_words(const vkrt_bvh_layout *l, uint32_t width, uint32_t i, uint32_t *count)
 {
-    if (l->node_size == sizeof(BvhPair)) {
+    if (width == 2) {
         BvhPair *p = (BvhPair *)l->nodes + i;
         *count = 2;
         return &p->refs.x;
@@ -210,11 +211,12 @@ static uint32_t *child_words(const vkrt_bvh_layout *l, uint32_t i, uint32_t *cou
 }
 
 /* Moves a bottom-level tree's nodes to node_base and its triangles to triangle_base. */
-static void relocate(vkrt_bvh_layout *l, uint32_t node_base, uint32_t triangle_base)
+static void relocate(vkrt_bvh_layout *l, uint32_t width, uint32_t node_base,
+                     uint32_t triangle_base)
 {
     for (uint32_t i = 0; i < l->count; ++i) {
         uint32_t count;
-        uint32_t *ref = child_words(l, i, &count);
+        uint32_t *ref = child_words(l, width, i, &count);
         for (uint32_t k = 0; k < count; ++k)
             ref[k] = (ref[k] & BVH_LEAF_REF) ? ref[k] + triangle_base : ref[k] + node_base;
     }
@@ -399,7 +401,7 @@ bool vkrt_accel_build_instanced(const vkrt_accel_desc *desc, const vkrt_model *m
         for (uint32_t m = 0; m < model->mesh_count; ++m) {
             t.node_base[m] += top;
             if (t.layouts[m].nodes)
-                relocate(&t.layouts[m], t.node_base[m], u->mesh_base[m]);
+                relocate(&t.layouts[m], desc->bvh_width, t.node_base[m], u->mesh_base[m]);
         }
         for (uint32_t k = 0; k < t.kept_count; ++k)
             t.records[k].info.x += top;
