@@ -786,6 +786,16 @@ static void wrap_modes_nearest(void **state)
     vkrt_texture_set_free(&set);
 }
 
+/* The blend half of texel (xa, y) and half of texel (xb, y). */
+static void midway(int xa, int xb, int y, double want[4])
+{
+    double a[4], b[4];
+    unique_texel(xa, y, a);
+    unique_texel(xb, y, b);
+    for (int k = 0; k < 4; k++)
+        want[k] = 0.5 * (a[k] + b[k]);
+}
+
 /* Bilinear filtering at the image's edges, where the modes differ: at s = 0, halfway between the
  * centres of texel -1 and texel 0, repeat blends the last column with the first, clamp and mirror
  * read the first alone; at s = 1.125 (a texel centre one period on) repeat reads column 0, clamp
@@ -798,11 +808,8 @@ static void wrap_modes_bilinear_at_edges(void **state)
     uint32_t clamp = view_ok(&set, image, BOTH(VKRT_TEXTURE_CLAMP), NULL, NULL);
     uint32_t mirror = view_ok(&set, image, BOTH(VKRT_TEXTURE_MIRROR), NULL, NULL);
     float got[4];
-    double a[4], b[4], want[4];
-    unique_texel(3, 1, a);
-    unique_texel(0, 1, b);
-    for (int k = 0; k < 4; k++)
-        want[k] = 0.5 * (a[k] + b[k]);
+    double want[4];
+    midway(3, 0, 1, want);
     vkrt_texture_sample(&set, image, 0.0f, 0.5f, got);
     assert_rgba_near(got, want, 1e-6, "repeat at s = 0");
     vkrt_texture_sample(&set, image, 1.0f, 0.5f, got);
@@ -816,10 +823,7 @@ static void wrap_modes_bilinear_at_edges(void **state)
     assert_sample_is_texel(&set, clamp, 1.125f, 0.5f, 3, 1);
     assert_sample_is_texel(&set, mirror, 1.125f, 0.5f, 3, 1);
     /* Between the centres of columns 1 and 2 every mode blends them equally. */
-    unique_texel(1, 1, a);
-    unique_texel(2, 1, b);
-    for (int k = 0; k < 4; k++)
-        want[k] = 0.5 * (a[k] + b[k]);
+    midway(1, 2, 1, want);
     uint32_t views[3] = {image, clamp, mirror};
     for (int k = 0; k < 3; k++) {
         vkrt_texture_sample(&set, views[k], 0.5f, 0.5f, got);
