@@ -307,15 +307,32 @@ VKRT_STRUCT(BvhQuad) {
     uvec4 refs;
 };
 
-/* A texture in the texel buffer (src/scene/texture.h fills these; glsl/lib/texture.glsl reads them).
- * Texels are rows from the top of the image, each row left to right. */
+/* A texture as a material's map reads it (src/scene/texture.h fills these; glsl/lib/texture.glsl
+ * reads them): an image in the texel buffer, rows from the top of the image, each row left to
+ * right, with the map's sampler, uv transform and channel. Two maps that read one image with
+ * different samplers, transforms or channels have an entry each, sharing the texels.
+ * Wrap modes, per axis in the flags (VKRT_TEXTURE_WRAP_U/_V of the mode): repeat (0, as
+ * Vulkan's REPEAT), clamp to the edge texel (1, CLAMP_TO_EDGE) or mirrored repeat (2,
+ * MIRRORED_REPEAT). */
 #define VKRT_TEXTURE_SRGB 1u   /* RGBA8 texels whose rgb is sRGB-encoded (colour maps) */
 #define VKRT_TEXTURE_HALF 2u   /* two uints per texel: RGBA as half floats (HDR images) */
+#define VKRT_TEXTURE_REPEAT 0u
+#define VKRT_TEXTURE_CLAMP 1u
+#define VKRT_TEXTURE_MIRROR 2u
+#define VKRT_TEXTURE_WRAP_U(mode) ((mode) << 2)  /* bits 2-3: the wrap mode across (s) */
+#define VKRT_TEXTURE_WRAP_V(mode) ((mode) << 4)  /* bits 4-5: the wrap mode down (t) */
+#define VKRT_TEXTURE_NEAREST 64u   /* the nearest texel instead of the bilinear blend */
+#define VKRT_TEXTURE_TRANSFORM 128u /* uv_transform applies (it is the identity without) */
+#define VKRT_TEXTURE_CHANNEL(c) ((c) << 8) /* bits 8-9: channel c > 0 of a one-number map, put
+                                              in all four components; 0: the texel as it is */
 VKRT_STRUCT(TextureInfo) {
     uint offset;      /* index of the texture's first uint in the texel buffer */
     uint width;
     uint height;
     uint flags;       /* VKRT_TEXTURE_*; without HALF a texel is one uint, RGBA8 (r in the low byte) */
+    vec4 uv_matrix;   /* with VKRT_TEXTURE_TRANSFORM, image coordinates (s, t) move to
+                         (x * s + y * t + uv_offset.x, z * s + w * t + uv_offset.y) */
+    vec4 uv_offset;   /* xy as above; zw unused (0) */
 };
 
 /* Which structure trace walks; a specialization constant of the trace and light kernels. */

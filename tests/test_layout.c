@@ -90,7 +90,7 @@ static const field fields[] = {
     FIELD(wave, groups_x, U32), FIELD(wave, groups_y, U32), FIELD(wave, groups_z, U32),
     FIELD(wave, ray_count, U32),
     FIELD(texture, offset, U32), FIELD(texture, width, U32), FIELD(texture, height, U32),
-    FIELD(texture, flags, U32),
+    FIELD(texture, flags, U32), FIELD(texture, uv_matrix, VEC4), FIELD(texture, uv_offset, VEC4),
     FIELD(node, origin, VEC4), FIELD(node, planes, UVEC4), FIELD(node, planes_z, UVEC4),
     FIELD(node, refs, UVEC4),
     FIELD(pair, x, VEC4), FIELD(pair, y, VEC4), FIELD(pair, z, VEC4), FIELD(pair, refs, UVEC4),
@@ -311,7 +311,7 @@ static void test_sizes(void **state)
     assert_int_equal(sizeof(Material), 144);
     assert_int_equal(sizeof(TriangleTexcoords), 32);
     assert_int_equal(sizeof(WaveState), 16);
-    assert_int_equal(sizeof(TextureInfo), 16);
+    assert_int_equal(sizeof(TextureInfo), 48);
     assert_int_equal(sizeof(Light), 64);
     assert_int_equal(sizeof(FrameParams), 128);
     assert_true(sizeof(FrameParams) <= 128); /* the push constant size every device offers */

@@ -2,8 +2,8 @@
  * test_model.c: the scene model (src/scene/model.h) and the OBJ loader's part in it: an OBJ is
  * one mesh and one identity instance, an .mtl record keeps every field in the model's units, the
  * renderer's flattening of instances into world space matches a case computed by hand, and
- * materials.c refuses a sampler the kernels do not have, and several files placed into one model
- * keep their meshes once.
+ * materials.c gives each map its texture read as the map's sampler, transform and channel say,
+ * and several files placed into one model keep their meshes once.
  */
 #define _XOPEN_SOURCE 700
 #include <math.h>
@@ -15,13 +15,16 @@
 #include <string.h>
 
 #include <cmocka.h>
+#include <stb_image_write.h>
 
+#include "../glsl/shared.h"
 #include "scene/materials.h"
 #include "scene/model.h"
 #include "scene/model_place.h"
 #include "scene/obj/mtl.h"
 #include "scene/obj/obj_load.h"
 #include "scene/scene.h"
+#include "temp_dir.h"
 
 static void assert_vec3_near(const float *got, double x, double y, double z)
 {
@@ -201,34 +204,89 @@ static void instances_flatten_into_world_space(void **state)
     vkrt_model_free(&m);
 }
 
-/* The kernels sample textures repeating and bilinear: any other sampler is refused, naming the
- * material file and line that asked for the texture. */
-static void other_samplers_are_refused(void **state)
+/* A one-triangle model of one material; its maps are the caller's to fill. */
+static void one_material_model(vkrt_model *m, vkrt_bsdf bsdf)
 {
-    (void)state;
-    vkrt_model m = {0};
-    m.mesh_count = m.instance_count = m.material_count = 1;
-    m.meshes = calloc(1, sizeof *m.meshes);
-    m.instances = calloc(1, sizeof *m.instances);
-    m.materials = calloc(1, sizeof *m.materials);
-    vkrt_material_defaults(&m.materials[0]);
-    m.materials[0].name = strdup("tiles");
-    m.materials[0].file = strdup("scene.gltf");
-    m.materials[0].maps[VKRT_MAP_BASE_COLOUR].path = strdup("tiles.png");
-    m.materials[0].maps[VKRT_MAP_BASE_COLOUR].line = 7;
-    m.materials[0].maps[VKRT_MAP_BASE_COLOUR].sampler.wrap_u = VKRT_WRAP_CLAMP;
-    vkrt_mesh *mesh = &m.meshes[0];
+    memset(m, 0, sizeof *m);
+    m->mesh_count = m->instance_count = m->material_count = 1;
+    m->meshes = calloc(1, sizeof *m->meshes);
+    m->instances = calloc(1, sizeof *m->instances);
+    m->materials = calloc(1, sizeof *m->materials);
+    assert_true(m->meshes && m->instances && m->materials);
+    vkrt_material_defaults(&m->materials[0]);
+    m->materials[0].bsdf = bsdf;
+    m->materials[0].name = strdup("tiles");
+    m->materials[0].file = strdup("scene.gltf");
+    vkrt_mesh *mesh = &m->meshes[0];
     mesh->triangle_count = 1;
     mesh->positions = calloc(9, sizeof(float));
     mesh->material = calloc(1, sizeof(int32_t));
-    memcpy(m.instances[0].transform, vkrt_identity_transform, sizeof vkrt_identity_transform);
+    memcpy(m->instances[0].transform, vkrt_identity_transform, sizeof vkrt_identity_transform);
     vkrt_error err = {{0}};
-    assert_true(vkrt_model_finish(&m, &err));
+    assert_true(vkrt_model_finish(m, &err));
+}
+
+static void set_map(vkrt_material *mat, int map, const char *path, vkrt_texture_usage space)
+{
+    mat->maps[map].path = strdup(path);
+    mat->maps[map].line = 7;
+    mat->maps[map].space = space;
+}
+
+/* Each map reads its texture as its reference says: a glTF metallicRoughness image serves the
+ * roughness (green) and the metallic (blue) maps as two entries sharing one image's texels, the
+ * base colour is clamped, mirrored and nearest, the roughness map transformed; a map on a second
+ * uv set is refused, naming the file and line. */
+static void maps_read_their_textures_as_their_refs_say(void **state)
+{
+    temp_dir *fx = *state;
+    unsigned char px[2 * 2 * 4];
+    for (int i = 0; i < 16; i++)
+        px[i] = (unsigned char)(i * 16 + 5);
+    assert_true(stbi_write_png(temp_dir_path(fx, "mr.png"), 2, 2, 4, px, 8) != 0);
+    char *path = strdup(fx->path);
+    vkrt_model m;
+    one_material_model(&m, VKRT_BSDF_PRINCIPLED);
+    vkrt_material *mat = &m.materials[0];
+    set_map(mat, VKRT_MAP_ROUGHNESS, path, VKRT_TEXTURE_DATA);
+    set_map(mat, VKRT_MAP_METALLIC, path, VKRT_TEXTURE_DATA);
+    set_map(mat, VKRT_MAP_BASE_COLOUR, path, VKRT_TEXTURE_COLOUR);
+    mat->maps[VKRT_MAP_ROUGHNESS].channel = 1;
+    mat->maps[VKRT_MAP_ROUGHNESS].uv_rotation = 0.5f;
+    mat->maps[VKRT_MAP_METALLIC].channel = 2;
+    mat->maps[VKRT_MAP_BASE_COLOUR].channel = 2; /* not a one-number map: reads its colour */
+    mat->maps[VKRT_MAP_BASE_COLOUR].sampler =
+        (vkrt_sampler){VKRT_WRAP_CLAMP, VKRT_WRAP_MIRROR, VKRT_FILTER_NEAREST};
     vkrt_config cfg = {0};
     vkrt_scene_materials mats;
+    vkrt_error err = {{0}};
+    assert_true(vkrt_scene_materials_resolve(&cfg, &m, NULL, &mats, &err));
+    const vkrt_scene_material *sm = &mats.list[mats.triangle_material[0]];
+    const vkrt_texture_info *base = &mats.textures.info[sm->textures[0]];
+    const vkrt_texture_info *rough = &mats.textures.info[sm->textures[2]];
+    const vkrt_texture_info *metal = &mats.textures.info[sm->textures[3]];
+    assert_int_equal(base->flags, VKRT_TEXTURE_SRGB | VKRT_TEXTURE_WRAP_U(VKRT_TEXTURE_CLAMP) |
+                                      VKRT_TEXTURE_WRAP_V(VKRT_TEXTURE_MIRROR) |
+                                      VKRT_TEXTURE_NEAREST);
+    assert_int_equal(rough->flags, VKRT_TEXTURE_CHANNEL(1u) | VKRT_TEXTURE_TRANSFORM);
+    assert_int_equal(metal->flags, VKRT_TEXTURE_CHANNEL(2u));
+    assert_int_equal(rough->offset, metal->offset); /* one image, one copy of its texels */
+    assert_true(fabsf(rough->uv_matrix[0] - cosf(0.5f)) < 1e-6f);
+    assert_true(fabsf(rough->uv_matrix[1] - sinf(0.5f)) < 1e-6f);
+    /* Two images (colour and data) and the views the maps need on top of the data image: the
+     * plain one, green transformed, blue. */
+    assert_int_equal(mats.textures.texel_words, 2 * 4);
+    vkrt_scene_materials_free(&mats);
+
+    mat->maps[VKRT_MAP_METALLIC].uv_set = 1;
     assert_false(vkrt_scene_materials_resolve(&cfg, &m, NULL, &mats, &err));
-    assert_string_equal(err.msg, "scene.gltf:7: texture 'tiles.png': only repeating, bilinear "
-                                 "sampling is supported");
+    char want[1200];
+    snprintf(want, sizeof want,
+             "scene.gltf:7: texture '%s': reads texture coordinates 1; vkrt reads one set "
+             "(TEXCOORD_0) only",
+             path);
+    assert_string_equal(err.msg, want);
+    free(path);
     vkrt_model_free(&m);
 }
 
@@ -334,7 +392,7 @@ int main(void)
         cmocka_unit_test(obj_is_one_mesh_and_one_identity_instance),
         cmocka_unit_test(mtl_record_maps_into_the_model),
         cmocka_unit_test(instances_flatten_into_world_space),
-        cmocka_unit_test(other_samplers_are_refused),
+        temp_dir_test(maps_read_their_textures_as_their_refs_say),
         cmocka_unit_test(scene_lights_are_the_model_then_the_config),
         cmocka_unit_test(files_are_placed_as_instances),
     };

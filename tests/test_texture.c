@@ -680,6 +680,307 @@ static void lost_empire_textures(void **state)
     load_scene_textures("lost-empire", "lost_empire.obj", 3);
 }
 
+/* ------------------------------------------------------------------------ samplers, transforms */
+
+/* An image of w x h texels, each unique: red 3 + 30 x, green 3 + 30 y (x from the left, y from the
+ * top row), blue 200, alpha 255 - x - 4 y; stored as data, so texels read as byte / 255. */
+static uint32_t add_unique_image(temp_dir *fx, vkrt_texture_set *set, int w, int h)
+{
+    unsigned char px[8 * 8 * 4];
+    assert_true(w <= 8 && h <= 8);
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            unsigned char *p = &px[4 * (y * w + x)];
+            p[0] = (unsigned char)(3 + 30 * x);
+            p[1] = (unsigned char)(3 + 30 * y);
+            p[2] = 200;
+            p[3] = (unsigned char)(255 - x - 4 * y);
+        }
+    char name[32];
+    snprintf(name, sizeof name, "unique%dx%d.png", w, h);
+    return add_ok(set, write_png(fx, name, w, h, 4, px), VKRT_TEXTURE_DATA);
+}
+
+static void unique_texel(int x, int y, double out[4])
+{
+    out[0] = (3 + 30 * x) / 255.0;
+    out[1] = (3 + 30 * y) / 255.0;
+    out[2] = 200 / 255.0;
+    out[3] = (255 - x - 4 * y) / 255.0;
+}
+
+static uint32_t view_ok(vkrt_texture_set *set, uint32_t base, uint32_t flags,
+                        const float matrix[4], const float offset[2])
+{
+    static const float identity[4] = {1, 0, 0, 1}, zero[2] = {0, 0};
+    uint32_t index = 12345;
+    vkrt_error err = {{0}};
+    if (!vkrt_texture_set_view(set, base, flags, matrix ? matrix : identity,
+                               offset ? offset : zero, &index, &err))
+        fail_msg("view 0x%x of texture %u failed: %s", flags, base, err.msg);
+    return index;
+}
+
+/* The texel (x, y) a sample must give, to 1e-6. */
+static void assert_sample_is_texel(const vkrt_texture_set *set, uint32_t tex, float u, float v,
+                                   int x, int y)
+{
+    float got[4];
+    double want[4];
+    vkrt_texture_sample(set, tex, u, v, got);
+    unique_texel(x, y, want);
+    char what[96];
+    snprintf(what, sizeof what, "texture %u at (%g, %g), want texel (%d, %d)", tex, (double)u,
+             (double)v, x, y);
+    assert_rgba_near(got, want, 1e-6, what);
+}
+
+#define BOTH(mode) (VKRT_TEXTURE_WRAP_U(mode) | VKRT_TEXTURE_WRAP_V(mode))
+
+/* Nearest filtering under each wrap mode at uv whose texels are worked out by hand for a 4 x 3
+ * image: image coordinates (s, t) = (u, 1 - v); repeat takes the fraction, clamp the edge, mirror
+ * reflects every other period (s in [1, 2) reads 2 - s); texel floor(s * 4), floor(t * 3). */
+static void wrap_modes_nearest(void **state)
+{
+    temp_dir *fx = *state;
+    vkrt_texture_set set = {0};
+    uint32_t image = add_unique_image(fx, &set, 4, 3);
+    uint32_t repeat = view_ok(&set, image, VKRT_TEXTURE_NEAREST, NULL, NULL);
+    uint32_t clamp = view_ok(&set, image, VKRT_TEXTURE_NEAREST | BOTH(VKRT_TEXTURE_CLAMP), NULL, NULL);
+    uint32_t mirror = view_ok(&set, image, VKRT_TEXTURE_NEAREST | BOTH(VKRT_TEXTURE_MIRROR), NULL, NULL);
+    uint32_t mixed = view_ok(&set, image,
+                             VKRT_TEXTURE_NEAREST | VKRT_TEXTURE_WRAP_U(VKRT_TEXTURE_CLAMP) |
+                                 VKRT_TEXTURE_WRAP_V(VKRT_TEXTURE_MIRROR),
+                             NULL, NULL);
+    /* s 1.1 -> 0.1 -> 0; t 0.1 -> 0. s -0.1 -> 0.9 -> 3; t -0.5 -> 0.5 -> 1. */
+    assert_sample_is_texel(&set, repeat, 1.1f, 0.9f, 0, 0);
+    assert_sample_is_texel(&set, repeat, -0.1f, 1.5f, 3, 1);
+    /* s 1.1 -> the right edge, 3; s -0.1 -> 0; t -0.5 -> 0; t 4 -> the bottom row, 2. */
+    assert_sample_is_texel(&set, clamp, 1.1f, 0.9f, 3, 0);
+    assert_sample_is_texel(&set, clamp, -0.1f, 1.5f, 0, 0);
+    assert_sample_is_texel(&set, clamp, 0.6f, -3.0f, 2, 2);
+    /* s 1.1 reads 0.9 -> 3; s -0.1 reads 0.1 -> 0; t -0.5 reads 0.5 -> 1; s 2.3 reads 0.3 -> 1,
+     * t 0.8 -> 2; s 1.6 reads 0.4 -> 1, t 1.4 reads 0.6 -> 1. */
+    assert_sample_is_texel(&set, mirror, 1.1f, 0.9f, 3, 0);
+    assert_sample_is_texel(&set, mirror, -0.1f, 1.5f, 0, 1);
+    assert_sample_is_texel(&set, mirror, 2.3f, 0.2f, 1, 2);
+    assert_sample_is_texel(&set, mirror, 1.6f, -0.4f, 1, 1);
+    /* Across clamps, down mirrors: s 1.1 -> 3, t -0.5 reads 0.5 -> 1. */
+    assert_sample_is_texel(&set, mixed, 1.1f, 1.5f, 3, 1);
+    /* Texel addresses as Vulkan's samplers wrap them: mirror 0..3, 3..0; clamp to the edge. */
+    static const struct {
+        int x, repeat, clamp, mirror;
+    } columns[] = {{-1, 3, 0, 0}, {4, 0, 3, 3}, {5, 1, 3, 2}, {8, 0, 3, 0},
+                   {-5, 3, 0, 3}, {-9, 3, 0, 0}, {INT32_MIN, 0, 0, 0}, {INT32_MAX, 3, 3, 0}};
+    for (size_t i = 0; i < sizeof columns / sizeof columns[0]; i++) {
+        float got[4];
+        double want[4];
+        uint32_t views[3] = {repeat, clamp, mirror};
+        int expect[3] = {columns[i].repeat, columns[i].clamp, columns[i].mirror};
+        for (int k = 0; k < 3; k++) {
+            vkrt_texture_texel(&set, views[k], columns[i].x, 1, got);
+            unique_texel(expect[k], 1, want);
+            assert_rgba_near(got, want, 1e-6, "texel address under a wrap mode");
+        }
+    }
+    vkrt_texture_set_free(&set);
+}
+
+/* The blend half of texel (xa, y) and half of texel (xb, y). */
+static void midway(int xa, int xb, int y, double want[4])
+{
+    double a[4], b[4];
+    unique_texel(xa, y, a);
+    unique_texel(xb, y, b);
+    for (int k = 0; k < 4; k++)
+        want[k] = 0.5 * (a[k] + b[k]);
+}
+
+/* Bilinear filtering at the image's edges, where the modes differ: at s = 0, halfway between the
+ * centres of texel -1 and texel 0, repeat blends the last column with the first, clamp and mirror
+ * read the first alone; at s = 1.125 (a texel centre one period on) repeat reads column 0, clamp
+ * and mirror column 3. t = 0.5 is the centre of row 1. */
+static void wrap_modes_bilinear_at_edges(void **state)
+{
+    temp_dir *fx = *state;
+    vkrt_texture_set set = {0};
+    uint32_t image = add_unique_image(fx, &set, 4, 3);
+    uint32_t clamp = view_ok(&set, image, BOTH(VKRT_TEXTURE_CLAMP), NULL, NULL);
+    uint32_t mirror = view_ok(&set, image, BOTH(VKRT_TEXTURE_MIRROR), NULL, NULL);
+    float got[4];
+    double want[4];
+    midway(3, 0, 1, want);
+    vkrt_texture_sample(&set, image, 0.0f, 0.5f, got);
+    assert_rgba_near(got, want, 1e-6, "repeat at s = 0");
+    vkrt_texture_sample(&set, image, 1.0f, 0.5f, got);
+    assert_rgba_near(got, want, 1e-6, "repeat at s = 1");
+    assert_sample_is_texel(&set, clamp, 0.0f, 0.5f, 0, 1);
+    assert_sample_is_texel(&set, mirror, 0.0f, 0.5f, 0, 1);
+    assert_sample_is_texel(&set, clamp, -7.0f, 0.5f, 0, 1);
+    assert_sample_is_texel(&set, clamp, 1.0f, 0.5f, 3, 1);
+    assert_sample_is_texel(&set, mirror, 1.0f, 0.5f, 3, 1);
+    assert_sample_is_texel(&set, image, 1.125f, 0.5f, 0, 1);
+    assert_sample_is_texel(&set, clamp, 1.125f, 0.5f, 3, 1);
+    assert_sample_is_texel(&set, mirror, 1.125f, 0.5f, 3, 1);
+    /* Between the centres of columns 1 and 2 every mode blends them equally. */
+    midway(1, 2, 1, want);
+    uint32_t views[3] = {image, clamp, mirror};
+    for (int k = 0; k < 3; k++) {
+        vkrt_texture_sample(&set, views[k], 0.5f, 0.5f, got);
+        assert_rgba_near(got, want, 1e-6, "between columns 1 and 2");
+    }
+    vkrt_texture_set_free(&set);
+}
+
+/* A one-number map's channel goes to all four components; views share the image's texels, the
+ * same view is made once, and a view of a view is refused. */
+static void channels_and_views_share_texels(void **state)
+{
+    temp_dir *fx = *state;
+    vkrt_texture_set set = {0};
+    uint32_t image = add_unique_image(fx, &set, 4, 3);
+    size_t words = set.texel_words;
+    assert_int_equal(view_ok(&set, image, 0, NULL, NULL), image);
+    uint32_t green = view_ok(&set, image, VKRT_TEXTURE_CHANNEL(1u), NULL, NULL);
+    uint32_t blue = view_ok(&set, image, VKRT_TEXTURE_CHANNEL(2u), NULL, NULL);
+    uint32_t alpha = view_ok(&set, image, VKRT_TEXTURE_CHANNEL(3u), NULL, NULL);
+    assert_int_equal(view_ok(&set, image, VKRT_TEXTURE_CHANNEL(1u), NULL, NULL), green);
+    assert_int_equal(set.count, 4);
+    assert_int_equal(set.texel_words, words);
+    assert_int_equal(set.info[green].offset, set.info[image].offset);
+    assert_string_equal(set.paths[green], set.paths[image]);
+    /* Adding the file again gives the image, not a view of it. */
+    assert_int_equal(add_ok(&set, set.paths[image], VKRT_TEXTURE_DATA), image);
+    double texel[4];
+    unique_texel(2, 1, texel); /* centre of texel (2, 1): s = 2.5 / 4, t = 1.5 / 3 */
+    uint32_t views[3] = {green, blue, alpha};
+    for (int c = 1; c <= 3; c++) {
+        float got[4];
+        double want[4] = {texel[c], texel[c], texel[c], texel[c]};
+        vkrt_texture_sample(&set, views[c - 1], 0.625f, 0.5f, got);
+        assert_rgba_near(got, want, 1e-6, "one channel in all four");
+    }
+    uint32_t index = 777;
+    vkrt_error err = {{0}};
+    assert_false(vkrt_texture_set_view(&set, green, VKRT_TEXTURE_NEAREST, NULL, NULL, &index, &err));
+    assert_false(vkrt_texture_set_view(&set, 99, VKRT_TEXTURE_NEAREST, NULL, NULL, &index, &err));
+    assert_false(vkrt_texture_set_view(&set, image, VKRT_TEXTURE_SRGB, NULL, NULL, &index, &err));
+    assert_int_equal(index, 777);
+    assert_int_equal(set.count, 4);
+    vkrt_texture_set_free(&set);
+}
+
+/* (s, t) through a uv_matrix and uv_offset. */
+static void apply(const float m[4], const float o[2], double s, double t, double out[2])
+{
+    out[0] = m[0] * s + m[1] * t + o[0];
+    out[1] = m[2] * s + m[3] * t + o[1];
+}
+
+/* vkrt_texture_uv_transform against the extension's own examples, and a transformed entry's
+ * samples against the plain image sampled where the closed form puts them:
+ *     s' = o_s + cos r k_s s + sin r k_t t,   t' = o_t - sin r k_s s + cos r k_t t. */
+static void uv_transform_closed_form(void **state)
+{
+    temp_dir *fx = *state;
+    float m[4], o[2];
+    double p[2];
+    /* "Only the lower left quadrant of the source image, rotated clockwise 90 degrees":
+     * offset (0, 1), rotation pi/2, scale 0.5. The corners of the uv square land on the
+     * corners of that quarter. */
+    assert_false(vkrt_texture_uv_transform((float[]){0, 1}, (float[]){0.5f, 0.5f},
+                                           1.57079632679f, m, o));
+    static const double corners[4][4] = {
+        {0, 0, 0, 1}, {1, 0, 0, 0.5}, {0, 1, 0.5, 1}, {1, 1, 0.5, 0.5}};
+    for (int i = 0; i < 4; i++) {
+        apply(m, o, corners[i][0], corners[i][1], p);
+        assert_near(p[0], corners[i][2], 1e-6, "quarter example, s");
+        assert_near(p[1], corners[i][3], 1e-6, "quarter example, t");
+    }
+    /* "Inverts the T axis": offset (0, 1), scale (1, -1). */
+    assert_false(vkrt_texture_uv_transform((float[]){0, 1}, (float[]){1, -1}, 0, m, o));
+    apply(m, o, 0.25, 0.125, p);
+    assert_near(p[0], 0.25, 0, "flip, s");
+    assert_near(p[1], 0.875, 0, "flip, t");
+    assert_true(vkrt_texture_uv_transform((float[]){0, 0}, (float[]){1, 1}, 0, m, o));
+
+    vkrt_texture_set set = {0};
+    uint32_t image = add_unique_image(fx, &set, 5, 3);
+    uint32_t seed = 99;
+    for (int trial = 0; trial < 20; trial++) {
+        float offset[2], scale[2], rotation;
+        float r[8];
+        for (int k = 0; k < 8; k++) {
+            seed = seed * 1664525u + 1013904223u;
+            r[k] = (float)(seed >> 8) / 16777216.0f; /* [0, 1) */
+        }
+        offset[0] = 4 * r[0] - 2;
+        offset[1] = 4 * r[1] - 2;
+        scale[0] = 3 * r[2] - 1.5f;
+        scale[1] = 3 * r[3] - 1.5f;
+        rotation = 8 * r[4] - 4;
+        assert_false(vkrt_texture_uv_transform(offset, scale, rotation, m, o));
+        uint32_t view = view_ok(&set, image, VKRT_TEXTURE_TRANSFORM, m, o);
+        double u = 3 * r[5] - 1, v = 3 * r[6] - 1, s = u, t = 1 - v;
+        double s2 = offset[0] + cos(rotation) * scale[0] * s + sin(rotation) * scale[1] * t;
+        double t2 = offset[1] - sin(rotation) * scale[0] * s + cos(rotation) * scale[1] * t;
+        float got[4], want[4];
+        vkrt_texture_sample(&set, view, (float)u, (float)v, got);
+        vkrt_texture_sample(&set, image, (float)s2, (float)(1 - t2), want);
+        double wantd[4] = {want[0], want[1], want[2], want[3]};
+        assert_rgba_near(got, wantd, 1e-4, "transformed sample against the closed form");
+    }
+    vkrt_texture_set_free(&set);
+}
+
+/* Khronos' TextureTransformTest in small: known offsets, rotations and scales give known texels of
+ * an 8 x 8 image under a clamping, nearest sampler (the sample model's). Points are glTF uv (a, b),
+ * v pointing down, which vkrt's loader stores as (a, 1 - b); the expected texels are worked out
+ * by hand from the closed form above, and differ from those of a transform left out or rotated
+ * the wrong way. */
+static void texture_transform_test_in_small(void **state)
+{
+    temp_dir *fx = *state;
+    vkrt_texture_set set = {0};
+    uint32_t image = add_unique_image(fx, &set, 8, 8);
+    uint32_t base = VKRT_TEXTURE_NEAREST | BOTH(VKRT_TEXTURE_CLAMP);
+    static const struct {
+        float offset[2], scale[2], rotation;
+        float a, b; /* glTF uv */
+        int x, y;   /* the texel it must read */
+    } cases[] = {
+        /* Offsets: uv (0.25, 0.25), the middle of a quad spanning uv 0 to 0.5, reads the
+         * quarter the offset names: none (3/8 of 8 = 2), s + 0.5, t + 0.5, both. */
+        {{0, 0}, {1, 1}, 0, 0.25f, 0.25f, 2, 2},
+        {{0.5f, 0}, {1, 1}, 0, 0.25f, 0.25f, 6, 2},
+        {{0, 0.5f}, {1, 1}, 0, 0.25f, 0.25f, 2, 6},
+        {{0.5f, 0.5f}, {1, 1}, 0, 0.25f, 0.25f, 6, 6},
+        /* Rotation 22.5 degrees of (0.8, 0.3): s' = 0.8 cos + 0.3 sin = 0.854 -> 6, t' = -0.8 sin
+         * + 0.3 cos = -0.029, clamped -> 0. The wrong way round gives (4, 4); none (6, 2). */
+        {{0, 0}, {1, 1}, 0.392699f, 0.8f, 0.3f, 6, 0},
+        /* Scale 1.5 of (0.5, 0.5): (0.75, 0.75) -> 6; unscaled it would be 4. */
+        {{0, 0}, {1.5f, 1.5f}, 0, 0.5f, 0.5f, 6, 6},
+        /* All: offset (-0.2, -0.1), rotation 0.3, scale (1.5, 1.2) of (0.4, 0.6):
+         * s' = -0.2 + 0.9553 * 0.6 + 0.2955 * 0.72 = 0.586 -> 4,
+         * t' = -0.1 - 0.2955 * 0.6 + 0.9553 * 0.72 = 0.411 -> 3. */
+        {{-0.2f, -0.1f}, {1.5f, 1.2f}, 0.3f, 0.4f, 0.6f, 4, 3},
+        /* The extension's example, the lower left quarter turned: (0.1, 0.1) -> (0.05, 0.95),
+         * (0.9, 0.1) -> (0.05, 0.55), (0.1, 0.9) -> (0.45, 0.95). */
+        {{0, 1}, {0.5f, 0.5f}, 1.57079632679f, 0.1f, 0.1f, 0, 7},
+        {{0, 1}, {0.5f, 0.5f}, 1.57079632679f, 0.9f, 0.1f, 0, 4},
+        {{0, 1}, {0.5f, 0.5f}, 1.57079632679f, 0.1f, 0.9f, 3, 7},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        float m[4], o[2];
+        bool identity = vkrt_texture_uv_transform(cases[i].offset, cases[i].scale,
+                                                  cases[i].rotation, m, o);
+        uint32_t view =
+            view_ok(&set, image, base | (identity ? 0u : VKRT_TEXTURE_TRANSFORM), m, o);
+        assert_sample_is_texel(&set, view, cases[i].a, 1.0f - cases[i].b, cases[i].x, cases[i].y);
+    }
+    vkrt_texture_set_free(&set);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -694,6 +995,11 @@ int main(void)
         temp_dir_test(file_name_case_and_backslashes),
         temp_dir_test(errors_name_referrer_and_path),
         temp_dir_test(size_limit_is_reported_in_mib),
+        temp_dir_test(wrap_modes_nearest),
+        temp_dir_test(wrap_modes_bilinear_at_edges),
+        temp_dir_test(channels_and_views_share_texels),
+        temp_dir_test(uv_transform_closed_form),
+        temp_dir_test(texture_transform_test_in_small),
         cmocka_unit_test(dabrovic_sponza_textures),
         cmocka_unit_test(sibenik_cathedral_textures),
         cmocka_unit_test(lost_empire_textures),

@@ -4,14 +4,17 @@
  *
  * test_texture.c checks the CPU reference against closed forms; this test closes the loop: a
  * small kernel includes the real texture.glsl, samples a hand-made texture set (sRGB, linear and
- * half-float textures, odd sizes, a 1x1) at several hundred uv (negative, past 1, on texel centres
+ * half-float textures, odd sizes, a 1x1; each also read clamped, mirrored, nearest, through a
+ * KHR_texture_transform and by one channel) at several hundred uv (negative, past 1, on texel centres
  * and seams, huge, non-finite) and reads texels at wrapped integer coordinates; every result must
  * match the CPU's. Bilinear filtering is continuous, so a GPU that rounds a position differently
  * (fused multiply-add, another fract) moves the result by about that rounding only: a small
- * tolerance, not an exact match, is the right test.
+ * tolerance, not an exact match, is the right test. Nearest filtering is not continuous, but
+ * its position is one multiplication of a wrapped coordinate, rounded alike on both sides.
  */
 #include <math.h>
 #include <setjmp.h>
+#include <stdbool.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -99,6 +102,62 @@ static void add_random_texture(vkrt_texture_set *set, uint32_t w, uint32_t h, ui
     set->count++;
 }
 
+enum { IMAGES = 6, VIEWS = 5 };
+
+/* Whether got lies within what the CPU gives at the corners of a small box about (u, v): for a
+ * transformed entry, the GPU may round the transform's products and sums differently (a fused
+ * multiply-add), which moves the position by a few units in the last place of the coordinates;
+ * filtered, the value moves within the box's corners, and nearest may take the texel across an
+ * edge the point lies on. The box is several times that rounding, and no wider. */
+static bool within_rounding(const vkrt_texture_set *set, uint32_t tex, float u, float v, int k,
+                            float got)
+{
+    if (!isfinite(u) || !isfinite(v))
+        return false;
+    double delta = 1e-6 * (4.0 + 2.0 * (fabs(u) + fabs(v)));
+    float lo = INFINITY, hi = -INFINITY;
+    for (int du = -1; du <= 1; du++)
+        for (int dv = -1; dv <= 1; dv++) {
+            float c[4];
+            vkrt_texture_sample(set, tex, (float)(u + du * delta), (float)(v + dv * delta), c);
+            lo = fminf(lo, c[k]);
+            hi = fmaxf(hi, c[k]);
+        }
+    float tolerance = 2e-5f * fmaxf(1.0f, fabsf(got));
+    return got >= lo - tolerance && got <= hi + tolerance;
+}
+
+/* Adds to each of the set's images the entries that read it through other samplers, transforms
+ * and channels, as maps make them (vkrt_texture_set_view): every wrap mode on each axis, nearest
+ * filtering, a rotating, scaling, mirroring and shifting transform, channel selection. */
+static void add_views(vkrt_texture_set *set)
+{
+    static const uint32_t flags[VIEWS] = {
+        VKRT_TEXTURE_WRAP_U(VKRT_TEXTURE_CLAMP) | VKRT_TEXTURE_WRAP_V(VKRT_TEXTURE_MIRROR),
+        VKRT_TEXTURE_WRAP_U(VKRT_TEXTURE_MIRROR) | VKRT_TEXTURE_WRAP_V(VKRT_TEXTURE_CLAMP) |
+            VKRT_TEXTURE_NEAREST | VKRT_TEXTURE_CHANNEL(2u),
+        VKRT_TEXTURE_TRANSFORM,
+        VKRT_TEXTURE_TRANSFORM | VKRT_TEXTURE_NEAREST | VKRT_TEXTURE_CHANNEL(1u) |
+            VKRT_TEXTURE_WRAP_U(VKRT_TEXTURE_MIRROR) | VKRT_TEXTURE_WRAP_V(VKRT_TEXTURE_MIRROR),
+        VKRT_TEXTURE_NEAREST | VKRT_TEXTURE_CHANNEL(3u),
+    };
+    uint32_t images = set->count;
+    set->info = realloc(set->info, images * (1 + VIEWS) * sizeof *set->info);
+    assert_non_null(set->info);
+    float offset[2] = {0.3f, -2.1f}, scale[2] = {1.5f, -0.75f}, matrix[4], translation[2];
+    assert_false(vkrt_texture_uv_transform(offset, scale, 0.7f, matrix, translation));
+    for (uint32_t t = 0; t < images; t++)
+        for (uint32_t k = 0; k < VIEWS; k++) {
+            vkrt_texture_info view = set->info[t];
+            view.flags |= flags[k];
+            if (flags[k] & VKRT_TEXTURE_TRANSFORM) {
+                memcpy(view.uv_matrix, matrix, sizeof matrix);
+                memcpy(view.uv_offset, translation, sizeof translation);
+            }
+            set->info[set->count++] = view;
+        }
+}
+
 static void gpu_matches_cpu_reference(void **state)
 {
     (void)state;
@@ -109,8 +168,10 @@ static void gpu_matches_cpu_reference(void **state)
     add_random_texture(&set, 1, 1, VKRT_TEXTURE_SRGB);
     add_random_texture(&set, 7, 1, VKRT_TEXTURE_SRGB);
     add_random_texture(&set, 2, 9, VKRT_TEXTURE_HALF);
+    add_views(&set);
 
-    enum { PER_TEXTURE = 400, MAX_QUERIES = 6 * PER_TEXTURE };
+    enum { PER_TEXTURE = 400, MAX_QUERIES = IMAGES * (1 + VIEWS) * PER_TEXTURE };
+    assert_int_equal(set.count, IMAGES * (1 + VIEWS));
     static query queries[MAX_QUERIES];
     uint32_t n = 0;
     for (uint32_t t = 0; t < set.count; t++) {
@@ -165,6 +226,7 @@ static void gpu_matches_cpu_reference(void **state)
     fixture_context_destroy(&ctx);
 
     double worst = 0;
+    uint32_t nudged = 0;
     for (uint32_t i = 0; i < n; i++) {
         const query *q = &queries[i];
         float want[4];
@@ -172,9 +234,15 @@ static void gpu_matches_cpu_reference(void **state)
             vkrt_texture_sample(&set, q->texture, bits_float(q->a), bits_float(q->b), want);
         else
             vkrt_texture_texel(&set, q->texture, (int32_t)q->a, (int32_t)q->b, want);
+        bool transformed = q->kind == 0 && (set.info[q->texture].flags & VKRT_TEXTURE_TRANSFORM);
         for (int k = 0; k < 4; k++) {
             float got = results[4 * i + k];
             double error = fabs((double)got - want[k]) / fmax(1.0, fabs(want[k]));
+            if (!(error <= 2e-5) && transformed &&
+                within_rounding(&set, q->texture, bits_float(q->a), bits_float(q->b), k, got)) {
+                nudged++;
+                continue;
+            }
             if (!(error <= 2e-5))
                 fail_msg("texture %u, %s (%g, %g), channel %d: GPU %.9g, CPU %.9g", q->texture,
                          q->kind ? "texel" : "sample at",
@@ -184,7 +252,9 @@ static void gpu_matches_cpu_reference(void **state)
             worst = fmax(worst, error);
         }
     }
-    printf("%u queries over %u textures; largest GPU-CPU difference %.3g\n", n, set.count, worst);
+    printf("%u queries over %u textures; largest GPU-CPU difference %.3g; %u components of "
+           "transformed samples within the rounding of their position\n",
+           n, set.count, worst, nudged);
     free(results);
     vkrt_texture_set_free(&set);
 }

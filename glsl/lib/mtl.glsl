@@ -6,7 +6,9 @@
  *   15 the BSDF family (no built-in reads it)   16 Pr (roughness)   17 Pm (metallic)
  *   18 Pc (clearcoat)   19 Pcr (its roughness)
  * and texture slot 0 is map_Kd (colour), slot 1 map_d (coverage), 2 map_Pr, 3 map_Pm, 6 map_Ps;
- * the sheen Ps (a material file's number 20) is Material.maps.z.
+ * the sheen Ps (a material file's number 20) is Material.maps.z. The one-number maps (slots 2, 3
+ * and 6) are read by their red: a map that names another channel (glTF's metallicRoughness) has
+ * that channel in all four (lib/texture.glsl).
  */
 #ifndef VKRT_MTL_GLSL
 #define VKRT_MTL_GLSL
@@ -24,8 +26,8 @@ float mtl_dielectric_eta(Surface s)
     return s.front_face ? ni : 1.0 / ni;
 }
 
-/* The perceptual roughness of the rough built-ins: number 16 times the red of texture slot 2
- * (map_Pr, data); GGX alpha is its square (lib/microfacet.glsl). */
+/* The perceptual roughness of the rough built-ins: number 16 times the red (the map's channel) of
+ * texture slot 2 (map_Pr, data); GGX alpha is its square (lib/microfacet.glsl). */
 float mtl_roughness(Surface s)
 {
     return param(16u) * material_texture(2u, s.uv).r;

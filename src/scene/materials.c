@@ -194,6 +194,40 @@ static bool add_texture(vkrt_scene_materials *out, vkrt_scene_material *mat, uin
     return true;
 }
 
+/* The TextureInfo flag of a wrap mode. */
+static uint32_t wrap_flag(vkrt_wrap wrap)
+{
+    return wrap == VKRT_WRAP_CLAMP    ? VKRT_TEXTURE_CLAMP
+           : wrap == VKRT_WRAP_MIRROR ? VKRT_TEXTURE_MIRROR
+                                      : VKRT_TEXTURE_REPEAT;
+}
+
+/* Makes the texture in slot read as map (the record's map number map_index) says: its sampler,
+ * its uv transform and, for the maps the built-ins read as one number, its channel (a view of
+ * the image, texture.h). A map read as repeating, bilinear, untransformed red keeps the image's
+ * own entry. */
+static bool read_as_map(vkrt_scene_materials *out, vkrt_scene_material *mat, uint32_t slot,
+                        const vkrt_texture_ref *t, int map_index, const char *referrer,
+                        vkrt_error *err)
+{
+    bool one_number = map_index == VKRT_MAP_ROUGHNESS || map_index == VKRT_MAP_METALLIC ||
+                      map_index == VKRT_MAP_SHEEN;
+    if (one_number && t->channel > 3)
+        return vkrt_error_set(err, "%s: texture '%s': channel %u; a map has channels 0 to 3",
+                              referrer, t->path, t->channel);
+    uint32_t flags = VKRT_TEXTURE_WRAP_U(wrap_flag(t->sampler.wrap_u)) |
+                     VKRT_TEXTURE_WRAP_V(wrap_flag(t->sampler.wrap_v)) |
+                     (t->sampler.filter == VKRT_FILTER_NEAREST ? VKRT_TEXTURE_NEAREST : 0u) |
+                     (one_number ? VKRT_TEXTURE_CHANNEL(t->channel) : 0u);
+    float matrix[4], offset[2];
+    if (!vkrt_texture_uv_transform(t->uv_offset, t->uv_scale, t->uv_rotation, matrix, offset))
+        flags |= VKRT_TEXTURE_TRANSFORM;
+    if (!vkrt_texture_set_view(&out->textures, mat->textures[slot], flags, matrix, offset,
+                               &mat->textures[slot], err))
+        return vkrt_error_prefix(err, "%s: texture '%s'", referrer, t->path);
+    return true;
+}
+
 static bool init_material(vkrt_scene_material *mat, const char *name, const char *referrer,
                           vkrt_error *err)
 {
@@ -249,17 +283,17 @@ static bool from_record(vkrt_scene_materials *out, vkrt_scene_material *mat,
             continue;
         char referrer[1200];
         snprintf(referrer, sizeof referrer, "%s:%d", m->file, t->line);
-        if (t->sampler.wrap_u != VKRT_WRAP_REPEAT || t->sampler.wrap_v != VKRT_WRAP_REPEAT ||
-            t->sampler.filter != VKRT_FILTER_LINEAR)
+        if (t->uv_set != 0)
             return vkrt_error_set(err,
-                                  "%s: texture '%s': only repeating, bilinear sampling is "
-                                  "supported",
-                                  referrer, t->path);
+                                  "%s: texture '%s': reads texture coordinates %u; vkrt reads "
+                                  "one set (TEXCOORD_0) only",
+                                  referrer, t->path, t->uv_set);
         if (t->embedded >= 0 && (uint32_t)t->embedded >= model->image_count)
             return vkrt_error_set(err, "%s: texture '%s': embedded image %d of %u", referrer,
                                   t->path, t->embedded, model->image_count);
         const vkrt_image_blob *image = t->embedded >= 0 ? &model->images[t->embedded] : NULL;
-        if (!add_texture(out, mat, slot_of_map[k], t->path, image, t->space, referrer, err))
+        if (!add_texture(out, mat, slot_of_map[k], t->path, image, t->space, referrer, err) ||
+            !read_as_map(out, mat, slot_of_map[k], t, k, referrer, err))
             return false;
     }
     uint32_t detail = mat->textures[VKRT_SLOT_DETAIL];

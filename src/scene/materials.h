@@ -66,8 +66,10 @@ extern const char *const vkrt_builtin_shaders[];
 
 /* Resolves the materials of model under cfg, with file (may be NULL) taking precedence. On failure
  * err names the file and line at fault (a missing texture says which material file and line
- * asked for it; a sampler other than repeating bilinear is refused there) and *out is left
- * empty. */
+ * asked for it; a map on a second uv set, TEXCOORD_1, is refused there) and *out is left
+ * empty. Each map's texture index is the entry that reads the image as the map's vkrt_texture_ref
+ * says (vkrt_texture_set_view): its sampler, its KHR_texture_transform and, for the roughness,
+ * metallic and sheen maps, its channel. */
 bool vkrt_scene_materials_resolve(const vkrt_config *cfg, const vkrt_model *model,
                                   const vkrt_material_file *file, vkrt_scene_materials *out,
                                   vkrt_error *err);

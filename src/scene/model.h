@@ -49,8 +49,10 @@ typedef enum vkrt_bsdf {
     VKRT_BSDF_EMITTER,          /* emission only, no reflection */
 } vkrt_bsdf;
 
-/* How a texture is sampled. The kernels sample with VKRT_WRAP_REPEAT and VKRT_FILTER_LINEAR
- * (glsl/lib/texture.glsl); materials.c refuses the others until they do. */
+/* How a texture is sampled (glTF's sampler): per axis, repeat, clamp to the edge texel or
+ * mirrored repeat, as Vulkan's samplers address texels; bilinear or the nearest texel. There
+ * are no mipmaps, so one filter serves: a loader gives glTF's magFilter (NEAREST: nearest, else
+ * linear). glsl/lib/texture.glsl. */
 typedef enum vkrt_wrap { VKRT_WRAP_REPEAT, VKRT_WRAP_CLAMP, VKRT_WRAP_MIRROR } vkrt_wrap;
 typedef enum vkrt_filter { VKRT_FILTER_LINEAR, VKRT_FILTER_NEAREST } vkrt_filter;
 typedef struct vkrt_sampler {
@@ -68,11 +70,19 @@ typedef struct vkrt_texture_ref {
     vkrt_sampler sampler;
     int32_t embedded;        /* index into vkrt_model.images when the image's bytes live in the
                                 scene file (a .glb's buffer, a data URI), else -1: read path */
-    uint32_t channel;        /* which channel a one-number map reads: 0 red .. 3 alpha (glTF's
-                                metallicRoughness: metal in 2 blue, roughness in 1 green) */
-    uint32_t uv_set;         /* which texture coordinates: 0 (TEXCOORD_0) or 1 (TEXCOORD_1) */
-    /* KHR_texture_transform: uv' = uv_offset + R(uv_rotation) * (uv_scale * uv), rotation in
-     * radians counter-clockwise as the extension defines it; identity: offset 0, scale 1. */
+    uint32_t channel;        /* which channel a one-number map (roughness, metallic, sheen)
+                                reads: 0 red .. 3 alpha (glTF's metallicRoughness: metal in 2
+                                blue, roughness in 1 green); other maps read their colour */
+    uint32_t uv_set;         /* which texture coordinates: 0 (TEXCOORD_0) or 1 (TEXCOORD_1);
+                                materials.c refuses 1: meshes carry one set */
+    /* KHR_texture_transform's offset, scale and rotation (radians) as the file gives them,
+     * untouched; identity: offset 0, scale 1, rotation 0. They apply in image coordinates
+     * (s, t) = (u, 1 - v) of the mesh's uv (OBJ convention, v = 0 the bottom row): s from the
+     * left, t down from the top row, which is glTF's own uv before its loader flips v:
+     *     (s', t') = uv_offset + [cos r  sin r; -sin r  cos r] (uv_scale[0] s, uv_scale[1] t)
+     * (matrix rows, r = uv_rotation; counter-clockwise as seen with t pointing down, as the
+     * extension's sample viewer and its own example read it), and the sampler wraps (s', t').
+     * texture.h, vkrt_texture_uv_transform. */
     float uv_offset[2], uv_scale[2], uv_rotation;
 } vkrt_texture_ref;
 
@@ -94,9 +104,9 @@ typedef enum vkrt_detail_kind {
 enum {
     VKRT_MAP_BASE_COLOUR, /* colour; its alpha cuts the surface out where it has one */
     VKRT_MAP_COVERAGE,    /* alpha: cuts the surface out */
-    VKRT_MAP_ROUGHNESS,   /* data, red channel */
-    VKRT_MAP_METALLIC,    /* data, red channel */
-    VKRT_MAP_SHEEN,       /* data, red channel */
+    VKRT_MAP_ROUGHNESS,   /* data, one channel (vkrt_texture_ref.channel, red by default) */
+    VKRT_MAP_METALLIC,    /* data, one channel (vkrt_texture_ref.channel, red by default) */
+    VKRT_MAP_SHEEN,       /* data, one channel (vkrt_texture_ref.channel, red by default) */
     VKRT_MAP_DETAIL,      /* data: normal or height map (detail_kind) */
     VKRT_MAP_EMISSION,    /* colour */
     VKRT_MAP_COUNT

@@ -41,6 +41,15 @@ static_assert(offsetof(vkrt_texture_info, height) == offsetof(TextureInfo, heigh
               "TextureInfo.height");
 static_assert(offsetof(vkrt_texture_info, flags) == offsetof(TextureInfo, flags),
               "TextureInfo.flags");
+static_assert(offsetof(vkrt_texture_info, uv_matrix) == offsetof(TextureInfo, uv_matrix),
+              "TextureInfo.uv_matrix");
+static_assert(offsetof(vkrt_texture_info, uv_offset) == offsetof(TextureInfo, uv_offset),
+              "TextureInfo.uv_offset");
+
+/* The flags that say how a map reads its image rather than what the image is. */
+#define VIEW_FLAGS                                                                                \
+    (VKRT_TEXTURE_WRAP_U(3u) | VKRT_TEXTURE_WRAP_V(3u) | VKRT_TEXTURE_NEAREST |                 \
+     VKRT_TEXTURE_TRANSFORM | VKRT_TEXTURE_CHANNEL(3u))
 
 /* Offsets into the texel buffer are 32-bit uints on the GPU. */
 #define MAX_TEXEL_WORDS ((size_t)UINT32_MAX)
@@ -445,12 +454,13 @@ static bool decode(vkrt_texture_set *set, FILE *f, vkrt_texture_usage usage, con
 }
 
 /* Whether the set holds a texture of key (a canonical path or an embedded image's name) for
- * usage, its index then in *index. */
+ * usage, read plainly (not a view, texture.h), its index then in *index. */
 static bool find_added(const vkrt_texture_set *set, const char *key, vkrt_texture_usage usage,
                        uint32_t *index)
 {
     for (uint32_t i = 0; i < set->count; i++)
-        if (set->usages[i] == (uint32_t)usage && strcmp(set->paths[i], key) == 0) {
+        if (set->usages[i] == (uint32_t)usage && !(set->info[i].flags & VIEW_FLAGS) &&
+            strcmp(set->paths[i], key) == 0) {
             *index = i;
             return true;
         }
@@ -558,6 +568,59 @@ bool vkrt_texture_set_add_memory(vkrt_texture_set *set, const void *bytes, size_
     return ok;
 }
 
+bool vkrt_texture_set_view(vkrt_texture_set *set, uint32_t base, uint32_t view_flags,
+                           const float uv_matrix[4], const float uv_offset[2], uint32_t *index,
+                           vkrt_error *err)
+{
+    if (!set || base >= set->count || (set->info[base].flags & VIEW_FLAGS) ||
+        (view_flags & ~VIEW_FLAGS))
+        return vkrt_error_set(err, "texture view of texture %u (flags 0x%x) is not one of the set's "
+                                   "images read another way", base, view_flags);
+    if (!view_flags) {
+        *index = base;
+        return true;
+    }
+    vkrt_texture_info view = set->info[base];
+    view.flags |= view_flags;
+    if (view_flags & VKRT_TEXTURE_TRANSFORM) {
+        memcpy(view.uv_matrix, uv_matrix, sizeof view.uv_matrix);
+        view.uv_offset[0] = uv_offset[0];
+        view.uv_offset[1] = uv_offset[1];
+    }
+    for (uint32_t i = 0; i < set->count; i++)
+        if (memcmp(&set->info[i], &view, sizeof view) == 0) {
+            *index = i;
+            return true;
+        }
+    if (set->count == UINT32_MAX)
+        return vkrt_error_set(err, "too many textures");
+    /* reserve_one_more grows info, paths and usages by one and the texels by nothing. */
+    char *path = strdup(set->paths[base]);
+    if (!path || !reserve_one_more(set, 0)) {
+        free(path);
+        return vkrt_error_set(err, "out of memory for a texture view");
+    }
+    set->info[set->count] = view;
+    set->paths[set->count] = path;
+    set->usages[set->count] = set->usages[base];
+    *index = set->count++;
+    return true;
+}
+
+bool vkrt_texture_uv_transform(const float offset[2], const float scale[2], float rotation,
+                               float uv_matrix[4], float uv_offset[2])
+{
+    float c = cosf(rotation), s = sinf(rotation);
+    uv_matrix[0] = c * scale[0];
+    uv_matrix[1] = s * scale[1];
+    uv_matrix[2] = -s * scale[0];
+    uv_matrix[3] = c * scale[1];
+    uv_offset[0] = offset[0];
+    uv_offset[1] = offset[1];
+    return offset[0] == 0.0f && offset[1] == 0.0f && scale[0] == 1.0f && scale[1] == 1.0f &&
+           rotation == 0.0f;
+}
+
 void vkrt_texture_set_free(vkrt_texture_set *set)
 {
     if (!set)
@@ -591,6 +654,18 @@ static uint32_t wrap(int i, uint32_t n)
     return i < 0 && r ? n - r : r;
 }
 
+/* Texel index i of n under a wrap mode: texture_wrap_mode. */
+static uint32_t wrap_mode(int i, uint32_t n, uint32_t mode)
+{
+    if (mode == VKRT_TEXTURE_CLAMP)
+        return i < 0 ? 0u : (uint32_t)i >= n ? n - 1u : (uint32_t)i;
+    if (mode == VKRT_TEXTURE_MIRROR) {
+        uint32_t m = wrap(i, 2u * n);
+        return m < n ? m : 2u * n - 1u - m;
+    }
+    return wrap(i, n);
+}
+
 void vkrt_texture_texel(const vkrt_texture_set *set, uint32_t index, int x, int y, float rgba[4])
 {
     if (!set || index >= set->count) {
@@ -598,7 +673,11 @@ void vkrt_texture_texel(const vkrt_texture_set *set, uint32_t index, int x, int 
         return;
     }
     const vkrt_texture_info *info = &set->info[index];
-    uint32_t i = wrap(y, info->height) * info->width + wrap(x, info->width);
+    uint32_t wrap_u = info->flags >> 2 & 3u, wrap_v = info->flags >> 4 & 3u;
+    uint32_t i = (wrap_u | wrap_v) == VKRT_TEXTURE_REPEAT
+                     ? wrap(y, info->height) * info->width + wrap(x, info->width)
+                     : wrap_mode(y, info->height, wrap_v) * info->width +
+                           wrap_mode(x, info->width, wrap_u);
     if (info->flags & VKRT_TEXTURE_HALF) {
         const uint32_t *t = &set->texels[info->offset + 2u * i];
         rgba[0] = half_to_float(t[0] & 0xFFFFu);
@@ -621,6 +700,16 @@ static float mix(float a, float b, float t)
     return a * (1.0f - t) + b * t;
 }
 
+/* An image coordinate folded into the span its wrap mode repeats: texture_fold. */
+static float fold(float c, uint32_t mode)
+{
+    if (mode == VKRT_TEXTURE_CLAMP)
+        return fminf(fmaxf(c, 0.0f), 1.0f);
+    if (mode == VKRT_TEXTURE_MIRROR)
+        return c - 2.0f * floorf(c * 0.5f);
+    return c - floorf(c);
+}
+
 void vkrt_texture_sample(const vkrt_texture_set *set, uint32_t index, float u, float v,
                          float rgba[4])
 {
@@ -633,21 +722,39 @@ void vkrt_texture_sample(const vkrt_texture_set *set, uint32_t index, float u, f
         u = 0.0f;
     if (!isfinite(v))
         v = 0.0f;
-    /* Wrap first, so a large uv keeps its precision; then rows count from the top (OBJ's v = 0
-     * is the bottom), and texel k covers [k, k + 1) with its centre at k + 0.5. */
-    float wu = u - floorf(u), top = 1.0f - v;
-    float wv = top - floorf(top);
-    float x = wu * (float)info->width - 0.5f, y = wv * (float)info->height - 0.5f;
-    float x0 = floorf(x), y0 = floorf(y);
-    float fx = x - x0, fy = y - y0;
-    int ix = (int)x0, iy = (int)y0;
-    float t00[4], t10[4], t01[4], t11[4];
-    vkrt_texture_texel(set, index, ix, iy, t00);
-    vkrt_texture_texel(set, index, ix + 1, iy, t10);
-    vkrt_texture_texel(set, index, ix, iy + 1, t01);
-    vkrt_texture_texel(set, index, ix + 1, iy + 1, t11);
+    /* Image coordinates: s from the left, t down from the top row (OBJ's v = 0 is the bottom). */
+    float s = u, t = 1.0f - v;
+    if (info->flags & VKRT_TEXTURE_TRANSFORM) {
+        const float *m = info->uv_matrix;
+        float s2 = m[0] * s + m[1] * t + info->uv_offset[0];
+        float t2 = m[2] * s + m[3] * t + info->uv_offset[1];
+        s = isfinite(s2) ? s2 : 0.0f;
+        t = isfinite(t2) ? t2 : 0.0f;
+    }
+    /* Wrap first, so a large coordinate keeps its precision; texel k covers [k, k + 1) with its
+     * centre at k + 0.5. */
+    uint32_t wrap_u = info->flags >> 2 & 3u, wrap_v = info->flags >> 4 & 3u;
+    float ws = fold(s, wrap_u), wt = fold(t, wrap_v);
+    float c[4];
+    if (info->flags & VKRT_TEXTURE_NEAREST) {
+        vkrt_texture_texel(set, index, (int)floorf(ws * (float)info->width),
+                           (int)floorf(wt * (float)info->height), c);
+    } else {
+        float x = ws * (float)info->width - 0.5f, y = wt * (float)info->height - 0.5f;
+        float x0 = floorf(x), y0 = floorf(y);
+        float fx = x - x0, fy = y - y0;
+        int ix = (int)x0, iy = (int)y0;
+        float t00[4], t10[4], t01[4], t11[4];
+        vkrt_texture_texel(set, index, ix, iy, t00);
+        vkrt_texture_texel(set, index, ix + 1, iy, t10);
+        vkrt_texture_texel(set, index, ix, iy + 1, t01);
+        vkrt_texture_texel(set, index, ix + 1, iy + 1, t11);
+        for (int k = 0; k < 4; k++)
+            c[k] = mix(mix(t00[k], t10[k], fx), mix(t01[k], t11[k], fx), fy);
+    }
+    uint32_t channel = info->flags >> 8 & 3u;
     for (int k = 0; k < 4; k++)
-        rgba[k] = mix(mix(t00[k], t10[k], fx), mix(t01[k], t11[k], fx), fy);
+        rgba[k] = c[channel ? channel : (uint32_t)k];
 }
 
 void vkrt_texture_mean(const vkrt_texture_set *set, uint32_t index, float rgba[4])

@@ -33,11 +33,14 @@ typedef enum vkrt_texture_usage {
 } vkrt_texture_usage;
 
 /* The same bytes as TextureInfo in glsl/shared.h, whose VKRT_TEXTURE_* flags it carries
- * (texture.c checks the size). */
+ * (texture.c checks the layout). */
 typedef struct vkrt_texture_info {
     uint32_t offset; /* index of the texture's first uint in texels */
     uint32_t width, height;
-    uint32_t flags; /* VKRT_TEXTURE_SRGB, VKRT_TEXTURE_HALF (glsl/shared.h) */
+    uint32_t flags;     /* VKRT_TEXTURE_SRGB, _HALF: the image's; VKRT_TEXTURE_WRAP_U/_V,
+                           _NEAREST, _TRANSFORM, _CHANNEL: how a map reads it (glsl/shared.h) */
+    float uv_matrix[4]; /* with VKRT_TEXTURE_TRANSFORM: (s, t) -> (m0 s + m1 t + o0, */
+    float uv_offset[4]; /*                                m2 s + m3 t + o1); o2, o3 unused */
 } vkrt_texture_info;
 
 /* All textures of a scene. Zero-initialise it, set max_texel_bytes if the device has a limit,
@@ -79,18 +82,41 @@ bool vkrt_texture_set_add_memory(vkrt_texture_set *set, const void *bytes, size_
                                  const char *name, vkrt_texture_usage usage,
                                  const char *referrer, uint32_t *index, vkrt_error *err);
 
+/* A texture of the set as a map reads it: the entry with texture base's image (its texels, not
+ * copied) and view_flags (VKRT_TEXTURE_WRAP_U/_V, _NEAREST, _TRANSFORM, _CHANNEL; nothing else),
+ * with uv_matrix and uv_offset where view_flags has VKRT_TEXTURE_TRANSFORM (vkrt_texture_uv_
+ * transform makes them). view_flags 0 gives base itself; an entry that reads the same image the
+ * same way is reused; else one is added, with base's path and usage. False, the set as it was and
+ * err set, when base is not an image added by vkrt_texture_set_add or memory runs out. */
+bool vkrt_texture_set_view(vkrt_texture_set *set, uint32_t base, uint32_t view_flags,
+                           const float uv_matrix[4], const float uv_offset[2], uint32_t *index,
+                           vkrt_error *err);
+
+/* KHR_texture_transform's offset, scale and rotation as a TextureInfo's uv_matrix and uv_offset,
+ * in image coordinates (s, t): s from the left, t down from the top row, which is glTF's uv:
+ *     (s', t') = offset + R (scale_s s, scale_t t),  R = [cos r  sin r; -sin r  cos r]
+ * (rows), as the extension's sample viewer and its example (offset (0, 1), rotation pi/2, scale
+ * 0.5 reads the image's lower left quarter) have it: counter-clockwise with t pointing down.
+ * Returns whether the transform is the identity (offset 0, scale 1, rotation 0), which needs no
+ * VKRT_TEXTURE_TRANSFORM. */
+bool vkrt_texture_uv_transform(const float offset[2], const float scale[2], float rotation,
+                               float uv_matrix[4], float uv_offset[2]);
+
 /* Frees what the set holds and zeroes it, keeping max_texel_bytes. Safe on a zeroed set. */
 void vkrt_texture_set_free(vkrt_texture_set *set);
 
 /* The CPU reference of texture_sample in glsl/lib/texture.glsl, with the same arithmetic (for
- * tests): the texture's bilinear sample at uv, with uv in the OBJ convention (v = 0 is the bottom
- * row), repeating in both directions, as linear RGBA. Texel centres lie at half-integers, and
- * filtering happens after sRGB decoding. Non-finite uv read as 0. An index past the set gives 0. */
+ * tests): the texture's sample at uv as its entry reads it, with uv in the OBJ convention (v = 0 is
+ * the bottom row), so image coordinates (s, t) = (u, 1 - v); then the entry's uv transform, wrap
+ * modes (repeat, clamp to edge, mirrored repeat), bilinear or nearest filtering and channel, as
+ * linear RGBA. Texel centres lie at half-integers, and filtering happens after sRGB decoding.
+ * Non-finite coordinates read as 0. An index past the set gives 0. */
 void vkrt_texture_sample(const vkrt_texture_set *set, uint32_t index, float u, float v,
                          float rgba[4]);
 
 /* One texel of the texture as linear RGBA, with x and y (x from the left, y from the top row)
- * wrapped into the image: the CPU reference of texture_texel in glsl/lib/texture.glsl. */
+ * wrapped into the image by the entry's wrap modes: the CPU reference of texture_texel in
+ * glsl/lib/texture.glsl. */
 void vkrt_texture_texel(const vkrt_texture_set *set, uint32_t index, int x, int y, float rgba[4]);
 
 /* The mean of the texture's texels as linear RGBA (colour maps decoded from sRGB first, as the

@@ -185,18 +185,13 @@ void texture_ref(Context &c, int index, int tex_coord, const tinygltf::Extension
         double r = number(*t, "rotation", 0);
         if (t->IsObject() && t->Has("texCoord"))
             ref->uv_set = number(*t, "texCoord", 0) > 0 ? 1u : 0u;
-        /* The transform is glTF's, on uv with v down: uv' = o + R(r) S uv, R(r) the rotation
-         * by r counter-clockwise (rows cos r, -sin r; sin r, cos r: the extension's GLSL
-         * mat3(cos, sin, 0, -sin, cos, 0, ...) is column-major). vkrt's uv is
-         * F(uv) = (u, 1 - v), so in vkrt's terms the same map is F T F: scale S, rotation -r
-         * (F mirrors, turning the sense round) and offset F(o + R(r) (0, s_v)). */
-        double cr = std::cos(r), sr = std::sin(r);
-        double ox = o[0] - sr * s[1], oy = o[1] + cr * s[1];
-        ref->uv_offset[0] = (float)ox;
-        ref->uv_offset[1] = (float)(1.0 - oy);
-        ref->uv_scale[0] = (float)s[0];
-        ref->uv_scale[1] = (float)s[1];
-        ref->uv_rotation = (float)-r;
+        /* Kept as the file gives them: the model applies them in glTF's own uv (model.h,
+         * vkrt_texture_ref), so no conversion here. */
+        for (int i = 0; i < 2; ++i) {
+            ref->uv_offset[i] = (float)o[i];
+            ref->uv_scale[i] = (float)s[i];
+        }
+        ref->uv_rotation = (float)r;
     }
 }
 
