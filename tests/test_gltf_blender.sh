@@ -7,9 +7,12 @@
 #   ROUTE gltf: each scene.glb through the glTF loader, with the file's own cameras, animation
 #               and lights. Skipped (77), saying why, while vkrt cannot read .glb.
 # Each view is held to Cycles twice (tests/cycles_compare.c):
-#   - the silhouette: the soft IoU of vkrt's coverage (two Whitted renders at max-depth 0 that
-#     differ only in the environment, 0 and 1) against Cycles' alpha, at least MIN_IOU: every
-#     instance where Cycles has it;
+#   - the silhouette: the soft IoU of vkrt's coverage against Cycles' alpha, at least MIN_IOU,
+#     and at most MAX_WRONG pixels covered in one and not the other: every instance where
+#     Cycles has it (the instances' scenes have no ground, whose outline would hold them). vkrt's coverage: a Whitted render at max-depth 0 in an
+#     environment of 1, where only camera rays that miss see the environment, less the same
+#     render in a black one (the OBJ route leaves the lights out instead: these scenes have no
+#     emission, so every surface is black and one render is enough);
 #   - the image means of R, G and B (the path tracer, 4 bounces as Cycles had, black
 #     environment), within the scene's tolerance, where the material models coincide
 #     (tools/blender_scenes.py says where they do not: the glass sphere of `materials` is solid
@@ -26,6 +29,9 @@ trap 'rm -rf "$tmp"' EXIT
 . "$src/tests/lib.sh"
 
 MIN_IOU=0.97
+# Pixels whose coverage may differ from Cycles' by more than half: none did in any view here; a
+# field of view 1.3% too wide made 26 (and an IoU of 0.994, still above MIN_IOU).
+MAX_WRONG=10
 # Samples per pixel: the silhouette's renders are only camera rays; 16 samples put a pixel's
 # coverage within about 1/8 on an edge. The means are over 19,200 pixels: 8 paths each put
 # their noise well under a percent.
@@ -56,7 +62,7 @@ hold() {
     scene=$1 view=$2 tolerance=$3
     ref=$scenes/$scene/cycles-$view
     printf '%s %s %s: ' "$route" "$scene" "$view"
-    check "$scene $view: silhouette" "$compare" iou "$ref.png" "$4" "$5" $MIN_IOU
+    check "$scene $view: silhouette" "$compare" iou "$ref.png" "$4" "$5" $MIN_IOU $MAX_WRONG
     printf '%s %s %s: ' "$route" "$scene" "$view"
     if [ "$tolerance" = - ]; then
         "$compare" mean "$ref.exr" "$6" 1000 # printed, not held
@@ -65,7 +71,7 @@ hold() {
     fi
 }
 
-# variants CFG DIR GEOMETRY: the three scene files of the renders, DIR/black.cfg, white.cfg and
+# variants CFG DIR GEOMETRY: the scene files of the renders, DIR/black.cfg, white.cfg and
 # mean.cfg, from CFG with GEOMETRY as its geometry.
 variants() {
     variant "$1" "0 0 0" whitted 0 "$3" >"$2/black.cfg"
@@ -73,31 +79,34 @@ variants() {
     variant "$1" "0 0 0" path 4 "$3" >"$2/mean.cfg"
 }
 
-# renders WHAT DIR ARGS...: the three renders of DIR's scene files into DIR/black, white and mean,
-# numbered by frame.
+# renders WHAT DIR KINDS ARGS...: the renders KINDS (black white mean, or white mean) of DIR's
+# scene files into DIR/black, white and mean, numbered by frame.
 renders() {
-    label=$1 dir=$2
-    shift 2
-    for kind in black white; do
+    label=$1 dir=$2 kinds=$3
+    shift 3
+    for kind in $kinds; do
         mkdir -p "$dir/$kind"
-        render "$label $kind" "$dir/$kind.cfg" "$dir/$kind/%02d.png" $SILHOUETTE_SPP "$@"
+        case $kind in
+        mean) render "$label $kind" "$dir/$kind.cfg" "$dir/$kind/%02d.exr" $MEAN_SPP "$@" ;;
+        *) render "$label $kind" "$dir/$kind.cfg" "$dir/$kind/%02d.png" $SILHOUETTE_SPP "$@" ;;
+        esac
     done
-    mkdir -p "$dir/mean"
-    render "$label mean" "$dir/mean.cfg" "$dir/mean/%02d.exr" $MEAN_SPP "$@"
 }
 
 # scene_obj NAME TOLERANCE VIEW...: renders scene.cfg, whose frame i is Cycles' view VIEW i.
+# Its silhouette render has no lights (no emission in the scenes it is run on).
 scene_obj() {
     scene=$1 tolerance=$2
     shift 2
     dir=$tmp/$scene
     mkdir -p "$dir"
     variants "$scenes/$scene/scene.cfg" "$dir" "$scenes/$scene/scene.obj"
-    renders "$scene" "$dir"
+    sed -i '/^light /d' "$dir/white.cfg"
+    renders "$scene" "$dir" "white mean"
     frame=0
     for view in "$@"; do
         f=$(printf %02d $frame)
-        hold "$scene" "$view" "$tolerance" "$dir/black/$f.png" "$dir/white/$f.png" "$dir/mean/$f.exr"
+        hold "$scene" "$view" "$tolerance" - "$dir/white/$f.png" "$dir/mean/$f.exr"
         frame=$((frame + 1))
     done
 }
@@ -125,7 +134,7 @@ scene_gltf() {
         sed -e '/^light /d' -e '/^camera /d' "$scenes/$scene/scene.cfg" >"$dir/scene.cfg"
         variants "$dir/scene.cfg" "$dir" "$scenes/$scene/scene.glb"
         # shellcheck disable=SC2046 # the views' arguments, split at commas
-        renders "$scene $views" "$dir" $(echo "${spec#*:}" | tr , ' ')
+        renders "$scene $views" "$dir" "black white mean" $(echo "${spec#*:}" | tr , ' ')
         for view in $(echo "$views" | tr , ' '); do
             hold "$scene" "$view" "$tolerance" "$(output "$dir" black png "$view")" \
                 "$(output "$dir" white png "$view")" "$(output "$dir" mean exr "$view")"
@@ -134,10 +143,12 @@ scene_gltf() {
 }
 
 # Tolerances of the means: the noise of 8 paths a pixel, and of Cycles' 1024, is under 1% of a
-# mean; '-' prints the means without holding them (materials: the glass differs).
+# mean (the OBJ route's sun-lit scenes agreed within 0.1%); lights: 5%, as Cycles' spot has a
+# cosine and a later, smoothstep edge (its half of the picture 5% brighter than vkrt's, the point
+# light's half within 0.01%); '-' prints the means without holding them (materials: the glass is
+# solid in Cycles and thin-walled in glTF).
 if [ "$route" = obj ]; then
     scene_obj instances 0.03 cam0
-    scene_obj cameras 0.03 cam0
     scene_obj flythrough 0.03 frame00 frame08 frame24
     scene_obj lights 0.05 cam0
 else

@@ -113,7 +113,7 @@ def principled(name, base=(0.8, 0.8, 0.8), metallic=0.0, roughness=0.5, specular
     return mat
 
 
-# Names of the materials lambert() made, whose .mtl entries lose their coat (write_obj).
+# Names of the materials lambert() made, whose .mtl entries lose the PBR keys (write_obj).
 LAMBERT_NAMES = set()
 
 
@@ -220,9 +220,9 @@ def chiral_cone(material):
 
 
 def instance_layout():
-    """Ground, one cone mesh placed five times (rotated, scaled unevenly, lying, mirrored), and
-    the sun: the instances scene and the flythrough's set."""
-    ground(8, lambert("ground", (0.5, 0.5, 0.5)))
+    """One cone mesh placed five times (rotated, scaled unevenly, lying, small, mirrored) and the
+    sun: the instances scene and the flythrough's set. No ground: the silhouette is the cones'
+    alone (a ground behind them would hold them all inside its own outline)."""
     cone = chiral_cone(lambert("cone", (0.8, 0.3, 0.1)))
     mesh_object("cone-plain", cone, (-1.6, 0.0, 0.6))
     mesh_object("cone-turned", cone, (0.0, 1.2, 0.9), rotation=(0, 0, 60), scale=(1, 1, 1.5))
@@ -346,25 +346,31 @@ def light_line(obj):
     raise ValueError(f"no scene.cfg line for a {data.type} light")
 
 
+# The keys of Blender's PBR extension of the .mtl (export_pbr_extensions).
+PBR_KEYS = ("Pr", "Pm", "Ps", "Pc", "Pcr", "aniso", "anisor")
+
+
 def write_obj(path):
-    """Blender's OBJ export, and one change to its .mtl: a Lambert material's Ni 1.5 becomes 1.
-    Blender writes the Principled IOR as Ni whatever its Specular, and vkrt's `pbr` reads Ni as
-    a clear coat's index (docs/materials.md: Ni 1 is no coat, an exact Lambert), so the Specular
-    0 that the exporter keeps in the .glb (KHR_materials_specular) is lost in the .mtl."""
+    """Blender's OBJ export, and one change to its .mtl: a Lambert material's entry loses the
+    PBR keys. vkrt reads a material with them as `@pbr`, whose non-metal share lies under a
+    clear coat of index 1.5 whatever its Ni (docs/materials.md), darker at grazing views; Kd
+    alone (Ks is 0: Specular 0) is vkrt's `diffuse`, an exact Lambert. The .glb keeps Specular 0
+    as KHR_materials_specular."""
     bpy.ops.wm.obj_export(filepath=path, forward_axis='NEGATIVE_Z', up_axis='Y',
                           export_materials=True, export_pbr_extensions=True, export_uv=False,
                           export_triangulated_mesh=True)
     mtl = os.path.splitext(path)[0] + ".mtl"
     with open(mtl) as f:
         lines = f.read().split("\n")
-    material = None
-    for i, line in enumerate(lines):
+    kept, material = [], None
+    for line in lines:
         if line.startswith("newmtl "):
             material = line.split(None, 1)[1]
-        elif line.startswith("Ni ") and material in LAMBERT_NAMES:
-            lines[i] = "Ni 1.0"
+        if material in LAMBERT_NAMES and line.split(" ", 1)[0] in PBR_KEYS:
+            continue
+        kept.append(line)
     with open(mtl, "w") as f:
-        f.write("\n".join(lines))
+        f.write("\n".join(kept))
 
 
 def write_cfg(path, name, views):
