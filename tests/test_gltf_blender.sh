@@ -116,7 +116,7 @@ scene_obj() {
 output() {
     case $4 in
     frame[0-9]*) echo "$1/$2/${4#frame}.$3" ;;
-    *) ls "$1/$2/"*".$3" | head -n 1 ;;
+    *) for file in "$1/$2/"*".$3"; do echo "$file"; break; done ;;
     esac
 }
 
