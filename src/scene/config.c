@@ -254,6 +254,22 @@ static const char *frame_pattern_problem(const char *pattern, bool *two_numbers)
  * Keywords
  * ------------------------------------------------------------------------------------------- */
 
+/* Room for one more item in a growing array of count items of size bytes, its capacity *cap
+ * doubled (first when it is 0) when full; false, with the message said, when memory runs out. */
+static bool make_room(parser *p, void **array, uint32_t count, uint32_t *cap, uint32_t first,
+                      size_t size)
+{
+    if (count < *cap)
+        return true;
+    uint32_t grown_cap = *cap ? 2 * *cap : first;
+    void *grown = realloc(*array, grown_cap * size);
+    if (!grown)
+        return fail(p, "out of memory");
+    *array = grown;
+    *cap = grown_cap;
+    return true;
+}
+
 /* m = op * m for 3x4 row-major affine matrices (op applied after m). */
 static void affine_then(double m[12], const double op[12])
 {
@@ -360,14 +376,9 @@ static bool kw_geometry(parser *p, const tokens *t)
         return fail(p, "geometry needs a path");
     if (strchr(t->tok[1], '"') || t->tok[1][0] == '\'')
         return fail(p, "geometry: quotes are not supported; paths may not contain spaces");
-    if (cfg->geometry_count == p->geometry_cap) {
-        uint32_t cap = p->geometry_cap ? 2 * p->geometry_cap : 4;
-        vkrt_config_geometry *grown = realloc(cfg->geometries, cap * sizeof *grown);
-        if (!grown)
-            return fail(p, "out of memory");
-        cfg->geometries = grown;
-        p->geometry_cap = cap;
-    }
+    if (!make_room(p, (void **)&cfg->geometries, cfg->geometry_count, &p->geometry_cap, 4,
+                   sizeof *cfg->geometries))
+        return false;
     vkrt_config_geometry *g = &cfg->geometries[cfg->geometry_count];
     memset(g, 0, sizeof *g);
     g->line = p->at.line;
@@ -594,14 +605,9 @@ static bool kw_light(parser *p, const tokens *t)
     vkrt_config *cfg = p->cfg;
     if (cfg->light_count >= MAX_LIGHTS)
         return fail(p, "too many lights (the limit is %d)", MAX_LIGHTS);
-    if (cfg->light_count == p->light_cap) {
-        uint32_t cap = p->light_cap ? 2 * p->light_cap : 8;
-        vkrt_config_light *grown = realloc(cfg->lights, cap * sizeof *grown);
-        if (!grown)
-            return fail(p, "out of memory");
-        cfg->lights = grown;
-        p->light_cap = cap;
-    }
+    if (!make_room(p, (void **)&cfg->lights, cfg->light_count, &p->light_cap, 8,
+                   sizeof *cfg->lights))
+        return false;
     cfg->lights[cfg->light_count++] = l;
     return true;
 }
@@ -736,14 +742,9 @@ static bool kw_camera(parser *p, const tokens *t)
     vkrt_config *cfg = p->cfg;
     if (cfg->camera_count >= MAX_CAMERAS)
         return fail(p, "too many cameras (the limit is %d frames)", MAX_CAMERAS);
-    if (cfg->camera_count == p->camera_cap) {
-        uint32_t cap = p->camera_cap ? 2 * p->camera_cap : 4;
-        vkrt_config_camera *grown = realloc(cfg->cameras, cap * sizeof *grown);
-        if (!grown)
-            return fail(p, "out of memory");
-        cfg->cameras = grown;
-        p->camera_cap = cap;
-    }
+    if (!make_room(p, (void **)&cfg->cameras, cfg->camera_count, &p->camera_cap, 4,
+                   sizeof *cfg->cameras))
+        return false;
     cfg->cameras[cfg->camera_count++] = c;
     return true;
 }
