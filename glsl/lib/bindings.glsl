@@ -25,6 +25,9 @@ layout(constant_id = VKRT_SPEC_WAVE_WORKGROUP) const uint WAVE_WORKGROUP_SIZE = 
 layout(std430, set = 0, binding = VKRT_BINDING_RAYS) buffer RayBuffer { Ray rays[]; };
 layout(std430, set = 0, binding = VKRT_BINDING_RAYS_B) buffer RayBufferB { Ray rays_b[]; };
 layout(std430, set = 0, binding = VKRT_BINDING_HITS) buffer HitBuffer { Hit hits[]; };
+
+/* The scene: its triangles (in the structure's order), their normals and materials, the
+ * materials' records and the point, spot and directional lights. */
 layout(std430, set = 0, binding = VKRT_BINDING_TRIANGLES) readonly buffer TriangleBuffer { Triangle triangles[]; };
 layout(std430, set = 0, binding = VKRT_BINDING_NORMALS) readonly buffer NormalBuffer { TriangleNormals triangle_normals[]; };
 layout(std430, set = 0, binding = VKRT_BINDING_TRIANGLE_MATERIAL) readonly buffer TriangleMaterialBuffer { uint triangle_material[]; };
@@ -66,9 +69,13 @@ layout(constant_id = VKRT_SPEC_NESTED_WALK) const bool NESTED_WALK = false;
 layout(std430, set = 0, binding = VKRT_BINDING_WAVES) buffer WaveBuffer { WaveState waves[]; };
 layout(std430, set = 0, binding = VKRT_BINDING_VISIBILITY) buffer VisibilityBuffer { uint light_visibility[]; };
 layout(std430, set = 0, binding = VKRT_BINDING_SLOTS) buffer SlotBuffer { uvec2 ray_slots[]; };
+
+/* The textures: each triangle's corners' texture coordinates, the maps' entries (glsl/shared.h
+ * TextureInfo: an image read with its sampler and transform) and every image's texels. */
 layout(std430, set = 0, binding = VKRT_BINDING_TEXCOORDS) readonly buffer TexcoordBuffer { TriangleTexcoords triangle_texcoords[]; };
 layout(std430, set = 0, binding = VKRT_BINDING_TEXTURE_INFOS) readonly buffer TextureInfoBuffer { TextureInfo texture_infos[]; };
 layout(std430, set = 0, binding = VKRT_BINDING_TEXELS) readonly buffer TexelBuffer { uint texels[]; };
+
 /* The area lights and the sky: what light sampling needs to know of them, then the alias table
  * over the emissive triangles (glsl/shared.h LightInfo, Emitter; lib/emitters.glsl samples them). */
 layout(std430, set = 0, binding = VKRT_BINDING_EMITTERS) readonly buffer EmitterBuffer {

@@ -547,12 +547,10 @@ enum { SAH_BLOCK_NODES = 1 << 16 };
 
 typedef struct sah_share {
     const bvh_node *nodes;
-    uint32_t count;
-    double root_area;
+    uint32_t count, first_block, end_block; /* the tree's nodes; this share's blocks */
+    double root_area, *block_sum;           /* in: the root's half area; out: a sum per block */
     float traversal_cost;
-    uint32_t first_block, end_block;
-    double *block_sum;
-    uint32_t *block_leaves;
+    uint32_t *block_leaves;                 /* out: the leaves per block */
 } sah_share;
 
 /* A tree whose root box has no area (all triangles on one line or point) weighs every node 1. */

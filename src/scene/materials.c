@@ -18,17 +18,8 @@ const char *const vkrt_builtin_shaders[] = {
 
 /* Parameter layout of the built-ins, which a model record fills (glsl/lib/mtl.glsl). */
 enum {
-    PARAM_KD = 0,
-    PARAM_TRANSPARENCY = 3,
-    PARAM_KS = 4,
-    PARAM_NS = 7,
-    PARAM_KE = 8,
-    PARAM_NI = 11,
-    PARAM_TF = 12,
-    PARAM_FAMILY = 15,
-    PARAM_ROUGHNESS = 16,
-    PARAM_METALLIC = 17,
-    PARAM_COAT = 18,
+    PARAM_KD = 0, PARAM_TRANSPARENCY = 3, PARAM_KS = 4, PARAM_NS = 7, PARAM_KE = 8, PARAM_NI = 11,
+    PARAM_TF = 12, PARAM_FAMILY = 15, PARAM_ROUGHNESS = 16, PARAM_METALLIC = 17, PARAM_COAT = 18,
     PARAM_COAT_ROUGHNESS = 19,
 };
 /* The texture slot of each of a record's maps (VKRT_MAP_*), as the built-ins read them. */

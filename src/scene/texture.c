@@ -33,18 +33,11 @@
 
 static_assert(sizeof(vkrt_texture_info) == sizeof(TextureInfo),
               "vkrt_texture_info must match TextureInfo");
-static_assert(offsetof(vkrt_texture_info, offset) == offsetof(TextureInfo, offset),
-              "TextureInfo.offset");
-static_assert(offsetof(vkrt_texture_info, width) == offsetof(TextureInfo, width),
-              "TextureInfo.width");
-static_assert(offsetof(vkrt_texture_info, height) == offsetof(TextureInfo, height),
-              "TextureInfo.height");
-static_assert(offsetof(vkrt_texture_info, flags) == offsetof(TextureInfo, flags),
-              "TextureInfo.flags");
-static_assert(offsetof(vkrt_texture_info, uv_matrix) == offsetof(TextureInfo, uv_matrix),
-              "TextureInfo.uv_matrix");
-static_assert(offsetof(vkrt_texture_info, uv_offset) == offsetof(TextureInfo, uv_offset),
-              "TextureInfo.uv_offset");
+#define SAME_FIELD(f)                                                                          \
+    static_assert(offsetof(vkrt_texture_info, f) == offsetof(TextureInfo, f), "TextureInfo." #f)
+SAME_FIELD(offset); SAME_FIELD(width); SAME_FIELD(height); SAME_FIELD(flags);
+SAME_FIELD(uv_matrix); SAME_FIELD(uv_offset);
+#undef SAME_FIELD
 
 /* The flags that say how a map reads its image rather than what the image is. */
 #define VIEW_FLAGS                                                                                \
