@@ -10,6 +10,7 @@
 #     unchanged, an image was started again only when the camera (or size) changed, and its
 #     passes add up to exactly the target;
 #   - `vkrt view` without a display fails with a message instead of crashing;
+#   - a .glb alone through its orthographic camera matches `vkrt render` of it;
 #   - in path mode (a scene lit by an emissive lamp): a still picture converges (after 8 passes
 #     it is nearer a 64-spp render than after 1), a move starts it again, and the converged
 #     window matches `vkrt render` of its camera.
@@ -92,6 +93,23 @@ check "render of the printed camera exits 0" test $? -eq 0
 "$compare" "$tmp/spheres-view-000.png" "$tmp/render.png" 1 >"$tmp/compared"
 check "the window matches the render to one 8-bit step" test $? -eq 0
 cat "$tmp/compared"
+
+# A glTF file alone (no scene.cfg), through its orthographic camera (--camera 1): the converged
+# window against `vkrt render` of the same file and camera, to one 8-bit step as above.
+cp "$src/tests/gltf/cameras/scene.glb" "$tmp/cams.glb"
+printf 'wait converged\nkey p\nkey escape\n' >"$tmp/glb-events.txt"
+xvfb-run -a -s "-screen 0 1280x1024x24" "$vkrt" view "$tmp/cams.glb" --camera 1 --width 96 \
+    --height 72 --spp 4 --script "$tmp/glb-events.txt" >"$tmp/glb-out" 2>"$tmp/glb-log"
+status=$?
+check "glTF: view of a .glb alone exits 0" test $status -eq 0
+[ $status -eq 0 ] || cat "$tmp/glb-log"
+check "glTF: no validation message" sh -c "! grep -q validation '$tmp/glb-log'"
+"$vkrt" render "$tmp/cams.glb" --camera 1 --width 96 --height 72 --spp 4 -o "$tmp/glb-render.png" \
+    --quiet
+check "glTF: render of the same camera exits 0" test $? -eq 0
+"$compare" "$tmp/cams-view-000.png" "$tmp/glb-render.png" 1 >"$tmp/glb-compared"
+check "glTF: the window matches the render to one 8-bit step" test $? -eq 0
+cat "$tmp/glb-compared"
 
 # The log has a line per frame: "vkrt: view: frame F view V passes P/T traced K". audit LOG
 # STILL: no frame traced while its camera and target were unchanged and complete, a new image

@@ -149,14 +149,13 @@ static float aspect(const viewer *v)
 }
 
 /* The folder and name stem of the scene file, for screenshots: "scenes/x/scene.cfg" gives
- * "scenes/x/scene-view-". */
+ * "scenes/x/scene-view-", "models/duck.glb" "models/duck-view-". */
 static char *screenshot_prefix(const char *scene_path)
 {
     const char *slash = strrchr(scene_path, '/');
     const char *name = slash ? slash + 1 : scene_path;
-    size_t stem = strlen(name);
-    if (vkrt_text_ends_with(name, ".cfg"))
-        stem -= 4;
+    const char *dot = strrchr(name, '.');
+    size_t stem = dot && dot != name ? (size_t)(dot - name) : strlen(name);
     size_t folder = (size_t)(name - scene_path);
     char *prefix = malloc(folder + stem + 8);
     if (prefix)
