@@ -509,9 +509,9 @@ struct vkrt_texture_ahead {
     int width, height, channels;
     bool hdr;
     size_t words;
-    uint32_t *texels;          /* NULL: not decoded (it failed; the add decodes and says why) */
-    const void *bytes;         /* the embedded image's bytes, or NULL: the file key; only while */
-    size_t size;               /* vkrt_texture_set_decode_ahead runs */
+    uint32_t *texels;  /* NULL: not decoded (it failed; the add decodes and says why) */
+    const void *bytes; /* the embedded image's bytes, or NULL: the file key; only while */
+    size_t size;       /* vkrt_texture_set_decode_ahead runs */
 };
 
 /* Most threads decoding at once. */
@@ -614,8 +614,7 @@ void vkrt_texture_set_decode_ahead(vkrt_texture_set *set, const vkrt_texture_sou
                                    uint32_t count)
 {
     uint32_t threads = ahead_threads();
-    if (!set || !sources || count == 0 || threads < 2 ||
-        set->ahead_count > UINT32_MAX - count)
+    if (!set || !sources || count == 0 || threads < 2 || set->ahead_count > UINT32_MAX - count)
         return;
     struct vkrt_texture_ahead *entries =
         realloc(set->ahead, (set->ahead_count + (size_t)count) * sizeof *entries);
