@@ -609,6 +609,97 @@ static void size_limit_is_reported_in_mib(void **state)
     vkrt_texture_set_free(&set);
 }
 
+/* Adds each of paths (an "embedded:" prefix: the bytes of the file after it, through
+ * add_memory) as usage[i], recording each add's index or error message. */
+static void add_all(vkrt_texture_set *set, const char *const *paths, const vkrt_texture_usage *usage,
+                    const unsigned char *bytes, size_t size, int count, uint32_t *index,
+                    char (*msg)[512])
+{
+    for (int i = 0; i < count; i++) {
+        vkrt_error err = {{0}};
+        bool ok = strncmp(paths[i], "embedded:", 9) == 0
+                      ? vkrt_texture_set_add_memory(set, bytes, size, paths[i], usage[i],
+                                                    "test.gltf", &index[i], &err)
+                      : vkrt_texture_set_add(set, paths[i], usage[i], "test.mtl:3", &index[i],
+                                             &err);
+        snprintf(msg[i], sizeof msg[i], "%s", ok ? "" : err.msg);
+    }
+}
+
+/* Decoding ahead on several threads, then adding, gives the set that adding alone gives: the
+ * same entries in the same order, the same texels, the same errors (a missing file, an image
+ * past max_texel_bytes), whatever order the images were decoded in. */
+static void decoding_ahead_changes_nothing(void **state)
+{
+    temp_dir *fx = *state;
+    enum { W = 37, H = 23, N = 8 };
+    static unsigned char rgba[H][W][4], grey[H][W][2];
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            for (int c = 0; c < 4; c++)
+                rgba[y][x][c] = (unsigned char)(x * 7 + y * 13 + c * 61);
+            grey[y][x][0] = (unsigned char)(x * y);
+            grey[y][x][1] = (unsigned char)(255 - x);
+        }
+    char colour[512], mask[512], big[512], missing[600];
+    snprintf(colour, sizeof colour, "%s", write_png(fx, "ahead-rgba.png", W, H, 4, &rgba[0][0][0]));
+    snprintf(mask, sizeof mask, "%s", write_png(fx, "ahead-grey.png", W, H, 2, &grey[0][0][0]));
+    static unsigned char large[256][256];
+    snprintf(big, sizeof big, "%s", write_png(fx, "ahead-big.png", 256, 256, 1, &large[0][0]));
+    snprintf(missing, sizeof missing, "%s/ahead-none.png", fx->dir);
+    FILE *f = fopen(colour, "rb");
+    assert_non_null(f);
+    static unsigned char bytes[1 << 16];
+    size_t size = fread(bytes, 1, sizeof bytes, f);
+    fclose(f);
+    const char *paths[N] = {colour, mask, "embedded:image 0", colour, missing, mask, big,
+                            "embedded:image 0"};
+    const vkrt_texture_usage usage[N] = {VKRT_TEXTURE_COLOUR, VKRT_TEXTURE_ALPHA,
+                                         VKRT_TEXTURE_DATA,   VKRT_TEXTURE_DATA,
+                                         VKRT_TEXTURE_COLOUR, VKRT_TEXTURE_DATA,
+                                         VKRT_TEXTURE_COLOUR, VKRT_TEXTURE_DATA};
+    /* Room for the small ones, not for the 256 x 256 one after them. */
+    size_t limit = 6 * W * H * 4 + 1000;
+    vkrt_texture_set alone = {.max_texel_bytes = limit}, ahead = {.max_texel_bytes = limit};
+    uint32_t index_alone[N], index_ahead[N];
+    char msg_alone[N][512], msg_ahead[N][512];
+    add_all(&alone, paths, usage, bytes, size, N, index_alone, msg_alone);
+
+    vkrt_texture_source sources[N];
+    for (int i = 0; i < N; i++) { /* backwards: the order of decoding is not the adds' */
+        int k = N - 1 - i;
+        bool embedded = strncmp(paths[k], "embedded:", 9) == 0;
+        sources[i] = (vkrt_texture_source){paths[k], embedded ? bytes : NULL,
+                                           embedded ? size : 0, usage[k]};
+    }
+    setenv("VKRT_TEXTURE_THREADS", "4", 1);
+    vkrt_texture_set_decode_ahead(&ahead, sources, N);
+    unsetenv("VKRT_TEXTURE_THREADS");
+    /* Decoded ahead: the five small images (the embedded one, mask as data and as coverage,
+     * colour as data and as colour); not the missing file, nor the big one, past the limit. */
+    assert_int_equal(ahead.ahead_count, 5);
+    assert_int_equal(ahead.count, 0);
+    add_all(&ahead, paths, usage, bytes, size, N, index_ahead, msg_ahead);
+
+    assert_int_equal(ahead.count, alone.count);
+    assert_int_equal(ahead.texel_words, alone.texel_words);
+    assert_memory_equal(ahead.texels, alone.texels, alone.texel_words * 4);
+    assert_memory_equal(ahead.info, alone.info, alone.count * sizeof *alone.info);
+    assert_memory_equal(ahead.usages, alone.usages, alone.count * sizeof *alone.usages);
+    for (uint32_t i = 0; i < alone.count; i++)
+        assert_string_equal(ahead.paths[i], alone.paths[i]);
+    for (int i = 0; i < N; i++) {
+        assert_string_equal(msg_ahead[i], msg_alone[i]);
+        if (!msg_alone[i][0])
+            assert_int_equal(index_ahead[i], index_alone[i]);
+    }
+    assert_non_null(strstr(msg_alone[4], "cannot open"));      /* missing */
+    assert_non_null(strstr(msg_alone[6], "over the limit of")); /* big */
+    vkrt_texture_set_free(&ahead);
+    assert_int_equal(ahead.ahead_count, 0);
+    vkrt_texture_set_free(&alone);
+}
+
 /* ------------------------------------------------------------------------ shared scenes */
 
 static const char *scenes_dir(void)
@@ -995,6 +1086,7 @@ int main(void)
         temp_dir_test(file_name_case_and_backslashes),
         temp_dir_test(errors_name_referrer_and_path),
         temp_dir_test(size_limit_is_reported_in_mib),
+        temp_dir_test(decoding_ahead_changes_nothing),
         temp_dir_test(wrap_modes_nearest),
         temp_dir_test(wrap_modes_bilinear_at_edges),
         temp_dir_test(channels_and_views_share_texels),

@@ -123,11 +123,12 @@ void report_startup(FILE *out, const startup_clock *t, const vkrt_scene *scene,
                     const vkrt_accel_stats *accel, const vkrt_renderer_startup *steps)
 {
     fprintf(out,
-            "vkrt: start-up: scene %.0f ms (scene file %.0f ms), Vulkan %.0f ms, renderer %.0f ms "
-            "(structure %.0f ms, of which %s %.0f; triangles' upload %.0f, materials %.0f, "
-            "lights %.0f, buffers %.0f, %s %.0f), first frame %.0f ms, its image written %.0f "
-            "ms; %.0f ms since main\n",
-            t->scene - t->main, scene->model_ms, t->vulkan - t->scene, t->renderer - t->vulkan,
+            "vkrt: start-up: scene %.0f ms (scene file %.0f ms, materials and textures %.0f "
+            "ms), Vulkan %.0f ms, renderer %.0f ms (structure %.0f ms, of which %s %.0f; "
+            "triangles' upload %.0f, materials %.0f, lights %.0f, buffers %.0f, %s %.0f), first "
+            "frame %.0f ms, its image written %.0f ms; %.0f ms since main\n",
+            t->scene - t->main, scene->model_ms, scene->materials_ms, t->vulkan - t->scene,
+            t->renderer - t->vulkan,
             steps->structure_ms, accel->from_cache ? "reading it from the cache" : "building",
             accel->build_ms + accel->choose_ms, steps->geometry_ms, steps->materials_ms,
             steps->lights_ms, steps->buffers_ms,

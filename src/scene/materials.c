@@ -366,6 +366,58 @@ static bool material_for(vkrt_scene_materials *out, const vkrt_model *model,
     return true;
 }
 
+/* The images the used materials will add, as material_for will add them (a material file's
+ * definition taking a record's place), decoded ahead on every core (texture.h). Which records
+ * are used comes from the meshes the instances place; a record named out of range is left to
+ * material_for to refuse. */
+static void decode_textures_ahead(vkrt_scene_materials *out, const vkrt_model *model,
+                                  const vkrt_material_file *file)
+{
+    bool *mesh_used = calloc(model->mesh_count ? model->mesh_count : 1, sizeof *mesh_used);
+    bool *used = calloc(model->material_count ? model->material_count : 1, sizeof *used);
+    vkrt_texture_source *sources = NULL;
+    uint32_t count = 0, room = 0;
+    for (uint32_t i = 0; mesh_used && i < model->instance_count; ++i)
+        if (model->instances[i].mesh < model->mesh_count)
+            mesh_used[model->instances[i].mesh] = true;
+    for (uint32_t i = 0; mesh_used && used && i < model->mesh_count; ++i)
+        for (uint32_t k = 0; mesh_used[i] && k < model->meshes[i].triangle_count; ++k) {
+            int32_t m = model->meshes[i].material[k];
+            if (m >= 0 && (uint32_t)m < model->material_count)
+                used[m] = true;
+        }
+    for (uint32_t i = 0; mesh_used && used && i < model->material_count; ++i) {
+        if (!used[i])
+            continue;
+        const vkrt_material *m = &model->materials[i];
+        const vkrt_material_def *def = file ? vkrt_material_file_find(file, m->name) : NULL;
+        uint32_t n = def ? def->texture_count : VKRT_MAP_COUNT;
+        if (count + n > room) {
+            room = 2 * (count + n);
+            vkrt_texture_source *grown = realloc(sources, room * sizeof *sources);
+            if (!grown)
+                break;
+            sources = grown;
+        }
+        for (uint32_t k = 0; k < n; ++k) {
+            const vkrt_texture_ref *t = def ? NULL : &m->maps[k];
+            if (t && !t->path)
+                continue;
+            bool embedded = t && t->embedded >= 0 && (uint32_t)t->embedded < model->image_count;
+            sources[count++] = (vkrt_texture_source){
+                .path = def ? def->textures[k] : t->path,
+                .bytes = embedded ? model->images[t->embedded].bytes : NULL,
+                .size = embedded ? model->images[t->embedded].size : 0,
+                .usage = def ? VKRT_TEXTURE_COLOUR : t->space,
+            };
+        }
+    }
+    vkrt_texture_set_decode_ahead(&out->textures, sources, count);
+    free(sources);
+    free(used);
+    free(mesh_used);
+}
+
 bool vkrt_scene_materials_resolve(const vkrt_config *cfg, const vkrt_model *model,
                                   const vkrt_material_file *file, vkrt_scene_materials *out,
                                   vkrt_error *err)
@@ -385,6 +437,7 @@ bool vkrt_scene_materials_resolve(const vkrt_config *cfg, const vkrt_model *mode
     }
     for (uint32_t i = 0; i <= count; ++i)
         used[i] = UINT32_MAX;
+    decode_textures_ahead(out, model, file);
     bool ok = true;
     size_t t = 0;
     for (uint32_t i = 0; ok && i < model->instance_count; ++i) {

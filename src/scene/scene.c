@@ -197,9 +197,12 @@ bool vkrt_scene_load_with(const char *path, const vkrt_load_options *options, vk
         vkrt_scene_free(scene);
         return false;
     }
-    if (!vkrt_scene_materials_resolve(&scene->config, &scene->model,
-                                      scene->config.materials ? &scene->material_file : NULL,
-                                      &scene->materials, err)) {
+    double start = vkrt_clock_ms();
+    bool resolved = vkrt_scene_materials_resolve(
+        &scene->config, &scene->model, scene->config.materials ? &scene->material_file : NULL,
+        &scene->materials, err);
+    scene->materials_ms = vkrt_clock_ms() - start;
+    if (!resolved) {
         vkrt_scene_free(scene);
         return false;
     }

@@ -33,6 +33,7 @@ typedef struct vkrt_scene {
     vkrt_config_light *composed_lights; /* malloc'd where the model and scene.cfg both gave lights */
     vkrt_config_camera framed_camera;   /* the view of the whole scene when no file gave a camera */
     double model_ms; /* wall-clock time of loading the model (--verbose) */
+    double materials_ms; /* of resolving the materials: decoding their textures (--verbose) */
     vkrt_scene_cache_report model_cache; /* whether it came from the scene cache (--verbose) */
 } vkrt_scene;
 

@@ -31,7 +31,8 @@
 static const uint64_t MODEL_MAGIC = 0x334C444D54524B56ull; /* "VKRTMDL3", little-endian */
 enum { LAYOUT_VERSION = 3 };
 
-/* A scene file smaller than this loads in milliseconds: the cache would only fill the disk. */
+/* A scene file smaller than this whose model is smaller too loads in milliseconds: the cache
+ * would only fill the disk. (A small .gltf may name buffers of a million triangles.) */
 static const uint64_t MIN_SCENE_BYTES = 1u << 20;
 
 enum { SECTION_TEXT, SECTION_MATERIALS, SECTION_INSTANCES, SECTION_LIGHTS, SECTION_CAMERAS,
@@ -621,7 +622,7 @@ bool vkrt_scene_cache_load(const vkrt_scene_loader *loader, const char *path,
     if (!cached)
         return true;
     report->outcome = VKRT_SCENE_CACHE_SKIPPED;
-    if (id.size < MIN_SCENE_BYTES)
+    if (id.size < MIN_SCENE_BYTES && vkrt_model_host_bytes(model) < (double)MIN_SCENE_BYTES)
         report->why = "a scene file under 1 MiB";
     else if (model->inputs_missing)
         report->why = "the scene file names a file not found";

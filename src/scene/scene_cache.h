@@ -16,8 +16,9 @@
  * time alone would miss a file rewritten within the clock's resolution, or a copy that keeps its
  * time (cp -p, rsync -t, tar): then the cache would render the old scene, so the contents are
  * hashed. Each array's hash is checked too: a short, damaged, foreign or older-layout entry is a
- * miss and the scene file is parsed again. A scene file under 1 MiB is parsed in milliseconds and
- * is not stored; nor is one that names a file not found (that file appearing later would go
+ * miss and the scene file is parsed again. A scene file under 1 MiB whose model (mesh arrays)
+ * is under 1 MiB too is parsed in milliseconds and is not stored (a .gltf of a few KiB may name
+ * buffers of a million triangles: that one is); nor is one that names a file not found (that file appearing later would go
  * unnoticed). The cache keeps one version per scene file path: storing a new one removes the
  * older.
  */

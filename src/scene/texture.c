@@ -25,7 +25,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <pthread.h>
+#include <stdatomic.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <stb_image.h>
 
@@ -374,6 +377,68 @@ static void decode_failure(FILE *f, char *why, size_t size)
         snprintf(why, size, "the file is damaged or cut short (stb_image gives no reason)");
 }
 
+/* The set's flags of an image: HDR images are linear already; 8-bit colour maps are
+ * sRGB-encoded. */
+static uint32_t image_flags(bool hdr, vkrt_texture_usage usage)
+{
+    return hdr ? VKRT_TEXTURE_HALF : usage == VKRT_TEXTURE_COLOUR ? VKRT_TEXTURE_SRGB : 0u;
+}
+
+/* Checks a w x h image (hdr: two words a texel) against the limits and what the set holds
+ * already; its texel words in *words. */
+static bool check_size(const vkrt_texture_set *set, int w, int h, bool hdr, const char *referrer,
+                       const char *path, size_t *words, vkrt_error *err)
+{
+    uint32_t max = VKRT_TEXTURE_MAX_SIZE;
+    if (w <= 0 || h <= 0 || (uint32_t)w > max || (uint32_t)h > max)
+        return fail(err, referrer, path,
+                    "image is %dx%d; textures must be 1 to %u texels wide and tall", w, h, max);
+    *words = (size_t)w * (size_t)h * (hdr ? 2 : 1);
+    if (*words > MAX_TEXEL_WORDS - set->texel_words)
+        return fail(err, referrer, path,
+                    "the textures would pass the 16 GiB that 32-bit texel offsets address");
+    size_t total_bytes = (set->texel_words + *words) * sizeof(uint32_t);
+    if (set->max_texel_bytes && total_bytes > set->max_texel_bytes)
+        return fail(err, referrer, path,
+                    "this %dx%d texture takes %.1f MiB; with the %u textures before it the "
+                    "textures would take %.1f MiB, over the limit of %.1f MiB",
+                    w, h, (double)*words * sizeof(uint32_t) / MIB, set->count,
+                    (double)total_bytes / MIB, (double)set->max_texel_bytes / MIB);
+    return true;
+}
+
+/* Decodes the open image f, whose header said w x h with channels channels (hdr: a Radiance
+ * image), into out (its texel words) for usage. False when stb_image fails or gives another size;
+ * *size_differs then tells the two apart (stbi_failure_reason says why for the first). */
+static bool decode_pixels(FILE *f, int w, int h, int channels, bool hdr, vkrt_texture_usage usage,
+                          uint32_t *out, bool *size_differs, int *decoded_w, int *decoded_h)
+{
+    int dw = 0, dh = 0, dc = 0;
+    void *pixels = hdr ? (void *)stbi_loadf_from_file(f, &dw, &dh, &dc, 4)
+                       : (void *)stbi_load_from_file(f, &dw, &dh, &dc, 4);
+    *size_differs = pixels && (dw != w || dh != h);
+    *decoded_w = dw;
+    *decoded_h = dh;
+    if (!pixels || *size_differs) {
+        stbi_image_free(pixels);
+        return false;
+    }
+    size_t texels = (size_t)w * (size_t)h;
+    /* Coverage reads alpha when the image has an alpha channel that says something (grey+alpha
+     * or RGBA, not opaque everywhere), else its first channel: masks are made both ways, and
+     * Lost Empire's lost_empire-Alpha.png is an RGBA image whose alpha is 255 throughout, its
+     * coverage in the grey of its colour channels (read as alpha it would cover every leaf). */
+    int alpha_channel = -1;
+    if (usage == VKRT_TEXTURE_ALPHA)
+        alpha_channel = (channels == 2 || channels == 4) && !opaque(pixels, texels, hdr) ? 3 : 0;
+    if (hdr)
+        pack_rgba16f(pixels, texels, alpha_channel, out);
+    else
+        pack_rgba8(pixels, texels, alpha_channel, out);
+    stbi_image_free(pixels);
+    return true;
+}
+
 /* Reads the header of the open image f and checks its size against the limits and the set, then
  * decodes it into the texels past set->texel_words, filling *info and *word_count. The set's count
  * and texel_words are left for the caller to advance. */
@@ -385,62 +450,28 @@ static bool decode(vkrt_texture_set *set, FILE *f, vkrt_texture_usage usage, con
         return fail(err, referrer, path,
                     "not an image vkrt can read (stb_image: %s); use PNG, JPEG, TGA or HDR",
                     stbi_failure_reason());
-    uint32_t max = VKRT_TEXTURE_MAX_SIZE;
-    if (w <= 0 || h <= 0 || (uint32_t)w > max || (uint32_t)h > max)
-        return fail(err, referrer, path,
-                    "image is %dx%d; textures must be 1 to %u texels wide and tall", w, h, max);
     bool hdr = stbi_is_hdr_from_file(f) != 0;
-    size_t texels = (size_t)w * (size_t)h;
-    size_t words = texels * (hdr ? 2 : 1);
-    if (words > MAX_TEXEL_WORDS - set->texel_words)
-        return fail(err, referrer, path,
-                    "the textures would pass the 16 GiB that 32-bit texel offsets address");
-    size_t total_bytes = (set->texel_words + words) * sizeof(uint32_t);
-    if (set->max_texel_bytes && total_bytes > set->max_texel_bytes)
-        return fail(err, referrer, path,
-                    "this %dx%d texture takes %.1f MiB; with the %u textures before it the "
-                    "textures would take %.1f MiB, over the limit of %.1f MiB",
-                    w, h, (double)words * sizeof(uint32_t) / MIB, set->count,
-                    (double)total_bytes / MIB, (double)set->max_texel_bytes / MIB);
+    size_t words = 0;
+    if (!check_size(set, w, h, hdr, referrer, path, &words, err))
+        return false;
     if (!reserve_one_more(set, words))
         return fail(err, referrer, path, "out of memory for %dx%d texels", w, h);
-
-    int dw = 0, dh = 0, dc = 0;
-    void *pixels = hdr ? (void *)stbi_loadf_from_file(f, &dw, &dh, &dc, 4)
-                       : (void *)stbi_load_from_file(f, &dw, &dh, &dc, 4);
-    if (!pixels) {
+    bool size_differs;
+    int dw, dh;
+    if (!decode_pixels(f, w, h, channels, hdr, usage, set->texels + set->texel_words,
+                       &size_differs, &dw, &dh)) {
+        if (size_differs)
+            return fail(err, referrer, path, "decoded %dx%d, but its header says %dx%d", dw, dh,
+                        w, h);
         char why[300];
         decode_failure(f, why, sizeof why);
         return fail(err, referrer, path, "cannot decode the image: %s", why);
     }
-    if (dw != w || dh != h) {
-        stbi_image_free(pixels);
-        return fail(err, referrer, path, "decoded %dx%d, but its header says %dx%d", dw, dh, w, h);
-    }
-    /* Coverage reads alpha when the image has an alpha channel that says something (grey+alpha
-     * or RGBA, not opaque everywhere), else its first channel: masks are made both ways, and
-     * Lost Empire's lost_empire-Alpha.png is an RGBA image whose alpha is 255 throughout, its
-     * coverage in the grey of its colour channels (read as alpha it would cover every leaf). */
-    int alpha_channel = -1;
-    if (usage == VKRT_TEXTURE_ALPHA)
-        alpha_channel = (channels == 2 || channels == 4) && !opaque(pixels, texels, hdr) ? 3 : 0;
-    uint32_t *out = set->texels + set->texel_words;
-    if (hdr)
-        pack_rgba16f(pixels, texels, alpha_channel, out);
-    else
-        pack_rgba8(pixels, texels, alpha_channel, out);
-    stbi_image_free(pixels);
-    /* HDR images are linear already; 8-bit colour maps are sRGB-encoded. */
-    uint32_t flags = 0;
-    if (hdr)
-        flags = VKRT_TEXTURE_HALF;
-    else if (usage == VKRT_TEXTURE_COLOUR)
-        flags = VKRT_TEXTURE_SRGB;
     *info = (vkrt_texture_info){
         .offset = (uint32_t)set->texel_words,
         .width = (uint32_t)w,
         .height = (uint32_t)h,
-        .flags = flags,
+        .flags = image_flags(hdr, usage),
     };
     *word_count = words;
     return true;
@@ -458,6 +489,207 @@ static bool find_added(const vkrt_texture_set *set, const char *key, vkrt_textur
             return true;
         }
     return false;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Decoding ahead, on every core
+ * ------------------------------------------------------------------------------------------- */
+
+/* An image decoded ahead: its texels wait in the set for the add that asks for it. */
+struct vkrt_texture_ahead {
+    char *key; /* as the set's paths: the canonical path or the embedded image's name */
+    vkrt_texture_usage usage;
+    int width, height, channels;
+    bool hdr;
+    size_t words;
+    uint32_t *texels;  /* NULL: not decoded (it failed; the add decodes and says why) */
+    const void *bytes; /* the embedded image's bytes, or NULL: the file key; only while */
+    size_t size;       /* vkrt_texture_set_decode_ahead runs */
+};
+
+/* Most threads decoding at once. */
+#define AHEAD_MAX_THREADS 32
+
+typedef struct ahead_job {
+    struct vkrt_texture_ahead *entries;
+    uint32_t count;
+    atomic_uint next;
+} ahead_job;
+
+static FILE *open_source(const struct vkrt_texture_ahead *a)
+{
+    return a->bytes ? fmemopen((void *)a->bytes, a->size, "rb") : fopen(a->key, "rb");
+}
+
+/* Decodes the job's entries, taking the next undecoded one until none is left. */
+static void *decode_entries(void *arg)
+{
+    ahead_job *job = arg;
+    for (uint32_t i; (i = atomic_fetch_add(&job->next, 1u)) < job->count;) {
+        struct vkrt_texture_ahead *a = &job->entries[i];
+        FILE *f = open_source(a);
+        a->texels = f ? malloc(a->words * sizeof *a->texels) : NULL;
+        bool size_differs;
+        int dw, dh;
+        if (a->texels && !decode_pixels(f, a->width, a->height, a->channels, a->hdr, a->usage,
+                                        a->texels, &size_differs, &dw, &dh)) {
+            free(a->texels);
+            a->texels = NULL;
+        }
+        if (f)
+            fclose(f);
+    }
+    return NULL;
+}
+
+/* Threads for decoding ahead: $VKRT_TEXTURE_THREADS when set (0 or 1: none ahead, every image
+ * decoded by its add), else one per online core, at most AHEAD_MAX_THREADS. */
+static uint32_t ahead_threads(void)
+{
+    const char *env = getenv("VKRT_TEXTURE_THREADS");
+    long n = env && *env ? strtol(env, NULL, 10) : sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1u : n > AHEAD_MAX_THREADS ? AHEAD_MAX_THREADS : (uint32_t)n;
+}
+
+/* Whether entries[0 .. count) or the set already has key for usage. */
+static bool queued(const vkrt_texture_set *set, const struct vkrt_texture_ahead *entries,
+                   uint32_t count, const char *key, vkrt_texture_usage usage)
+{
+    for (uint32_t i = 0; i < count; i++)
+        if (entries[i].usage == usage && strcmp(entries[i].key, key) == 0)
+            return true;
+    for (uint32_t i = 0; i < set->ahead_count; i++)
+        if (set->ahead[i].key && set->ahead[i].usage == usage &&
+            strcmp(set->ahead[i].key, key) == 0)
+            return true;
+    uint32_t index;
+    return find_added(set, key, usage, &index);
+}
+
+/* The key under which the add of source will look the image up, as vkrt_texture_set_add and
+ * _add_memory make it; NULL where that add will fail before decoding (it then says why). */
+static char *key_of(const vkrt_texture_source *source)
+{
+    if (source->bytes) {
+        if (source->size == 0)
+            return NULL;
+        return strdup(source->path && *source->path ? source->path : "(embedded image)");
+    }
+    char *found = NULL;
+    vkrt_error ignored;
+    if (!source->path || !*source->path || !find_file(source->path, NULL, &found, &ignored))
+        return NULL;
+    char *canonical = realpath(found, NULL);
+    if (!canonical)
+        return found;
+    free(found);
+    return canonical;
+}
+
+/* Fills a with the size source's header gives, checked against the limits; false where the
+ * image is not one to decode ahead (its add will say why). */
+static bool read_header(struct vkrt_texture_ahead *a)
+{
+    FILE *f = open_source(a);
+    bool ok = f && stbi_info_from_file(f, &a->width, &a->height, &a->channels);
+    if (ok) {
+        a->hdr = stbi_is_hdr_from_file(f) != 0;
+        ok = a->width > 0 && a->height > 0 && (uint32_t)a->width <= VKRT_TEXTURE_MAX_SIZE &&
+             (uint32_t)a->height <= VKRT_TEXTURE_MAX_SIZE;
+        a->words = (size_t)a->width * (size_t)a->height * (a->hdr ? 2 : 1);
+    }
+    if (f)
+        fclose(f);
+    return ok;
+}
+
+void vkrt_texture_set_decode_ahead(vkrt_texture_set *set, const vkrt_texture_source *sources,
+                                   uint32_t count)
+{
+    uint32_t threads = ahead_threads();
+    if (!set || !sources || count == 0 || threads < 2 || set->ahead_count > UINT32_MAX - count)
+        return;
+    struct vkrt_texture_ahead *entries =
+        realloc(set->ahead, (set->ahead_count + (size_t)count) * sizeof *entries);
+    if (!entries)
+        return;
+    set->ahead = entries;
+    struct vkrt_texture_ahead *fresh = entries + set->ahead_count;
+    /* The texels of the set and of what waits, against the limit the adds will check. */
+    size_t words = set->texel_words;
+    for (uint32_t i = 0; i < set->ahead_count; i++)
+        words += entries[i].texels ? entries[i].words : 0;
+    size_t limit = set->max_texel_bytes ? set->max_texel_bytes / sizeof(uint32_t) : MAX_TEXEL_WORDS;
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < count; i++) {
+        const vkrt_texture_source *s = &sources[i];
+        if (s->usage != VKRT_TEXTURE_COLOUR && s->usage != VKRT_TEXTURE_DATA &&
+            s->usage != VKRT_TEXTURE_ALPHA)
+            continue;
+        char *key = key_of(s);
+        if (!key || queued(set, fresh, n, key, s->usage)) {
+            free(key);
+            continue;
+        }
+        fresh[n] = (struct vkrt_texture_ahead){
+            .key = key, .usage = s->usage, .bytes = s->bytes, .size = s->size};
+        if (!read_header(&fresh[n]) || fresh[n].words > limit - (words < limit ? words : limit)) {
+            free(key); /* past the limit: its add fails, and no texels are spent on it */
+            continue;
+        }
+        words += fresh[n++].words;
+    }
+    ahead_job job = {.entries = fresh, .count = n};
+    atomic_init(&job.next, 0u);
+    threads = threads > n ? n : threads;
+    pthread_t ids[AHEAD_MAX_THREADS];
+    bool started[AHEAD_MAX_THREADS] = {false};
+    for (uint32_t t = 1; t < threads; t++)
+        started[t] = pthread_create(&ids[t], NULL, decode_entries, &job) == 0;
+    decode_entries(&job);
+    for (uint32_t t = 1; t < threads; t++)
+        if (started[t])
+            pthread_join(ids[t], NULL);
+    for (uint32_t i = 0; i < n; i++)
+        fresh[i].bytes = NULL;
+    set->ahead_count += n;
+}
+
+/* When key's image for usage was decoded ahead: appends it to the set as an add would have
+ * (same checks and messages), index in *index, and returns 1, or -1 with err set when it does not
+ * fit (the set as it was); 0 when it was not decoded ahead, for the caller to decode. */
+static int append_ahead(vkrt_texture_set *set, const char *key, vkrt_texture_usage usage,
+                        const char *referrer, const char *path, uint32_t *index, vkrt_error *err)
+{
+    for (uint32_t i = 0; i < set->ahead_count; i++) {
+        struct vkrt_texture_ahead *a = &set->ahead[i];
+        if (!a->texels || a->usage != usage || strcmp(a->key, key) != 0)
+            continue;
+        size_t words = 0;
+        if (!check_size(set, a->width, a->height, a->hdr, referrer, path, &words, err))
+            return -1;
+        if (!reserve_one_more(set, words)) {
+            give_back_room(set);
+            fail(err, referrer, path, "out of memory for %dx%d texels", a->width, a->height);
+            return -1;
+        }
+        memcpy(set->texels + set->texel_words, a->texels, words * sizeof *a->texels);
+        free(a->texels);
+        a->texels = NULL;
+        set->info[set->count] = (vkrt_texture_info){
+            .offset = (uint32_t)set->texel_words,
+            .width = (uint32_t)a->width,
+            .height = (uint32_t)a->height,
+            .flags = image_flags(a->hdr, usage),
+        };
+        set->paths[set->count] = a->key; /* the set's now */
+        a->key = NULL;
+        set->usages[set->count] = (uint32_t)usage;
+        set->texel_words += words;
+        *index = set->count++;
+        return 1;
+    }
+    return 0;
 }
 
 /* Decodes the open image f and appends it to the set under key (which the set then owns); on
@@ -503,10 +735,13 @@ bool vkrt_texture_set_add(vkrt_texture_set *set, const char *path, vkrt_texture_
         canonical = found;
         found = NULL;
     }
-    if (find_added(set, canonical, usage, index)) {
+    int ahead = find_added(set, canonical, usage, index)
+                    ? 1
+                    : append_ahead(set, canonical, usage, referrer, path, index, err);
+    if (ahead != 0) {
         free(found);
         free(canonical);
-        return true;
+        return ahead > 0;
     }
 
     FILE *f = fopen(found ? found : canonical, "rb");
@@ -542,6 +777,9 @@ bool vkrt_texture_set_add_memory(vkrt_texture_set *set, const void *bytes, size_
         return fail(err, referrer, name, "too many textures");
     if (find_added(set, name, usage, index))
         return true;
+    int ahead = append_ahead(set, name, usage, referrer, name, index, err);
+    if (ahead != 0)
+        return ahead > 0;
     if (!bytes || size == 0)
         return fail(err, referrer, name, "the image is empty");
     char *key = strdup(name);
@@ -624,6 +862,11 @@ void vkrt_texture_set_free(vkrt_texture_set *set)
     free(set->info);
     free(set->usages);
     free(set->texels);
+    for (uint32_t i = 0; set->ahead && i < set->ahead_count; i++) {
+        free(set->ahead[i].key);
+        free(set->ahead[i].texels);
+    }
+    free(set->ahead);
     size_t limit = set->max_texel_bytes;
     memset(set, 0, sizeof *set);
     set->max_texel_bytes = limit;

@@ -55,6 +55,8 @@ typedef struct vkrt_texture_set {
     size_t texel_words;
     size_t max_texel_bytes; /* the most texels may take in bytes (the storage buffer's range);
                                0: no limit beyond 32-bit offsets */
+    struct vkrt_texture_ahead *ahead; /* images decoded ahead, waiting for their adds */
+    uint32_t ahead_count;
 } vkrt_texture_set;
 
 /* Adds the image at path for the given usage and returns its index in *index. An image already in
@@ -82,6 +84,28 @@ bool vkrt_texture_set_add_memory(vkrt_texture_set *set, const void *bytes, size_
                                  const char *name, vkrt_texture_usage usage,
                                  const char *referrer, uint32_t *index, vkrt_error *err);
 
+/* An image a scene is about to add, named as its vkrt_texture_set_add (path; bytes NULL) or
+ * vkrt_texture_set_add_memory (path the name; bytes and size the encoded image) will name it. */
+typedef struct vkrt_texture_source {
+    const char *path;
+    const void *bytes;
+    size_t size;
+    vkrt_texture_usage usage;
+} vkrt_texture_source;
+
+/* Decodes the images of sources on every core (up to 32 threads; $VKRT_TEXTURE_THREADS sets the
+ * number, and 0 or 1 turns this off), ahead of the adds that will ask for them, since decoding one
+ * at a time is most of a textured scene's start-up. It returns when all are decoded, keeping no
+ * pointer to sources' bytes. The adds then take the decoded texels instead of decoding: the set
+ * they make (order, texels, info, messages) is exactly the one they would make alone, because an
+ * image is decoded by the same code either way and appended when its add comes. Nothing here
+ * fails: an image that cannot be decoded ahead (missing, damaged, too large, past
+ * max_texel_bytes with what comes before it in sources, out of memory) is left to its add, which
+ * decodes it and says why. An image decoded ahead that no add asks for is held until
+ * vkrt_texture_set_free. */
+void vkrt_texture_set_decode_ahead(vkrt_texture_set *set, const vkrt_texture_source *sources,
+                                   uint32_t count);
+
 /* A texture of the set as a map reads it: the entry with texture base's image (its texels, not
  * copied) and view_flags (VKRT_TEXTURE_WRAP_U/_V, _NEAREST, _TRANSFORM, _CHANNEL; nothing else),
  * with uv_matrix and uv_offset where view_flags has VKRT_TEXTURE_TRANSFORM (vkrt_texture_uv_
@@ -102,7 +126,8 @@ bool vkrt_texture_set_view(vkrt_texture_set *set, uint32_t base, uint32_t view_f
 bool vkrt_texture_uv_transform(const float offset[2], const float scale[2], float rotation,
                                float uv_matrix[4], float uv_offset[2]);
 
-/* Frees what the set holds and zeroes it, keeping max_texel_bytes. Safe on a zeroed set. */
+/* Frees what the set holds (images decoded ahead too) and zeroes it, keeping max_texel_bytes.
+ * Safe on a zeroed set. */
 void vkrt_texture_set_free(vkrt_texture_set *set);
 
 /* The CPU reference of texture_sample in glsl/lib/texture.glsl, with the same arithmetic (for
