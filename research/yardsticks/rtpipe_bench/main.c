@@ -12,6 +12,15 @@
  * (repeated while it fell short) and then 11 runs back to back in one submission, GPU timestamps
  * between them; the median of the timed runs, with the fastest and slowest in the JSON.
  *
+ * Instanced scenes (several instances, or one that is not the identity): by default the driver's
+ * own instancing, one BLAS per mesh and a TLAS over the instances (rtpipe_accel.h), hits numbered
+ * in vkrt bench's order, so that the hits and blocked counts and the secondary rays are vkrt's;
+ * --instancing flat traces the world-space triangles in one BLAS instead (vkrt bench's
+ * --instancing flat). A scene of one identity instance takes the flat form either way, as it
+ * always did. The two-level form has not yet run on a ray tracing GPU: where it was written
+ * (lavapipe) it only compiles; the lead's first run checks that its hits and blocked counts
+ * equal vkrt bench's on the same scene.
+ *
  * Exit status: 0 done; 1 a failure (scene, Vulkan, ...); 2 a bad command line; 77 the device has
  * no ray tracing pipeline (automake's and meson's "skipped", lavapipe's case).
  */
@@ -34,14 +43,19 @@
 enum { exit_failure = 1, exit_usage = 2, exit_unsupported = 77 };
 enum { max_scenes = 64 };
 
+/* --instancing: auto (flat for one identity instance, else two-level), flat, two-level. */
+typedef enum instancing { INSTANCING_AUTO, INSTANCING_FLAT, INSTANCING_TWO_LEVEL } instancing;
+
 typedef struct options {
     const char *scenes[max_scenes];
     uint32_t scene_count;
     const char *json;
     const char *check_shaders_dir; /* --check-shaders [DIR]: compile (and write the SPIR-V into DIR), exit */
     bool check_shaders;
+    bool check_scenes; /* --check-scenes: the two-level plans' hit numbering (check_plan), exit */
     uint32_t width, height;
     int device;
+    instancing instancing;
     bool validation;
 } options;
 
@@ -49,18 +63,26 @@ typedef struct bench_row {
     const char *scene;
     uint32_t triangles, width, height;
     double build_ms, build_ms_first, blas_ms, tlas_ms;
-    size_t bytes, scratch_bytes;
+    size_t bytes, scratch_bytes, blas_bytes, tlas_bytes;
+    bool two_level;
+    uint32_t instances, meshes; /* in the TLAS; BLASes */
+    uint64_t unique_triangles;  /* over the BLASes */
+    rtpipe_hit_numbering numbering;
     uint32_t primary_timed, shadow_timed, diffuse_timed;
     bench_times primary, shadow, diffuse;
     uint32_t hits, blocked;
 } bench_row;
 
 static const char usage[] =
-    "usage: rtpipe-bench SCENE.cfg... [--json OUT.json] [--width W --height H] [--device N]\n"
-    "                    [--validation]\n"
+    "usage: rtpipe-bench SCENE... [--json OUT.json] [--width W --height H] [--device N]\n"
+    "                    [--instancing auto|flat|two-level] [--validation]\n"
     "       rtpipe-bench --check-shaders [DIR]   compile the shaders (and write DIR/*.spv), exit\n"
+    "       rtpipe-bench --check-scenes SCENE... check the two-level hit numbering on the CPU\n"
     "Traces vkrt bench's primary, shadow and diffuse rays with the driver's ray tracing pipeline\n"
-    "(VK_KHR_ray_tracing_pipeline) and prints Mrays/s. Exit status: 0 done, 1 failed, 2 bad\n"
+    "(VK_KHR_ray_tracing_pipeline) and prints Mrays/s. SCENE: a scene.cfg or a scene file alone\n"
+    "(.obj, .gltf, .glb), as vkrt bench takes. --instancing: two-level (a BLAS per mesh, a TLAS\n"
+    "over the instances; auto's choice for instanced scenes) or flat (the world-space triangles\n"
+    "in one BLAS; auto's for one identity instance). Exit status: 0 done, 1 failed, 2 bad\n"
     "command line, 77 the device has no ray tracing pipeline.\n";
 
 static bool parse_uint(const char *text, uint32_t *out)
@@ -97,12 +119,25 @@ static bool parse_options(int argc, char **argv, options *o, vkrt_error *err)
                 return vkrt_error_set(err, "--device %s: want a device index (vkrt --list-devices)",
                                       argv[i]);
             o->device = (int)d;
+        } else if (strcmp(a, "--instancing") == 0 && has_value) {
+            const char *v = argv[++i];
+            if (strcmp(v, "auto") == 0)
+                o->instancing = INSTANCING_AUTO;
+            else if (strcmp(v, "flat") == 0)
+                o->instancing = INSTANCING_FLAT;
+            else if (strcmp(v, "two-level") == 0)
+                o->instancing = INSTANCING_TWO_LEVEL;
+            else
+                return vkrt_error_set(err, "--instancing: '%s' is not one of auto, flat, two-level",
+                                      v);
         } else if (strcmp(a, "--validation") == 0) {
             o->validation = true;
         } else if (strcmp(a, "--check-shaders") == 0) {
             o->check_shaders = true;
             if (has_value && argv[i + 1][0] != '-')
                 o->check_shaders_dir = argv[++i];
+        } else if (strcmp(a, "--check-scenes") == 0) {
+            o->check_scenes = true;
         } else if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             return vkrt_error_set(err, "help");
         } else if (a[0] == '-') {
@@ -152,13 +187,47 @@ static bool check_hits(const Hit *hits, uint32_t count, uint32_t triangles, vkrt
     return true;
 }
 
+/* Whether the model is one instance with the identity transform: its mesh is then the world's
+ * triangles as they are (vkrt_model_world copies nothing). */
+static bool one_identity_instance(const vkrt_model *model)
+{
+    return model->instance_count == 1 &&
+           memcmp(model->instances[0].transform, vkrt_identity_transform,
+                  sizeof vkrt_identity_transform) == 0;
+}
+
+/* The structures --instancing asks for: two-level over the model's meshes and instances, or flat
+ * over vkrt_model_world's triangles. */
+static bool create_accel(rtpipe_device *dev, const vkrt_model *model, instancing how,
+                         rtpipe_accel *accel, vkrt_error *err)
+{
+    if (how == INSTANCING_TWO_LEVEL || (how == INSTANCING_AUTO && !one_identity_instance(model)))
+        return rtpipe_accel_create_instanced(dev, model, accel, err);
+    vkrt_mesh world;
+    bool copied;
+    if (!vkrt_model_world(model, &world, &copied, err))
+        return false;
+    bool ok = rtpipe_accel_create(dev, world.positions, world.triangle_count, accel, err);
+    if (copied)
+        vkrt_mesh_free(&world);
+    return ok;
+}
+
 static bool bench_scene(rtpipe_device *dev, const rtpipe_shaders *shaders,
-                        const vkrt_scene *scene, bench_row *row, vkrt_error *err)
+                        const vkrt_scene *scene, instancing how, bench_row *row, vkrt_error *err)
 {
     rtpipe_accel accel;
-    if (!rtpipe_accel_create(dev, scene->model.meshes[0].positions, scene->model.meshes[0].triangle_count, &accel, err))
+    if (!create_accel(dev, &scene->model, how, &accel, err))
         return false;
-    row->triangles = scene->model.meshes[0].triangle_count;
+    /* Over all instances, as vkrt bench counts them and numbers hits. */
+    row->triangles = scene->model.triangle_count;
+    row->two_level = accel.two_level;
+    row->instances = accel.instances;
+    row->meshes = accel.blas_count;
+    row->unique_triangles = accel.unique_triangles;
+    row->numbering = accel.numbering;
+    row->blas_bytes = (size_t)accel.blas_bytes;
+    row->tlas_bytes = (size_t)accel.tlas_bytes;
     row->build_ms = accel.build_ms;
     row->build_ms_first = accel.build_ms_first;
     row->blas_ms = accel.blas_ms;
@@ -222,12 +291,24 @@ static void print_header(void)
            "Mrays/s", "", "");
 }
 
+static const char *const numbering_names[] = {
+    [RTPIPE_HIT_PRIMITIVE] = "primitive",
+    [RTPIPE_HIT_CUSTOM_INDEX] = "custom-index",
+    [RTPIPE_HIT_INSTANCE_BUFFER] = "instance-buffer",
+};
+
 static void print_row(const bench_row *b)
 {
     printf("%-28s %9u %9.2f %8.2f %10.4g %10.4g %10.4g %8u %8u\n", b->scene, b->triangles,
            b->build_ms, b->bytes / 1048576.0, mrays(b->primary_timed, b->primary.median_ms),
            mrays(b->shadow_timed, b->shadow.median_ms),
            mrays(b->diffuse_timed, b->diffuse.median_ms), b->hits, b->blocked);
+    if (b->two_level)
+        printf("  two-level: %u instances of %u meshes (%llu unique triangles), BLAS %.2f MiB, "
+               "TLAS %.2f MiB, BLAS build %.2f ms, TLAS build %.2f ms, hits numbered by %s\n",
+               b->instances, b->meshes, (unsigned long long)b->unique_triangles,
+               b->blas_bytes / 1048576.0, b->tlas_bytes / 1048576.0, b->blas_ms, b->tlas_ms,
+               numbering_names[b->numbering]);
 }
 
 /* NVIDIA packs its driver version as 10 bits major, 8 minor, 8 patch, 6 more; others (Mesa) use
@@ -301,6 +382,13 @@ static bool write_json(const char *path, const rtpipe_device *dev, const bench_r
                 "\"tlas_ms\": %.3f, \"bytes\": %zu, \"scratch_bytes\": %zu, ",
                 b->triangles, b->width, b->height, b->build_ms, b->build_ms_first, b->blas_ms,
                 b->tlas_ms, b->bytes, b->scratch_bytes);
+        fprintf(f,
+                "\"instancing\": \"%s\", \"instances\": %u, \"meshes\": %u, "
+                "\"unique_triangles\": %llu, \"blas_bytes\": %zu, \"tlas_bytes\": %zu, "
+                "\"hit_numbering\": \"%s\", ",
+                b->two_level ? "two-level" : "flat", b->instances, b->meshes,
+                (unsigned long long)b->unique_triangles, b->blas_bytes, b->tlas_bytes,
+                numbering_names[b->numbering]);
         json_times(f, "primary", b->primary_timed, &b->primary);
         json_times(f, "shadow", b->shadow_timed, &b->shadow);
         json_times(f, "diffuse", b->diffuse_timed, &b->diffuse);
@@ -313,6 +401,88 @@ static bool write_json(const char *path, const rtpipe_device *dev, const bench_r
         return vkrt_error_set(err, "%s: cannot write", path);
     }
     return true;
+}
+
+/* --check-scenes: what the two-level form's hits would be, checked on the CPU against vkrt's
+ * own numbering. For every kept instance k of the plan and every triangle p of its BLAS (what
+ * the hit shader sees as gl_InstanceID and gl_PrimitiveID), the number closest.rchit makes of
+ * them (the instance's custom index as the 24-bit field holds it, or instance_first[k], plus p)
+ * must name the triangle of vkrt_model_world (what vkrt bench numbers and bench_rays.h reads)
+ * that is triangle p of the BLAS moved by the instance's transform as the record holds it. */
+static bool check_plan(const vkrt_model *model, uint64_t *checked, vkrt_error *err)
+{
+    rtpipe_plan p;
+    vkrt_mesh world;
+    bool copied = false;
+    if (!rtpipe_plan_instanced(model, &p, err))
+        return false;
+    if (!vkrt_model_world(model, &world, &copied, err)) {
+        rtpipe_plan_free(&p);
+        return false;
+    }
+    bool ok = true;
+    *checked = 0;
+    for (uint32_t k = 0; ok && k < p.instance_count; ++k) {
+        const VkAccelerationStructureInstanceKHR *r = &p.instances[k];
+        uint32_t b = (uint32_t)r->accelerationStructureReference;
+        uint32_t first = p.numbering == RTPIPE_HIT_CUSTOM_INDEX ? r->instanceCustomIndex
+                                                                : p.instance_first[k];
+        for (uint32_t t = 0; ok && t < p.triangles[b]; ++t) {
+            uint64_t hit = (uint64_t)first + t;
+            if (hit >= world.triangle_count) {
+                ok = vkrt_error_set(err, "instance %u triangle %u: hit %llu is past the %u "
+                                         "triangles", k, t, (unsigned long long)hit,
+                                    world.triangle_count);
+                break;
+            }
+            const float *o = p.positions[b] + 9 * (size_t)t, *w = world.positions + 9 * hit;
+            for (int v = 0; ok && v < 3; ++v)
+                for (int row = 0; row < 3; ++row) {
+                    const float *m = r->transform.matrix[row];
+                    double x = (double)m[0] * o[3 * v] + (double)m[1] * o[3 * v + 1] +
+                               (double)m[2] * o[3 * v + 2] + m[3];
+                    double scale = fabs(m[0] * o[3 * v]) + fabs(m[1] * o[3 * v + 1]) +
+                                   fabs(m[2] * o[3 * v + 2]) + fabs(m[3]);
+                    if (fabs(x - w[3 * v + row]) > 1e-5 * scale + 1e-30)
+                        ok = vkrt_error_set(err, "instance %u triangle %u (hit %llu), vertex %d: "
+                                                 "%g, but vkrt's triangle has %g", k, t,
+                                            (unsigned long long)hit, v, x, w[3 * v + row]);
+                }
+            ++*checked;
+        }
+    }
+    if (copied)
+        vkrt_mesh_free(&world);
+    rtpipe_plan_free(&p);
+    return ok;
+}
+
+static int check_scenes(const options *o)
+{
+    for (uint32_t s = 0; s < o->scene_count; ++s) {
+        vkrt_scene scene;
+        vkrt_error err = {{0}};
+        uint64_t checked = 0;
+        if (!vkrt_scene_load_geometry(o->scenes[s], &scene, &err)) {
+            fprintf(stderr, "rtpipe-bench: %s\n", err.msg);
+            return exit_failure;
+        }
+        rtpipe_plan p;
+        bool ok = rtpipe_plan_instanced(&scene.model, &p, &err);
+        if (ok)
+            printf("%s: two-level: %u instances of %u meshes, hits numbered by %s\n",
+                   o->scenes[s], p.instance_count, p.blas_count, numbering_names[p.numbering]);
+        rtpipe_plan_free(&p);
+        ok = ok && check_plan(&scene.model, &checked, &err);
+        vkrt_scene_free(&scene);
+        if (!ok) {
+            fprintf(stderr, "rtpipe-bench: %s: %s\n", o->scenes[s], err.msg);
+            return exit_failure;
+        }
+        printf("%s: %llu instanced triangles numbered as vkrt bench numbers them\n", o->scenes[s],
+               (unsigned long long)checked);
+    }
+    return 0;
 }
 
 /* --check-shaders: what can be tested without a ray tracing device. */
@@ -357,6 +527,8 @@ int main(int argc, char **argv)
     }
     if (opts.check_shaders)
         return check_shaders(opts.check_shaders_dir);
+    if (opts.check_scenes)
+        return check_scenes(&opts);
 
     /* The shaders first: a compile error needs no GPU to show. */
     rtpipe_shaders shaders;
@@ -395,7 +567,7 @@ int main(int argc, char **argv)
         row->scene = opts.scenes[s];
         row->width = opts.width ? opts.width : scene.config.width;
         row->height = opts.height ? opts.height : scene.config.height;
-        ok = bench_scene(&dev, &shaders, &scene, row, &err);
+        ok = bench_scene(&dev, &shaders, &scene, opts.instancing, row, &err);
         if (!ok)
             vkrt_error_prefix(&err, "%s", opts.scenes[s]);
         if (ok) {

@@ -6,6 +6,8 @@
  * shaderGroupHandleSize rounded up to shaderGroupHandleAlignment apart, and each region starts
  * at a multiple of shaderGroupBaseAlignment (the buffer's address itself is rounded up to it).
  * The raygen region's size must equal its stride.
+ * closest.rchit is specialized for the structures' hit numbering (rtpipe_accel.h), and reads
+ * their instance_first buffer (always bound, whatever the numbering).
  */
 #include "rtpipe_trace.h"
 
@@ -16,7 +18,8 @@
 #include "gpu/timer.h"
 #include "gpu/vk_check.h"
 
-enum { BINDING_SCENE, BINDING_RAYS, BINDING_HITS, BINDING_COUNT };
+/* BINDING_INSTANCE_FIRST: rtpipe_accel.instance_first, read by closest.rchit alone. */
+enum { BINDING_SCENE, BINDING_RAYS, BINDING_HITS, BINDING_INSTANCE_FIRST, BINDING_COUNT };
 
 /* The raygen shader's push constants. */
 typedef struct trace_push {
@@ -37,6 +40,8 @@ static bool create_layout(rtpipe_device *dev, rtpipe_tracer *t, vkrt_error *err)
         {BINDING_SCENE, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1, raygen, NULL},
         {BINDING_RAYS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, raygen, NULL},
         {BINDING_HITS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, raygen, NULL},
+        {BINDING_INSTANCE_FIRST, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1,
+         VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR, NULL},
     };
     VkDescriptorSetLayoutCreateInfo set_info = {
         .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
@@ -55,7 +60,7 @@ static bool create_layout(rtpipe_device *dev, rtpipe_tracer *t, vkrt_error *err)
     GPU_CHECK(vkCreatePipelineLayout(device, &layout_info, NULL, &t->layout));
     VkDescriptorPoolSize sizes[] = {
         {VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1},
-        {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2},
+        {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3},
     };
     VkDescriptorPoolCreateInfo pool_info = {
         .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
@@ -76,9 +81,14 @@ fail:
     return false;
 }
 
-static bool create_pipeline(rtpipe_device *dev, const rtpipe_shaders *shaders, rtpipe_tracer *t,
-                            vkrt_error *err)
+static bool create_pipeline(rtpipe_device *dev, const rtpipe_shaders *shaders,
+                            rtpipe_hit_numbering numbering, rtpipe_tracer *t, vkrt_error *err)
 {
+    /* closest.rchit's HIT_NUMBERING (constant_id 0). */
+    uint32_t numbering_value = (uint32_t)numbering;
+    VkSpecializationMapEntry numbering_entry = {0, 0, sizeof numbering_value};
+    VkSpecializationInfo numbering_info = {1, &numbering_entry, sizeof numbering_value,
+                                           &numbering_value};
     static const VkShaderStageFlagBits vk_stages[RTPIPE_STAGES] = {
         [RTPIPE_RAYGEN] = VK_SHADER_STAGE_RAYGEN_BIT_KHR,
         [RTPIPE_MISS] = VK_SHADER_STAGE_MISS_BIT_KHR,
@@ -104,6 +114,8 @@ static bool create_pipeline(rtpipe_device *dev, const rtpipe_shaders *shaders, r
             .pName = "main",
         };
         bool hit = i == RTPIPE_CLOSEST_HIT;
+        if (hit)
+            stages[i].pSpecializationInfo = &numbering_info;
         groups[i] = (VkRayTracingShaderGroupCreateInfoKHR){
             .sType = VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR,
             .type = hit ? VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR
@@ -205,7 +217,7 @@ bool rtpipe_tracer_create(rtpipe_device *dev, const rtpipe_shaders *shaders,
         vkrt_error_set(err, "%s: maxRayRecursionDepth is 0", dev->ctx.properties.deviceName);
         return false;
     }
-    if (!create_layout(dev, t, err) || !create_pipeline(dev, shaders, t, err) ||
+    if (!create_layout(dev, t, err) || !create_pipeline(dev, shaders, accel->numbering, t, err) ||
         !create_sbt(dev, t, err) ||
         !gpu_buffer_create(&dev->ctx, &t->rays, (size_t)t->capacity * sizeof(Ray), "rays", err) ||
         !gpu_buffer_create(&dev->ctx, &t->hits, (size_t)t->capacity * sizeof(Hit), "hits", err)) {
@@ -219,6 +231,7 @@ bool rtpipe_tracer_create(rtpipe_device *dev, const rtpipe_shaders *shaders,
     };
     VkDescriptorBufferInfo rays = {t->rays.buffer, 0, VK_WHOLE_SIZE};
     VkDescriptorBufferInfo hits = {t->hits.buffer, 0, VK_WHOLE_SIZE};
+    VkDescriptorBufferInfo instance_first = {accel->instance_first.buffer, 0, VK_WHOLE_SIZE};
     VkWriteDescriptorSet writes[BINDING_COUNT] = {
         {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .pNext = &scene, .dstSet = t->set,
          .dstBinding = BINDING_SCENE, .descriptorCount = 1,
@@ -229,6 +242,9 @@ bool rtpipe_tracer_create(rtpipe_device *dev, const rtpipe_shaders *shaders,
         {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstSet = t->set,
          .dstBinding = BINDING_HITS, .descriptorCount = 1,
          .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &hits},
+        {.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, .dstSet = t->set,
+         .dstBinding = BINDING_INSTANCE_FIRST, .descriptorCount = 1,
+         .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, .pBufferInfo = &instance_first},
     };
     vkUpdateDescriptorSets(dev->ctx.device, BINDING_COUNT, writes, 0, NULL);
     return true;

@@ -31,13 +31,13 @@ typedef struct rtpipe_tracer {
 } rtpipe_tracer;
 
 /* Creates the pipeline from compiled shaders, its SBT, and buffers for capacity rays, bound to
- * accel's top-level structure. On failure returns false with err set and nothing left. */
+ * accel's top-level structure and instance_first, its hit numbering built into closest.rchit. On failure returns false with err set and nothing left. */
 bool rtpipe_tracer_create(rtpipe_device *dev, const rtpipe_shaders *shaders,
                           const rtpipe_accel *accel, uint32_t capacity, rtpipe_tracer *t,
                           vkrt_error *err);
 
 /* Traces count rays (at most the capacity): to their closest hits (Hit as vkrt's: t, the
- * barycentrics of vertices 1 and 2, the triangle's index in the mesh), or (any_hit) to whether
+ * barycentrics of vertices 1 and 2, the triangle's index in vkrt_model_world's order), or (any_hit) to whether
  * anything blocks them (triangle 0) or not (VKRT_NO_HIT). The trace runs repeats times (0 means
  * 1) back to back in one submission; gpu_ms, when not NULL, receives each run's GPU time from
  * timestamps (repeats entries). */
