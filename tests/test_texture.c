@@ -613,7 +613,7 @@ static void size_limit_is_reported_in_mib(void **state)
  * add_memory) as usage[i], recording each add's index or error message. */
 static void add_all(vkrt_texture_set *set, const char *const *paths, const vkrt_texture_usage *usage,
                     const unsigned char *bytes, size_t size, int count, uint32_t *index,
-                    char (*msg)[512])
+                    char (*msg)[1024])
 {
     for (int i = 0; i < count; i++) {
         vkrt_error err = {{0}};
@@ -632,18 +632,18 @@ static void add_all(vkrt_texture_set *set, const char *const *paths, const vkrt_
 static void decoding_ahead_changes_nothing(void **state)
 {
     temp_dir *fx = *state;
-    enum { W = 37, H = 23, N = 8 };
-    static unsigned char rgba[H][W][4], grey[H][W][2];
-    for (int y = 0; y < H; y++)
-        for (int x = 0; x < W; x++) {
+    enum { AW = 37, AH = 23, N = 8 };
+    static unsigned char rgba[AH][AW][4], grey[AH][AW][2];
+    for (int y = 0; y < AH; y++)
+        for (int x = 0; x < AW; x++) {
             for (int c = 0; c < 4; c++)
                 rgba[y][x][c] = (unsigned char)(x * 7 + y * 13 + c * 61);
             grey[y][x][0] = (unsigned char)(x * y);
             grey[y][x][1] = (unsigned char)(255 - x);
         }
     char colour[512], mask[512], big[512], missing[600];
-    snprintf(colour, sizeof colour, "%s", write_png(fx, "ahead-rgba.png", W, H, 4, &rgba[0][0][0]));
-    snprintf(mask, sizeof mask, "%s", write_png(fx, "ahead-grey.png", W, H, 2, &grey[0][0][0]));
+    snprintf(colour, sizeof colour, "%s", write_png(fx, "ahead-rgba.png", AW, AH, 4, &rgba[0][0][0]));
+    snprintf(mask, sizeof mask, "%s", write_png(fx, "ahead-grey.png", AW, AH, 2, &grey[0][0][0]));
     static unsigned char large[256][256];
     snprintf(big, sizeof big, "%s", write_png(fx, "ahead-big.png", 256, 256, 1, &large[0][0]));
     snprintf(missing, sizeof missing, "%s/ahead-none.png", fx->dir);
@@ -659,10 +659,10 @@ static void decoding_ahead_changes_nothing(void **state)
                                          VKRT_TEXTURE_COLOUR, VKRT_TEXTURE_DATA,
                                          VKRT_TEXTURE_COLOUR, VKRT_TEXTURE_DATA};
     /* Room for the small ones, not for the 256 x 256 one after them. */
-    size_t limit = 6 * W * H * 4 + 1000;
+    size_t limit = 6 * AW * AH * 4 + 1000;
     vkrt_texture_set alone = {.max_texel_bytes = limit}, ahead = {.max_texel_bytes = limit};
     uint32_t index_alone[N], index_ahead[N];
-    char msg_alone[N][512], msg_ahead[N][512];
+    char msg_alone[N][1024], msg_ahead[N][1024];
     add_all(&alone, paths, usage, bytes, size, N, index_alone, msg_alone);
 
     vkrt_texture_source sources[N];

@@ -10,6 +10,7 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "config.h"
+#include "affine.h"
 #include "coordinate_limit.h"
 #include "line_parser.h"
 #include "text_file.h"
@@ -270,31 +271,6 @@ static bool make_room(parser *p, void **array, uint32_t count, uint32_t *cap, ui
     return true;
 }
 
-/* m = op * m for 3x4 row-major affine matrices (op applied after m). */
-static void affine_then(double m[12], const double op[12])
-{
-    double r[12];
-    for (int row = 0; row < 3; row++)
-        for (int col = 0; col < 4; col++) {
-            double v = col == 3 ? op[4 * row + 3] : 0.0;
-            for (int k = 0; k < 3; k++)
-                v += op[4 * row + k] * m[4 * k + col];
-            r[4 * row + col] = v;
-        }
-    memcpy(m, r, sizeof r);
-}
-
-/* The rotation by deg degrees about the unit axis a, counter-clockwise looking down the axis
- * (right-handed, as Blender and glTF rotate), Rodrigues' formula. */
-static void rotation(const double a[3], double deg, double op[12])
-{
-    double rad = deg * (3.14159265358979323846 / 180.0), c = cos(rad), s = sin(rad), t = 1.0 - c;
-    double r[12] = {t * a[0] * a[0] + c,        t * a[0] * a[1] - s * a[2], t * a[0] * a[2] + s * a[1], 0,
-                    t * a[0] * a[1] + s * a[2], t * a[1] * a[1] + c,        t * a[1] * a[2] - s * a[0], 0,
-                    t * a[0] * a[2] - s * a[1], t * a[1] * a[2] + s * a[0], t * a[2] * a[2] + c,        0};
-    memcpy(op, r, sizeof r);
-}
-
 /* The placement words after a geometry line's path, applied in the order written:
  * translate X Y Z | rotate x|y|z DEG | rotate AX AY AZ DEG | scale S | scale SX SY SZ. */
 static bool parse_placement(parser *p, const tokens *t, vkrt_config_geometry *g)
@@ -335,7 +311,7 @@ static bool parse_placement(parser *p, const tokens *t, vkrt_config_geometry *g)
                 return fail(p, "geometry rotate needs an axis and an angle in degrees (write: %s)",
                             usage);
             }
-            rotation(axis, v[3], op);
+            vkrt_affine_rotation(axis, v[3], op);
         } else if (strcmp(word, "scale") == 0) {
             /* One number scales uniformly; three scale each axis. */
             bool three = left >= 3 && vkrt_text_float(t->tok[at + 2], &v[1]) == NULL;
@@ -356,7 +332,7 @@ static bool parse_placement(parser *p, const tokens *t, vkrt_config_geometry *g)
             return fail(p, "geometry: unexpected '%s' (write: %s; paths may not contain spaces)",
                         shown(word, buf), usage);
         }
-        affine_then(m, op);
+        vkrt_affine_then(m, op);
         g->placed = true;
     }
     for (int i = 0; i < 12; i++) {
@@ -819,48 +795,6 @@ static bool parse_all(parser *p, const char *text, size_t size)
  * Public API
  * ------------------------------------------------------------------------------------------- */
 
-/* What a setting is when no line gives it (docs/scene-format.md). */
-static void config_defaults(vkrt_config *c)
-{
-    memset(c, 0, sizeof *c);
-    c->width = 640;
-    c->height = 480;
-    c->samples = 1;
-    c->max_depth = 6;
-    c->accel = VKRT_ACCEL_AUTO;
-    c->integrator = VKRT_INTEGRATOR_AUTO;
-    c->environment_scale = 1.0f;
-}
-
-bool vkrt_config_for_geometry(const char *path, vkrt_config *cfg, vkrt_error *err)
-{
-    if (cfg)
-        memset(cfg, 0, sizeof *cfg);
-    if (!path || !cfg)
-        return vkrt_error_set(err, "scene file: no path given");
-    vkrt_config c;
-    config_defaults(&c);
-    c.from_scene_file = true;
-    c.geometries = calloc(1, sizeof *c.geometries);
-    const char *file = strrchr(path, '/');
-    file = file ? file + 1 : path;
-    const char *dot = strrchr(file, '.');
-    size_t stem = dot && dot != file ? (size_t)(dot - file) : strlen(file);
-    c.path = strdup(path);
-    c.output = malloc(stem + 5);
-    if (!c.geometries || !c.path || !c.output || !(c.geometries[0].path = strdup(path))) {
-        vkrt_config_free(&c);
-        return vkrt_error_set(err, "%s: out of memory", path);
-    }
-    for (int i = 0; i < 3; i++)
-        c.geometries[0].transform[5 * i] = 1.0f; /* the identity: calloc zeroed the rest */
-    c.geometry_count = 1;
-    memcpy(c.output, file, stem);
-    memcpy(c.output + stem, ".png", 5);
-    *cfg = c;
-    return true;
-}
-
 bool vkrt_config_parse(const char *text, size_t size, const char *name, const char *base_dir,
                        vkrt_config *cfg, vkrt_error *err)
 {
@@ -869,7 +803,7 @@ bool vkrt_config_parse(const char *text, size_t size, const char *name, const ch
     memset(cfg, 0, sizeof *cfg);
 
     vkrt_config c;
-    config_defaults(&c);
+    vkrt_config_defaults(&c);
 
     parser p;
     memset(&p, 0, sizeof p);
@@ -923,92 +857,4 @@ void vkrt_config_free(vkrt_config *cfg)
     free(cfg->lights);
     free(cfg->cameras);
     memset(cfg, 0, sizeof *cfg);
-}
-
-const char *vkrt_accel_name(vkrt_accel_kind kind)
-{
-    switch (kind) {
-    case VKRT_ACCEL_AUTO:
-        return "auto";
-    case VKRT_ACCEL_BRUTE:
-        return "brute";
-    case VKRT_ACCEL_GRID:
-        return "grid";
-    case VKRT_ACCEL_BVH:
-        return "bvh";
-    case VKRT_ACCEL_KDTREE:
-        return "kdtree";
-    }
-    return "unknown";
-}
-
-bool vkrt_accel_parse(const char *name, vkrt_accel_kind *kind)
-{
-    static const vkrt_accel_kind all[] = {VKRT_ACCEL_AUTO, VKRT_ACCEL_BRUTE, VKRT_ACCEL_GRID,
-                                          VKRT_ACCEL_BVH, VKRT_ACCEL_KDTREE};
-    if (!name)
-        return false;
-    for (size_t i = 0; i < sizeof all / sizeof all[0]; i++) {
-        if (strcmp(name, vkrt_accel_name(all[i])) == 0) {
-            if (kind)
-                *kind = all[i];
-            return true;
-        }
-    }
-    return false;
-}
-
-const char *vkrt_integrator_name(vkrt_integrator integrator)
-{
-    switch (integrator) {
-    case VKRT_INTEGRATOR_AUTO:
-        return "auto";
-    case VKRT_INTEGRATOR_WHITTED:
-        return "whitted";
-    case VKRT_INTEGRATOR_PATH:
-        return "path";
-    }
-    return "unknown";
-}
-
-bool vkrt_integrator_parse(const char *name, vkrt_integrator *integrator)
-{
-    static const vkrt_integrator all[] = {VKRT_INTEGRATOR_AUTO, VKRT_INTEGRATOR_WHITTED,
-                                          VKRT_INTEGRATOR_PATH};
-    if (!name)
-        return false;
-    for (size_t i = 0; i < sizeof all / sizeof all[0]; i++) {
-        if (strcmp(name, vkrt_integrator_name(all[i])) == 0) {
-            if (integrator)
-                *integrator = all[i];
-            return true;
-        }
-    }
-    return false;
-}
-
-const char *vkrt_bvh_splits_name(vkrt_bvh_splits splits)
-{
-    switch (splits) {
-    case VKRT_BVH_SPLITS_AUTO:
-        return "auto";
-    case VKRT_BVH_SPLITS_ON:
-        return "on";
-    case VKRT_BVH_SPLITS_OFF:
-        return "off";
-    }
-    return "unknown";
-}
-
-bool vkrt_bvh_splits_parse(const char *name, vkrt_bvh_splits *splits)
-{
-    static const vkrt_bvh_splits all[] = {VKRT_BVH_SPLITS_AUTO, VKRT_BVH_SPLITS_ON,
-                                          VKRT_BVH_SPLITS_OFF};
-    for (size_t i = 0; name && i < sizeof all / sizeof all[0]; i++) {
-        if (strcmp(name, vkrt_bvh_splits_name(all[i])) == 0) {
-            *splits = all[i];
-            return true;
-        }
-    }
-    return false;
 }

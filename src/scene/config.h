@@ -113,6 +113,10 @@ bool vkrt_config_load(const char *path, vkrt_config *cfg, vkrt_error *err);
 bool vkrt_config_parse(const char *text, size_t size, const char *name, const char *base_dir,
                        vkrt_config *cfg, vkrt_error *err);
 
+/* Zeroes *cfg and sets what no line gives: 640 x 480, 1 sample, max-depth 6, accel, integrator
+ * and bvh-splits auto, environment-map scale 1 (docs/scene-format.md). */
+void vkrt_config_defaults(vkrt_config *cfg);
+
 /* The settings a scene file given alone gets (`vkrt render model.glb`): scene.cfg's defaults,
  * one geometry entry of path placed as it is, no lights or cameras, and an output named after
  * the file in the current folder ("model.png"). Same contract as vkrt_config_load. */
