@@ -153,16 +153,22 @@ static void write_cutout(void)
                                  "newmtl b\nKd 0.2 0.6 0.8\n");
 }
 
-static void load_instanced(vkrt_scene *scene, bool cutout)
+/* The scene written in scene_dir, loaded as the file says (one identity instance). */
+static void load_written(vkrt_scene *scene)
 {
-    write_scene();
-    if (cutout)
-        write_cutout();
     char path[256];
     snprintf(path, sizeof path, "%s/scene.cfg", scene_dir);
     vkrt_error err = {{0}};
     if (!vkrt_scene_load(path, scene, &err))
         fail_msg("%s", err.msg);
+}
+
+static void load_instanced(vkrt_scene *scene, bool cutout)
+{
+    write_scene();
+    if (cutout)
+        write_cutout();
+    load_written(scene);
     instance_scene(scene);
 }
 
@@ -456,11 +462,8 @@ static vkrt_mesh swapped_copy(const vkrt_mesh *mesh)
 static void two_mesh_scene(vkrt_scene *scene)
 {
     write_scene();
-    char path[256];
-    snprintf(path, sizeof path, "%s/scene.cfg", scene_dir);
+    load_written(scene);
     vkrt_error err = {{0}};
-    if (!vkrt_scene_load(path, scene, &err))
-        fail_msg("%s", err.msg);
     vkrt_model *m = &scene->model;
     assert_int_equal(m->mesh_count, 1);
     assert_int_equal(m->material_count, 2);
@@ -561,12 +564,8 @@ static void one_instance_stays_flat(void **state)
 {
     (void)state;
     write_scene();
-    char path[256];
-    snprintf(path, sizeof path, "%s/scene.cfg", scene_dir);
     vkrt_scene scene = {0};
-    vkrt_error err = {{0}};
-    if (!vkrt_scene_load(path, &scene, &err))
-        fail_msg("%s", err.msg);
+    load_written(&scene);
     float *rgb = calloc(W * H * 3, sizeof *rgb);
     assert_non_null(rgb);
     vkrt_accel_stats stats;
