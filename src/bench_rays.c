@@ -94,10 +94,11 @@ static shadow_target choose_target(const vkrt_scene *scene)
 
 /* The hit of primary ray i: a ray origin just off the surface on the camera's side, and the unit
  * normal on that side. */
-static void hit_frame(const vkrt_mesh *world, const Ray *primary, const Hit *hits, uint32_t i,
-                      float origin[3], float nrm[3])
+static void hit_frame(const vkrt_model *model, const uint32_t *firsts, const Ray *primary,
+                      const Hit *hits, uint32_t i, float origin[3], float nrm[3])
 {
-    const float *v = world->positions + 9 * (size_t)hits[i].triangle;
+    float v[9];
+    vkrt_model_world_triangle(model, firsts, hits[i].triangle, v);
     float w = 1 - hits[i].u - hits[i].v, p[3], e1[3], e2[3], largest = 0, size = 0;
     for (int k = 0; k < 3; ++k) {
         p[k] = w * v[k] + hits[i].u * v[3 + k] + hits[i].v * v[6 + k];
@@ -124,21 +125,21 @@ typedef void (*secondary_direction)(const shadow_target *target, uint32_t i, con
                                     const float origin[3], float dir[3], float *tmax);
 
 /* One secondary ray per primary ray that hit, in the order of the primary rays, each carrying
- * its primary ray's index; 0 when the world-space triangles cannot be had (out of memory). */
+ * its primary ray's index; 0 when memory runs out. The hit triangles are taken into world space
+ * one by one: an instanced scene is never flattened. */
 static uint32_t secondary_rays(const vkrt_scene *scene, const Ray *primary, const Hit *hits,
                                uint32_t count, secondary_direction direction, Ray *out)
 {
     shadow_target target = choose_target(scene);
-    vkrt_mesh world;
-    bool copied;
-    if (!vkrt_model_world(&scene->model, &world, &copied, NULL))
+    uint32_t *firsts = vkrt_model_instance_firsts(&scene->model);
+    if (!firsts)
         return 0;
     uint32_t n = 0;
     for (uint32_t i = 0; i < count; ++i) {
         if (hits[i].triangle == VKRT_NO_HIT)
             continue;
         float origin[3], nrm[3], dir[3], tmax = 3.4e38f;
-        hit_frame(&world, primary, hits, i, origin, nrm);
+        hit_frame(&scene->model, firsts, primary, hits, i, origin, nrm);
         direction(&target, i, nrm, origin, dir, &tmax);
         out[n++] = (Ray){
             .origin = {origin[0], origin[1], origin[2], 0},
@@ -147,8 +148,7 @@ static uint32_t secondary_rays(const vkrt_scene *scene, const Ray *primary, cons
             .info = {i, 0, 0, 0},
         };
     }
-    if (copied)
-        vkrt_mesh_free(&world);
+    free(firsts);
     return n;
 }
 

@@ -25,7 +25,7 @@ void bench_primary_rays(const vkrt_config_camera *camera, uint32_t width, uint32
  * index into the model's triangles in world space, vkrt_model_world), one shadow ray from just off the surface towards the first point or
  * spot light (or against the first directional light; without any, towards a point above the
  * scene's bounds). Writes them to shadow (room for count) and returns how many (0 where memory
- * runs out flattening a model of several instances). */
+ * runs out). */
 uint32_t bench_shadow_rays(const vkrt_scene *scene, const Ray *primary, const Hit *hits,
                            uint32_t count, Ray *shadow);
 

@@ -190,11 +190,19 @@ static void instances_flatten_into_world_space(void **state)
     assert_vec3_near(world.bounds_max, 6, 2, 0);
     vkrt_mesh_free(&world);
 
-    /* The materials follow the instances: one entry per world triangle. */
+    /* The materials are the mesh's, once; over the instances, one entry per world triangle. */
     vkrt_config cfg = {0};
     vkrt_scene_materials mats;
     assert_true(vkrt_scene_materials_resolve(&cfg, &m, NULL, &mats, &err));
-    assert_int_equal(mats.triangle_material[0], mats.triangle_material[1]);
+    assert_int_equal(mats.triangle_count, 1);
+    assert_int_equal(mats.mesh_first[0], 0);
+    const uint32_t *per_world;
+    uint32_t *owned;
+    assert_true(vkrt_scene_materials_world(&mats, &m, &per_world, &owned, &err));
+    assert_non_null(owned);
+    assert_int_equal(per_world[0], mats.triangle_material[0]);
+    assert_int_equal(per_world[1], mats.triangle_material[0]);
+    free(owned);
     vkrt_scene_materials_free(&mats);
 
     /* An instance naming a mesh that is not there is refused. */

@@ -46,28 +46,22 @@ void vkrt_unique_meshes_free(vkrt_unique_meshes *u)
 }
 
 bool vkrt_unique_meshes_make(const vkrt_model *model, const uint32_t *triangle_material,
-                             vkrt_unique_meshes *u, vkrt_error *err)
+                             const uint32_t *material_first, vkrt_unique_meshes *u,
+                             vkrt_error *err)
 {
     memset(u, 0, sizeof *u);
     uint32_t meshes = model->mesh_count;
     u->mesh_base = malloc((meshes ? meshes : 1) * sizeof *u->mesh_base);
-    /* Each used mesh's first triangle in vkrt_model_world's order (its first instance's). */
-    uint64_t *flat = malloc((meshes ? meshes : 1) * sizeof *flat);
-    if (!u->mesh_base || !flat) {
-        free(flat);
+    if (!u->mesh_base) {
         vkrt_unique_meshes_free(u);
         return vkrt_error_set(err, "out of memory");
     }
     for (uint32_t m = 0; m < meshes; ++m)
         u->mesh_base[m] = UINT32_MAX;
-    uint64_t at = 0;
     for (uint32_t i = 0; i < model->instance_count; ++i) {
         uint32_t m = model->instances[i].mesh;
-        if (m < meshes && u->mesh_base[m] == UINT32_MAX) {
+        if (m < meshes)
             u->mesh_base[m] = 0; /* used; numbered below */
-            flat[m] = at;
-        }
-        at += m < meshes ? model->meshes[m].triangle_count : 0;
     }
     uint64_t n = 0;
     bool normals = false, texcoords = false;
@@ -79,7 +73,6 @@ bool vkrt_unique_meshes_make(const vkrt_model *model, const uint32_t *triangle_m
         normals = normals || model->meshes[m].normals;
         texcoords = texcoords || model->meshes[m].texcoords;
         if (n > BVH_LEAF_REF_MAX_FIRST + 1ull) {
-            free(flat);
             vkrt_unique_meshes_free(u);
             return vkrt_error_set(err,
                                   "the instanced meshes hold over %u triangles, more than the "
@@ -97,7 +90,6 @@ bool vkrt_unique_meshes_make(const vkrt_model *model, const uint32_t *triangle_m
     u->scene_material = malloc(count * sizeof *u->scene_material);
     if (!out->positions || (normals && !out->normals) || (texcoords && !out->texcoords) ||
         !u->scene_material) {
-        free(flat);
         vkrt_unique_meshes_free(u);
         return vkrt_error_set(err, "out of memory for %llu unique triangles",
                               (unsigned long long)n);
@@ -112,10 +104,9 @@ bool vkrt_unique_meshes_make(const vkrt_model *model, const uint32_t *triangle_m
             memcpy(out->normals + 9 * base, mesh->normals, k * 9 * sizeof(float));
         if (mesh->texcoords)
             memcpy(out->texcoords + 6 * base, mesh->texcoords, k * 6 * sizeof(float));
-        memcpy(u->scene_material + base, triangle_material + flat[m],
+        memcpy(u->scene_material + base, triangle_material + material_first[m],
                k * sizeof *u->scene_material);
     }
-    free(flat);
     return true;
 }
 

@@ -37,9 +37,10 @@ bool vkrt_instancing_pays(const vkrt_model *model);
 /* The meshes that instances use, each once, as one mesh in their own spaces (the upload's
  * source), mesh after mesh in the model's order: positions, normals where any mesh has some (a
  * mesh without gets its geometric normal), texture coordinates where any has some (zeros where
- * one has none), and per triangle the scene material (from triangle_material, the scene's
- * material per triangle in vkrt_model_world's order: materials.h). mesh_base[m]: mesh m's first
- * triangle in it, or UINT32_MAX for a mesh no instance uses. */
+ * one has none), and per triangle the scene material (mesh m's triangle k's at
+ * triangle_material[material_first[m] + k]: vkrt_scene_materials' triangle_material and
+ * mesh_first). mesh_base[m]: mesh m's first triangle in it, or UINT32_MAX for a mesh no instance
+ * uses. */
 typedef struct vkrt_unique_meshes {
     vkrt_mesh mesh;
     uint32_t *scene_material;
@@ -49,7 +50,8 @@ typedef struct vkrt_unique_meshes {
 /* Makes u for model; false with err set (and u zeroed) when memory runs out or the unique
  * triangles do not fit the GPU's leaf references (2^27). */
 bool vkrt_unique_meshes_make(const vkrt_model *model, const uint32_t *triangle_material,
-                             vkrt_unique_meshes *u, vkrt_error *err);
+                             const uint32_t *material_first, vkrt_unique_meshes *u,
+                             vkrt_error *err);
 
 void vkrt_unique_meshes_free(vkrt_unique_meshes *u);
 

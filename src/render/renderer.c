@@ -275,16 +275,23 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
     vkrt_mesh world = {0};
     bool world_copied = false;
     vkrt_unique_meshes unique = {0};
-    vkrt_scene_materials unique_mats;
+    vkrt_scene_materials uploaded_mats;
+    uint32_t *world_materials = NULL;
     ok = ok && choose_two_level(r, desc, scene, mats, err);
     if (ok && r->two_level) {
-        ok = vkrt_unique_meshes_make(&scene->model, mats->triangle_material, &unique, err);
+        ok = vkrt_unique_meshes_make(&scene->model, mats->triangle_material, mats->mesh_first,
+                                     &unique, err);
         world = unique.mesh;
-        unique_mats = *mats;
-        unique_mats.triangle_material = unique.scene_material;
-        mats = &unique_mats;
-    } else {
-        ok = ok && vkrt_model_world(&scene->model, &world, &world_copied, err);
+        uploaded_mats = *mats;
+        uploaded_mats.triangle_material = unique.scene_material;
+        mats = &uploaded_mats;
+    } else if (ok) {
+        const uint32_t *per_world = NULL;
+        ok = vkrt_model_world(&scene->model, &world, &world_copied, err) &&
+             vkrt_scene_materials_world(mats, &scene->model, &per_world, &world_materials, err);
+        uploaded_mats = *mats;
+        uploaded_mats.triangle_material = (uint32_t *)per_world;
+        mats = &uploaded_mats;
     }
     bool has_texcoords = mats->reads_texcoords && world.texcoords;
     bool has_normals = world.normals != NULL;
@@ -336,6 +343,7 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
     if (world_copied)
         vkrt_mesh_free(&world);
     vkrt_unique_meshes_free(&unique);
+    free(world_materials);
     if (!ok) {
         vkrt_renderer_destroy(r);
         return false;

@@ -418,6 +418,33 @@ static void decode_textures_ahead(vkrt_scene_materials *out, const vkrt_model *m
     free(mesh_used);
 }
 
+/* Numbers the meshes instances use in the order of their first instances into mesh_first
+ * (UINT32_MAX for the others), their triangles' count into *count; false where an instance names
+ * a mesh that is not there or the meshes hold more than 32-bit indices address. */
+static bool number_meshes(const vkrt_model *model, uint32_t *mesh_first, uint32_t *count,
+                          vkrt_error *err)
+{
+    for (uint32_t m = 0; m < model->mesh_count; ++m)
+        mesh_first[m] = UINT32_MAX;
+    uint64_t n = 0;
+    for (uint32_t i = 0; i < model->instance_count; ++i) {
+        uint32_t m = model->instances[i].mesh;
+        if (m >= model->mesh_count)
+            return vkrt_error_set(err, "instance %u names mesh %u of %u", i, m,
+                                  model->mesh_count);
+        if (mesh_first[m] != UINT32_MAX)
+            continue;
+        mesh_first[m] = (uint32_t)n;
+        n += model->meshes[m].triangle_count;
+        if (n >= UINT32_MAX)
+            return vkrt_error_set(err, "the instanced meshes hold %llu triangles or more, over "
+                                       "32-bit indices",
+                                  (unsigned long long)n);
+    }
+    *count = (uint32_t)n;
+    return true;
+}
+
 bool vkrt_scene_materials_resolve(const vkrt_config *cfg, const vkrt_model *model,
                                   const vkrt_material_file *file, vkrt_scene_materials *out,
                                   vkrt_error *err)
@@ -425,26 +452,36 @@ bool vkrt_scene_materials_resolve(const vkrt_config *cfg, const vkrt_model *mode
     memset(out, 0, sizeof *out);
     uint32_t count = model->material_count;
     uint32_t *used = malloc((count + 1) * sizeof *used);
-    out->triangle_material = malloc((model->triangle_count ? model->triangle_count : 1) *
-                                    sizeof *out->triangle_material);
+    out->mesh_first = malloc((model->mesh_count ? model->mesh_count : 1) *
+                             sizeof *out->mesh_first);
     /* The used materials (at most every record and the default), the environment, and one
      * zeroed entry that free may visit after a failure part way. */
     out->list = calloc(count + 3, sizeof *out->list);
-    if (!used || !out->triangle_material || !out->list) {
+    if (!used || !out->mesh_first || !out->list) {
         free(used);
         vkrt_scene_materials_free(out);
         return vkrt_error_set(err, "out of memory for %u materials", count);
     }
+    bool ok = number_meshes(model, out->mesh_first, &out->triangle_count, err);
+    if (ok) {
+        out->triangle_material = malloc((out->triangle_count ? out->triangle_count : 1) *
+                                        sizeof *out->triangle_material);
+        if (!out->triangle_material)
+            ok = vkrt_error_set(err, "out of memory for %u triangles' materials",
+                                out->triangle_count);
+    }
     for (uint32_t i = 0; i <= count; ++i)
         used[i] = UINT32_MAX;
-    decode_textures_ahead(out, model, file);
-    bool ok = true;
+    if (ok)
+        decode_textures_ahead(out, model, file);
+    /* Mesh after mesh as their first instances come: the materials are then listed in the order
+     * the instanced triangles first use them. */
     size_t t = 0;
     for (uint32_t i = 0; ok && i < model->instance_count; ++i) {
-        const vkrt_mesh *mesh = &model->meshes[model->instances[i].mesh];
-        if (t + mesh->triangle_count > model->triangle_count)
-            ok = vkrt_error_set(err, "the model's triangle count is not its instances' "
-                                     "(vkrt_model_finish sets it)");
+        uint32_t m = model->instances[i].mesh;
+        if (out->mesh_first[m] != t)
+            continue; /* resolved at an earlier instance (an empty mesh may come again: no-op) */
+        const vkrt_mesh *mesh = &model->meshes[m];
         for (uint32_t k = 0; ok && k < mesh->triangle_count; ++k, ++t)
             ok = material_for(out, model, file, mesh->material[k], used,
                               &out->triangle_material[t], err);
@@ -459,6 +496,33 @@ bool vkrt_scene_materials_resolve(const vkrt_config *cfg, const vkrt_model *mode
     return ok;
 }
 
+bool vkrt_scene_materials_world(const vkrt_scene_materials *m, const vkrt_model *model,
+                                const uint32_t **world, uint32_t **owned, vkrt_error *err)
+{
+    *world = m->triangle_material;
+    *owned = NULL;
+    if (model->triangle_count == m->triangle_count)
+        return true; /* no mesh is placed twice: the orders are the same */
+    *owned = malloc((model->triangle_count ? model->triangle_count : 1) * sizeof **owned);
+    if (!*owned)
+        return vkrt_error_set(err, "out of memory for %u triangles' materials",
+                              model->triangle_count);
+    size_t t = 0;
+    for (uint32_t i = 0; i < model->instance_count; ++i) {
+        uint32_t mesh = model->instances[i].mesh, k = model->meshes[mesh].triangle_count;
+        if (t + k > model->triangle_count) {
+            free(*owned);
+            *owned = NULL;
+            return vkrt_error_set(err, "the model's triangle count is not its instances' "
+                                       "(vkrt_model_finish sets it)");
+        }
+        memcpy(*owned + t, m->triangle_material + m->mesh_first[mesh], k * sizeof **owned);
+        t += k;
+    }
+    *world = *owned;
+    return true;
+}
+
 void vkrt_scene_materials_free(vkrt_scene_materials *m)
 {
     for (uint32_t i = 0; m->list && i < m->count + 1; ++i) {
@@ -467,6 +531,7 @@ void vkrt_scene_materials_free(vkrt_scene_materials *m)
     }
     free(m->list);
     free(m->triangle_material);
+    free(m->mesh_first);
     for (uint32_t i = 0; i < m->shader_count; ++i) {
         free(m->shaders[i].builtin);
         free(m->shaders[i].path);

@@ -53,8 +53,12 @@ typedef struct vkrt_scene_materials {
     vkrt_scene_material *list;     /* the used materials, then the environment */
     uint32_t count;
     uint32_t environment;          /* index of the environment in list (the last) */
-    uint32_t *triangle_material;   /* per triangle of the model's instances, instance after
-                                      instance (vkrt_model_world's order): index into list */
+    uint32_t *triangle_material;   /* per triangle of the meshes instances use, each mesh once,
+                                      in the order of their first instances: mesh m's triangle
+                                      k at mesh_first[m] + k; index into list */
+    uint32_t *mesh_first;          /* per mesh of the model: its first entry in
+                                      triangle_material, UINT32_MAX for a mesh no instance uses */
+    uint32_t triangle_count;       /* entries in triangle_material */
     vkrt_shader_source *shaders;
     uint32_t shader_count;
     vkrt_texture_set textures;
@@ -73,6 +77,13 @@ extern const char *const vkrt_builtin_shaders[];
 bool vkrt_scene_materials_resolve(const vkrt_config *cfg, const vkrt_model *model,
                                   const vkrt_material_file *file, vkrt_scene_materials *out,
                                   vkrt_error *err);
+
+/* The scene material of every triangle of the model's instances, instance after instance
+ * (vkrt_model_world's order), into *world: where every instance places a mesh of its own, that
+ * order is triangle_material's, which *world then is (*owned NULL, nothing allocated); else a
+ * new array, also in *owned for the caller to free. False with err set when memory runs out. */
+bool vkrt_scene_materials_world(const vkrt_scene_materials *m, const vkrt_model *model,
+                                const uint32_t **world, uint32_t **owned, vkrt_error *err);
 
 /* After cfg->environment has changed (vkrt_scene_set_environment): the built-in constant
  * environment takes its radiance. Returns false, changing nothing, where file's `environment`

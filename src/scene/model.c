@@ -250,6 +250,42 @@ bool vkrt_model_world(const vkrt_model *model, vkrt_mesh *world, bool *copied, v
     return true;
 }
 
+uint32_t *vkrt_model_instance_firsts(const vkrt_model *model)
+{
+    uint32_t count = model->instance_count;
+    uint32_t *firsts = malloc((count ? count : 1) * sizeof *firsts);
+    uint32_t t = 0;
+    for (uint32_t i = 0; firsts && i < count; ++i) {
+        firsts[i] = t;
+        t += model->meshes[model->instances[i].mesh].triangle_count;
+    }
+    return firsts;
+}
+
+void vkrt_model_world_triangle(const vkrt_model *model, const uint32_t *firsts, uint32_t t,
+                               float out[9])
+{
+    /* The last instance whose first triangle is at most t: an empty instance shares its first
+     * with the next, so the one found holds t. */
+    uint32_t lo = 0, hi = model->instance_count;
+    while (hi - lo > 1) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        if (firsts[mid] <= t)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    const vkrt_instance *inst = &model->instances[lo];
+    const float *p = model->meshes[inst->mesh].positions + 9 * (size_t)(t - firsts[lo]);
+    /* vkrt_model_world takes one identity instance's positions as they are. */
+    if (model->instance_count == 1 && is_identity(inst->transform)) {
+        memcpy(out, p, 9 * sizeof *out);
+        return;
+    }
+    for (int c = 0; c < 3; ++c)
+        transform_point(inst->transform, p + 3 * c, out + 3 * c);
+}
+
 double vkrt_model_host_bytes(const vkrt_model *model)
 {
     double bytes = 0;

@@ -202,6 +202,16 @@ double vkrt_transform_cofactors(const float t[12], double cof[3][3]);
  * err set when memory runs out or there are more than VKRT_MODEL_FLAT_MAX_TRIANGLES. */
 bool vkrt_model_world(const vkrt_model *model, vkrt_mesh *world, bool *copied, vkrt_error *err);
 
+/* Each instance's first triangle in vkrt_model_world's order, as a new array of instance_count
+ * entries (free() it); NULL when memory runs out. */
+uint32_t *vkrt_model_instance_firsts(const vkrt_model *model);
+
+/* Triangle t of vkrt_model_world's order in world space (9 floats), bit for bit the positions
+ * vkrt_model_world writes, without flattening: its instance is found by binary search over firsts
+ * (vkrt_model_instance_firsts). t must be below the model's triangle_count. */
+void vkrt_model_world_triangle(const vkrt_model *model, const uint32_t *firsts, uint32_t t,
+                               float out[9]);
+
 /* The bytes the model's mesh arrays take in host memory. */
 double vkrt_model_host_bytes(const vkrt_model *model);
 

@@ -378,8 +378,7 @@ static bool load_entry(const uint64_t key[2], const char *ext, vkrt_model *model
     vkrt_cache_reader_get(&r, &h, sizeof h);
     r.ok = r.ok && h.magic == MODEL_MAGIC && h.key[0] == key[0] && h.key[1] == key[1] &&
            vkrt_hash64(&h, offsetof(model_header, header_hash), 0) == h.header_hash &&
-           h.mesh_count > 0 && h.instance_count > 0 && h.triangle_count > 0 &&
-           h.triangle_count <= UINT32_MAX / 9;
+           h.mesh_count > 0 && h.instance_count > 0 && h.triangle_count > 0;
     if (r.ok) {
         section_bytes(&h, expected);
         for (int s = SECTION_MATERIALS; s < SECTION_COUNT; ++s)
