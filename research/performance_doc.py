@@ -777,10 +777,11 @@ from the cache (the first, cold, compiled them):
 
 The flat scenes trace as before: the same call ran bench over the bunny, Sponza, Sibenik and Lost
 Empire with this build and the one before glTF and instancing, interleaved twice, every rate within
-the rounds' spread (the log's flat-new and flat-old rows). Not measured yet: 10,000 instances of a
-100,000-triangle mesh (the host's per-triangle material list grows with the instanced count) and
-the driver's pipeline on the instanced scenes (rtpipe-bench has no top-level structure over
-instances yet).
+the rounds' spread (the log's flat-new and flat-old rows). Not measured on a GPU yet: 10,000
+instances of a 100,000-triangle mesh (since this call the material list is per mesh triangle, and
+on lavapipe that scene loads in about 1.8 s warm without the driver's pipeline creation, 1 GiB at
+its peak) and the driver's pipeline on the instanced scenes (rtpipe-bench now builds a BLAS per
+mesh and a TLAS over the instances; `research/gpu-run instancing-driver` runs both, not yet run).
 
 ## Memory
 
