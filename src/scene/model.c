@@ -85,12 +85,13 @@ static bool is_identity(const float t[12])
     return memcmp(t, vkrt_identity_transform, sizeof vkrt_identity_transform) == 0;
 }
 
-/* p transformed by t (a point: w = 1), in double and rounded once. */
-static void transform_point(const float t[12], const float p[3], float out[3])
+void vkrt_transform_point(const float t[12], const float p[3], float out[3])
 {
-    for (int r = 0; r < 3; ++r)
-        out[r] = (float)((double)t[4 * r] * p[0] + (double)t[4 * r + 1] * p[1] +
-                         (double)t[4 * r + 2] * p[2] + (double)t[4 * r + 3]);
+    float r[3];
+    for (int k = 0; k < 3; ++k)
+        r[k] = (float)((double)t[4 * k] * p[0] + (double)t[4 * k + 1] * p[1] +
+                       (double)t[4 * k + 2] * p[2] + (double)t[4 * k + 3]);
+    memcpy(out, r, sizeof r);
 }
 
 bool vkrt_model_finish(vkrt_model *model, vkrt_error *err)
@@ -114,7 +115,7 @@ bool vkrt_model_finish(vkrt_model *model, vkrt_error *err)
                                          c & 2 ? mesh->bounds_max[1] : mesh->bounds_min[1],
                                          c & 4 ? mesh->bounds_max[2] : mesh->bounds_min[2]};
                 float p[3];
-                transform_point(inst->transform, corner, p);
+                vkrt_transform_point(inst->transform, corner, p);
                 for (int a = 0; a < 3; ++a) {
                     lo[a] = c == 0 || p[a] < lo[a] ? p[a] : lo[a];
                     hi[a] = c == 0 || p[a] > hi[a] ? p[a] : hi[a];
@@ -224,7 +225,7 @@ bool vkrt_model_world(const vkrt_model *model, vkrt_mesh *world, bool *copied, v
         for (uint32_t k = 0; k < mesh->triangle_count; ++k, ++t) {
             float *p = world->positions + 9 * t;
             for (int c = 0; c < 3; ++c)
-                transform_point(inst->transform, mesh->positions + 9 * (size_t)k + 3 * c,
+                vkrt_transform_point(inst->transform, mesh->positions + 9 * (size_t)k + 3 * c,
                                 p + 3 * c);
             world->material[t] = mesh->material[k];
             if (mesh->texcoords)
@@ -283,7 +284,7 @@ void vkrt_model_world_triangle(const vkrt_model *model, const uint32_t *firsts, 
         return;
     }
     for (int c = 0; c < 3; ++c)
-        transform_point(inst->transform, p + 3 * c, out + 3 * c);
+        vkrt_transform_point(inst->transform, p + 3 * c, out + 3 * c);
 }
 
 double vkrt_model_host_bytes(const vkrt_model *model)

@@ -165,6 +165,9 @@ typedef struct vkrt_model {
     bool inputs_missing;
 } vkrt_model;
 
+/* p transformed by t (a point: w = 1), in double and rounded once; out may be p. */
+void vkrt_transform_point(const float t[12], const float p[3], float out[3]);
+
 /* The 3x4 identity. */
 extern const float vkrt_identity_transform[12];
 

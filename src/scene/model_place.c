@@ -18,15 +18,6 @@ void vkrt_transform_compose(const float a[12], const float b[12], float out[12])
     memcpy(out, r, sizeof r);
 }
 
-static void place_point(const float t[12], const float p[3], float out[3])
-{
-    float r[3];
-    for (int row = 0; row < 3; row++)
-        r[row] = (float)((double)t[4 * row] * p[0] + (double)t[4 * row + 1] * p[1] +
-                         (double)t[4 * row + 2] * p[2] + t[4 * row + 3]);
-    memcpy(out, r, sizeof r);
-}
-
 /* A direction through the transform's linear part, made unit again (unchanged if it vanishes). */
 static void place_direction(const float t[12], const float d[3], float out[3])
 {
@@ -116,14 +107,14 @@ bool vkrt_model_place(vkrt_model *dst, vkrt_model *src, const float (*placements
         for (uint32_t i = 0; i < src->light_count; i++) {
             vkrt_config_light *light = &dst->lights[dst->light_count++];
             *light = src->lights[i];
-            place_point(place, light->position, light->position);
+            vkrt_transform_point(place, light->position, light->position);
             place_direction(place, light->direction, light->direction);
         }
         for (uint32_t i = 0; i < src->camera_count; i++) {
             vkrt_config_camera *camera = &dst->cameras[dst->camera_count++];
             *camera = src->cameras[i];
-            place_point(place, camera->eye, camera->eye);
-            place_point(place, camera->look, camera->look);
+            vkrt_transform_point(place, camera->eye, camera->eye);
+            vkrt_transform_point(place, camera->look, camera->look);
             place_direction(place, camera->up, camera->up);
         }
     }
