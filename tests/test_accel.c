@@ -107,8 +107,11 @@ static const tracer tracers[] = {
 enum { TRACERS = sizeof tracers / sizeof *tracers };
 static const tracer *const brute = &tracers[0];
 
-static void trace_as(gpu_context *ctx, const vkrt_scene *scene, const tracer *t, const Ray *rays,
-                     uint32_t count, bool any_hit, Hit *hits, vkrt_accel_kind *built)
+/* A renderer that traces up to count rays a call with the structure and walk of t. Renderer
+ * creation (lavapipe compiling the kernels) costs more than tracing thousands of rays, so one
+ * renderer traces both a scene's rays and its segments. */
+static vkrt_renderer *renderer_as(gpu_context *ctx, const vkrt_scene *scene, const tracer *t,
+                                  uint32_t count)
 {
     vkrt_error err = {{0}};
     vkrt_renderer *r = NULL;
@@ -117,8 +120,22 @@ static void trace_as(gpu_context *ctx, const vkrt_scene *scene, const tracer *t,
                              .tuning = {.bvh_width = t->bvh_width, .walk = t->walk}};
     if (!vkrt_renderer_create(&r, ctx, scene, &desc, &err))
         fail_msg("renderer (%s): %s", t->name, err.msg);
+    return r;
+}
+
+static void trace_with(vkrt_renderer *r, const tracer *t, const Ray *rays, uint32_t count,
+                       bool any_hit, Hit *hits)
+{
+    vkrt_error err = {{0}};
     if (!vkrt_renderer_trace(r, rays, count, any_hit, hits, 1, NULL, &err))
         fail_msg("trace (%s): %s", t->name, err.msg);
+}
+
+static void trace_as(gpu_context *ctx, const vkrt_scene *scene, const tracer *t, const Ray *rays,
+                     uint32_t count, bool any_hit, Hit *hits, vkrt_accel_kind *built)
+{
+    vkrt_renderer *r = renderer_as(ctx, scene, t, count);
+    trace_with(r, t, rays, count, any_hit, hits);
     if (built)
         *built = vkrt_renderer_accel_stats(r)->kind;
     vkrt_renderer_destroy(r);
@@ -188,18 +205,22 @@ static void check_scene_mesh(const char *name, vkrt_scene *scene)
     Hit *ref_any = calloc(RAY_COUNT, sizeof *ref_any);
     assert_true(rays && segments && ref && hits && ref_any);
     make_rays(&scene->model.meshes[0], rays);
-    trace_as(&ctx, scene, brute, rays, RAY_COUNT, false, ref, NULL);
+    vkrt_renderer *r = renderer_as(&ctx, scene, brute, RAY_COUNT);
+    trace_with(r, brute, rays, RAY_COUNT, false, ref);
     uint32_t n = make_segments(rays, ref, RAY_COUNT, segments);
     if (n)
-        trace_as(&ctx, scene, brute, segments, n, true, ref_any, NULL);
+        trace_with(r, brute, segments, n, true, ref_any);
+    vkrt_renderer_destroy(r);
     for (int k = 1; k < TRACERS; ++k) {
         const tracer *t = &tracers[k];
-        trace_as(&ctx, scene, t, rays, RAY_COUNT, false, hits, NULL);
+        r = renderer_as(&ctx, scene, t, RAY_COUNT);
+        trace_with(r, t, rays, RAY_COUNT, false, hits);
         compare_hits(name, t->name, ref, hits, RAY_COUNT);
         if (n) {
-            trace_as(&ctx, scene, t, segments, n, true, hits, NULL);
+            trace_with(r, t, segments, n, true, hits);
             compare_any(name, t->name, ref_any, hits, n);
         }
+        vkrt_renderer_destroy(r);
     }
     free(rays);
     free(segments);

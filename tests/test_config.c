@@ -489,6 +489,10 @@ static const bad_case bad_cases[] = {
     {G "geometry b.obj scale 0\n", "t.cfg:2: ", "geometry scale must not be 0"},
     {G "geometry b.obj scale\n", "t.cfg:2: ", "geometry scale needs 1 or 3 numbers"},
     {G "geometry b.obj spin 3\n", "t.cfg:2: ", "geometry: unexpected 'spin'"},
+    /* 16 scales are 34 words: past the words a line keeps (the fuzzer's find). */
+    {G "geometry b.obj" " scale 4 scale 4 scale 4 scale 4 scale 4 scale 4 scale 4 scale 4"
+       " scale 4 scale 4 scale 4 scale 4 scale 4 scale 4 scale 4 scale 4\n",
+     "t.cfg:2: ", "geometry: 34 words on one line, at most 32"},
     {G "geometry b.obj translate 1e12 0 0\n", "t.cfg:2: ", "geometry translate 1e+12 is outside"},
     {G "output a.png\noutput b.png\n", "t.cfg:3: ", "output given twice (first on line 2)"},
     {G "accel bvh\naccel grid\n", "t.cfg:3: ", "accel given twice (first on line 2)"},

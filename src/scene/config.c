@@ -280,6 +280,11 @@ static bool parse_placement(parser *p, const tokens *t, vkrt_config_geometry *g)
         "[scale S] [scale SX SY SZ]";
     char buf[SHOWN_TOKEN_BYTES + 4];
     double m[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    /* Only MAX_TOKENS words of a line are kept; a longer placement is split over lines by
+     * nobody, so it is refused rather than read in part. */
+    if (t->count > MAX_TOKENS)
+        return fail(p, "geometry: %d words on one line, at most %d (write: %s)", t->count,
+                    (int)MAX_TOKENS, usage);
     for (int at = 2; at < t->count;) {
         const char *word = t->tok[at];
         int left = t->count - at - 1; /* tokens after the word */
