@@ -7,7 +7,8 @@
  * description changed gives another key; a damaged, truncated or foreign entry is a miss; a new
  * version of one source's structure replaces the old entry, not another source's; small
  * scenes and a turned-off cache have no key; a file's hash, read in chunks on several threads,
- * is the hash of its bytes in memory.
+ * is the hash of its bytes in memory. A two-level BVH (src/render/accel_instanced.h) reads back
+ * with its instance map, and moving one instance by one ulp gives another key.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h> /* cmocka needs these before its header */
@@ -277,6 +278,83 @@ static void file_hash_is_the_bytes_hash(void **state)
     free(bytes);
 }
 
+/* Two meshes (the scene's triangles split 2:1) placed 40 times, tilted and scaled by a fixed LCG;
+ * a zeroed model on entry. */
+enum { INSTANCES = 40, FIRST_MESH = 20000 };
+static void instanced_model(vkrt_model *m, float *positions)
+{
+    m->meshes = calloc(2, sizeof *m->meshes);
+    m->instances = calloc(INSTANCES, sizeof *m->instances);
+    assert_true(m->meshes && m->instances);
+    m->mesh_count = 2;
+    m->meshes[0] = (vkrt_mesh){.triangle_count = FIRST_MESH, .positions = positions};
+    m->meshes[1] = (vkrt_mesh){.triangle_count = TRIANGLES - FIRST_MESH,
+                               .positions = positions + 9 * FIRST_MESH};
+    m->instance_count = INSTANCES;
+    uint32_t state = 777;
+    for (uint32_t i = 0; i < INSTANCES; ++i) {
+        state = state * 1664525u + 1013904223u;
+        float a = (float)(state >> 8) / 16777216.0f * 6.2831853f, s = 0.5f + (float)(i % 3);
+        const float t[12] = {s * cosf(a), 0, s * sinf(a), 12.0f * (float)(i % 8),
+                             0, s, 0, 0.5f * (float)i,
+                             -s * sinf(a), 0, s * cosf(a), 12.0f * (float)(i / 8)};
+        m->instances[i].mesh = i % 2;
+        memcpy(m->instances[i].transform, t, sizeof t);
+    }
+    vkrt_error err = {{0}};
+    assert_true(vkrt_model_finish(m, &err));
+}
+
+static void two_level_reads_back_with_its_instances(void **state)
+{
+    use_cache(*state);
+    float *p = scene();
+    vkrt_model m = {0};
+    instanced_model(&m, p);
+    uint32_t *material = calloc(TRIANGLES, sizeof *material);
+    const uint32_t material_first[2] = {0, FIRST_MESH};
+    vkrt_unique_meshes u;
+    vkrt_error err = {{0}};
+    assert_non_null(material);
+    assert_true(vkrt_unique_meshes_make(&m, material, material_first, &u, &err));
+    const vkrt_accel_desc desc = {.kind = VKRT_ACCEL_BVH, .bvh_width = 4};
+    vkrt_accel_arrays built, back;
+    assert_true(vkrt_accel_build_instanced(&desc, &m, &u, &built, &err));
+    assert_int_equal(built.instances.count, INSTANCES);
+    vkrt_accel_cache_name name, moved;
+    assert_true(vkrt_accel_cache_name_of_instanced(&desc, &m, &u, &name));
+    assert_false(vkrt_accel_cache_load(&name, &back));
+    vkrt_accel_cache_store(&name, &built);
+    assert_true(vkrt_accel_cache_load(&name, &back));
+    assert_same_arrays(&built, &back);
+    assert_int_equal(back.instances.count, INSTANCES);
+    assert_memory_equal(built.instances.first, back.instances.first,
+                        INSTANCES * sizeof *built.instances.first);
+    assert_memory_equal(built.instances.mesh_base, back.instances.mesh_base,
+                        INSTANCES * sizeof *built.instances.mesh_base);
+    assert_memory_equal(built.instances.flat_first, back.instances.flat_first,
+                        INSTANCES * sizeof *built.instances.flat_first);
+    /* The flat structure over the same unique triangles is another entry. */
+    vkrt_accel_cache_name flat;
+    assert_true(vkrt_accel_cache_name_of(&desc, u.mesh.positions, u.mesh.triangle_count, &flat));
+    assert_false(flat.key[0] == name.key[0] && flat.key[1] == name.key[1]);
+    /* One instance moved by one ulp: another key, and a miss. */
+    float *x = &m.instances[INSTANCES - 1].transform[3];
+    *x = nextafterf(*x, INFINITY);
+    assert_true(vkrt_accel_cache_name_of_instanced(&desc, &m, &u, &moved));
+    assert_false(moved.key[0] == name.key[0] && moved.key[1] == name.key[1]);
+    vkrt_accel_arrays miss;
+    assert_false(vkrt_accel_cache_load(&moved, &miss));
+    vkrt_accel_arrays_free(&built);
+    vkrt_accel_arrays_free(&back);
+    vkrt_unique_meshes_free(&u);
+    free(material);
+    /* The meshes point into p: the model owns neither. */
+    free(m.meshes);
+    free(m.instances);
+    free(p);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -285,6 +363,7 @@ int main(void)
         temp_dir_test(damaged_truncated_and_foreign_are_misses),
         temp_dir_test(newer_versions_replace_older),
         temp_dir_test(file_hash_is_the_bytes_hash),
+        temp_dir_test(two_level_reads_back_with_its_instances),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -19,7 +19,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "../scene/model.h"
 #include "accel_gpu.h"
+#include "accel_instanced.h"
 
 /* Turns the structure cache alone off for the rest of the process: `vkrt bench`, whose build
  * times must be builds'. */
@@ -39,6 +41,13 @@ typedef struct vkrt_accel_cache_name {
  * are worth storing). */
 bool vkrt_accel_cache_name_of(const vkrt_accel_desc *desc, const float *positions,
                               uint32_t triangle_count, vkrt_accel_cache_name *name);
+
+/* The name of the two-level BVH (accel_instanced.h) desc asks for over model's instances of the
+ * unique meshes u: the key hashes u's positions, where each mesh begins in them, and every
+ * instance's mesh and transform. False as vkrt_accel_cache_name_of, counting the unique
+ * triangles and the instances as the work. */
+bool vkrt_accel_cache_name_of_instanced(const vkrt_accel_desc *desc, const vkrt_model *model,
+                                        const vkrt_unique_meshes *u, vkrt_accel_cache_name *name);
 
 /* Fills *a from the named entry; false on any miss, with *a zeroed. stats.from_cache is set. */
 bool vkrt_accel_cache_load(const vkrt_accel_cache_name *name, vkrt_accel_arrays *a);

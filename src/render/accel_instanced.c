@@ -9,6 +9,7 @@
 #include "../../glsl/shared.h"
 #include "../accel/bvh.h"
 #include "../clock.h"
+#include "accel_cache.h"
 
 _Static_assert(sizeof(Instance) % sizeof(uint32_t) == 0, "Instance records travel as words");
 
@@ -447,9 +448,17 @@ bool vkrt_accel_gpu_create_instanced(vkrt_accel_gpu *a, gpu_context *ctx,
                                      const vkrt_unique_meshes *u, vkrt_error *err)
 {
     memset(a, 0, sizeof *a);
+    /* The structure cache (accel_cache.h), as for a flat structure: try it, else build and
+     * store. */
+    vkrt_accel_cache_name name;
     vkrt_accel_arrays arr;
-    if (!vkrt_accel_build_instanced(desc, model, u, &arr, err))
-        return false;
+    bool cached = vkrt_accel_cache_name_of_instanced(desc, model, u, &name);
+    if (!(cached && vkrt_accel_cache_load(&name, &arr))) {
+        if (!vkrt_accel_build_instanced(desc, model, u, &arr, err))
+            return false;
+        if (cached)
+            vkrt_accel_cache_store(&name, &arr);
+    }
     bool ok = vkrt_accel_gpu_upload(a, ctx, &arr, err);
     vkrt_accel_arrays_free(&arr);
     return ok;

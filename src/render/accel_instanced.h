@@ -7,7 +7,7 @@
  *
  * Used where instancing pays (vkrt_instancing_pays) or where the flattened scene would not fit;
  * the kd-tree, the grid and brute force take the flattened scene (vkrt_model_world). The
- * structure cache does not keep two-level structures: they are built at every start.
+ * structure cache (accel_cache.h) keeps two-level structures as it keeps flat ones.
  */
 #ifndef VKRT_ACCEL_INSTANCED_H
 #define VKRT_ACCEL_INSTANCED_H
