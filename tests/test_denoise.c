@@ -159,8 +159,8 @@ static void albedo_and_normal_keep_edges(void **state)
     in.clean_aux = true;
     bool ok = vkrt_denoiser_run(d, &in, p->out, &err);
     double with_aux = mse(p->out, p->clean);
-    print_message("checker: mse %.3g noisy, %.3g denoised, %.3g with albedo and normal\n",
-                  before, plain, with_aux);
+    print_message("checker: mse %.3g noisy, %.3g denoised, %.3g with albedo and normal\n", before,
+                  plain, with_aux);
     vkrt_denoiser_destroy(d);
     assert_true(ok);
     assert_true(plain < before); /* edges the noise hides are lost without the albedo */
@@ -194,8 +194,7 @@ static int read_exr_planes(const char *path, char names[][16], float *planes[], 
             ch->user_pixel_stride = sizeof(float);
             ch->user_line_stride = W * sizeof(float);
         }
-        assert_int_equal(exr_decoding_choose_default_routines(ctxt, 0, &decoder),
-                         EXR_ERR_SUCCESS);
+        assert_int_equal(exr_decoding_choose_default_routines(ctxt, 0, &decoder), EXR_ERR_SUCCESS);
         assert_int_equal(exr_decoding_run(ctxt, 0, &decoder), EXR_ERR_SUCCESS);
         assert_int_equal(exr_decoding_destroy(ctxt, &decoder), EXR_ERR_SUCCESS);
     }

@@ -45,7 +45,10 @@ static const struct {
     const char *name;
     size_t offset;
 } api_symbols[] = {
-#define SYMBOL(f) {#f, offsetof(oidn_api, f)}
+#define SYMBOL(f)                                                                                  \
+    {                                                                                              \
+#f, offsetof(oidn_api, f)                                                                  \
+    }
     SYMBOL(oidnNewDevice),      SYMBOL(oidnCommitDevice),   SYMBOL(oidnGetDeviceInt),
     SYMBOL(oidnGetDeviceError), SYMBOL(oidnReleaseDevice),  SYMBOL(oidnNewBuffer),
     SYMBOL(oidnWriteBuffer),    SYMBOL(oidnReadBuffer),     SYMBOL(oidnReleaseBuffer),
@@ -306,12 +309,12 @@ static bool make_filter(vkrt_denoiser *d, const filter_shape *shape, vkrt_error 
     struct {
         const char *name;
         OIDNBuffer buffer;
-    } images[] = {{"color", d->color}, {"albedo", d->albedo}, {"normal", d->normal},
-                  {"output", d->output}};
+    } images[] = {
+        {"color", d->color}, {"albedo", d->albedo}, {"normal", d->normal}, {"output", d->output}};
     for (size_t i = 0; i < sizeof images / sizeof *images; ++i)
         if (images[i].buffer)
-            api->oidnSetFilterImage(d->filter, images[i].name, images[i].buffer,
-                                    OIDN_FORMAT_FLOAT3, shape->width, shape->height, 0, 0, 0);
+            api->oidnSetFilterImage(d->filter, images[i].name, images[i].buffer, OIDN_FORMAT_FLOAT3,
+                                    shape->width, shape->height, 0, 0, 0);
     api->oidnSetFilterBool(d->filter, "hdr", true);
     if (shape->albedo)
         api->oidnSetFilterBool(d->filter, "cleanAux", shape->clean_aux);
@@ -326,8 +329,7 @@ static bool make_filter(vkrt_denoiser *d, const filter_shape *shape, vkrt_error 
     return true;
 }
 
-bool vkrt_denoiser_run(vkrt_denoiser *d, const vkrt_denoise_input *in, float *out,
-                       vkrt_error *err)
+bool vkrt_denoiser_run(vkrt_denoiser *d, const vkrt_denoise_input *in, float *out, vkrt_error *err)
 {
     if (!in->rgb || in->width == 0 || in->height == 0)
         return vkrt_error_set(err, "denoising: an empty image (%ux%u)", in->width, in->height);

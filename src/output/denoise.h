@@ -58,8 +58,7 @@ typedef struct vkrt_denoise_input {
  * from several threads: they run one at a time. The filter is kept while the size and the
  * inputs given stay the same, so a flythrough's frames reuse it. False with err set (the
  * library's message) on failure. */
-bool vkrt_denoiser_run(vkrt_denoiser *d, const vkrt_denoise_input *in, float *out,
-                       vkrt_error *err);
+bool vkrt_denoiser_run(vkrt_denoiser *d, const vkrt_denoise_input *in, float *out, vkrt_error *err);
 
 /* Frees the filter, its buffers and the device. NULL does nothing. */
 void vkrt_denoiser_destroy(vkrt_denoiser *d);

@@ -70,9 +70,8 @@ typedef struct oidn_api {
     OIDNFilter (*oidnNewFilter)(OIDNDevice device, const char *type);
     /* Strides of 0 are computed (packed pixels and rows). */
     void (*oidnSetFilterImage)(OIDNFilter filter, const char *name, OIDNBuffer buffer,
-                               OIDNFormat format, size_t width, size_t height,
-                               size_t byte_offset, size_t pixel_byte_stride,
-                               size_t row_byte_stride);
+                               OIDNFormat format, size_t width, size_t height, size_t byte_offset,
+                               size_t pixel_byte_stride, size_t row_byte_stride);
     void (*oidnSetFilterBool)(OIDNFilter filter, const char *name, bool value);
     void (*oidnSetFilterInt)(OIDNFilter filter, const char *name, int value);
     void (*oidnCommitFilter)(OIDNFilter filter);
