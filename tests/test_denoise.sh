@@ -58,12 +58,10 @@ grep "denoise:" "$tmp/denoised-log"
 "$vkrt" render "$tmp/lamp.cfg" --width 64 --height 64 --spp 16 -o "$tmp/raw16.png" --quiet
 "$vkrt" render "$tmp/lamp.cfg" --width 64 --height 64 --spp 64 --seed 7 -o "$tmp/ref.png" \
     --quiet
-rms() { "$compare" "$1" "$2" 255 | sed 's/.*rms //'; }
-denoised=$(rms "$tmp/denoised4.png" "$tmp/ref.png")
-raw=$(rms "$tmp/raw16.png" "$tmp/ref.png")
+denoised=$(png_rms "$tmp/denoised4.png" "$tmp/ref.png")
+raw=$(png_rms "$tmp/raw16.png" "$tmp/ref.png")
 echo "rms difference from 64 spp (seed 7): $denoised denoised at 4 spp, $raw raw at 16 spp"
-check "4 spp denoised is nearer the reference than 16 spp raw" \
-    awk -v a="$denoised" -v b="$raw" 'BEGIN { exit !(a < b) }'
+check "4 spp denoised is nearer the reference than 16 spp raw" is_below "$denoised" "$raw"
 
 if command -v xvfb-run >/dev/null 2>&1 && ! grep -q "built without the viewer" "$tmp/view-err"
 then
@@ -74,9 +72,9 @@ then
     check "view --denoise exits 0" test $status -eq 0
     [ $status -eq 0 ] || cat "$tmp/view-log"
     check "view: no validation message" sh -c "! grep -q validation '$tmp/view-log'"
-    shown=$(rms "$tmp/lamp-view-000.png" "$tmp/ref.png")
+    shown=$(png_rms "$tmp/lamp-view-000.png" "$tmp/ref.png")
     echo "view: the window after 16 passes, denoised: rms $shown from 64 spp"
     check "view: 16 passes denoised are nearer the reference than 16 spp raw" \
-        awk -v a="$shown" -v b="$raw" 'BEGIN { exit !(a < b) }'
+        is_below "$shown" "$raw"
 fi
 summary
