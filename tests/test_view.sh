@@ -170,9 +170,8 @@ check "path: images start again only on a move, passes add up" test $? -eq 0
 cat "$tmp/path-audit"
 "$vkrt" render "$tmp/lamp.cfg" --width 48 --height 48 --spp 64 --clamp 1 -o "$tmp/lamp64.png" \
     --quiet
-rms() { "$compare" "$1" "$2" 255 | sed 's/.*rms //'; }
-first=$(rms "$tmp/lamp-view-000.png" "$tmp/lamp64.png")
-all16=$(rms "$tmp/lamp-view-001.png" "$tmp/lamp64.png")
+first=$(png_rms "$tmp/lamp-view-000.png" "$tmp/lamp64.png")
+all16=$(png_rms "$tmp/lamp-view-001.png" "$tmp/lamp64.png")
 echo "path: rms difference from 64 spp: $first after 1 pass, $all16 after 16"
 check "path: 16 passes are nearer convergence than 1" awk -v a="$first" -v b="$all16" 'BEGIN { exit !(b < 0.5 * a) }'
 { grep -v '^camera' "$tmp/lamp.cfg"; cat "$tmp/path-out"; } >"$tmp/lamp-moved.cfg"

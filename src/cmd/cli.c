@@ -60,6 +60,10 @@ const char *vkrt_usage(void)
            "  --seed N          another set of random numbers (default 0): renders of one scene\n"
            "                    with different seeds have independent noise\n"
            "  --exposure STOPS  scale PNG output by 2^STOPS before the sRGB curve (EXR unchanged)\n"
+           "  --denoise         Intel Open Image Denoise's RT filter on each frame; an EXR gets\n"
+           "                    the denoised image and keeps the rendered one as layer \"noisy\".\n"
+           "                    Needs libOpenImageDenoise.so.2: tools/setup-python puts it in\n"
+           "                    .venv, or VKRT_OIDN_LIBRARY=PATH names it\n"
            "  --device N        Vulkan device (see --list-devices); default: the first discrete\n"
            "                    GPU, else the first device\n"
            "  --validation      enable Vulkan validation layers (also VKRT_VALIDATION=1); any\n"
@@ -92,8 +96,9 @@ const char *vkrt_usage(void)
            "  --bvh-cost C  --kd-cost C  --loads storage|texel  --walk one-loop|nested\n"
            "\n"
            "view options: --width, --height, --spp, --accel, --bvh-splits, --instancing,\n"
-           "  --integrator, --clamp, --exposure, --target-error, --camera, --fps, --environment,\n"
-           "  --environment-map, --device, --validation, --quiet, --no-cache as for render; the\n"
+           "  --integrator, --clamp, --exposure, --denoise, --target-error, --camera, --fps,\n"
+           "  --environment, --environment-map, --device, --validation, --quiet, --no-cache as\n"
+           "  for render (--denoise: each shown frame is denoised on the host); the\n"
            "  window opens at the scene's resolution, from its first camera (or --camera's), and a\n"
            "  still picture gathers samples until it has --spp of them (default: the scene's\n"
            "  `samples`, at least 16), or with --target-error until every pixel is within it (--spp\n"
@@ -189,7 +194,7 @@ static const struct known_option {
     {"--target-error", RENDER | VIEW},                  {"--sample-count-image", RENDER},
     {"--bvh-splits", ALL},   {"--instancing", ALL},     {"--camera", RENDER | VIEW},
     {"--fps", RENDER | VIEW},                           {"--environment", RENDER | VIEW},
-    {"--environment-map", RENDER | VIEW},
+    {"--environment-map", RENDER | VIEW},               {"--denoise", RENDER | VIEW},
 };
 
 static const char *command_name(vkrt_command command)
@@ -383,6 +388,8 @@ static bool parse_render(const char *arg, const char *value, vkrt_render_options
             o->profile = true;
         else if (strcmp(arg, "--resume") == 0)
             o->resume = true;
+        else if (strcmp(arg, "--denoise") == 0)
+            o->denoise = true;
     }
     return true;
 }
@@ -395,6 +402,11 @@ static bool parse_view(const char *arg, const char *value, vkrt_view_options *o,
         return parse_u32(arg, value, 1, 65536, &o->samples, err);
     if (strcmp(arg, "--exposure") == 0)
         return parse_float(arg, value, &o->exposure, err);
+    if (strcmp(arg, "--denoise") == 0) {
+        *consumed = 0;
+        o->denoise = true;
+        return true;
+    }
     if (!value)
         return vkrt_error_set(err, "%s needs a path", arg);
     if (strcmp(arg, "--script") == 0)

@@ -67,6 +67,7 @@ typedef struct vkrt_render_options {
     const char *output;       /* -o: overrides the scene's output; NULL when not given */
     uint32_t samples;         /* --spp; 0 when not given */
     float exposure;           /* --exposure, stops, PNG only */
+    bool denoise;             /* --denoise: Open Image Denoise on every frame (output/denoise.h) */
     bool profile;             /* --profile: time every dispatch */
     uint32_t profile_repeat;  /* --profile-repeat: timed frames of a profile; 0 when not given */
     uint32_t seed;            /* --seed: the random numbers' seed; 0 when not given */
@@ -85,6 +86,7 @@ typedef struct vkrt_view_options {
     const char *scene_path;
     uint32_t samples;         /* --spp; 0 when not given */
     float exposure;           /* --exposure, stops */
+    bool denoise;             /* --denoise: the window shows the image denoised */
     const char *script;       /* --script: events to play (a testing aid); NULL when not given */
     const char *record;       /* --record: where K appends camera lines; NULL when not given */
 } vkrt_view_options;

@@ -137,9 +137,19 @@ bool frame_writer_start(frame_writer *w, int device, bool tell, vkrt_error *err)
                                 "ignores `light ambient`, Whitted's stand-in for it\n");
                 break;
             }
+    /* Made here, after any fork of --devices: a worker's denoiser is its own. */
+    if (vkrt_denoise_asked(w->cl) &&
+        !vkrt_denoiser_create(&w->denoiser, &(vkrt_denoiser_desc){0}, err)) {
+        vkrt_renderer_destroy(w->renderer);
+        gpu_context_destroy(&w->ctx);
+        return false;
+    }
+    if (w->denoiser && tell && opts->common.verbose)
+        fprintf(stderr, "vkrt: denoise: %s\n", vkrt_denoiser_describe(w->denoiser));
     vkrt_write_pool_desc pool_desc = {.width = w->desc.width,
                                       .height = w->desc.height,
-                                      .finish = {.exposure = opts->exposure},
+                                      .finish = {.exposure = opts->exposure,
+                                                 .denoiser = w->denoiser},
                                       .written = w->written,
                                       .failed = w->failed,
                                       .user = w->user};
@@ -150,6 +160,8 @@ bool frame_writer_start(frame_writer *w, int device, bool tell, vkrt_error *err)
     else if (pool_desc.threads > w->frames - 1)
         pool_desc.threads = w->frames - 1;
     if (!ok || !vkrt_write_pool_create(&w->pool, &pool_desc, err)) {
+        vkrt_denoiser_destroy(w->denoiser);
+        w->denoiser = NULL;
         vkrt_renderer_destroy(w->renderer);
         gpu_context_destroy(&w->ctx);
         return false;
@@ -218,6 +230,8 @@ bool frame_writer_finish(frame_writer *w, bool ok, vkrt_error *err)
         ok = false;
     }
     vkrt_write_pool_destroy(w->pool);
+    vkrt_denoiser_destroy(w->denoiser);
+    w->denoiser = NULL;
     vkrt_renderer_destroy(w->renderer);
     return gpu_context_close(&w->ctx, ok, err);
 }

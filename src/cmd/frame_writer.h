@@ -54,6 +54,7 @@ typedef struct frame_writer {
     vkrt_renderer *renderer;
     vkrt_render_desc desc;
     vkrt_write_pool *pool;
+    vkrt_denoiser *denoiser; /* --denoise: the finish stage's (output/denoise.h); else NULL */
 } frame_writer;
 
 /* Creates the device's context (or takes early's) and the renderer; tell says whether to print

@@ -16,6 +16,7 @@
 #include "../output/image_write.h"
 #include "../scene/scene.h"
 #include "frame_writer.h"
+#include "render_desc.h"
 #include "report.h"
 #include "scene_options.h"
 
@@ -294,6 +295,11 @@ int vkrt_cmd_render(const vkrt_command_line *cl, double main_ms)
     vkrt_error err = {{0}};
     vkrt_scene scene;
     startup_clock clock = {.main = main_ms};
+    /* --denoise without its library stops here, before any work. */
+    if (vkrt_denoise_asked(cl) && !vkrt_denoise_library_check(&err)) {
+        fprintf(stderr, "vkrt: %s\n", err.msg);
+        return 1;
+    }
     /* --devices: each worker process makes its own. */
     early_context early = {.joined = true};
     if (!opts->devices)

@@ -40,3 +40,10 @@ vkrt_render_desc vkrt_render_desc_for(const vkrt_config *cfg, const vkrt_command
     }
     return vkrt_render_desc_complete(&d, cfg);
 }
+
+bool vkrt_denoise_asked(const vkrt_command_line *cl)
+{
+    return cl->command == VKRT_COMMAND_RENDER ? cl->render.denoise
+           : cl->command == VKRT_COMMAND_VIEW ? cl->view.denoise
+                                              : false;
+}

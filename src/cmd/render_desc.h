@@ -15,4 +15,7 @@
  * the scene's setting; the renderer need not fill anything in. */
 vkrt_render_desc vkrt_render_desc_for(const vkrt_config *cfg, const vkrt_command_line *cl);
 
+/* Whether cl's command denoises what it makes (render's files, view's window): --denoise. */
+bool vkrt_denoise_asked(const vkrt_command_line *cl);
+
 #endif

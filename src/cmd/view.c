@@ -14,15 +14,27 @@ int vkrt_cmd_view(const vkrt_command_line *cl)
     const vkrt_view_options *opts = &cl->view;
     vkrt_error err = {{0}};
     vkrt_scene scene;
+    /* --denoise without its library stops before any work; the window's frames are denoised
+     * at OIDN's interactive quality. */
+    vkrt_denoiser *denoiser = NULL;
+    if (vkrt_denoise_asked(cl) &&
+        !vkrt_denoiser_create(&denoiser, &(vkrt_denoiser_desc){.interactive = true}, &err)) {
+        fprintf(stderr, "vkrt: %s\n", err.msg);
+        return 1;
+    }
+    if (denoiser && opts->common.verbose)
+        fprintf(stderr, "vkrt: denoise: %s\n", vkrt_denoiser_describe(denoiser));
     vkrt_load_options load = {.fps = opts->scene_options.fps};
     if (!vkrt_scene_load_with(opts->scene_path, &load, &scene, &err)) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
+        vkrt_denoiser_destroy(denoiser);
         return 1;
     }
     if (!vkrt_scene_options_apply(&opts->scene_options, &scene,
                                   opts->common.quiet ? NULL : stderr, &err)) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
         vkrt_scene_free(&scene);
+        vkrt_denoiser_destroy(denoiser);
         return 1;
     }
     if (!opts->common.quiet)
@@ -31,7 +43,7 @@ int vkrt_cmd_view(const vkrt_command_line *cl)
         .scene_path = opts->scene_path,
         .scene = &scene,
         .render = vkrt_render_desc_for(&scene.config, cl),
-        .finish = {.exposure = opts->exposure},
+        .finish = {.exposure = opts->exposure, .denoiser = denoiser},
         .device = opts->common.device,
         .validation = opts->common.validation,
         .quiet = opts->common.quiet,
@@ -41,6 +53,7 @@ int vkrt_cmd_view(const vkrt_command_line *cl)
     };
     int status = vkrt_view_run(&desc);
     vkrt_scene_free(&scene);
+    vkrt_denoiser_destroy(denoiser);
     return status;
 }
 #else

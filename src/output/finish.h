@@ -4,8 +4,9 @@
  * radiance comes in; what goes out depends on the target: a float file (EXR) keeps the linear,
  * scene-referred values, an 8-bit picture (PNG, the window) is made display-referred and encoded.
  *
- * Today the stage is exposure (8-bit targets only) and the sRGB encode. A pass on the finished
- * image (a tone curve, a denoiser, AOV layers) is one file beside finish.c and one entry in its
+ * Today the stage is the denoiser (--denoise, every target), exposure (8-bit targets only) and
+ * the sRGB encode. A pass on the finished
+ * image (a tone curve, AOV layers) is one file beside finish.c and one entry in its
  * table of passes, with its settings in vkrt_finish_desc; a pass the window must show too also
  * gets its line in glsl/display.comp, which does the 8-bit path on the GPU with the parameters
  * vkrt_finish_display gives it.
@@ -18,12 +19,27 @@
 #include <stdint.h>
 
 #include "../error.h"
+#include "denoise.h"
 
 /* What the stage does to a frame. Zero: nothing but the encode an 8-bit target needs. */
 typedef struct vkrt_finish_desc {
     float exposure; /* stops: 8-bit targets get radiance times 2^exposure before the encode;
                        float files keep the radiance (--exposure) */
+    vkrt_denoiser *denoiser; /* --denoise: Open Image Denoise's RT filter on the radiance
+                                (denoise.h), first, for every target; an EXR keeps the raw
+                                radiance beside it as layer "noisy" (image_write.h). NULL: none.
+                                Not owned: the command makes it once for all its frames */
 } vkrt_finish_desc;
+
+/* A frame as the stage gets it: its radiance and, where the renderer made them, the buffers
+ * that passes on the whole picture read (the denoiser's albedo and normal). */
+typedef struct vkrt_finish_frame {
+    uint32_t width, height;
+    const float *rgb;    /* linear radiance, 3 floats per pixel, the top row first */
+    const float *albedo; /* first non-specular hit's albedo, 3 floats per pixel, or NULL */
+    const float *normal; /* its normal, 3 floats per pixel, or NULL */
+    bool aux_clean;      /* albedo and normal are free of noise (denoise.h: clean_aux) */
+} vkrt_finish_frame;
 
 /* Where a finished frame goes: what it must be made into. */
 typedef enum vkrt_finish_target {
@@ -31,16 +47,17 @@ typedef enum vkrt_finish_target {
     VKRT_FINISH_SRGB8,      /* 8-bit sRGB codes, display-referred (PNG, the window) */
 } vkrt_finish_target;
 
-/* Finishes count linear values (3 per pixel) for a float file. Returns rgb itself when no pass
- * changes it (today always), else a copy in *scratch (the caller frees it; NULL otherwise) with
- * the passes applied. NULL with err set when out of memory. rgb is never written. */
-const float *vkrt_finish_linear(const vkrt_finish_desc *d, const float *rgb, size_t count,
+/* Finishes a frame's width x height x 3 linear values for a float file. Returns frame->rgb
+ * itself when no pass changes it, else a copy in *scratch (the caller frees it; NULL otherwise)
+ * with the passes applied. NULL with err set when out of memory or a pass failed (the
+ * denoiser's message). frame->rgb is never written. */
+const float *vkrt_finish_linear(const vkrt_finish_desc *d, const vkrt_finish_frame *frame,
                                 float **scratch, vkrt_error *err);
 
-/* Finishes count linear values for an 8-bit picture into codes (count bytes): the passes
- * (exposure), then the sRGB encode of srgb8.h (clamped, NaN black). False with err set when out
- * of memory. rgb is never written. */
-bool vkrt_finish_srgb8(const vkrt_finish_desc *d, const float *rgb, size_t count, uint8_t *codes,
+/* Finishes a frame's linear values for an 8-bit picture into codes (width x height x 3 bytes):
+ * the passes (denoise, exposure), then the sRGB encode of srgb8.h (clamped, NaN black). False
+ * with err set when out of memory or a pass failed. frame->rgb is never written. */
+bool vkrt_finish_srgb8(const vkrt_finish_desc *d, const vkrt_finish_frame *frame, uint8_t *codes,
                        vkrt_error *err);
 
 /* The parameters glsl/display.comp applies on the GPU for the window, from the same

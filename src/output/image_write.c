@@ -201,7 +201,8 @@ static bool write_png(const char *path, uint32_t width, uint32_t height, const f
     uint8_t *srgb8 = malloc(value_count);
     if (!srgb8)
         return vkrt_error_set(err, "%s: cannot write: out of memory", path);
-    bool ok = vkrt_finish_srgb8(finish, rgb, value_count, srgb8, err);
+    vkrt_finish_frame frame = {.width = width, .height = height, .rgb = rgb};
+    bool ok = vkrt_finish_srgb8(finish, &frame, srgb8, err);
     if (!ok)
         vkrt_error_prefix(err, "%s: cannot write", path);
     ok = ok && write_png8(path, width, height, srgb8, err);
@@ -265,9 +266,14 @@ static bool exr_failure(const char *path, const exr_stream *stream, exr_result_t
                           exr_get_default_error_message(rv));
 }
 
+/* The layer that holds the raw radiance beside a denoised beauty (--denoise). */
+#define NOISY_LAYER "noisy."
+
 /* Declares the single scanline part: B, G, R float channels (the order EXR sorts them in),
- * data and display window 0..w-1 x 0..h-1, increasing y (top row first, as ours). */
-static exr_result_t exr_define_rgb_part(exr_context_t ctxt, uint32_t width, uint32_t height)
+ * and with noisy noisy.B, noisy.G, noisy.R; data and display window 0..w-1 x 0..h-1,
+ * increasing y (top row first, as ours). */
+static exr_result_t exr_define_rgb_part(exr_context_t ctxt, uint32_t width, uint32_t height,
+                                        bool noisy)
 {
     int part_index = 0;
     exr_result_t rv = exr_add_part(ctxt, "rgb", EXR_STORAGE_SCANLINE, &part_index);
@@ -278,6 +284,10 @@ static exr_result_t exr_define_rgb_part(exr_context_t ctxt, uint32_t width, uint
     static const char *const channel_names[] = {"B", "G", "R"};
     for (size_t c = 0; c < 3 && rv == EXR_ERR_SUCCESS; c++)
         rv = exr_add_channel(ctxt, part_index, channel_names[c], EXR_PIXEL_FLOAT,
+                             EXR_PERCEPTUALLY_LOGARITHMIC, 1, 1);
+    static const char *const noisy_names[] = {NOISY_LAYER "B", NOISY_LAYER "G", NOISY_LAYER "R"};
+    for (size_t c = 0; noisy && c < 3 && rv == EXR_ERR_SUCCESS; c++)
+        rv = exr_add_channel(ctxt, part_index, noisy_names[c], EXR_PIXEL_FLOAT,
                              EXR_PERCEPTUALLY_LOGARITHMIC, 1, 1);
     return rv;
 }
@@ -294,10 +304,21 @@ static int rgb_offset_of_channel(const char *name)
     return -1;
 }
 
+/* The interleaved buffer a channel is read from, its offset in *offset: the beauty for R, G, B,
+ * noisy for the noisy layer's; NULL for a name we did not add. */
+static const float *channel_source(const char *name, const float *rgb, const float *noisy,
+                                   int *offset)
+{
+    size_t prefix = strlen(NOISY_LAYER);
+    bool in_noisy = noisy && strncmp(name, NOISY_LAYER, prefix) == 0;
+    *offset = rgb_offset_of_channel(in_noisy ? name + prefix : name);
+    return *offset < 0 ? NULL : in_noisy ? noisy : rgb;
+}
+
 /* Compresses and writes the chunk that starts at row y, reading straight from the caller's
- * interleaved buffer through strides (no copy). */
+ * interleaved buffers through strides (no copy). */
 static exr_result_t exr_encode_chunk(exr_context_t ctxt, int32_t y, uint32_t width,
-                                     const float *rgb)
+                                     const float *rgb, const float *noisy)
 {
     exr_chunk_info_t chunk;
     exr_result_t rv = exr_write_scanline_chunk_info(ctxt, 0, y, &chunk);
@@ -306,15 +327,16 @@ static exr_result_t exr_encode_chunk(exr_context_t ctxt, int32_t y, uint32_t wid
 
     exr_encode_pipeline_t encoder = EXR_ENCODE_PIPELINE_INITIALIZER;
     rv = exr_encoding_initialize(ctxt, 0, &chunk, &encoder);
-    const float *first_row = rgb + (size_t)chunk.start_y * width * 3;
+    size_t first_row = (size_t)chunk.start_y * width * 3;
     for (int16_t c = 0; c < encoder.channel_count && rv == EXR_ERR_SUCCESS; c++) {
         exr_coding_channel_info_t *channel = &encoder.channels[c];
-        int offset = rgb_offset_of_channel(channel->channel_name);
-        if (offset < 0) {
+        int offset;
+        const float *source = channel_source(channel->channel_name, rgb, noisy, &offset);
+        if (!source) {
             rv = EXR_ERR_INVALID_ARGUMENT;
             break;
         }
-        channel->encode_from_ptr = (const uint8_t *)(first_row + offset);
+        channel->encode_from_ptr = (const uint8_t *)(source + first_row + offset);
         channel->user_data_type = EXR_PIXEL_FLOAT;
         channel->user_bytes_per_element = (int16_t)sizeof(float);
         channel->user_pixel_stride = (int32_t)(3 * sizeof(float));
@@ -330,14 +352,14 @@ static exr_result_t exr_encode_chunk(exr_context_t ctxt, int32_t y, uint32_t wid
 }
 
 static exr_result_t exr_write_all_chunks(exr_context_t ctxt, uint32_t width, uint32_t height,
-                                         const float *rgb)
+                                         const float *rgb, const float *noisy)
 {
     int32_t lines_per_chunk = 0;
     exr_result_t rv = exr_get_scanlines_per_chunk(ctxt, 0, &lines_per_chunk);
     if (rv == EXR_ERR_SUCCESS && lines_per_chunk <= 0)
         rv = EXR_ERR_INVALID_ARGUMENT;
     for (int64_t y = 0; y < (int64_t)height && rv == EXR_ERR_SUCCESS; y += lines_per_chunk)
-        rv = exr_encode_chunk(ctxt, (int32_t)y, width, rgb);
+        rv = exr_encode_chunk(ctxt, (int32_t)y, width, rgb, noisy);
     return rv;
 }
 
@@ -347,8 +369,9 @@ static bool exr_size_fits(uint32_t width, uint32_t height)
     return height <= (uint32_t)INT32_MAX && (uint64_t)width * 3 * sizeof(float) <= INT32_MAX;
 }
 
+/* noisy: the raw radiance for the noisy layer, or NULL for the beauty alone. */
 static bool write_exr(const char *path, uint32_t width, uint32_t height, const float *rgb,
-                      vkrt_error *err)
+                      const float *noisy, vkrt_error *err)
 {
     if (!exr_size_fits(width, height))
         return vkrt_error_set(err, "%s: image %" PRIu32 "x%" PRIu32 " is too large for EXR",
@@ -369,11 +392,11 @@ static bool write_exr(const char *path, uint32_t width, uint32_t height, const f
     exr_context_t ctxt = NULL;
     exr_result_t rv = exr_start_write(&ctxt, path, EXR_WRITE_FILE_DIRECTLY, &init);
     if (rv == EXR_ERR_SUCCESS)
-        rv = exr_define_rgb_part(ctxt, width, height);
+        rv = exr_define_rgb_part(ctxt, width, height, noisy != NULL);
     if (rv == EXR_ERR_SUCCESS)
         rv = exr_write_header(ctxt);
     if (rv == EXR_ERR_SUCCESS)
-        rv = exr_write_all_chunks(ctxt, width, height, rgb);
+        rv = exr_write_all_chunks(ctxt, width, height, rgb, noisy);
     /* exr_finish writes the chunk offset table, so its result matters even after success. */
     if (ctxt) {
         exr_result_t finish_rv = exr_finish(&ctxt);
@@ -411,10 +434,13 @@ bool vkrt_image_write_frame(const char *path, uint32_t width, uint32_t height, c
     case VKRT_IMAGE_PNG:
         return write_png(path, width, height, rgb, finish, err);
     case VKRT_IMAGE_EXR:
-        linear = vkrt_finish_linear(finish, rgb, (size_t)width * height * 3, &scratch, err);
+        linear = vkrt_finish_linear(
+            finish, &(vkrt_finish_frame){.width = width, .height = height, .rgb = rgb}, &scratch,
+            err);
         if (!linear)
             return vkrt_error_prefix(err, "%s: cannot write", path);
-        ok = write_exr(path, width, height, linear, err);
+        /* Denoised: the beauty is the denoiser's, and the radiance rendered stays beside it. */
+        ok = write_exr(path, width, height, linear, finish->denoiser ? rgb : NULL, err);
         free(scratch);
         return ok;
     case VKRT_IMAGE_UNKNOWN:

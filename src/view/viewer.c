@@ -30,6 +30,7 @@
 #include "camera.h"
 #include "display.h"
 #include "script.h"
+#include "view_denoise.h"
 
 /* A frame aims to trace for about this long, so a fast GPU adds many passes per frame and a slow
  * one stays responsive with one. */
@@ -55,6 +56,7 @@ typedef struct viewer {
     vkrt_renderer *renderer; /* NULL until created */
     view_display display;
     bool have_display;
+    view_denoise denoised; /* --denoise: the image the window shows instead of the renderer's */
     view_camera camera;
 
     /* The image: the camera its passes were traced from, how many it holds, and a number that
@@ -595,12 +597,30 @@ static bool frame(viewer *v, double dt, bool log, vkrt_error *err)
     if (log)
         fprintf(stderr, "vkrt: view: frame %llu view %u passes %u/%u traced %u\n",
                 (unsigned long long)v->frame, v->version, v->passes, v->desc.samples, traced);
+    vkrt_denoiser *denoiser = v->opts->finish.denoiser;
+    if (traced && denoiser) {
+        if (!view_denoise_update(&v->denoised, &v->ctx, v->renderer, denoiser, v->desc.width,
+                                 v->desc.height, v->passes, err))
+            return false;
+        if (log)
+            fprintf(stderr,
+                    "vkrt: view: denoised frame %llu: read %.1f ms, denoise %.1f ms, "
+                    "upload %.1f ms\n",
+                    (unsigned long long)v->frame, v->denoised.read_ms, v->denoised.denoise_ms,
+                    v->denoised.upload_ms);
+    }
     if (traced || v->redraw) {
         bool out_of_date;
-        if (!view_display_present(&v->display, vkrt_renderer_image(v->renderer), v->desc.width,
-                                  v->desc.height,
-                                  vkrt_renderer_per_pixel_counts(v->renderer) ? 0 : v->passes,
-                                  &v->opts->finish, &out_of_date, err))
+        /* Denoised, the image is one pass of finished radiance. */
+        bool present_ok =
+            denoiser && v->denoised.image.buffer
+                ? view_display_present(&v->display, &v->denoised.image, v->desc.width,
+                                       v->desc.height, 1, &v->opts->finish, &out_of_date, err)
+                : view_display_present(&v->display, vkrt_renderer_image(v->renderer), v->desc.width,
+                                       v->desc.height,
+                                       vkrt_renderer_per_pixel_counts(v->renderer) ? 0 : v->passes,
+                                       &v->opts->finish, &out_of_date, err);
+        if (!present_ok)
             return false;
         v->redraw = out_of_date;
         v->swapchain_stale |= out_of_date;
@@ -661,6 +681,7 @@ static bool run(viewer *v, vkrt_error *err)
 
 static void close_viewer(viewer *v)
 {
+    view_denoise_free(&v->denoised, &v->ctx);
     if (v->have_display)
         view_display_destroy(&v->display);
     vkrt_renderer_destroy(v->renderer);
