@@ -172,19 +172,23 @@ vec4 texture_sample_footprint(uint tex, vec2 uv, float footprint)
     if ((info.flags & VKRT_TEXTURE_NEAREST) != 0u) {
         vec2 p = floor(wrapped * vec2(info.width, info.height));
         c = texture_texel(tex, int(p.x), int(p.y));
-    } else if (levels == 0u || !(lod > 0.0)) {
-        c = texture_bilinear(info, info.offset, info.width, info.height, wrapped);
     } else {
-        lod = min(lod, float(levels));
-        uint level = min(uint(lod), levels - 1u);
+        /* The level below lod and, weighed by lod's fraction, the one above it: one bilinear
+         * read in a loop of one or two, so that the kernels hold one copy of it. Without levels
+         * or below level 0, level 0 alone, read as before levels existed. */
+        lod = levels == 0u || !(lod > 0.0) ? 0.0 : min(lod, float(levels));
+        uint level = min(uint(lod), max(levels, 1u) - 1u);
+        float above = lod - float(level);
         uint w, h;
         uint at = texture_level(info, level, w, h);
-        c = texture_bilinear(info, at, w, h, wrapped);
-        float f = lod - float(level);
-        if (f > 0.0) {
-            uint at1 = at + ((info.flags & VKRT_TEXTURE_HALF) != 0u ? 2u : 1u) * w * h;
-            uint w1 = max(w >> 1u, 1u), h1 = max(h >> 1u, 1u);
-            c = mix(c, texture_bilinear(info, at1, w1, h1, wrapped), f);
+        uint reads = above > 0.0 ? 2u : 1u;
+        c = vec4(0.0);
+        for (uint k = 0u; k < reads; ++k) {
+            vec4 b = texture_bilinear(info, at, w, h, wrapped);
+            c = k == 0u ? b : mix(c, b, above);
+            at += ((info.flags & VKRT_TEXTURE_HALF) != 0u ? 2u : 1u) * w * h;
+            w = max(w >> 1u, 1u);
+            h = max(h >> 1u, 1u);
         }
     }
     uint channel = (info.flags >> 8u) & 3u;
