@@ -109,7 +109,6 @@ static void add_whitted_dispatch(text *t, uint32_t shader_count, uint32_t enviro
                "void material_shade(uint shader, Surface s)\n{\n}\n");
         return;
     }
-    /* Every material call reads its textures at the footprint of the surface it is given. */
     add(t, "uint material_count_rays(uint shader, Surface s)\n{\n%s    switch (shader) {\n",
         FOOTPRINT);
     for (uint32_t i = 0; i < shader_count; ++i)
