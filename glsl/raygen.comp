@@ -134,5 +134,7 @@ void main()
     }
 
     ray_set_segment(ray, origin, dir, 0.0, FAR);
+    vec2 cone = ray_camera_cone(frame); /* texture filtering: the pixel's cone */
+    ray_set_cone(ray, cone.x, cone.y);
     rays[index] = ray;
 }

@@ -50,10 +50,12 @@ void shade_path(uint index, Ray ray, Hit hit)
     BsdfSample b;
     vkrt_child_payload = ray.payload;
     if (material_bsdf_sample(materials[s.material].info.x, s, b) &&
-        any(greaterThan(b.weight, vec3(0.0))))
+        any(greaterThan(b.weight, vec3(0.0)))) {
         child = ray_cast(ray, 0u, surface_origin(s, b.direction), b.direction,
                          ray_throughput(ray) * b.weight / path_survival(ray),
                          b.delta ? 0.0 : b.pdf, vkrt_child_payload);
+        surface_cast_cone(s, child, b.delta ? 0.0 : b.pdf); /* texture filtering */
+    }
     store_child_ray(slots.x, child);
 }
 

@@ -136,6 +136,10 @@ typedef uint32_t uint;
  * passes of a frame), which the path tracer's sampler (lib/sampler.glsl) draws its numbers by. */
 #define VKRT_RAY_SAMPLE_SHIFT 8u
 #define VKRT_RAY_FLAGS ((1u << VKRT_RAY_SAMPLE_SHIFT) - 1u)
+/* Ray.info.w bits 1-7: the ray's depth (ray_depth), 0 for camera rays; scene.cfg's max-depth is
+ * at most 64, so 7 bits hold every depth a ray reaches. */
+#define VKRT_RAY_DEPTH_SHIFT 1u
+#define VKRT_RAY_DEPTH_MASK 127u
 
 /* One ray of the wavefront with its "image reconstruction information" (the seed's term):
  * which pixel it adds to, how much (importance), its random stream, its depth, and a payload that
@@ -148,8 +152,10 @@ VKRT_STRUCT(Ray) {
     vec4 importance;  /* rgb: throughput towards the pixel (ray_throughput); w: the solid-angle
                          pdf of the BSDF sample that cast the ray, 0 where no light sample could
                          find what it hits: camera rays, delta lobes, Whitted (ray_bsdf_pdf) */
-    uvec4 info;       /* x: pixel index (ray_pixel), y: hash stream state (ray_seed), z: depth
-                         (ray_depth), w: VKRT_RAY_DEAD (ray_is_dead) and the sample index above
+    uvec4 info;       /* x: pixel index (ray_pixel), y: hash stream state (ray_seed), z: the ray
+                         cone for texture filtering, its width at the origin and its spread
+                         angle, two 16-bit floats (ray_cone), w: VKRT_RAY_DEAD (ray_is_dead),
+                         the depth in bits 1-7 (ray_depth) and the sample index above
                          VKRT_RAY_SAMPLE_SHIFT (ray_sample) */
     vec4 payload;     /* the material's own; zero for primary rays */
 };
@@ -325,6 +331,13 @@ VKRT_STRUCT(BvhQuad) {
 #define VKRT_TEXTURE_TRANSFORM 128u /* uv_transform applies (it is the identity without) */
 #define VKRT_TEXTURE_CHANNEL(c) ((c) << 8) /* bits 8-9: channel c > 0 of a one-number map, put
                                               in all four components; 0: the texel as it is */
+/* Bits 10-13: the mipmap levels stored after the image (0: the image alone). Level k is
+ * max(1, width >> k) x max(1, height >> k) texels, the box-filtered level k - 1 (src/scene/
+ * texture_levels.h), in the image's texel format, right after level k - 1; an image gets
+ * floor(log2(max(width, height))) levels, down to 1 x 1. glsl/lib/texture.glsl picks the level
+ * by the ray cone's footprint (texture_sample_footprint). */
+#define VKRT_TEXTURE_LEVELS(n) ((n) << 10)
+#define VKRT_TEXTURE_LEVELS_OF(flags) (((flags) >> 10) & 15u)
 VKRT_STRUCT(TextureInfo) {
     uint offset;      /* index of the texture's first uint in the texel buffer */
     uint width;

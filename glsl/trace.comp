@@ -24,6 +24,7 @@ void main()
         hits[index] = previous;
         return;
     }
+    cutout_cone = vec2(ray_cone_width(ray), ray_cone_spread(ray)); /* texture filtering */
     Hit hit = trace_closest(ray.origin.xyz, ray.direction.xyz, ray_tmin(ray), previous.t);
     hits[index] = hit.triangle != VKRT_NO_HIT ? hit : previous;
 #ifdef VKRT_SUBGROUPS

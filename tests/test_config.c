@@ -96,6 +96,7 @@ static void test_every_keyword(void **state)
                        "camera eye 1 2 3 look 4 5 6 up 0 1 0 fov 60\n"
                        "integrator  path\n"
                        "bvh-splits  off\n"
+                       "textures    nearest\n"
                        "environment-map sky/noon.exr scale 2.5 rotate -90\n";
     vkrt_config cfg;
     parse_ok(text, "scenes/demo", &cfg);
@@ -111,11 +112,12 @@ static void test_every_keyword(void **state)
     assert_int_equal(cfg.accel, VKRT_ACCEL_BVH);
     assert_int_equal(cfg.integrator, VKRT_INTEGRATOR_PATH);
     assert_int_equal(cfg.bvh_splits, VKRT_BVH_SPLITS_OFF);
+    assert_int_equal(cfg.texture_filter, VKRT_TEXTURE_FILTER_NEAREST);
     assert_vec3(cfg.environment, 0.05f, 0.25f, 0.5f);
     assert_string_equal(cfg.environment_map, "scenes/demo/sky/noon.exr");
     assert_float_equal(cfg.environment_scale, 2.5f, 0);
     assert_float_equal(cfg.environment_rotate, -90.0f, 0);
-    assert_int_equal(cfg.environment_map_line, 17);
+    assert_int_equal(cfg.environment_map_line, 18);
 
     assert_int_equal(cfg.light_count, 4);
     const vkrt_config_light *l = cfg.lights;
@@ -165,6 +167,7 @@ static void test_defaults(void **state)
     assert_int_equal(cfg.accel, VKRT_ACCEL_AUTO);
     assert_int_equal(cfg.integrator, VKRT_INTEGRATOR_AUTO);
     assert_int_equal(cfg.bvh_splits, VKRT_BVH_SPLITS_AUTO);
+    assert_int_equal(cfg.texture_filter, VKRT_TEXTURE_FILTER_CONE);
     assert_vec3(cfg.environment, 0, 0, 0);
     assert_null(cfg.environment_map);
     assert_float_equal(cfg.environment_scale, 1.0f, 0);
@@ -500,6 +503,8 @@ static const bad_case bad_cases[] = {
     {G "environment-map a.hdr\nenvironment-map b.hdr\n", "t.cfg:3: ", "environment-map given twice (first on line 2)"},
     /* integrator */
     {G "integrator bidir\n", "t.cfg:2: ", "unknown integrator 'bidir' (expected auto, whitted or path)"},
+    {G "textures mip\n", "t.cfg:2: ", "unknown textures 'mip' (expected cone, bilinear or nearest)"},
+    {G "textures\n", "t.cfg:2: ", "textures needs one name (cone, bilinear or nearest), got 0"},
     {G "bvh-splits yes\n", "t.cfg:2: ", "unknown bvh-splits 'yes' (expected auto, on or off)"},
     {G "bvh-splits\n", "t.cfg:2: ", "bvh-splits needs one name (auto, on or off), got 0"},
     {G "bvh-splits on\nbvh-splits off\n", "t.cfg:3: ", "bvh-splits given twice (first on line 2)"},

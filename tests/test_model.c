@@ -273,17 +273,19 @@ static void maps_read_their_textures_as_their_refs_say(void **state)
     const vkrt_texture_info *base = &mats.textures.info[sm->textures[0]];
     const vkrt_texture_info *rough = &mats.textures.info[sm->textures[2]];
     const vkrt_texture_info *metal = &mats.textures.info[sm->textures[3]];
+    /* The 2 x 2 images have one mipmap level each. */
     assert_int_equal(base->flags, VKRT_TEXTURE_SRGB | VKRT_TEXTURE_WRAP_U(VKRT_TEXTURE_CLAMP) |
                                       VKRT_TEXTURE_WRAP_V(VKRT_TEXTURE_MIRROR) |
-                                      VKRT_TEXTURE_NEAREST);
-    assert_int_equal(rough->flags, VKRT_TEXTURE_CHANNEL(1u) | VKRT_TEXTURE_TRANSFORM);
-    assert_int_equal(metal->flags, VKRT_TEXTURE_CHANNEL(2u));
+                                      VKRT_TEXTURE_NEAREST | VKRT_TEXTURE_LEVELS(1u));
+    assert_int_equal(rough->flags,
+                     VKRT_TEXTURE_CHANNEL(1u) | VKRT_TEXTURE_TRANSFORM | VKRT_TEXTURE_LEVELS(1u));
+    assert_int_equal(metal->flags, VKRT_TEXTURE_CHANNEL(2u) | VKRT_TEXTURE_LEVELS(1u));
     assert_int_equal(rough->offset, metal->offset); /* one image, one copy of its texels */
     assert_true(fabsf(rough->uv_matrix[0] - cosf(0.5f)) < 1e-6f);
     assert_true(fabsf(rough->uv_matrix[1] - sinf(0.5f)) < 1e-6f);
     /* Two images (colour and data) and the views the maps need on top of the data image: the
      * plain one, green transformed, blue. */
-    assert_int_equal(mats.textures.texel_words, 2 * 4);
+    assert_int_equal(mats.textures.texel_words, 2 * (4 + 1));
     vkrt_scene_materials_free(&mats);
 
     mat->maps[VKRT_MAP_METALLIC].uv_set = 1;

@@ -26,6 +26,7 @@
 #include "../glsl/shared.h"
 #include "scene/obj/obj_load.h"
 #include "scene/texture.h"
+#include "scene/texture_levels.h"
 #include "temp_dir.h"
 
 /* ------------------------------------------------------------------------ helpers */
@@ -123,13 +124,14 @@ static void png_texel_words_and_flags(void **state)
     assert_int_equal(add_ok(&set, path, VKRT_TEXTURE_COLOUR), 0);
     assert_int_equal(add_ok(&set, path, VKRT_TEXTURE_DATA), 1);
     assert_int_equal(set.count, 2);
-    assert_int_equal(set.texel_words, 12);
+    /* 3 x 2 texels and a 1 x 1 level each. */
+    assert_int_equal(set.texel_words, 14);
     assert_int_equal(set.info[0].offset, 0);
     assert_int_equal(set.info[0].width, 3);
     assert_int_equal(set.info[0].height, 2);
-    assert_int_equal(set.info[0].flags, VKRT_TEXTURE_SRGB);
-    assert_int_equal(set.info[1].offset, 6);
-    assert_int_equal(set.info[1].flags, 0);
+    assert_int_equal(set.info[0].flags, VKRT_TEXTURE_SRGB | VKRT_TEXTURE_LEVELS(1u));
+    assert_int_equal(set.info[1].offset, 7);
+    assert_int_equal(set.info[1].flags, VKRT_TEXTURE_LEVELS(1u));
     assert_int_equal(set.usages[0], VKRT_TEXTURE_COLOUR);
     assert_int_equal(set.usages[1], VKRT_TEXTURE_DATA);
     char *canonical = realpath(path, NULL);
@@ -209,7 +211,7 @@ static void tga_is_lossless_and_jpeg_close(void **state)
     vkrt_texture_set set = {0};
     uint32_t t = add_ok(&set, tga, VKRT_TEXTURE_DATA);
     uint32_t j = add_ok(&set, fx->path, VKRT_TEXTURE_DATA);
-    assert_int_equal(set.info[j].offset, N * N);
+    assert_int_equal(set.info[j].offset, vkrt_texture_words_with_levels(N, N, 1));
     for (int y = 0; y < N; y++)
         for (int x = 0; x < N; x++) {
             uint32_t want = px[y][x][0] | (uint32_t)px[y][x][1] << 8 | (uint32_t)px[y][x][2] << 16 |
@@ -245,8 +247,9 @@ static void hdr_becomes_half_floats(void **state)
     assert_true(stbi_write_hdr(temp_dir_path(fx, "sky.hdr"), 3, 2, 3, &px[0][0][0]) != 0);
     vkrt_texture_set set = {0};
     uint32_t t = add_ok(&set, fx->path, VKRT_TEXTURE_COLOUR);
-    assert_int_equal(set.info[t].flags, VKRT_TEXTURE_HALF); /* linear already: no sRGB flag */
-    assert_int_equal(set.texel_words, 12);
+    /* Linear already: no sRGB flag. 3 x 2 texels and a 1 x 1 level, two words each. */
+    assert_int_equal(set.info[t].flags, VKRT_TEXTURE_HALF | VKRT_TEXTURE_LEVELS(1u));
+    assert_int_equal(set.texel_words, 14);
     for (int y = 0; y < 2; y++)
         for (int x = 0; x < 3; x++) {
             const uint32_t *w = &set.texels[2 * (y * 3 + x)];
@@ -262,7 +265,7 @@ static void hdr_becomes_half_floats(void **state)
     assert_rgba_near(got, mean, 1e-6, "HDR sample between two texels");
     /* as coverage: its first channel (RGBE has no alpha) in all four */
     uint32_t a = add_ok(&set, fx->path, VKRT_TEXTURE_ALPHA);
-    assert_int_equal(set.info[a].flags, VKRT_TEXTURE_HALF);
+    assert_int_equal(set.info[a].flags, VKRT_TEXTURE_HALF | VKRT_TEXTURE_LEVELS(1u));
     const uint32_t *w = &set.texels[set.info[a].offset + 2];
     assert_int_equal(w[0], 0x44004400u);
     assert_int_equal(w[1], 0x44004400u);
@@ -431,7 +434,7 @@ static void alpha_usage_picks_the_channel(void **state)
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         uint32_t t = add_ok(&set, write_png(fx, cases[i].name, 2, 1, cases[i].comp, cases[i].px),
                             VKRT_TEXTURE_ALPHA);
-        assert_int_equal(set.info[t].flags, 0); /* coverage is linear */
+        assert_int_equal(set.info[t].flags, VKRT_TEXTURE_LEVELS(1u)); /* coverage is linear */
         for (int x = 0; x < 2; x++) {
             assert_int_equal(set.texels[set.info[t].offset + (uint32_t)x],
                              cases[i].want[x] * 0x01010101u);
@@ -467,7 +470,7 @@ static void same_file_same_usage_is_loaded_once(void **state)
     snprintf(other, sizeof other, "%s/TEX.PNG", fx->dir); /* found ignoring case: the same file */
     assert_int_equal(add_ok(&set, other, VKRT_TEXTURE_COLOUR), 0);
     assert_int_equal(set.count, 1);
-    assert_int_equal(set.texel_words, W * H);
+    assert_int_equal(set.texel_words, vkrt_texture_words_with_levels(W, H, 1));
     /* another usage is another texture */
     assert_int_equal(add_ok(&set, path, VKRT_TEXTURE_ALPHA), 1);
     assert_int_equal(add_ok(&set, other, VKRT_TEXTURE_ALPHA), 1);
@@ -589,7 +592,7 @@ static void size_limit_is_reported_in_mib(void **state)
 {
     temp_dir *fx = *state;
     static unsigned char px[512][512];
-    char first[512], second[512]; /* 1 MiB of texels each */
+    char first[512], second[512]; /* 1 MiB of texels each, 4/3 MiB with their levels */
     snprintf(first, sizeof first, "%s", write_png(fx, "grey512.png", 512, 512, 1, &px[0][0]));
     snprintf(second, sizeof second, "%s", write_png(fx, "grey512b.png", 512, 512, 1, &px[0][0]));
     vkrt_texture_set set = {.max_texel_bytes = 3 << 19}; /* 1.5 MiB */
@@ -597,15 +600,16 @@ static void size_limit_is_reported_in_mib(void **state)
     add_ok(&set, first, VKRT_TEXTURE_COLOUR); /* a repeat costs nothing */
     add_fails(
         &set, second, VKRT_TEXTURE_COLOUR,
-        "this 512x512 texture takes 1.0 MiB; with the 1 textures before it the textures would take "
-        "2.0 MiB, over the limit of 1.5 MiB");
+        "this 512x512 texture takes 1.3 MiB; with the 1 textures before it the textures would take "
+        "2.7 MiB, over the limit of 1.5 MiB"); /* with their mipmap levels: a third more */
     vkrt_texture_set_free(&set);
     assert_int_equal(set.max_texel_bytes, 3 << 19); /* free keeps the limit */
     /* exactly at the limit is fine */
-    set.max_texel_bytes = 2 << 20;
+    size_t both = 2 * vkrt_texture_words_with_levels(512, 512, 1) * 4;
+    set.max_texel_bytes = both;
     add_ok(&set, first, VKRT_TEXTURE_COLOUR);
     add_ok(&set, second, VKRT_TEXTURE_COLOUR);
-    assert_int_equal(set.texel_words * 4, 2 << 20);
+    assert_int_equal(set.texel_words * 4, both);
     vkrt_texture_set_free(&set);
 }
 
@@ -659,7 +663,7 @@ static void decoding_ahead_changes_nothing(void **state)
                                          VKRT_TEXTURE_COLOUR, VKRT_TEXTURE_DATA,
                                          VKRT_TEXTURE_COLOUR, VKRT_TEXTURE_DATA};
     /* Room for the small ones, not for the 256 x 256 one after them. */
-    size_t limit = 6 * AW * AH * 4 + 1000;
+    size_t limit = 6 * vkrt_texture_words_with_levels(AW, AH, 1) * 4 + 1000;
     vkrt_texture_set alone = {.max_texel_bytes = limit}, ahead = {.max_texel_bytes = limit};
     uint32_t index_alone[N], index_ahead[N];
     char msg_alone[N][1024], msg_ahead[N][1024];
@@ -1072,10 +1076,106 @@ static void texture_transform_test_in_small(void **state)
     vkrt_texture_set_free(&set);
 }
 
+/* ------------------------------------------------------------------------- mipmap levels */
+
+/* A 2 x 2 colour checker of sRGB 0 and 255 averages, in light, to linear 0.5: its 1 x 1 level is
+ * sRGB 188 (0.5 encoded is 187.5), not the 128 of averaging the codes; alpha (linear) stays 255. */
+static void levels_average_srgb_in_light(void **state)
+{
+    temp_dir *fx = *state;
+    const unsigned char px[2][2][3] = {{{0, 0, 0}, {255, 255, 255}}, {{255, 255, 255}, {0, 0, 0}}};
+    vkrt_texture_set set = {0};
+    uint32_t t = add_ok(&set, write_png(fx, "checker.png", 2, 2, 3, &px[0][0][0]),
+                        VKRT_TEXTURE_COLOUR);
+    assert_int_equal(VKRT_TEXTURE_LEVELS_OF(set.info[t].flags), 1);
+    assert_int_equal(set.texel_words, 5);
+    uint32_t level = set.texels[set.info[t].offset + 4];
+    assert_int_equal(level, 188u | 188u << 8 | 188u << 16 | 255u << 24);
+    /* The same image as data is averaged as it is stored: 127.5 rounds to 128. */
+    uint32_t d = add_ok(&set, fx->path, VKRT_TEXTURE_DATA);
+    assert_int_equal(set.texels[set.info[d].offset + 4] & 0xFFu, 128u);
+    vkrt_texture_set_free(&set);
+}
+
+/* The mean of a w x h image's texels (red of data, 0..255) over the area [x0, x1) x [y0, y1) of
+ * texel units, by summing a 64 x 64 grid of points per texel: the box filter's reference,
+ * knowing nothing of its weights. */
+static double area_mean(const uint32_t *texels, int w, double x0, double x1, double y0, double y1)
+{
+    double sum = 0;
+    int n = 0;
+    for (double y = y0 + 1.0 / 128; y < y1; y += 1.0 / 64)
+        for (double x = x0 + 1.0 / 128; x < x1; x += 1.0 / 64, n++)
+            sum += (double)(texels[(int)y * w + (int)x] & 0xFFu);
+    return sum / n;
+}
+
+/* Odd sizes: a 5 x 3 image's levels are 2 x 1 and 1 x 1, each texel the mean of the area it
+ * covers (2.5 x 3 texels, then 5 x 3), so the levels keep the image's mean. */
+static void levels_of_odd_sizes_are_exact_boxes(void **state)
+{
+    (void)state;
+    enum { IW = 5, IH = 3 };
+    assert_int_equal(vkrt_texture_level_count(IW, IH), 2);
+    assert_int_equal(vkrt_texture_level_count(1, 1), 0);
+    assert_int_equal(vkrt_texture_level_count(16384, 3), 14);
+    uint32_t lw, lh;
+    assert_int_equal(vkrt_texture_level_at(IW, IH, 1, 1, &lw, &lh), IW * IH);
+    assert_int_equal(lw, 2);
+    assert_int_equal(lh, 1);
+    assert_int_equal(vkrt_texture_level_at(IW, IH, 1, 2, &lw, &lh), IW * IH + 2);
+    assert_int_equal(lw * lh, 1);
+    assert_int_equal(vkrt_texture_words_with_levels(IW, IH, 1), IW * IH + 2 + 1);
+    assert_int_equal(vkrt_texture_words_with_levels(IW, IH, 2), 2 * (IW * IH + 2 + 1));
+    uint32_t texels[IW * IH + 3];
+    for (int i = 0; i < IW * IH; i++) {
+        uint32_t v = (uint32_t)(i * 37 % 251);
+        texels[i] = v | v << 8 | v << 16 | 255u << 24;
+    }
+    assert_true(vkrt_texture_build_levels(texels, IW, IH, 0));
+    for (int x = 0; x < 2; x++) {
+        double want = area_mean(texels, IW, 2.5 * x, 2.5 * (x + 1), 0, IH);
+        assert_true(fabs((double)(texels[IW * IH + x] & 0xFFu) - want) <= 0.5 + 1e-9);
+    }
+    double mean = area_mean(texels, IW, 0, IW, 0, IH);
+    assert_true(fabs((double)(texels[IW * IH + 2] & 0xFFu) - mean) <= 1.0);
+    /* Half floats: a 3 x 1 row of 1, 2 and 6 gives a 1 x 1 level of their mean, 3. */
+    uint32_t hdr[2 * (3 + 1)];
+    const float row[3] = {1, 2, 6};
+    for (int i = 0; i < 3; i++) {
+        hdr[2 * i] = vkrt_half_from_float(row[i]) | (uint32_t)vkrt_half_from_float(row[i]) << 16;
+        hdr[2 * i + 1] = vkrt_half_from_float(row[i]) | 0x3C00u << 16;
+    }
+    assert_true(vkrt_texture_build_levels(hdr, 3, 1, VKRT_TEXTURE_HALF));
+    assert_true(fabsf(vkrt_half_to_float(hdr[6] & 0xFFFFu) - 3.0f) < 1e-3f);
+    assert_true(fabsf(vkrt_half_to_float(hdr[7] >> 16) - 1.0f) < 1e-6f);
+}
+
+/* `textures bilinear` leaves the levels unread, `nearest` reads the nearest texel of the image. */
+static void filter_modes_set_the_flags(void **state)
+{
+    (void)state;
+    vkrt_texture_info info[2] = {
+        {.flags = VKRT_TEXTURE_SRGB | VKRT_TEXTURE_LEVELS(7u)},
+        {.flags = VKRT_TEXTURE_LEVELS(3u) | VKRT_TEXTURE_CHANNEL(2u)},
+    };
+    vkrt_texture_set set = {.info = info, .count = 2};
+    vkrt_texture_set_filter(&set, VKRT_TEXTURE_FILTER_CONE);
+    assert_int_equal(info[0].flags, VKRT_TEXTURE_SRGB | VKRT_TEXTURE_LEVELS(7u));
+    vkrt_texture_set_filter(&set, VKRT_TEXTURE_FILTER_BILINEAR);
+    assert_int_equal(info[0].flags, VKRT_TEXTURE_SRGB);
+    assert_int_equal(info[1].flags, VKRT_TEXTURE_CHANNEL(2u));
+    vkrt_texture_set_filter(&set, VKRT_TEXTURE_FILTER_NEAREST);
+    assert_int_equal(info[1].flags, VKRT_TEXTURE_CHANNEL(2u) | VKRT_TEXTURE_NEAREST);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         temp_dir_test(png_texel_words_and_flags),
+        temp_dir_test(levels_average_srgb_in_light),
+        cmocka_unit_test(levels_of_odd_sizes_are_exact_boxes),
+        cmocka_unit_test(filter_modes_set_the_flags),
         temp_dir_test(srgb_decoding_matches_closed_form),
         temp_dir_test(tga_is_lossless_and_jpeg_close),
         temp_dir_test(hdr_becomes_half_floats),

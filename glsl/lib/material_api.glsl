@@ -165,6 +165,7 @@ void cast_ray_payload(Surface s, vec3 direction, vec3 weight, vec4 payload)
     vec3 throughput = ray_throughput(vkrt_ray) * weight;
     Ray child = ray_cast(vkrt_ray, k, surface_origin(s, direction), direction, throughput, 0.0,
                          payload);
+    surface_cast_cone(s, child, 0.0);
     float strongest = max(throughput.r, max(throughput.g, throughput.b));
     if (!(strongest >= frame.eye.w))
         ray_kill(child);

@@ -18,6 +18,7 @@
 #define VKRT_ACCESSOR
 #else
 #include <stdbool.h>
+#include <string.h>
 #define VKRT_ACCESSOR static inline
 #endif
 
@@ -42,11 +43,63 @@
  *     found that light: camera rays, delta lobes, and every ray of Whitted's integrator. */
 VKRT_LANE(uint, ray_pixel, Ray, info.x)
 VKRT_LANE(uint, ray_seed, Ray, info.y)
-VKRT_LANE(uint, ray_depth, Ray, info.z)
 VKRT_LANE(uint, ray_sample, Ray, info.w >> VKRT_RAY_SAMPLE_SHIFT)
 VKRT_LANE(float, ray_tmin, Ray, origin.w)
 VKRT_LANE(float, ray_tmax, Ray, direction.w)
 VKRT_LANE(float, ray_bsdf_pdf, Ray, importance.w)
+
+/* ray_cone: the ray's cone for texture filtering (Akenine-Moller et al., "Texture Level of Detail
+ * Strategies for Real-Time Ray Tracing", Ray Tracing Gems 2019, and "Improved Shader and Texture
+ * Level of Detail Using Ray Cones", JCGT 2021): (width at the origin, spread angle in radians),
+ * so that the cone is width + spread * t wide at distance t. Each is kept as the top 16 bits of
+ * its float, rounded (bfloat16: the float's range, 8 bits of precision, a 0.6% error at most,
+ * 0.01 of a mipmap level), since only the logarithm of the width matters. Zero for rays that carry
+ * no cone (shadow rays, probes, the host's rays): textures are then read at full resolution. */
+VKRT_ACCESSOR uint ray_cone_half(float f)
+{
+#ifdef VKRT_GLSL
+    uint bits = floatBitsToUint(f);
+#else
+    uint bits;
+    memcpy(&bits, &f, sizeof bits);
+#endif
+    /* Round to nearest: add half of the dropped part. A NaN stays a NaN, +-inf stays itself. */
+    if ((bits & 0x7F800000u) != 0x7F800000u)
+        bits += 0x7FFFu + ((bits >> 16) & 1u);
+    return bits >> 16;
+}
+
+VKRT_ACCESSOR float ray_cone_float(uint half_bits)
+{
+    uint bits = half_bits << 16;
+#ifdef VKRT_GLSL
+    return uintBitsToFloat(bits);
+#else
+    float f;
+    memcpy(&f, &bits, sizeof f);
+    return f;
+#endif
+}
+
+VKRT_ACCESSOR uint ray_cone_pack(float width, float spread)
+{
+    return ray_cone_half(width) | ray_cone_half(spread) << 16;
+}
+
+VKRT_ACCESSOR float ray_cone_width(Ray ray)
+{
+    return ray_cone_float(ray.info.z & 0xFFFFu);
+}
+
+VKRT_ACCESSOR float ray_cone_spread(Ray ray)
+{
+    return ray_cone_float(ray.info.z >> 16);
+}
+
+VKRT_ACCESSOR uint ray_depth(Ray ray)
+{
+    return (ray.info.w >> VKRT_RAY_DEPTH_SHIFT) & VKRT_RAY_DEPTH_MASK;
+}
 
 /* Whether the slot holds no ray (VKRT_RAY_DEAD in info.w): traced by nobody, shaded by nobody. */
 VKRT_ACCESSOR bool ray_is_dead(Ray ray)
@@ -101,6 +154,22 @@ Ray ray_camera(uint pixel, uint seed, uint sample_index)
     return ray;
 }
 
+/* Gives the ray the cone (width at its origin, spread angle): ray_cone. */
+void ray_set_cone(inout Ray ray, float width, float spread)
+{
+    ray.info.z = ray_cone_pack(width, spread);
+}
+
+/* The cone of a camera ray of frame f (RTG 2019, eq. 20.30): a pinhole's rays start as a point
+ * and spread by one pixel's angle, atan(2 tan(fov / 2) / height), about 2 |up| / height since
+ * up is scaled by tan(fov / 2); an orthographic camera's are a pixel wide and do not spread. The
+ * thin lens is left out, as the papers leave it. */
+vec2 ray_camera_cone(FrameParams f)
+{
+    float pixel = 2.0 * length(f.up.xyz) / float(f.image.y);
+    return f.forward.w != 0.0 ? vec2(pixel, 0.0) : vec2(0.0, atan(pixel));
+}
+
 /* Points the ray from origin along direction (unit length) over (tmin, tmax). */
 void ray_set_segment(inout Ray ray, vec3 origin, vec3 direction, float tmin, float tmax)
 {
@@ -117,8 +186,9 @@ Ray ray_cast(Ray parent, uint k, vec3 origin, vec3 direction, vec3 throughput, f
     child.origin = vec4(origin, 0.0);
     child.direction = vec4(direction, FAR);
     child.importance = vec4(throughput, bsdf_pdf);
-    child.info = uvec4(ray_pixel(parent), rng_child_seed(ray_seed(parent), k),
-                       ray_depth(parent) + 1u, parent.info.w & ~VKRT_RAY_FLAGS);
+    child.info = uvec4(ray_pixel(parent), rng_child_seed(ray_seed(parent), k), 0u,
+                       (parent.info.w & ~VKRT_RAY_FLAGS) |
+                           (ray_depth(parent) + 1u) << VKRT_RAY_DEPTH_SHIFT);
     child.payload = payload;
     return child;
 }
@@ -130,8 +200,9 @@ Ray ray_dead(Ray parent)
     dead.origin = vec4(0.0);
     dead.direction = vec4(0.0, 0.0, 1.0, -1.0);
     dead.importance = vec4(0.0);
-    dead.info = uvec4(ray_pixel(parent), 0u, ray_depth(parent) + 1u,
-                      (parent.info.w & ~VKRT_RAY_FLAGS) | VKRT_RAY_DEAD);
+    dead.info = uvec4(ray_pixel(parent), 0u, 0u,
+                      (parent.info.w & ~VKRT_RAY_FLAGS) |
+                          (ray_depth(parent) + 1u) << VKRT_RAY_DEPTH_SHIFT | VKRT_RAY_DEAD);
     dead.payload = vec4(0.0);
     return dead;
 }

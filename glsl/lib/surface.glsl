@@ -27,7 +27,52 @@ struct Surface {
     vec4 payload;           /* the arriving ray's payload */
     uint material;          /* index of the material (internal) */
     float magnitude;        /* scale of the triangle's rounding, for origin offsets (internal) */
+    float texture_footprint;/* log2 of the ray cone's footprint on the surface in uv units, what
+                               its textures are read at (texture_sample_footprint; internal) */
+    float cone_width;       /* the arriving ray's cone: its width here, and the spread a ray */
+    float cone_spread;      /* reflected here leaves with (surface_cast_cone; internal) */
 };
+
+/* The ray cone of ray at its hit of triangle tri (world space) at distance t, seen with geometric
+ * normal ng (unit, facing the ray): its width there, and the spread a reflection leaves with
+ * (Akenine-Moller et al., RTG 2019 section 20.3.4 and JCGT 2021): the arriving spread plus twice
+ * the surface's spread angle beta, which a curved surface adds (a convex one widens the cone, a
+ * concave one narrows it). beta = k w / |n.d| (JCGT 2021's arc-length form) for the triangle's
+ * curvature k, estimated from its vertex normals (world space, on the side of ng; none: flat) as
+ * the mean over its edges of (n_j - n_i).(p_j - p_i) / |p_j - p_i|^2, the normal's turn per unit
+ * length along each edge. */
+void surface_cone(Ray ray, float t, Triangle tri, vec3 ng, bool has_normals, TriangleNormals tn,
+                  out float width, out float spread)
+{
+    width = ray_cone_width(ray) + ray_cone_spread(ray) * t;
+    spread = ray_cone_spread(ray);
+    if (!has_normals || width == 0.0)
+        return;
+    vec3 e01 = tri.v1.xyz - tri.v0.xyz, e12 = tri.v2.xyz - tri.v1.xyz,
+         e20 = tri.v0.xyz - tri.v2.xyz;
+    float side = dot(tn.n0.xyz + tn.n1.xyz + tn.n2.xyz, ng) < 0.0 ? -1.0 : 1.0;
+    float k = (dot(tn.n1.xyz - tn.n0.xyz, e01) / dot(e01, e01) +
+               dot(tn.n2.xyz - tn.n1.xyz, e12) / dot(e12, e12) +
+               dot(tn.n0.xyz - tn.n2.xyz, e20) / dot(e20, e20)) * (side / 3.0);
+    float cos_in = max(abs(dot(ray.direction.xyz, ng)), 1e-4);
+    float beta = k * width / cos_in;
+    if (!isnan(beta) && !isinf(beta))
+        spread += 2.0 * beta;
+}
+
+/* Gives child, a ray cast from s, its cone: it starts as wide as the arriving cone is at s and
+ * spreads by s's reflected spread (surface_cone), plus, for a sample of a lobe with solid-angle
+ * pdf `pdf` (0: a delta lobe), the angle of a cone holding the solid angle 1 / pdf that one
+ * sample stands for, 2 / sqrt(pi pdf): a rough bounce reads its next textures blurred as its
+ * lobe blurs them, a mirror keeps the cone. Refraction is treated as reflection (RTG II's
+ * refraction cones are not done). */
+void surface_cast_cone(Surface s, inout Ray child, float pdf)
+{
+    float spread = s.cone_spread;
+    if (pdf > 0.0)
+        spread += 2.0 / sqrt(PI * pdf);
+    ray_set_cone(child, s.cone_width, spread);
+}
 
 Surface surface_at(Ray ray, Hit hit)
 {
@@ -55,8 +100,9 @@ Surface surface_at(Ray ray, Hit hit)
         ng = -ng;
     s.geometric_normal = ng;
     s.normal = ng;
+    TriangleNormals tn = TriangleNormals(vec4(0.0), vec4(0.0), vec4(0.0));
     if (HAS_NORMALS) {
-        TriangleNormals tn = normals_at(triangle);
+        tn = normals_at(triangle);
         /* An instance's vertex normals each in world space and unit, as flattening makes them
          * (vkrt_model_world), before they are interpolated. */
         if (INSTANCED) {
@@ -73,9 +119,14 @@ Surface surface_at(Ray ray, Hit hit)
     s.uv = vec2(0.0);
     s.incoming = ray.direction.xyz;
     s.material = material_of(triangle);
+    surface_cone(ray, hit.t, tri, ng, HAS_NORMALS, tn, s.cone_width, s.cone_spread);
+    s.texture_footprint = TEXTURE_FULL_RESOLUTION;
     if (HAS_TEXCOORDS) {
         TriangleTexcoords tc = texcoords_at(triangle);
         s.uv = w * tc.uv01.xy + hit.u * tc.uv01.zw + hit.v * tc.uv2.xy;
+        s.texture_footprint = texture_cone_footprint(
+            s.cone_width, abs(dot(ray.direction.xyz, ng)), tri.v1.xyz - tri.v0.xyz,
+            tri.v2.xyz - tri.v0.xyz, tc.uv01.zw - tc.uv01.xy, tc.uv2.xy - tc.uv01.xy);
         vec3 dpdu, dpdv;
         if ((SURFACE_MAPS & (VKRT_MATERIAL_NORMAL_MAP | VKRT_MATERIAL_BUMP_MAP)) != 0u &&
             (materials[s.material].info.y &
@@ -84,7 +135,8 @@ Surface surface_at(Ray ray, Hit hit)
             /* The map's +z is on the side of the OBJ's normal (the winding's without one): map
              * there, then turn the result to the ray's side as the normals above. */
             float side = s.front_face ? 1.0 : -1.0;
-            vec3 mapped = side * mapped_normal(s.material, side * s.normal, dpdu, dpdv, s.uv);
+            vec3 mapped = side * mapped_normal(s.material, side * s.normal, dpdu, dpdv, s.uv,
+                                               s.texture_footprint);
             s.normal = guard_mapped_normal(mapped, ng, -s.incoming);
         }
     }

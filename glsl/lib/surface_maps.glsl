@@ -38,18 +38,19 @@ bool texture_space(Triangle tri, TriangleTexcoords tc, out vec3 dpdu, out vec3 d
 
 /* The height of a height map at uv: the mean of its channels, so that a colour image used as
  * one (dabrovic-sponza's) reads as its brightness. */
-float map_height(uint tex, vec2 uv)
+float map_height(uint tex, vec2 uv, float footprint)
 {
-    return dot(texture_sample(tex, uv).rgb, vec3(1.0 / 3.0));
+    return dot(texture_sample_footprint(tex, uv, footprint).rgb, vec3(1.0 / 3.0));
 }
 
 /* The normal of material m's normal or height map at uv, for a surface of unit normal n (the side
- * the map's +z is on: the OBJ's normal, or the winding's), with texture space dpdu, dpdv.
+ * the map's +z is on: the OBJ's normal, or the winding's), with texture space dpdu, dpdv, the map
+ * read at the hit's footprint (texture_sample_footprint).
  * Normal map: the texel as (2 rgb - 1) in the frame (t, b, n), its x and y times -bm (Blender's
  * normal map strength). Height map: the surface displaced by -bm times the height along n, in
  * scene units (pbrt's and Mitsuba's bump map): n' = (dpdu + dh/du n) x (dpdv + dh/dv n), dh/du and
  * dh/dv by central differences half a texel either side (a ramp's slope exactly). */
-vec3 mapped_normal(uint m, vec3 n, vec3 dpdu, vec3 dpdv, vec2 uv)
+vec3 mapped_normal(uint m, vec3 n, vec3 dpdu, vec3 dpdv, vec2 uv, float footprint)
 {
     Material mat = materials[m];
     uint tex = mat.textures[VKRT_SLOT_DETAIL >> 2u][VKRT_SLOT_DETAIL & 3u];
@@ -63,7 +64,7 @@ vec3 mapped_normal(uint m, vec3 n, vec3 dpdu, vec3 dpdv, vec2 uv)
         vec3 b = cross(n, t);
         if (dot(b, sv) < 0.0)
             b = -b;
-        vec3 local = texture_sample(tex, uv).rgb * 2.0 - 1.0;
+        vec3 local = texture_sample_footprint(tex, uv, footprint).rgb * 2.0 - 1.0;
         local.xy *= multiplier;
         vec3 mapped = local.x * t + local.y * b + local.z * n;
         return dot(mapped, mapped) > 0.0 ? normalize(mapped) : n;
@@ -72,8 +73,10 @@ vec3 mapped_normal(uint m, vec3 n, vec3 dpdu, vec3 dpdv, vec2 uv)
         return n;
     TextureInfo info = texture_infos[tex];
     vec2 du = vec2(0.5 / float(info.width), 0.0), dv = vec2(0.0, 0.5 / float(info.height));
-    float dhdu = (map_height(tex, uv + du) - map_height(tex, uv - du)) * float(info.width);
-    float dhdv = (map_height(tex, uv + dv) - map_height(tex, uv - dv)) * float(info.height);
+    float dhdu = (map_height(tex, uv + du, footprint) - map_height(tex, uv - du, footprint)) *
+                 float(info.width);
+    float dhdv = (map_height(tex, uv + dv, footprint) - map_height(tex, uv - dv, footprint)) *
+                 float(info.height);
     vec3 bumped = cross(su + multiplier * dhdu * n, sv + multiplier * dhdv * n);
     if (!(dot(bumped, bumped) > 0.0))
         return n;

@@ -93,6 +93,10 @@ static char *shader_text(const vkrt_shader_source *s, char *display, size_t size
     return strdup(s->text);
 }
 
+/* The line that opens every switch over the shaders: texture reads take the footprint of the
+ * surface the material is called for (glsl/lib/texture.glsl, texture_footprint). */
+#define FOOTPRINT "    texture_footprint = s.texture_footprint;\n"
+
 /* Whitted's switches over the shaders: the rays a hit casts and its shading. For the path
  * integrator each is its default alone, as add_path_dispatch's are for Whitted: the kernels name
  * them whatever the integrator, but under path they are dead, and leaving the shaders' Whitted
@@ -105,12 +109,13 @@ static void add_whitted_dispatch(text *t, uint32_t shader_count, uint32_t enviro
                "void material_shade(uint shader, Surface s)\n{\n}\n");
         return;
     }
-    add(t, "uint material_count_rays(uint shader, Surface s)\n{\n    switch (shader) {\n");
+    add(t, "uint material_count_rays(uint shader, Surface s)\n{\n%s    switch (shader) {\n",
+        FOOTPRINT);
     for (uint32_t i = 0; i < shader_count; ++i)
         if (i != environment_shader)
             add(t, "    case %uu: return vkrt_count_rays_%u(s);\n", i, i);
     add(t, "    }\n    return 0u;\n}\n");
-    add(t, "void material_shade(uint shader, Surface s)\n{\n    switch (shader) {\n");
+    add(t, "void material_shade(uint shader, Surface s)\n{\n%s    switch (shader) {\n", FOOTPRINT);
     for (uint32_t i = 0; i < shader_count; ++i)
         if (i != environment_shader)
             add(t, "    case %uu: vkrt_shade_%u(s); break;\n", i, i);
@@ -140,7 +145,8 @@ static void add_path_dispatch(text *t, uint32_t shader_count, uint32_t environme
                 switches[k].otherwise);
             continue;
         }
-        add(t, "%s\n{\n%s    switch (shader) {\n", switches[k].signature, switches[k].prologue);
+        add(t, "%s\n{\n%s%s    switch (shader) {\n", switches[k].signature, switches[k].prologue,
+            FOOTPRINT);
         for (uint32_t i = 0; i < shader_count; ++i)
             if (i != environment_shader)
                 add(t, "    case %uu: return vkrt_%s_%u(%s);\n", i, switches[k].name, i,

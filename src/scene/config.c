@@ -466,6 +466,26 @@ static bool kw_bvh_splits(parser *p, const tokens *t)
     return true;
 }
 
+static bool kw_textures(parser *p, const tokens *t)
+{
+    static const char *const names[] = {
+        [VKRT_TEXTURE_FILTER_CONE] = "cone",
+        [VKRT_TEXTURE_FILTER_BILINEAR] = "bilinear",
+        [VKRT_TEXTURE_FILTER_NEAREST] = "nearest",
+    };
+    char buf[SHOWN_TOKEN_BYTES + 4];
+    if (t->count != 2)
+        return fail(p, "textures needs one name (cone, bilinear or nearest), got %d",
+                    t->count - 1);
+    for (int i = 0; i < 3; i++)
+        if (strcmp(t->tok[1], names[i]) == 0) {
+            p->cfg->texture_filter = (vkrt_texture_filter)i;
+            return true;
+        }
+    return fail(p, "unknown textures '%s' (expected cone, bilinear or nearest)",
+                shown(t->tok[1], buf));
+}
+
 static bool kw_environment(parser *p, const tokens *t)
 {
     return want_numbers(p, t, 1, 3, "environment") &&
@@ -746,6 +766,7 @@ static const keyword keywords[] = {
     {"accel", true, kw_accel},
     {"integrator", true, kw_integrator},
     {"bvh-splits", true, kw_bvh_splits},
+    {"textures", true, kw_textures},
     {"output", true, kw_output},
     {"environment", true, kw_environment},
     {"environment-map", true, kw_environment_map},
@@ -779,8 +800,8 @@ static bool parse_line(void *ctx, const tokens *t)
         return keywords[i].parse(p, t);
     }
     return fail(p, "unknown keyword '%s' (expected geometry, materials, resolution, samples, "
-                   "max-depth, shutter, accel, integrator, bvh-splits, output, environment, "
-                   "environment-map, light or camera)",
+                   "max-depth, shutter, accel, integrator, bvh-splits, textures, output, "
+                   "environment, environment-map, light or camera)",
                 shown(t->tok[0], buf));
 }
 

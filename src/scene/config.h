@@ -13,6 +13,7 @@
 #include <stdint.h>
 
 #include "../error.h"
+#include "texture.h"
 
 typedef enum vkrt_accel_kind {
     VKRT_ACCEL_AUTO = 0,
@@ -99,6 +100,7 @@ typedef struct vkrt_config {
                                     are used, or a view framed on the scene (scene.h) */
     uint32_t camera_count;
     bool from_scene_file;     /* no scene.cfg: made by vkrt_config_for_geometry */
+    vkrt_texture_filter texture_filter; /* `textures`: default cone (texture.h) */
 } vkrt_config;
 
 /* Reads and parses the scene.cfg at path. Relative paths inside it are resolved against the

@@ -490,6 +490,8 @@ bool vkrt_scene_materials_resolve(const vkrt_config *cfg, const vkrt_model *mode
         out->environment = out->count;
         ok = environment_material(out, &out->list[out->count++], cfg, file, err);
     }
+    if (ok)
+        vkrt_texture_set_filter(&out->textures, cfg->texture_filter);
     free(used);
     if (!ok)
         vkrt_scene_materials_free(out);

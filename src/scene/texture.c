@@ -15,6 +15,7 @@
 
 #include "texture.h"
 #include "texture_file.h"
+#include "texture_levels.h"
 
 #include <assert.h>
 #include <dirent.h>
@@ -65,46 +66,6 @@ SAME_FIELD(uv_matrix); SAME_FIELD(uv_offset);
  * Texel formats
  * ------------------------------------------------------------------------------------------- */
 
-/* IEEE half float, rounding to nearest even. Values beyond the half range clamp to its largest
- * finite value rather than become infinity, so one bright pixel of an HDR image cannot turn a
- * filtered sample into inf; NaN (which RGBE files cannot hold) becomes 0. RGBE's 8-bit mantissas
- * fit half's 11 bits, so rounding only happens below half's normal range (2^-14). */
-static uint16_t float_to_half(float f)
-{
-    if (f != f)
-        return 0;
-    f = fminf(fmaxf(f, -65504.0f), 65504.0f);
-    uint32_t x;
-    memcpy(&x, &f, sizeof x);
-    uint32_t sign = (x >> 16) & 0x8000u;
-    uint32_t magnitude = x & 0x7FFFFFFFu;
-    if (magnitude < 0x38800000u) { /* below 2^-14, the smallest normal half: subnormal or zero */
-        float a;
-        memcpy(&a, &magnitude, sizeof a);
-        return (uint16_t)(sign |
-                          (uint32_t)lrintf(a * 16777216.0f)); /* units of 2^-24, exact scale */
-    }
-    uint32_t h =
-        (magnitude - 0x38000000u) >> 13; /* exponent rebiased 127 -> 15, 10 mantissa bits */
-    uint32_t rest = magnitude & 0x1FFFu;
-    if (rest > 0x1000u || (rest == 0x1000u && (h & 1u)))
-        h++;
-    return (uint16_t)(sign | h);
-}
-
-static float half_to_float(uint32_t h)
-{
-    uint32_t exponent = (h >> 10) & 0x1Fu, mantissa = h & 0x3FFu;
-    float f;
-    if (exponent == 0)
-        f = ldexpf((float)mantissa, -24);
-    else if (exponent == 31)
-        f = mantissa ? NAN : INFINITY;
-    else
-        f = ldexpf((float)(mantissa | 0x400u), (int)exponent - 25);
-    return (h & 0x8000u) ? -f : f;
-}
-
 /* 8-bit RGBA (as stbi_load returns with 4 channels) into one uint per texel, r in the low byte
  * (what unpackUnorm4x8 reads). For coverage, the chosen channel goes to all four. */
 /* Whether every texel of decoded RGBA pixels (floats when hdr, else bytes) has full alpha. */
@@ -135,7 +96,7 @@ static void pack_rgba16f(const float *px, size_t texels, int alpha_channel, uint
     for (size_t i = 0; i < texels; i++, px += 4) {
         uint32_t c[4];
         for (int k = 0; k < 4; k++)
-            c[k] = float_to_half(px[alpha_channel >= 0 ? alpha_channel : k]);
+            c[k] = vkrt_half_from_float(px[alpha_channel >= 0 ? alpha_channel : k]);
         out[2 * i] = c[0] | c[1] << 16;
         out[2 * i + 1] = c[2] | c[3] << 16;
     }
@@ -179,11 +140,12 @@ static void give_back_room(vkrt_texture_set *set)
         set->texels = p;
 }
 
-/* The set's flags of an image: HDR images are linear already; 8-bit colour maps are
- * sRGB-encoded. */
-static uint32_t image_flags(bool hdr, vkrt_texture_usage usage)
+/* The set's flags of a w x h image: HDR images are linear already; 8-bit colour maps are
+ * sRGB-encoded; every image has its mipmap levels (texture_levels.h). */
+static uint32_t image_flags(bool hdr, vkrt_texture_usage usage, int w, int h)
 {
-    return hdr ? VKRT_TEXTURE_HALF : usage == VKRT_TEXTURE_COLOUR ? VKRT_TEXTURE_SRGB : 0u;
+    return (hdr ? VKRT_TEXTURE_HALF : usage == VKRT_TEXTURE_COLOUR ? VKRT_TEXTURE_SRGB : 0u) |
+           VKRT_TEXTURE_LEVELS(vkrt_texture_level_count((uint32_t)w, (uint32_t)h));
 }
 
 /* Checks a w x h image (hdr: two words a texel) against the limits and what the set holds
@@ -195,7 +157,7 @@ static bool check_size(const vkrt_texture_set *set, int w, int h, bool hdr, cons
     if (w <= 0 || h <= 0 || (uint32_t)w > max || (uint32_t)h > max)
         return fail(err, referrer, path,
                     "image is %dx%d; textures must be 1 to %u texels wide and tall", w, h, max);
-    *words = (size_t)w * (size_t)h * (hdr ? 2 : 1);
+    *words = vkrt_texture_words_with_levels((uint32_t)w, (uint32_t)h, hdr ? 2 : 1);
     if (*words > MAX_TEXEL_WORDS - set->texel_words)
         return fail(err, referrer, path,
                     "the textures would pass the 16 GiB that 32-bit texel offsets address");
@@ -238,7 +200,7 @@ static bool decode_pixels(FILE *f, int w, int h, int channels, bool hdr, vkrt_te
     else
         pack_rgba8(pixels, texels, alpha_channel, out);
     stbi_image_free(pixels);
-    return true;
+    return vkrt_texture_build_levels(out, (uint32_t)w, (uint32_t)h, image_flags(hdr, usage, w, h));
 }
 
 /* Reads the header of the open image f and checks its size against the limits and the set, then
@@ -273,7 +235,7 @@ static bool decode(vkrt_texture_set *set, FILE *f, vkrt_texture_usage usage, con
         .offset = (uint32_t)set->texel_words,
         .width = (uint32_t)w,
         .height = (uint32_t)h,
-        .flags = image_flags(hdr, usage),
+        .flags = image_flags(hdr, usage, w, h),
     };
     *word_count = words;
     return true;
@@ -398,7 +360,9 @@ static bool read_header(struct vkrt_texture_ahead *a)
         a->hdr = stbi_is_hdr_from_file(f) != 0;
         ok = a->width > 0 && a->height > 0 && (uint32_t)a->width <= VKRT_TEXTURE_MAX_SIZE &&
              (uint32_t)a->height <= VKRT_TEXTURE_MAX_SIZE;
-        a->words = (size_t)a->width * (size_t)a->height * (a->hdr ? 2 : 1);
+        a->words = ok ? vkrt_texture_words_with_levels((uint32_t)a->width, (uint32_t)a->height,
+                                                       a->hdr ? 2 : 1)
+                      : 0;
     }
     if (f)
         fclose(f);
@@ -482,7 +446,7 @@ static int append_ahead(vkrt_texture_set *set, const char *key, vkrt_texture_usa
             .offset = (uint32_t)set->texel_words,
             .width = (uint32_t)a->width,
             .height = (uint32_t)a->height,
-            .flags = image_flags(a->hdr, usage),
+            .flags = image_flags(a->hdr, usage, a->width, a->height),
         };
         set->paths[set->count] = a->key; /* the set's now */
         a->key = NULL;
@@ -654,6 +618,15 @@ bool vkrt_texture_uv_transform(const float offset[2], const float scale[2], floa
            rotation == 0.0f;
 }
 
+void vkrt_texture_set_filter(vkrt_texture_set *set, vkrt_texture_filter filter)
+{
+    for (uint32_t i = 0; filter != VKRT_TEXTURE_FILTER_CONE && i < set->count; i++) {
+        set->info[i].flags &= ~VKRT_TEXTURE_LEVELS(15u);
+        if (filter == VKRT_TEXTURE_FILTER_NEAREST)
+            set->info[i].flags |= VKRT_TEXTURE_NEAREST;
+    }
+}
+
 void vkrt_texture_set_free(vkrt_texture_set *set)
 {
     if (!set)
@@ -718,10 +691,10 @@ void vkrt_texture_texel(const vkrt_texture_set *set, uint32_t index, int x, int 
                            wrap_mode(x, info->width, wrap_u);
     if (info->flags & VKRT_TEXTURE_HALF) {
         const uint32_t *t = &set->texels[info->offset + 2u * i];
-        rgba[0] = half_to_float(t[0] & 0xFFFFu);
-        rgba[1] = half_to_float(t[0] >> 16);
-        rgba[2] = half_to_float(t[1] & 0xFFFFu);
-        rgba[3] = half_to_float(t[1] >> 16);
+        rgba[0] = vkrt_half_to_float(t[0] & 0xFFFFu);
+        rgba[1] = vkrt_half_to_float(t[0] >> 16);
+        rgba[2] = vkrt_half_to_float(t[1] & 0xFFFFu);
+        rgba[3] = vkrt_half_to_float(t[1] >> 16);
         return;
     }
     uint32_t t = set->texels[info->offset + i];

@@ -126,6 +126,20 @@ bool vkrt_texture_set_view(vkrt_texture_set *set, uint32_t base, uint32_t view_f
 bool vkrt_texture_uv_transform(const float offset[2], const float scale[2], float rotation,
                                float uv_matrix[4], float uv_offset[2]);
 
+/* How the kernels filter a scene's textures (scene.cfg's `textures`): by the ray cone's footprint
+ * from the mipmap levels (the default), bilinear from the image alone (without mipmaps, as before
+ * they were made: a distant texture aliases), or the nearest texel of the image. */
+typedef enum vkrt_texture_filter {
+    VKRT_TEXTURE_FILTER_CONE = 0,
+    VKRT_TEXTURE_FILTER_BILINEAR,
+    VKRT_TEXTURE_FILTER_NEAREST,
+} vkrt_texture_filter;
+
+/* Makes every entry of the set read as filter says: bilinear leaves the entries' levels unread
+ * (VKRT_TEXTURE_LEVELS cleared; the texels stay), nearest also sets VKRT_TEXTURE_NEAREST, cone
+ * changes nothing. Call it once the set is complete. */
+void vkrt_texture_set_filter(vkrt_texture_set *set, vkrt_texture_filter filter);
+
 /* Frees what the set holds (images decoded ahead too) and zeroes it, keeping max_texel_bytes.
  * Safe on a zeroed set. */
 void vkrt_texture_set_free(vkrt_texture_set *set);
