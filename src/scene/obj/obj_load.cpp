@@ -643,6 +643,10 @@ bool read_other_lines(const char *path, std::string_view text, size_t start, Par
     std::string tiny_err;
     bool ok = tinyobj::LoadObj(&attrib, &shapes, &p->materials, warnings, &tiny_err, &stream, reader,
                                /*triangulate=*/false, /*default_vcols_fallback=*/false);
+    if (reader && reader->failed) { /* a bad number in an .mtl */
+        *err = reader->error;
+        return false;
+    }
     renumber_lines(warnings, line_of);
     renumber_lines(&tiny_err, line_of);
     if (!ok || !tiny_err.empty())
