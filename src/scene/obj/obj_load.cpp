@@ -714,6 +714,11 @@ bool parse(const char *path, std::string_view text, const std::string *mtl_folde
     allocate_output(plan, mesh);
     compute_unit_normals(&p, split.threads);
     size_t replaced = write_triangles(p, faces, split.threads, mesh);
+    uint32_t degenerate = vkrt_mesh_drop_degenerate(mesh);
+    if (mesh->triangle_count == 0)
+        return vkrt_error_set(err, "%s: all %zu faces have zero area (their corners lie on a line or at one "
+                                   "point): nothing to draw", path, faces.size());
+    obj_warnings::warn_degenerate_triangles(path, degenerate, &warnings);
     mtl_read::convert_materials(p.materials, reader, obj_folder, model);
     obj_warnings::warn_unusable_normals(path, replaced, &warnings);
     obj_warnings::set_warnings(warnings, model);
