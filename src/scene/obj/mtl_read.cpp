@@ -1,7 +1,10 @@
 /*
  * mtl_read.cpp: the .mtl files of an OBJ, read through tinyobjloader into the model's materials
- * (see mtl_read.h). Which fields a block set and on which line each texture statement stands are
- * read by a mirror of LoadMtl's line handling (scan_mtl_fields); the values are LoadMtl's.
+ * (see mtl_read.h). A mirror of LoadMtl's line handling (scan_mtl_fields) reads which fields a
+ * block set, on which line each texture statement stands, and every number vkrt reads, checked
+ * (NUMBER_RULES: finite, in range, or a "file:LINE: ..." error; clamped with a warning where
+ * the range's end is the only reading) before LoadMtl sees the text; the checked numbers replace
+ * LoadMtl's, the rest (names, texture options) are LoadMtl's.
  */
 /* The fuzz build defines TINYOBJLOADER_IMPLEMENTATION for every file: obj_load.cpp compiles it. */
 #undef TINYOBJLOADER_IMPLEMENTATION

@@ -7,7 +7,9 @@
  * (texture paths are resolved against that .mtl's folder, falling back to the OBJ's folder when
  * the file only exists there), which fields were actually present (tinyobjloader's defaults differ
  * from the ones mtl.h documents, e.g. Kd 0 vs 0.8, illum 0 vs 2, Tf 0 vs 1), and on which line of
- * the .mtl each texture was named, so that a missing texture's error can point there.
+ * the .mtl each texture was named, so that a missing texture's error can point there; and to
+ * check every number vkrt reads before LoadMtl does (docs/scene-format.md's table): a bad one
+ * stops the load with "file.mtl:LINE: ..." (MtlReader::failed, error).
  */
 #ifndef VKRT_MTL_READ_H
 #define VKRT_MTL_READ_H

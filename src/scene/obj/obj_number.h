@@ -8,7 +8,8 @@
  * exponent in 2,000-4,000 ("27194.9930e3"; measured on random numbers; never seen for a plain
  * decimal, but not proved), so vkrt repeats those operations one for one: each float is the one
  * tinyobjloader's LoadObj gives (tests/test_obj_number.cpp holds it to the library's LoadObj,
- * fuzz/fuzz_obj_number.cpp to the function itself). C++ only.
+ * fuzz/fuzz_obj_number.cpp to the function itself). The strict grammar the OBJ and .mtl checks
+ * hold numbers to (is_plain_decimal and its neighbours) lives here too. C++ only.
  */
 #ifndef VKRT_OBJ_NUMBER_H
 #define VKRT_OBJ_NUMBER_H

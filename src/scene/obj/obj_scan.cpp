@@ -15,6 +15,9 @@
  *     gives the triangles using it their geometric normal and records a warning.
  *   - any number of a v, vt or vn record whose exponent has more than 9 significant digits is
  *     an error: rc10 would overflow an int reading it (undefined behaviour, found by fuzzing).
+ *   - f: every index given is a whole number within int ("path:LINE: face index '1.5' is not a
+ *     whole number", "... 4294967298 is too large"), where rc10's atoi reads "2x" as 2 and wraps
+ *     4294967298 to 2; the common corner (plain indices of up to 9 digits) needs no check.
  * Before all that, files that start like an image or another binary format, UTF-16 and NUL bytes
  * are refused (a NUL would cut a line short); "vw" and "t" records are skipped, so tinyobjloader
  * never reads them. The common line of a big file (a v, vt or vn of short decimals such as
