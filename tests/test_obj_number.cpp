@@ -10,7 +10,8 @@
  *      "-.", "1e"), read by obj_number::parse_real against the vertex LoadObj reads from a
  *      "v A B C" line of them;
  *   2. faces: 20,000 of random corners in every form rc10 reads (relative, "+1", "007", indices
- *      of 10 to 12 digits that atoi wraps), their indices against LoadObj's;
+ *      of 10 digits), their indices against LoadObj's; and the indices it reads with atoi and
+ *      the loader refuses (past int, "2x", "1.5");
  *   3. files: every OBJ of the shared scenes that the geometry read accepts (both parser suites,
  *      the bunny, Lost Empire, ...): its arrays of v, vt and vn numbers (usable or not), and the
  *      corners of every face, against LoadObj's attributes and indices.
@@ -237,14 +238,15 @@ void assert_same_corners(const std::string &name, const obj_geometry::Geometry &
         fail_msg("%s: %zu face corners, tinyobjloader %zu", name.c_str(), k, ref.corners.size());
 }
 
-/* An index rc10 accepts, in one of the ways files write it: plain, negative (relative), with a
- * '+' or leading zeros, or of 10 to 12 digits (atoi's int then wraps, never to 0 here). */
+/* An index rc10 accepts and the loader reads, in one of the ways files write it: plain, negative
+ * (relative), with a '+' or leading zeros, or of 10 digits within int (past int, where atoi's
+ * value wraps, the loader refuses it: indices_past_int_are_refused). */
 std::string random_index(Random *r)
 {
     static const char *const PREFIXES[] = {"", "", "", "", "-", "+", "00", "-0"};
     std::string s = PREFIXES[r->next(8)];
-    uint32_t digits = r->next(8) == 0 ? 10 + r->next(3) : 1 + r->next(3);
-    s += static_cast<char>('1' + r->next(9));
+    uint32_t digits = r->next(8) == 0 ? 10 : 1 + r->next(3);
+    s += static_cast<char>(digits == 10 ? '1' : '1' + r->next(9));
     for (uint32_t i = 1; i < digits; i++)
         s += static_cast<char>('0' + r->next(10));
     return s;
@@ -278,6 +280,31 @@ void faces_match_tinyobjloader(void **)
     Reference ref = load_reference(text);
     assert_true(ref.ok);
     assert_same_corners("faces.obj", g, ref);
+}
+
+/* Where rc10 reads an index with atoi and the loader refuses it (obj_scan.cpp): past int, atoi's
+ * long is truncated, so LoadObj takes 4294967298 as 2 and 99999999999999999999 (saturated to
+ * LONG_MAX) as -1, the last vertex; "2x", "1.5" and "1e5" read as 2, 1 and 1. Each is a face
+ * LoadObj accepts, as the index said here, and one the geometry read refuses with its line. */
+void indices_past_int_are_refused(void **)
+{
+    static const struct {
+        const char *index;
+        int tinyobj; /* 0-based, as LoadObj gives it */
+    } cases[] = {{"4294967298", 1}, {"99999999999999999999", 2}, {"2x", 1}, {"1.5", 0}, {"1e5", 0}};
+    for (const auto &c : cases) {
+        std::string text = std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 ") + c.index + "\n";
+        Reference ref = load_reference(text);
+        assert_true(ref.ok);
+        assert_int_equal(ref.corners.size(), 3);
+        assert_int_equal(ref.corners[2].vertex_index, c.tinyobj);
+        obj_geometry::Geometry g;
+        vkrt_error err = {{0}};
+        assert_false(obj_geometry::parse_geometry("i.obj", text.data(), 0, text.size(),
+                                                  obj_geometry::Split{0, 1}, &g, &err));
+        if (strncmp(err.msg, "i.obj:4: face index ", 20) != 0)
+            fail_msg("%s: %s", c.index, err.msg);
+    }
 }
 
 /* Returns whether the file was compared (the geometry read and LoadObj both accept it). */
@@ -328,6 +355,7 @@ int main(void)
         cmocka_unit_test(numbers_match_tinyobjloader),
         cmocka_unit_test(short_decimals_are_plain),
         cmocka_unit_test(faces_match_tinyobjloader),
+        cmocka_unit_test(indices_past_int_are_refused),
         cmocka_unit_test(files_match_tinyobjloader),
     };
     return cmocka_run_group_tests(tests, nullptr, nullptr);

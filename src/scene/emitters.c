@@ -19,25 +19,11 @@
 
 #include "../../glsl/shared.h"
 #include "colour.h"
+#include "model.h"
 
 /* The table's arrays are uploaded as Emitter records: keep the field types in step. */
 _Static_assert(sizeof(Emitter) == 4 * sizeof(uint32_t), "Emitter is four 32-bit fields");
 
-
-/* Area of triangle t in double, from its float corners. */
-static double triangle_area(const float *positions, uint32_t t)
-{
-    const float *v = positions + (size_t)t * 9;
-    double e1[3], e2[3];
-    for (int k = 0; k < 3; k++) {
-        e1[k] = (double)v[3 + k] - v[k];
-        e2[k] = (double)v[6 + k] - v[k];
-    }
-    double cx = e1[1] * e2[2] - e1[2] * e2[1];
-    double cy = e1[2] * e2[0] - e1[0] * e2[2];
-    double cz = e1[0] * e2[1] - e1[1] * e2[0];
-    return 0.5 * sqrt(cx * cx + cy * cy + cz * cz);
-}
 
 /* Fills keep and alias from power (count entries, all > 0, summing to total). */
 static bool build_table(vkrt_emitters *e, const double *power, double total)
@@ -121,7 +107,7 @@ bool vkrt_emitters_build(const float *positions, uint32_t triangle_count,
                                   "(%u materials)",
                                   t, m, material_count);
         if (vkrt_luminance(material_ke + (size_t)m * 3) > 0.0 &&
-            triangle_area(positions, t) > 0.0)
+            vkrt_triangle_area(positions, t) > 0.0)
             count++;
     }
     if (count == 0)
@@ -143,7 +129,7 @@ bool vkrt_emitters_build(const float *positions, uint32_t triangle_count,
     uint32_t i = 0;
     for (uint32_t t = 0; t < triangle_count; t++) {
         double lum = vkrt_luminance(material_ke + (size_t)triangle_material[t] * 3);
-        double area = triangle_area(positions, t);
+        double area = vkrt_triangle_area(positions, t);
         if (!(lum > 0.0 && area > 0.0))
             continue;
         double p = lum * area;

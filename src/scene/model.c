@@ -1,4 +1,5 @@
-/* model.c: the scene model's defaults, its world box and its flattening (see model.h). */
+/* model.c: the scene model's defaults, its world box, its flattening and the dropping of
+ * triangles of zero area (see model.h). */
 #include "model.h"
 
 #include <math.h>
@@ -8,6 +9,57 @@
 const float vkrt_identity_transform[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
 
 static const float default_base_colour = 0.8f;
+
+double vkrt_triangle_area(const float *positions, uint32_t t)
+{
+    const float *v = positions + (size_t)t * 9;
+    double e1[3], e2[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = (double)v[3 + k] - v[k];
+        e2[k] = (double)v[6 + k] - v[k];
+    }
+    double cx = e1[1] * e2[2] - e1[2] * e2[1];
+    double cy = e1[2] * e2[0] - e1[0] * e2[2];
+    double cz = e1[0] * e2[1] - e1[1] * e2[0];
+    return 0.5 * sqrt(cx * cx + cy * cy + cz * cz);
+}
+
+/* Moves the per-triangle record of `size` floats (or ints) from triangle `from` to `to`. */
+static void move_record(void *array, size_t size, uint32_t from, uint32_t to)
+{
+    if (array && from != to)
+        memmove((char *)array + (size_t)to * size, (char *)array + (size_t)from * size, size);
+}
+
+uint32_t vkrt_mesh_drop_degenerate(vkrt_mesh *mesh)
+{
+    uint32_t kept = 0;
+    for (uint32_t t = 0; t < mesh->triangle_count; t++) {
+        if (!(vkrt_triangle_area(mesh->positions, t) > 0.0))
+            continue;
+        move_record(mesh->positions, 9 * sizeof(float), t, kept);
+        move_record(mesh->normals, 9 * sizeof(float), t, kept);
+        move_record(mesh->texcoords, 6 * sizeof(float), t, kept);
+        move_record(mesh->tangents, 12 * sizeof(float), t, kept);
+        move_record(mesh->material, sizeof(int32_t), t, kept);
+        kept++;
+    }
+    uint32_t dropped = mesh->triangle_count - kept;
+    if (dropped == 0)
+        return 0;
+    mesh->triangle_count = kept;
+    for (int a = 0; a < 3; a++) {
+        mesh->bounds_min[a] = kept ? mesh->positions[a] : 0.0f;
+        mesh->bounds_max[a] = mesh->bounds_min[a];
+    }
+    for (size_t i = 0; i < (size_t)kept * 3; i++)
+        for (int a = 0; a < 3; a++) {
+            float v = mesh->positions[3 * i + a];
+            mesh->bounds_min[a] = v < mesh->bounds_min[a] ? v : mesh->bounds_min[a];
+            mesh->bounds_max[a] = v > mesh->bounds_max[a] ? v : mesh->bounds_max[a];
+        }
+    return dropped;
+}
 
 void vkrt_mesh_free(vkrt_mesh *mesh)
 {

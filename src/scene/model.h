@@ -218,6 +218,17 @@ void vkrt_model_world_triangle(const vkrt_model *model, const uint32_t *firsts, 
 /* The bytes the model's mesh arrays take in host memory. */
 double vkrt_model_host_bytes(const vkrt_model *model);
 
+/* The area of triangle t of positions (9 floats a triangle), in double from the float corners:
+ * 0 exactly where the corners lie on a line or at one point. */
+double vkrt_triangle_area(const float *positions, uint32_t t);
+
+/* Removes from mesh its triangles of zero area (vkrt_triangle_area: lines and points, which no
+ * ray hits and no light samples), keeping the others in order with their normals, texture
+ * coordinates, tangents and materials, and sets the box to the positions left; returns how many
+ * it removed (the arrays keep their size; the mesh is untouched when none). A loader calls it
+ * before vkrt_model_finish, and refuses a mesh left with no triangles. */
+uint32_t vkrt_mesh_drop_degenerate(vkrt_mesh *mesh);
+
 /* Frees a mesh's arrays and zeroes it. Safe on a zeroed mesh. */
 void vkrt_mesh_free(vkrt_mesh *mesh);
 

@@ -1,7 +1,10 @@
 /*
  * mtl_read.cpp: the .mtl files of an OBJ, read through tinyobjloader into the model's materials
- * (see mtl_read.h). Which fields a block set and on which line each texture statement stands are
- * read by a mirror of LoadMtl's line handling (scan_mtl_fields); the values are LoadMtl's.
+ * (see mtl_read.h). A mirror of LoadMtl's line handling (scan_mtl_fields) reads which fields a
+ * block set, on which line each texture statement stands, and every number vkrt reads, checked
+ * (NUMBER_RULES: finite, in range, or a "file:LINE: ..." error; clamped with a warning where
+ * the range's end is the only reading) before LoadMtl sees the text; the checked numbers replace
+ * LoadMtl's, the rest (names, texture options) are LoadMtl's.
  */
 /* The fuzz build defines TINYOBJLOADER_IMPLEMENTATION for every file: obj_load.cpp compiles it. */
 #undef TINYOBJLOADER_IMPLEMENTATION
@@ -9,7 +12,10 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
+#include <cfloat>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <istream>
@@ -20,6 +26,7 @@ extern "C" {
 #include "../text_file.h"
 #include "mtl.h"
 }
+#include "obj_number.h"
 
 namespace mtl_read {
 
@@ -72,14 +79,198 @@ static std::string join_path(const std::string &folder, const std::string &name)
 }
 
 
-/* Mirrors tinyobj::LoadMtl's line handling to see which keywords each material block has, and on
- * which line each texture statement is (tinyobjloader keeps no line numbers). The blocks line up
- * with the materials LoadMtl pushes: one per named newmtl, plus the last one. */
-static std::vector<MtlOrigin> scan_mtl_fields(const std::string &text, const std::string &path)
+/* ------------------------------------------------------------------ the numbers of an .mtl */
+
+namespace {
+
+/* How a key's numbers are checked (docs/scene-format.md has the table): each must be a plain
+ * decimal that is finite as a float; above `high` it is clamped with a warning, below `low` too
+ * where clamp_low, else it is an error (a negative colour or index has no nearest meaning). A
+ * colour takes 1 number (grey: g = b = r, the MTL convention) or 3. Keys vkrt does not read
+ * (aniso, anisor, texture options) are left to LoadMtl. */
+struct NumberRule {
+    const char *key;
+    const char *slot; /* the key of MtlOrigin::numbers it sets */
+    bool colour;
+    float low, high;
+    bool clamp_low;
+    const char *why; /* after "is negative": the range the meaning allows */
+};
+
+constexpr float NO_LIMIT = FLT_MAX;
+
+const NumberRule NUMBER_RULES[] = {
+    {"Kd", "Kd", true, 0, 1, false, "a reflectance lies in [0, 1]"},
+    {"Ks", "Ks", true, 0, 1, false, "a reflectance lies in [0, 1]"},
+    {"Tf", "Tf", true, 0, 1, false, "a transmission filter lies in [0, 1]"},
+    {"Kt", "Tf", true, 0, 1, false, "a transmission filter lies in [0, 1]"},
+    {"Ka", "Ka", true, 0, NO_LIMIT, false, "a colour is 0 or more"},
+    {"Ke", "Ke", true, 0, NO_LIMIT, false, "an emitted radiance is 0 or more"},
+    {"Ns", "Ns", false, 0, NO_LIMIT, false, "a Phong exponent is 0 or more"},
+    {"Ni", "Ni", false, 0, NO_LIMIT, false, "an index of refraction is above 0, or 0 for the default"},
+    {"d", "d", false, 0, 1, true, ""},
+    {"Tr", "d", false, 0, 1, true, ""},
+    {"Pr", "Pr", false, 0, 1, true, ""},
+    {"Pm", "Pm", false, 0, 1, true, ""},
+    {"Pc", "Pc", false, 0, 4, true, ""},
+    {"Pcr", "Pcr", false, 0, 1, true, ""},
+    {"Ps", "Ps", false, 0, 1, true, ""},
+};
+
+/* The illumination models the MTL format defines. */
+constexpr int ILLUM_MAX = 10;
+
+/* Where the scan of one .mtl stands, for messages: its path, line and block. */
+struct MtlScan {
+    const std::string &path;
+    Warnings *warnings;
+    vkrt_error *err;
+    std::string material; /* the current block's name, "" before the first newmtl */
+    uint32_t line = 0;
+
+    /* "material 'NAME': ", or "" before the first newmtl. */
+    std::string of() const
+    {
+        return material.empty() ? std::string() : "material '" + obj_warnings::quoted(material) + "': ";
+    }
+    /* Sets "path:LINE: material 'NAME': what" and returns false. */
+    bool fail(const std::string &what) const
+    {
+        return vkrt_error_set(err, "%s:%u: %s%s", path.c_str(), line, of().c_str(), what.c_str());
+    }
+};
+
+std::string text_of(const Span &t) { return obj_warnings::quoted(std::string(t.b, t.e)); }
+
+/* A float as a message shows it: "0.5", "1", "1e+06". */
+std::string shown(float v)
 {
-    std::vector<MtlOrigin> out;
+    char buf[32];
+    snprintf(buf, sizeof buf, "%g", static_cast<double>(v));
+    return buf;
+}
+
+/* The float token t gives, as LoadMtl reads it (obj_number.h: the same float for a valid number),
+ * if it is a plain decimal that is finite as a float; else false with the error set. */
+bool read_number(const MtlScan &s, const std::string &key, const Span &t, float *out)
+{
+    if (obj_number::exponent_too_long(t.b, t.e)) /* undefined behaviour in LoadMtl */
+        return s.fail(key + " " + text_of(t) + " has an exponent of more than 9 digits");
+    if (!obj_number::is_plain_decimal(t.b, t.e))
+        return s.fail(key + (obj_number::names_non_finite(t.b, t.e) ? " " + text_of(t) + " is not finite"
+                                                                    : " '" + text_of(t) + "' is not a number"));
+    *out = obj_number::parse_real(t.b, t.e, 0.0);
+    if (!std::isfinite(*out))
+        return s.fail(key + " " + text_of(t) + " is not finite (too large for a float)");
+    return true;
+}
+
+/* The number tokens of rest, up to a '#' that starts a comment ("Ka 0.63 0.065 0.05 # Red"). */
+std::vector<Span> number_tokens(Span rest)
+{
+    std::vector<Span> tokens;
+    Span t;
+    while (next_token(&rest, &t) && *t.b != '#')
+        tokens.push_back(t);
+    return tokens;
+}
+
+/* The numbers of one line of a NUMBER_RULES key (rest: after the key), checked, into *out (a
+ * colour's three, or one); false with the error set. */
+bool read_rule(const MtlScan &s, const NumberRule &rule, Span rest, std::array<float, 3> *out)
+{
+    std::vector<Span> tokens = number_tokens(rest);
+    size_t wanted = rule.colour ? 3 : 1;
+    std::string key = rule.key;
+    if (rule.colour && !tokens.empty() && (text_of(tokens[0]) == "spectral" || text_of(tokens[0]) == "xyz"))
+        return s.fail(key + " " + text_of(tokens[0]) + " is not supported; write " + key + " r g b");
+    if (tokens.empty() || (rule.colour && tokens.size() == 2))
+        return s.fail(key + (rule.colour ? " needs 1 or 3 numbers" : " needs a number") + ", found " +
+                      std::to_string(tokens.size()));
+    size_t n = tokens.size() < wanted ? 1 : wanted;
+    std::string given = key, used;
+    bool clamped = false;
+    for (size_t i = 0; i < n; i++) {
+        float v;
+        if (!read_number(s, key, tokens[i], &v))
+            return false;
+        if (v < rule.low && !rule.clamp_low)
+            return s.fail(key + " " + text_of(tokens[i]) + " is negative (" + rule.why + ")");
+        float c = std::fmin(std::fmax(v, rule.low), rule.high);
+        clamped |= c != v;
+        (*out)[i] = c;
+        given += " " + text_of(tokens[i]);
+        used += (i ? " " : "") + shown(c);
+    }
+    for (size_t i = n; i < 3; i++) /* one number: grey */
+        (*out)[i] = (*out)[0];
+    std::string range = "[" + shown(rule.low) + ", " + shown(rule.high) + "]";
+    if (clamped)
+        obj_warnings::warn_mtl_number(s.path, s.line, s.of() + given + " is outside " + range + " (used " + used + ")",
+                                      s.warnings);
+    if (tokens.size() > wanted)
+        obj_warnings::warn_mtl_number(s.path, s.line,
+                                      s.of() + key + " has " + std::to_string(tokens.size()) +
+                                          " numbers (used the first " + std::to_string(wanted) + ")",
+                                      s.warnings);
+    return true;
+}
+
+/* illum: a whole number of the MTL's models, 0 to ILLUM_MAX ("2.0" too: LoadMtl's atoi reads it
+ * as 2). */
+bool check_illum(const MtlScan &s, Span rest)
+{
+    std::vector<Span> tokens = number_tokens(rest);
+    if (tokens.empty())
+        return s.fail("illum needs a number, found 0");
+    float v;
+    if (!read_number(s, "illum", tokens[0], &v))
+        return false;
+    if (v != std::floor(v) || v < 0 || v > ILLUM_MAX)
+        return s.fail("illum " + text_of(tokens[0]) + " is not an illumination model (0 to " +
+                      std::to_string(ILLUM_MAX) + ")");
+    if (tokens.size() > 1)
+        obj_warnings::warn_mtl_number(s.path, s.line,
+                                      s.of() + "illum has " + std::to_string(tokens.size()) +
+                                          " numbers (used the first 1)",
+                                      s.warnings);
+    return true;
+}
+
+/* A NUMBER_RULES line or illum, checked into cur (LoadMtl's d-and-Tr rule: d wins whatever the
+ * order, so a Tr after a d is ignored); true for any other line. */
+bool scan_numbers(const MtlScan &s, const Span &line, bool *has_d, MtlOrigin *cur)
+{
+    if (has_keyword(line, "illum"))
+        return check_illum(s, Span{line.b + 5, line.e});
+    for (const NumberRule &rule : NUMBER_RULES) {
+        if (!has_keyword(line, rule.key))
+            continue;
+        std::array<float, 3> v;
+        if (!read_rule(s, rule, Span{line.b + strlen(rule.key), line.e}, &v))
+            return false;
+        bool tr = strcmp(rule.key, "Tr") == 0;
+        if (tr && *has_d)
+            return true;
+        if (tr)
+            v[0] = 1.0f - v[0];
+        *has_d |= strcmp(rule.key, "d") == 0;
+        cur->numbers[rule.slot] = v;
+        return true;
+    }
+    return true;
+}
+
+/* Mirrors tinyobj::LoadMtl's line handling to see which keywords each material block has, on
+ * which line each texture statement is (tinyobjloader keeps no line numbers), and to check every
+ * number vkrt reads (scan_numbers) before LoadMtl sees it: false with "path:LINE: ..." in err
+ * at the first bad one; values clamped are warnings. The blocks line up with the materials
+ * LoadMtl pushes: one per named newmtl, plus the last one. */
+bool scan_mtl_fields(const std::string &text, const std::string &path, std::vector<MtlOrigin> *out,
+                     Warnings *warnings, vkrt_error *err)
+{
     MtlOrigin cur;
-    bool named = false;
+    bool named = false, has_d = false;
     std::string folder = folder_of(path);
     auto none = [&folder, &path]() {
         MtlOrigin m;
@@ -89,6 +280,7 @@ static std::vector<MtlOrigin> scan_mtl_fields(const std::string &text, const std
         return m;
     };
     cur = none();
+    MtlScan s{path, warnings, err, std::string(), 0};
     LineWalker walker(text.data(), text.data() + text.size());
     Span line;
     while (walker.next(&line)) {
@@ -96,13 +288,20 @@ static std::vector<MtlOrigin> scan_mtl_fields(const std::string &text, const std
             line.e--;
         while (line.b < line.e && is_blank(*line.b))
             line.b++;
+        s.line = walker.number;
         if (has_keyword(line, "newmtl")) {
             if (named)
-                out.push_back(cur);
+                out->push_back(cur);
             cur = none();
             named = line.len() > 7;
+            has_d = false;
+            s.material = named ? std::string(line.b + 7, line.e) : std::string();
+            size_t b = s.material.find_first_not_of(" \t");
+            s.material.erase(0, b == std::string::npos ? s.material.size() : b);
             continue;
         }
+        if (!scan_numbers(s, line, &has_d, &cur))
+            return false;
         cur.kd |= has_keyword(line, "Kd");
         cur.ks |= has_keyword(line, "Ks");
         cur.ke |= has_keyword(line, "Ke");
@@ -132,9 +331,32 @@ static std::vector<MtlOrigin> scan_mtl_fields(const std::string &text, const std
         if (!cur.ps_line && (has_keyword(line, "Ps") || has_keyword(line, "map_Ps")))
             cur.ps_line = walker.number;
     }
-    out.push_back(cur);
-    return out;
+    out->push_back(cur);
+    return true;
 }
+
+/* The checked numbers of o over LoadMtl's in m. */
+void apply_numbers(const MtlOrigin &o, tinyobj::material_t *m)
+{
+    struct Target {
+        const char *slot;
+        tinyobj::real_t *to;
+        int count;
+    } targets[] = {
+        {"Kd", m->diffuse, 3},   {"Ks", m->specular, 3}, {"Tf", m->transmittance, 3},
+        {"Ka", m->ambient, 3},   {"Ke", m->emission, 3}, {"Ns", &m->shininess, 1},
+        {"Ni", &m->ior, 1},      {"d", &m->dissolve, 1}, {"Pr", &m->roughness, 1},
+        {"Pm", &m->metallic, 1}, {"Pc", &m->clearcoat_thickness, 1},
+        {"Pcr", &m->clearcoat_roughness, 1}, {"Ps", &m->sheen, 1},
+    };
+    for (const Target &t : targets) {
+        auto found = o.numbers.find(t.slot);
+        if (found != o.numbers.end())
+            std::copy(found->second.begin(), found->second.begin() + t.count, t.to);
+    }
+}
+
+} // namespace
 
 /* "newmtl  RearLights" (two blanks, as a real exporter wrote it) names "RearLights" for other OBJ
  * readers; rc10 keeps the leading blank, so `usemtl RearLights` would miss it. The names LoadMtl
@@ -160,13 +382,19 @@ bool MtlReader::operator()(const std::string &name, std::vector<tinyobj::materia
                 std::map<std::string, int> *material_map, std::string *warn, std::string *err)
 {
     (void)warn; /* ours go to warnings_, in our words */
+    if (failed)
+        return false;
     std::string path = join_path(obj_folder_, name);
     std::string text;
     if (!file_exists(path) || !read_whole_file(path.c_str(), "material library", &text, nullptr)) {
         libraries.missing.emplace_back(name, path);
         return false;
     }
-    std::vector<MtlOrigin> fields = scan_mtl_fields(text, path);
+    std::vector<MtlOrigin> fields;
+    if (!scan_mtl_fields(text, path, &fields, warnings_, &error)) {
+        failed = true; /* before LoadMtl, which would read what the scan refused */
+        return false;
+    }
     size_t before = materials->size();
     MemoryBuffer buffer(text);
     std::istream stream(&buffer);
@@ -178,6 +406,9 @@ bool MtlReader::operator()(const std::string &name, std::vector<tinyobj::materia
     size_t added = materials->size() - before;
     if (fields.size() != added) /* our mirror disagreed: trust all of tinyobjloader's values */
         fields.assign(added, MtlOrigin{folder_of(path), path});
+    else
+        for (size_t k = 0; k < added; k++)
+            apply_numbers(fields[k], &(*materials)[before + k]);
     origins.insert(origins.end(), fields.begin(), fields.end());
     for (size_t k = 0; k < added; k++) { /* the line is 0 where there is nothing to say */
         const tinyobj::material_t &m = (*materials)[before + k];

@@ -7,17 +7,21 @@
  * (texture paths are resolved against that .mtl's folder, falling back to the OBJ's folder when
  * the file only exists there), which fields were actually present (tinyobjloader's defaults differ
  * from the ones mtl.h documents, e.g. Kd 0 vs 0.8, illum 0 vs 2, Tf 0 vs 1), and on which line of
- * the .mtl each texture was named, so that a missing texture's error can point there.
+ * the .mtl each texture was named, so that a missing texture's error can point there; and to
+ * check every number vkrt reads before LoadMtl does (docs/scene-format.md's table): a bad one
+ * stops the load with "file.mtl:LINE: ..." (MtlReader::failed, error).
  */
 #ifndef VKRT_MTL_READ_H
 #define VKRT_MTL_READ_H
 
 #include <tiny_obj_loader.h>
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <streambuf>
 #include <string>
+#include <utility>
 #include <vector>
 
 extern "C" {
@@ -53,6 +57,8 @@ char *copy_string(const std::string &s);
 /* Which fields a material's .mtl block set, so absent ones get mtl.h's defaults, and where its
  * texture statements are, so texture errors can name the line. */
 struct MtlOrigin {
+    MtlOrigin() = default;
+    MtlOrigin(std::string folder_, std::string path_) : folder(std::move(folder_)), path(std::move(path_)) {}
     std::string folder; /* of the .mtl that defined it */
     std::string path;   /* the .mtl itself */
     bool kd = true, ks = true, ke = true, ns = true, ni = true, d = true, illum = true, tf = true;
@@ -62,6 +68,10 @@ struct MtlOrigin {
     uint32_t ps_line = 0; /* the first Ps or map_Ps statement's */
     uint32_t map_kd_line = 0, map_d_line = 0, map_pr_line = 0, map_pm_line = 0, map_ps_line = 0;
     uint32_t norm_line = 0, map_bump_line = 0, map_ke_line = 0;
+    /* The block's numbers as the .mtl checks (mtl_read.cpp) read them, by key ("Tr" as "d", 1 - Tr;
+     * "Kt" as "Tf"): a one-number colour is grey, a value outside its range clamped where that
+     * is allowed. They replace LoadMtl's (which reads "Kd 0.5" as 0.5 0 0). */
+    std::map<std::string, std::array<float, 3>> numbers;
 };
 
 /* Loads each mtllib file relative to the OBJ's folder (not tinyobjloader's MaterialFileReader,
@@ -74,6 +84,8 @@ public:
     }
 
     std::vector<MtlOrigin> origins;       /* parallel to the materials vector */
+    bool failed = false;                  /* an .mtl had a bad number: error says where */
+    vkrt_error error = {{0}};
     obj_warnings::MtlLibraries libraries; /* the .mtl files read, and the mtllib names not found */
 
     bool operator()(const std::string &name, std::vector<tinyobj::material_t> *materials,

@@ -643,6 +643,10 @@ bool read_other_lines(const char *path, std::string_view text, size_t start, Par
     std::string tiny_err;
     bool ok = tinyobj::LoadObj(&attrib, &shapes, &p->materials, warnings, &tiny_err, &stream, reader,
                                /*triangulate=*/false, /*default_vcols_fallback=*/false);
+    if (reader && reader->failed) { /* a bad number in an .mtl */
+        *err = reader->error;
+        return false;
+    }
     renumber_lines(warnings, line_of);
     renumber_lines(&tiny_err, line_of);
     if (!ok || !tiny_err.empty())
@@ -710,6 +714,11 @@ bool parse(const char *path, std::string_view text, const std::string *mtl_folde
     allocate_output(plan, mesh);
     compute_unit_normals(&p, split.threads);
     size_t replaced = write_triangles(p, faces, split.threads, mesh);
+    uint32_t degenerate = vkrt_mesh_drop_degenerate(mesh);
+    if (mesh->triangle_count == 0)
+        return vkrt_error_set(err, "%s: all %zu faces have zero area (their corners lie on a line or at one "
+                                   "point): nothing to draw", path, faces.size());
+    obj_warnings::warn_degenerate_triangles(path, degenerate, &warnings);
     mtl_read::convert_materials(p.materials, reader, obj_folder, model);
     obj_warnings::warn_unusable_normals(path, replaced, &warnings);
     obj_warnings::set_warnings(warnings, model);

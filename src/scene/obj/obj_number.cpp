@@ -10,7 +10,10 @@
  */
 #include "obj_number.h"
 
+#include <cctype>
 #include <cmath>
+#include <cstdlib>
+#include <string>
 
 namespace obj_number {
 
@@ -135,6 +138,64 @@ bool is_short_decimal(const char *b, const char *e)
         frac_digits = static_cast<size_t>(p - frac_start);
     }
     return p == e && int_digits <= 9 && int_digits + frac_digits > 0;
+}
+
+bool is_plain_decimal(const char *b, const char *e)
+{
+    const char *p = b;
+    if (p < e && (*p == '+' || *p == '-'))
+        p++;
+    size_t int_digits = 0, frac_digits = 0;
+    while (p < e && is_digit(*p))
+        p++, int_digits++;
+    if (p < e && *p == '.') {
+        p++;
+        while (p < e && is_digit(*p))
+            p++, frac_digits++;
+    }
+    if (int_digits + frac_digits == 0)
+        return false;
+    if (p < e && (*p == 'e' || *p == 'E')) {
+        p++;
+        if (p < e && (*p == '+' || *p == '-'))
+            p++;
+        size_t exp_digits = 0;
+        while (p < e && is_digit(*p))
+            p++, exp_digits++;
+        if (exp_digits == 0)
+            return false;
+    }
+    return p == e;
+}
+
+bool names_non_finite(const char *b, const char *e)
+{
+    std::string s(b, e);
+    char *end = nullptr;
+    double v = strtod(s.c_str(), &end);
+    if (end && *end == '\0' && !std::isfinite(v))
+        return true; /* nan, -nan, inf, infinity */
+    for (char &c : s)
+        c = static_cast<char>(toupper(static_cast<unsigned char>(c)));
+    return s.find("#IND") != std::string::npos || s.find("#INF") != std::string::npos ||
+           s.find("#QNAN") != std::string::npos; /* MSVC's printf of nan/inf */
+}
+
+bool exponent_too_long(const char *b, const char *e)
+{
+    const char *p = b;
+    while (p < e && *p != 'e' && *p != 'E')
+        p++;
+    if (p < e)
+        p++;
+    if (p < e && (*p == '+' || *p == '-'))
+        p++;
+    while (p < e && *p == '0') /* leading zeros add nothing to the value */
+        p++;
+    size_t digits = 0;
+    while (p < e && is_digit(*p))
+        p++, digits++;
+    return digits > 9;
 }
 
 } // namespace obj_number

@@ -8,7 +8,8 @@
  * exponent in 2,000-4,000 ("27194.9930e3"; measured on random numbers; never seen for a plain
  * decimal, but not proved), so vkrt repeats those operations one for one: each float is the one
  * tinyobjloader's LoadObj gives (tests/test_obj_number.cpp holds it to the library's LoadObj,
- * fuzz/fuzz_obj_number.cpp to the function itself). C++ only.
+ * fuzz/fuzz_obj_number.cpp to the function itself). The strict grammar the OBJ and .mtl checks
+ * hold numbers to (is_plain_decimal and its neighbours) lives here too. C++ only.
  */
 #ifndef VKRT_OBJ_NUMBER_H
 #define VKRT_OBJ_NUMBER_H
@@ -29,6 +30,21 @@ float parse_real(const char *b, const char *e, double default_value);
  * rounded (under 1e9 + 1), and has no exponent: every check of the pre-scan passes, so it runs
  * none of them (obj_scan.cpp). */
 bool is_short_decimal(const char *b, const char *e);
+
+/* Whether [b, e) is a plain decimal as tinyobjloader understands it:
+ * [sign] (digits[.digits*] | .digits) [e[sign]digits]. strtod alone would also take hex, "nan"
+ * and "inf", which tinyobjloader reads as 0. */
+bool is_plain_decimal(const char *b, const char *e);
+
+/* Whether [b, e) names a value that is not finite: "nan", "inf", "infinity" (strtod's words, any
+ * case and sign) or MSVC's printf of them ("1.#IND", "1.#INF", "1.#QNAN"). */
+bool names_non_finite(const char *b, const char *e);
+
+/* Whether [b, e) has an exponent of more than 9 significant digits. rc10's tryParseDouble
+ * accumulates the exponent in an int, checking for overflow one digit too late, so such a
+ * number ("1e-2147483649") is undefined behaviour there: the loader refuses it before
+ * tinyobjloader runs. */
+bool exponent_too_long(const char *b, const char *e);
 
 } // namespace obj_number
 

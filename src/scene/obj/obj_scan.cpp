@@ -15,6 +15,9 @@
  *     gives the triangles using it their geometric normal and records a warning.
  *   - any number of a v, vt or vn record whose exponent has more than 9 significant digits is
  *     an error: rc10 would overflow an int reading it (undefined behaviour, found by fuzzing).
+ *   - f: every index given is a whole number within int ("path:LINE: face index '1.5' is not a
+ *     whole number", "... 4294967298 is too large"), where rc10's atoi reads "2x" as 2 and wraps
+ *     4294967298 to 2; the common corner (plain indices of up to 9 digits) needs no check.
  * Before all that, files that start like an image or another binary format, UTF-16 and NUL bytes
  * are refused (a NUL would cut a line short); "vw" and "t" records are skipped, so tinyobjloader
  * never reads them. The common line of a big file (a v, vt or vn of short decimals such as
@@ -161,73 +164,10 @@ namespace {
 
 enum class Number { ok, not_finite, invalid };
 
-/* Plain decimal as tinyobjloader understands it: [sign] (digits[.digits*] | .digits) [e[sign]digits].
- * strtod alone would also take hex, "nan" and "inf", which tinyobjloader reads as 0. */
-bool is_plain_decimal(const Span &t)
-{
-    const char *p = t.b, *e = t.e;
-    if (p < e && (*p == '+' || *p == '-'))
-        p++;
-    size_t int_digits = 0, frac_digits = 0;
-    while (p < e && *p >= '0' && *p <= '9')
-        p++, int_digits++;
-    if (p < e && *p == '.') {
-        p++;
-        while (p < e && *p >= '0' && *p <= '9')
-            p++, frac_digits++;
-    }
-    if (int_digits + frac_digits == 0)
-        return false;
-    if (p < e && (*p == 'e' || *p == 'E')) {
-        p++;
-        if (p < e && (*p == '+' || *p == '-'))
-            p++;
-        size_t exp_digits = 0;
-        while (p < e && *p >= '0' && *p <= '9')
-            p++, exp_digits++;
-        if (exp_digits == 0)
-            return false;
-    }
-    return p == e;
-}
-
-bool names_non_finite(const Span &t)
-{
-    std::string s(t.b, t.e);
-    char *end = nullptr;
-    double v = strtod(s.c_str(), &end);
-    if (end && *end == '\0' && !std::isfinite(v))
-        return true; /* nan, -nan, inf, infinity */
-    for (char &c : s)
-        c = static_cast<char>(toupper(static_cast<unsigned char>(c)));
-    return s.find("#IND") != std::string::npos || s.find("#INF") != std::string::npos ||
-           s.find("#QNAN") != std::string::npos; /* MSVC's printf of nan/inf */
-}
-
-/* rc10's tryParseDouble accumulates the exponent in an int, checking for overflow one digit too
- * late, so an exponent of ten or more significant digits ("1e-2147483649") is undefined behaviour
- * there. Such a number is no coordinate anyone writes; it is refused before tinyobjloader runs. */
-bool exponent_too_long(const Span &t)
-{
-    const char *p = t.b;
-    while (p < t.e && *p != 'e' && *p != 'E')
-        p++;
-    if (p < t.e)
-        p++;
-    if (p < t.e && (*p == '+' || *p == '-'))
-        p++;
-    while (p < t.e && *p == '0') /* leading zeros add nothing to the value */
-        p++;
-    size_t digits = 0;
-    while (p < t.e && *p >= '0' && *p <= '9')
-        p++, digits++;
-    return digits > 9;
-}
-
 Number classify_number(const Span &t)
 {
-    if (!is_plain_decimal(t))
-        return names_non_finite(t) ? Number::not_finite : Number::invalid;
+    if (!obj_number::is_plain_decimal(t.b, t.e))
+        return obj_number::names_non_finite(t.b, t.e) ? Number::not_finite : Number::invalid;
     std::string s(t.b, t.e);
     double v = strtod(s.c_str(), nullptr); /* overflow (1e999) gives HUGE_VAL */
     if (!std::isfinite(v) || std::fabs(v) > FLT_MAX)
@@ -302,7 +242,7 @@ bool scan_exponents(const char *path, uint32_t line, Span rest, vkrt_error *err)
 {
     Span t;
     while (next_token(&rest, &t))
-        if (exponent_too_long(t)) {
+        if (obj_number::exponent_too_long(t.b, t.e)) {
             int n = static_cast<int>(t.len() < QUOTE_MAX ? t.len() : QUOTE_MAX);
             return vkrt_error_set(err, "%s:%u: number '%.*s' has an exponent of more than 9 digits",
                                   path, line, n, t.b);
@@ -332,6 +272,53 @@ int atoi_bounded(const char *p, const char *e)
     }
     long result = negative ? (value == limit ? LONG_MIN : -static_cast<long>(value)) : static_cast<long>(value);
     return static_cast<int>(result);
+}
+
+/* One index of a face corner, [b, e) (not empty), as an integer: [sign] digits whose value fits an
+ * int, and nothing after them. rc10 reads it with atoi, which stops at the first character that
+ * is not a digit ("2x", "1.5" and "1e5" read 2, 1 and 1) and, in glibc, saturates a long and then
+ * truncates it to int (4294967298 reads 2; 99999999999999999999 reads -1, the last vertex): those
+ * are refused here. A 0 is left to tinyobjloader, which refuses it in its own words
+ * (obj_load.cpp puts them in ours). */
+bool check_index(const char *path, uint32_t line, const char *what, const char *b, const char *e,
+                 vkrt_error *err)
+{
+    const char *p = b + (*b == '+' || *b == '-');
+    unsigned long long value = 0;
+    const char *digits = p;
+    for (; p < e && *p >= '0' && *p <= '9'; p++)
+        value = value > INT_MAX ? value : value * 10 + static_cast<unsigned long long>(*p - '0');
+    int n = static_cast<int>(e - b < QUOTE_MAX ? e - b : QUOTE_MAX);
+    if (p != e || p == digits)
+        return vkrt_error_set(err, "%s:%u: %s '%.*s' is not %s", path, line, what, n, b,
+                              obj_number::is_plain_decimal(b, e) ? "a whole number" : "a number");
+    if (value > INT_MAX)
+        return vkrt_error_set(err, "%s:%u: %s %.*s is too large (more than %d)", path, line, what,
+                              n, b, INT_MAX);
+    return true;
+}
+
+/* Checks every index of an f record that read_plain_corners did not take (rest: the line after
+ * "f ") with check_index: the vertex, texture coordinate and normal of each corner that are
+ * given (an empty field, as in "1//3", is not an index). */
+bool check_face_indices(const char *path, uint32_t line, Span rest, vkrt_error *err)
+{
+    static const char *const WHAT[] = {"face index", "face texture coordinate index",
+                                       "face normal index"};
+    Span token;
+    while (next_token(&rest, &token)) {
+        const char *p = token.b;
+        for (int part = 0; part < 3; part++) {
+            const char *end = static_cast<const char *>(memchr(p, '/', static_cast<size_t>(token.e - p)));
+            end = end ? end : token.e;
+            if (end > p && !check_index(path, line, WHAT[part], p, end, err))
+                return false;
+            if (end == token.e)
+                break;
+            p = end + 1;
+        }
+    }
+    return true;
 }
 
 /* strcspn(p, "/ \t\r") within the line. */
@@ -535,8 +522,10 @@ bool scan_line(const char *path, const char *text, uint32_t number, Span line, O
     if (is_record(line, "f")) {
         size_t first = scan->corners.size();
         uint32_t corners = read_plain_corners(Span{line.b + 2, line.e}, &scan->corners);
-        if (corners == 0) { /* not plain: as rc10 reads it */
+        if (corners == 0) { /* not plain: checked, then read as rc10 reads it */
             scan->corners.resize(first);
+            if (!check_face_indices(path, number, Span{line.b + 2, line.e}, err))
+                return false;
             corners = count_tokens(Span{line.b + 2, line.e});
         }
         if (corners >= 3 && (scan->corners.size() > first ||

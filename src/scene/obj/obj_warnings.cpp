@@ -322,4 +322,21 @@ void warn_unusable_normals(const char *path, size_t triangles, Warnings *out)
                                    "the geometric normal is used"));
 }
 
+void warn_mtl_number(const std::string &path, uint32_t line, const std::string &text, Warnings *out)
+{
+    Warning w = folding_warning(path, line, text, "mtl number", std::to_string(line),
+                                "{n} numbers changed to fit their range");
+    w.names_label = "lines ";
+    out->add(w);
+}
+
+void warn_degenerate_triangles(const char *path, size_t dropped, Warnings *out)
+{
+    if (dropped)
+        out->add(plain_warning(path, 0,
+                               std::to_string(dropped) +
+                                   (dropped == 1 ? " triangle has zero area (a line or a point) and was dropped"
+                                                 : " triangles have zero area (lines or points) and were dropped")));
+}
+
 } // namespace obj_warnings

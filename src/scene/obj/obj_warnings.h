@@ -121,6 +121,15 @@ void warn_unrendered_sheen(const std::string &path, uint32_t line, const std::st
 void warn_uncoated_mirror(const std::string &path, uint32_t line, const std::string &name,
                           Warnings *out);
 
+/* Adds to *out a number of the .mtl at path, at line, that vkrt changed to use it (text says what
+ * was given and what was used: "material 'm': Pr 5 is outside [0, 1] (used 1)"); folds per file,
+ * listing the lines. */
+void warn_mtl_number(const std::string &path, uint32_t line, const std::string &text, Warnings *out);
+
+/* Adds to *out that `dropped` of the triangles of the file at path have zero area and were
+ * dropped; nothing when dropped is 0. */
+void warn_degenerate_triangles(const char *path, size_t dropped, Warnings *out);
+
 /* Writes warnings into model: the folded lines into model->warnings, whole lines while they fit (a
  * first line too long for it is cut), and all of them, unfolded, into model->warnings_all
  * (malloc'd). Leaves model untouched when there are none; throws std::bad_alloc when out of
