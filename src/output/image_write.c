@@ -461,9 +461,10 @@ static bool beside_path(char *out, size_t size, const char *path, const char *na
 static void vectors_to_codes(const float *v, size_t count, uint8_t *codes)
 {
     for (size_t i = 0; i < count; ++i) {
-        float x = 0.5f * v[i] + 0.5f;
-        x = x > 0.0f ? (x < 1.0f ? x : 1.0f) : 0.0f; /* NaN to 0 too */
-        codes[i] = (uint8_t)lrintf(255.0f * x);
+        /* In double: the nearest code to the exact value, also where it is near a half. */
+        double x = 0.5 * v[i] + 0.5;
+        x = x > 0.0 ? (x < 1.0 ? x : 1.0) : 0.0; /* NaN to 0 too */
+        codes[i] = (uint8_t)lrint(255.0 * x);
     }
 }
 
