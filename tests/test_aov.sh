@@ -5,12 +5,10 @@
 # exrheader lists under the names Blender and Nuke read (skipped, 77, without exrheader: Debian's
 # openexr package). Run by meson test with VKRT_BINARY, VKRT_SOURCE_DIR and VKRT_PNG_COMPARE.
 set -u
-vkrt=${VKRT_BINARY:?}
 src=${VKRT_SOURCE_DIR:?}
-compare=${VKRT_PNG_COMPARE:?}
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
 . "$src/tests/lib.sh"
+vkrt=${VKRT_BINARY:?} compare=${VKRT_PNG_COMPARE:?} tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
 
 "$vkrt" render "$src/scenes/cornell/scene.cfg" --aov albedo,colour -o "$tmp/x.png" \
     >"$tmp/bad.txt" 2>&1
