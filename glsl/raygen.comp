@@ -16,10 +16,11 @@
  * nodes; the ray carries its pixel (ray_pixel), so nothing downstream depends on the order.
  *
  * This kernel also resets what a pass starts from, instead of transfer commands before it (an
- * update and the barriers between transfer and compute, per pass): the image at pass 0 and the
- * wave table (wave 0 covers the primary rays, the others are empty until count and prepare fill
+ * update and the barriers between transfer and compute, per pass): the image (and the AOVs of
+ * --aov) at pass 0 and the wave table (wave 0 covers the primary rays, the others are empty until count and prepare fill
  * them).
  */
+#include "lib/aov.glsl"
 #include "lib/bindings.glsl"
 #include "lib/rng.glsl"
 #include "lib/sampler.glsl"
@@ -87,12 +88,19 @@ void main()
         p = tile_pixel(place, width, height);
     }
     uint pixel = p.y * width + p.x;
-    if (sample_index == 0u)
+    if (sample_index == 0u) {
         image[pixel] = vec4(0.0);
+        if (AOVS != 0u)
+            aov_clear(pixel);
+    }
 
     uint seed = pcg_hash(pixel ^ pcg_hash(sample_index ^ pcg_hash(frame.counts.w)));
     vec2 offset = vec2(0.5);
     Ray ray = ray_camera(pixel, seed, sample_index);
+    /* --aov albedo or normal: the path owes them until it meets a surface that is not a delta
+     * (lib/aov.glsl). */
+    if ((AOVS & VKRT_AOV_SURFACE) != 0u)
+        ray_mark_aov_pending(ray);
     if (samples > 1u && INTEGRATOR == VKRT_INTEGRATE_PATH) {
         offset = sampler_2d(ray, frame.counts.w, SAMPLER_DIM_PIXEL);
     } else if (samples > 1u) {

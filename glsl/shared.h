@@ -51,9 +51,10 @@ typedef uint32_t uint;
 #define VKRT_BINDING_SPLIT_ADDRESSES 24   /* the chunks of split arrays (below) */
 #define VKRT_BINDING_MATERIAL_ORDER 25    /* hits grouped by shader (order.comp); else minimal */
 #define VKRT_BINDING_PLASTIC_TABLES 26    /* @roughplastic's coat tables (below); else minimal */
-#define VKRT_STORAGE_BINDINGS 27
-#define VKRT_BINDING_TRIANGLE_TEXELS 27
-#define VKRT_BINDING_NODE_TEXELS 28
+#define VKRT_BINDING_AOVS 27              /* --aov's planes (below); else minimal */
+#define VKRT_STORAGE_BINDINGS 28
+#define VKRT_BINDING_TRIANGLE_TEXELS 28
+#define VKRT_BINDING_NODE_TEXELS 29
 #define VKRT_TEXEL_BINDINGS 2
 
 /* Arrays larger than one buffer holds (src/gpu/array.h): each is split into chunks of
@@ -100,6 +101,7 @@ typedef uint32_t uint;
 #define VKRT_SPEC_SPLIT_REFS 21
 #define VKRT_SPEC_SPLIT_TEXELS 22
 #define VKRT_SPEC_MATERIAL_ORDER 23
+#define VKRT_SPEC_AOVS 24
 
 /* Integrators (VKRT_SPEC_INTEGRATOR): Whitted's (delta lights, ambient, the materials' own rays)
  * or the path tracer (next-event estimation with multiple importance sampling). */
@@ -132,6 +134,9 @@ typedef uint32_t uint;
 /* Flags of Ray.info.w (ray_is_dead). */
 #define VKRT_RAY_DEAD 1u       /* a slot a shader reserved but did not fill, or whose importance fell
                                   under the threshold: traced by nobody, shaded by nobody */
+#define VKRT_RAY_AOV_PENDING 2u /* --aov albedo or normal: the ray's path has not yet recorded
+                                  them (glsl/lib/aov.glsl): a camera ray, or one that continues
+                                  its path through a delta (mirror or glass) bounce */
 /* Ray.info.w above the flags: the ray's sample index in its pixel (0 .. samples - 1 over all the
  * passes of a frame), which the path tracer's sampler (lib/sampler.glsl) draws its numbers by. */
 #define VKRT_RAY_SAMPLE_SHIFT 8u
@@ -483,6 +488,25 @@ VKRT_STRUCT(PixelStats) {
  * is below the cap. */
 #define VKRT_PIXEL_LISTED 1u
 #define VKRT_PIXEL_UNCONVERGED 2u
+
+/* AOVs (--aov; glsl/lib/aov.glsl records them, src/render/renderer_aov.c reads them back): the
+ * bits of the specialization constant VKRT_SPEC_AOVS (0: none, and no code). Each AOV asked for
+ * is a plane of one vec4 per pixel in the buffer at VKRT_BINDING_AOVS, the planes in the order of
+ * their bits, only those asked for (plane of AOV a: the count of the bits below a that are set).
+ * Each sample of a pixel adds to its planes:
+ *   ALBEDO    rgb: the albedo at the path's first non-delta hit (lib/aov.glsl), w unused
+ *   NORMAL    xyz: the shading normal there (unit; 0 where the path escaped), w unused
+ *   DEPTH     x: the camera ray's hit distance t, y: 1 (the samples that hit), where it hit
+ *   POSITION  xyz: the camera ray's hit point, w: 1, where it hit
+ * so that the host divides ALBEDO and NORMAL by the pixel's samples and DEPTH and POSITION by
+ * the samples that hit. */
+#define VKRT_AOV_ALBEDO 1u
+#define VKRT_AOV_NORMAL 2u
+#define VKRT_AOV_DEPTH 4u
+#define VKRT_AOV_POSITION 8u
+#define VKRT_AOV_ALL 15u
+/* The AOVs recorded where a path meets its first non-delta surface (the others at its first hit). */
+#define VKRT_AOV_SURFACE (VKRT_AOV_ALBEDO | VKRT_AOV_NORMAL)
 
 /* Hits grouped by shader (order.comp, binding VKRT_BINDING_MATERIAL_ORDER): per depth
  * VKRT_ORDER_BINS counts and VKRT_ORDER_BINS cursors, then the ray index of every place in the

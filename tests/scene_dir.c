@@ -45,6 +45,15 @@ void scene_dir_write(const char *name, const char *text)
     fclose(f);
 }
 
+void scene_dir_load(vkrt_scene *scene)
+{
+    char path[256];
+    snprintf(path, sizeof path, "%s/scene.cfg", scene_dir);
+    vkrt_error err = {{0}};
+    if (!vkrt_scene_load(path, scene, &err))
+        fail_msg("%s", err.msg);
+}
+
 bool scene_dir_render(uint32_t w, uint32_t h, const vkrt_render_desc *desc, float *rgb,
                       vkrt_frame_stats *stats, vkrt_error *err)
 {

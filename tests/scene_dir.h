@@ -26,6 +26,11 @@ FILE *scene_dir_open(const char *name);
 /* Writes text into name in the folder. */
 void scene_dir_write(const char *name, const char *text);
 
+/* Loads the folder's scene.cfg into scene (fails the test if it cannot); vkrt_scene_free frees
+ * it. */
+struct vkrt_scene;
+void scene_dir_load(struct vkrt_scene *scene);
+
 /* Renders the folder's scene.cfg at w x h, desc's samples per pixel (0: one), with the rest of
  * the settings from desc (may be NULL). False with err on failure. */
 bool scene_dir_render(uint32_t w, uint32_t h, const vkrt_render_desc *desc, float *rgb,

@@ -220,8 +220,26 @@ static void fill_exr_pattern(float *rgb, uint32_t w, uint32_t h)
     rgb[7] = 65504.5f;
 }
 
-/* Reads an RGB float EXR back into an interleaved buffer with OpenEXRCore's decode API. */
-static void read_exr(const char *path, uint32_t w, uint32_t h, float *rgb)
+/* The channel names of path's first part, in the file's order, joined with spaces. */
+static void exr_channel_names(const char *path, char *out, size_t size)
+{
+    exr_context_t ctxt = NULL;
+    assert_int_equal(exr_start_read(&ctxt, path, NULL), EXR_ERR_SUCCESS);
+    const exr_attr_chlist_t *channels = NULL;
+    assert_int_equal(exr_get_channels(ctxt, 0, &channels), EXR_ERR_SUCCESS);
+    out[0] = '\0';
+    for (int c = 0; c < channels->num_channels; c++) {
+        assert_int_equal(channels->entries[c].pixel_type, EXR_PIXEL_FLOAT);
+        snprintf(out + strlen(out), size - strlen(out), "%s%s", c ? " " : "",
+                 channels->entries[c].name.str);
+    }
+    assert_int_equal(exr_finish(&ctxt), EXR_ERR_SUCCESS);
+}
+
+/* Reads channels names[0 .. count - 1] of a float EXR of w x h pixels into out, count floats a
+ * pixel in that order, with OpenEXRCore's decode API; the file's other channels are skipped. */
+static void read_exr_channels(const char *path, uint32_t w, uint32_t h,
+                              const char *const *names, int count, float *out)
 {
     exr_context_t ctxt = NULL;
     assert_int_equal(exr_start_read(&ctxt, path, NULL), EXR_ERR_SUCCESS);
@@ -232,15 +250,6 @@ static void read_exr(const char *path, uint32_t w, uint32_t h, float *rgb)
     assert_int_equal(dw.min.y, 0);
     assert_int_equal(dw.max.x, (int)w - 1);
     assert_int_equal(dw.max.y, (int)h - 1);
-
-    const exr_attr_chlist_t *channels = NULL;
-    assert_int_equal(exr_get_channels(ctxt, 0, &channels), EXR_ERR_SUCCESS);
-    assert_int_equal(channels->num_channels, 3);
-    static const char *const sorted_names[] = {"B", "G", "R"};
-    for (int c = 0; c < 3; c++) {
-        assert_string_equal(channels->entries[c].name.str, sorted_names[c]);
-        assert_int_equal(channels->entries[c].pixel_type, EXR_PIXEL_FLOAT);
-    }
 
     exr_compression_t compression;
     assert_int_equal(exr_get_compression(ctxt, 0, &compression), EXR_ERR_SUCCESS);
@@ -255,15 +264,18 @@ static void read_exr(const char *path, uint32_t w, uint32_t h, float *rgb)
         assert_int_equal(exr_decoding_initialize(ctxt, 0, &chunk, &decoder), EXR_ERR_SUCCESS);
         for (int c = 0; c < decoder.channel_count; c++) {
             exr_coding_channel_info_t *ch = &decoder.channels[c];
-            int offset = strcmp(ch->channel_name, "R") == 0   ? 0
-                         : strcmp(ch->channel_name, "G") == 0 ? 1
-                                                              : 2;
-            ch->decode_to_ptr = (uint8_t *)(rgb + (size_t)(chunk.start_y - dw.min.y) * w * 3 +
-                                            offset);
+            int offset = -1;
+            for (int k = 0; k < count; k++)
+                if (strcmp(ch->channel_name, names[k]) == 0)
+                    offset = k;
+            ch->decode_to_ptr =
+                offset < 0 ? NULL
+                           : (uint8_t *)(out + (size_t)(chunk.start_y - dw.min.y) * w * count +
+                                         offset);
             ch->user_data_type = EXR_PIXEL_FLOAT;
             ch->user_bytes_per_element = 4;
-            ch->user_pixel_stride = 3 * 4;
-            ch->user_line_stride = (int32_t)(w * 3 * 4);
+            ch->user_pixel_stride = count * 4;
+            ch->user_line_stride = (int32_t)(w * count * 4);
         }
         assert_int_equal(exr_decoding_choose_default_routines(ctxt, 0, &decoder),
                          EXR_ERR_SUCCESS);
@@ -271,6 +283,15 @@ static void read_exr(const char *path, uint32_t w, uint32_t h, float *rgb)
         assert_int_equal(exr_decoding_destroy(ctxt, &decoder), EXR_ERR_SUCCESS);
     }
     assert_int_equal(exr_finish(&ctxt), EXR_ERR_SUCCESS);
+}
+
+/* Reads an RGB float EXR, B, G and R alone, back into an interleaved buffer. */
+static void read_exr(const char *path, uint32_t w, uint32_t h, float *rgb)
+{
+    char names[256];
+    exr_channel_names(path, names, sizeof names);
+    assert_string_equal(names, "B G R");
+    read_exr_channels(path, w, h, (const char *const[]){"R", "G", "B"}, 3, rgb);
 }
 
 static void check_exr_roundtrip(fixture *fx, uint32_t w, uint32_t h)
@@ -317,6 +338,125 @@ static void test_exr_roundtrip_small(void **state)
 static void test_exr_roundtrip_several_chunks(void **state)
 {
     check_exr_roundtrip(*state, 3, 37);
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * AOVs: layers of an EXR, files beside a PNG
+ * ------------------------------------------------------------------------------------------- */
+
+enum { AOV_W = 3, AOV_H = 37 }; /* several ZIP chunks */
+
+/* A frame whose beauty and AOVs all differ: value k of pixel i of buffer b is b * 1000 + i +
+ * k / 4, but for a depth of +inf (a pixel that saw nothing) and the normal's, in [-1, 1]. */
+typedef struct aov_buffers {
+    float rgb[AOV_W * AOV_H * 3], albedo[AOV_W * AOV_H * 3], normal[AOV_W * AOV_H * 3],
+        depth[AOV_W * AOV_H], position[AOV_W * AOV_H * 3];
+} aov_buffers;
+
+static vkrt_frame_image fill_aov_frame(aov_buffers *b)
+{
+    float *with_three[] = {b->rgb, b->albedo, b->position};
+    for (int k = 0; k < 3; ++k)
+        for (int i = 0; i < AOV_W * AOV_H * 3; ++i)
+            with_three[k][i] = (float)(k * 1000 + i / 3) + (float)(i % 3) / 4.0f;
+    for (int i = 0; i < AOV_W * AOV_H * 3; ++i)
+        b->normal[i] = (float)((i * 37) % 201 - 100) / 100.0f;
+    for (int i = 0; i < AOV_W * AOV_H; ++i)
+        b->depth[i] = i == 4 ? INFINITY : 0.5f + (float)i;
+    return (vkrt_frame_image){.width = AOV_W, .height = AOV_H, .rgb = b->rgb,
+                              .albedo = b->albedo, .normal = b->normal, .depth = b->depth,
+                              .position = b->position};
+}
+
+/* Reads layer `names` of path and compares it bit for bit with want (count floats a pixel). */
+static void check_layer(const char *path, const char *const *names, int count, const float *want)
+{
+    float got[AOV_W * AOV_H * 3];
+    read_exr_channels(path, AOV_W, AOV_H, names, count, got);
+    for (int i = 0; i < AOV_W * AOV_H * count; i++)
+        if (memcmp(&got[i], &want[i], sizeof *got) != 0)
+            fail_msg("%s: %s value %d: wrote %g, read %g", path, names[i % count], i,
+                     (double)want[i], (double)got[i]);
+}
+
+/* The EXR holds the beauty as R, G, B and each AOV as a layer named as Nuke and Blender read
+ * them, every value as written; the exposure (PNG only) changes nothing. */
+static void test_exr_aov_layers(void **state)
+{
+    fixture *fx = *state;
+    aov_buffers *b = fx->buffers[0] = calloc(1, sizeof *b);
+    assert_non_null(b);
+    vkrt_frame_image frame = fill_aov_frame(b);
+    const char *path = temp_dir_path(fx->tmp, "layers.exr");
+    vkrt_error err = {{0}};
+    if (!vkrt_image_write_layers(path, &frame, &(vkrt_finish_desc){.exposure = 2}, &err))
+        fail_msg("write failed: %s", err.msg);
+    char names[512];
+    exr_channel_names(path, names, sizeof names);
+    assert_string_equal(names, "B G R albedo.B albedo.G albedo.R depth.Z normal.X normal.Y "
+                               "normal.Z position.X position.Y position.Z");
+    check_layer(path, (const char *const[]){"R", "G", "B"}, 3, b->rgb);
+    check_layer(path, (const char *const[]){"albedo.R", "albedo.G", "albedo.B"}, 3, b->albedo);
+    check_layer(path, (const char *const[]){"normal.X", "normal.Y", "normal.Z"}, 3, b->normal);
+    check_layer(path, (const char *const[]){"depth.Z"}, 1, b->depth);
+    check_layer(path, (const char *const[]){"position.X", "position.Y", "position.Z"}, 3,
+                b->position);
+    char listing[256];
+    list_dir(fx->tmp->dir, listing, sizeof listing);
+    assert_string_equal(listing, "layers.exr");
+}
+
+/* Beside a PNG: the albedo as the beauty would be encoded (sRGB, but no exposure), the normal as
+ * 0.5 n + 0.5 in 8 bits, depth and position as float EXRs with the layers' channel names. */
+static void test_png_aovs_beside(void **state)
+{
+    fixture *fx = *state;
+    aov_buffers *b = fx->buffers[0] = calloc(1, sizeof *b);
+    assert_non_null(b);
+    vkrt_frame_image frame = fill_aov_frame(b);
+    for (int i = 0; i < AOV_W * AOV_H * 3; ++i)
+        b->albedo[i] = (float)((i * 13) % 101) / 100.0f;
+    vkrt_error err = {{0}};
+    const char *path = temp_dir_path(fx->tmp, "shot.png");
+    if (!vkrt_image_write_layers(path, &frame, &(vkrt_finish_desc){.exposure = 2}, &err))
+        fail_msg("write failed: %s", err.msg);
+    char listing[256];
+    list_dir(fx->tmp->dir, listing, sizeof listing);
+    assert_string_equal(listing,
+                        "shot.albedo.png shot.depth.exr shot.normal.png shot.png shot.position.exr");
+    /* The albedo's PNG is the PNG of a beauty of those values at exposure 0. */
+    const char *reference = temp_dir_path(fx->tmp, "albedo-as-beauty.png");
+    if (!vkrt_image_write(reference, AOV_W, AOV_H, b->albedo, 0, &err))
+        fail_msg("write failed: %s", err.msg);
+    int w, h, n, rw, rh, rn;
+    unsigned char *albedo = stbi_load(temp_dir_path(fx->tmp, "shot.albedo.png"), &w, &h, &n, 3);
+    unsigned char *as_beauty = stbi_load(reference, &rw, &rh, &rn, 3);
+    unsigned char *normal = stbi_load(temp_dir_path(fx->tmp, "shot.normal.png"), &w, &h, &n, 3);
+    assert_non_null(albedo);
+    assert_non_null(as_beauty);
+    assert_non_null(normal);
+    assert_int_equal(w, AOV_W);
+    assert_int_equal(h, AOV_H);
+    assert_memory_equal(albedo, as_beauty, AOV_W * AOV_H * 3);
+    for (int i = 0; i < AOV_W * AOV_H * 3; ++i) {
+        long want = lrint(255.0 * (0.5 * b->normal[i] + 0.5));
+        if (normal[i] != want)
+            fail_msg("normal value %d: %g as code %d, expected %ld", i, (double)b->normal[i],
+                     normal[i], want);
+    }
+    stbi_image_free(albedo);
+    stbi_image_free(as_beauty);
+    stbi_image_free(normal);
+    const char *depth = temp_dir_path(fx->tmp, "shot.depth.exr");
+    char names[256];
+    exr_channel_names(depth, names, sizeof names);
+    assert_string_equal(names, "depth.Z");
+    check_layer(depth, (const char *const[]){"depth.Z"}, 1, b->depth);
+    const char *position = temp_dir_path(fx->tmp, "shot.position.exr");
+    exr_channel_names(position, names, sizeof names);
+    assert_string_equal(names, "position.X position.Y position.Z");
+    check_layer(position, (const char *const[]){"position.X", "position.Y", "position.Z"}, 3,
+                b->position);
 }
 
 /* ---------------------------------------------------------------------------------------------
@@ -561,6 +701,8 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_png_exposure_plus_one_doubles, make_fixture, remove_fixture),
         cmocka_unit_test_setup_teardown(test_exr_roundtrip_small, make_fixture, remove_fixture),
         cmocka_unit_test_setup_teardown(test_exr_roundtrip_several_chunks, make_fixture, remove_fixture),
+        cmocka_unit_test_setup_teardown(test_exr_aov_layers, make_fixture, remove_fixture),
+        cmocka_unit_test_setup_teardown(test_png_aovs_beside, make_fixture, remove_fixture),
         cmocka_unit_test_setup_teardown(test_missing_folder_fails_cleanly, make_fixture, remove_fixture),
         cmocka_unit_test_setup_teardown(test_path_is_directory_fails_cleanly, make_fixture, remove_fixture),
         cmocka_unit_test_setup_teardown(test_failed_write_keeps_old_file, make_fixture, remove_fixture),

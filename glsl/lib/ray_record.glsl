@@ -107,6 +107,13 @@ VKRT_ACCESSOR bool ray_is_dead(Ray ray)
     return (ray.info.w & VKRT_RAY_DEAD) != 0u;
 }
 
+/* Whether the ray's path still owes its pixel the albedo and normal of its first non-delta hit
+ * (VKRT_RAY_AOV_PENDING; lib/aov.glsl). Never set without --aov albedo or normal. */
+VKRT_ACCESSOR bool ray_aov_pending(Ray ray)
+{
+    return (ray.info.w & VKRT_RAY_AOV_PENDING) != 0u;
+}
+
 /* ---- FrameParams.stage: one kernel's arguments for one dispatch ------------------------------ */
 
 /* frame_brute_first, frame_brute_end: brute-force trace (lib/traverse_brute.glsl, trace.comp,
@@ -224,6 +231,13 @@ Ray ray_probe(vec3 origin, vec3 direction, float tmax)
 void ray_kill(inout Ray ray)
 {
     ray.info.w |= VKRT_RAY_DEAD;
+}
+
+/* Marks the ray as carrying its path's AOVs on (ray_aov_pending): a camera ray, or the ray a
+ * delta bounce cast. ray_cast clears the mark, so a child carries it only where this sets it. */
+void ray_mark_aov_pending(inout Ray ray)
+{
+    ray.info.w |= VKRT_RAY_AOV_PENDING;
 }
 #else
 /* The host's side of FrameParams.stage: each setter writes the lanes its getter above reads. */

@@ -2,6 +2,7 @@
 #include "cli.h"
 
 #include "../device_pool.h"
+#include "../../glsl/shared.h"
 
 #include <errno.h>
 #include <math.h>
@@ -64,6 +65,10 @@ const char *vkrt_usage(void)
            "                    the denoised image and keeps the rendered one as layer \"noisy\".\n"
            "                    Needs libOpenImageDenoise.so.2: tools/setup-python puts it in\n"
            "                    .venv, or VKRT_OIDN_LIBRARY=PATH names it\n"
+           "  --aov LIST        also write the AOVs named (albedo,normal,depth,position): layers\n"
+           "                    albedo.RGB, normal.XYZ, depth.Z, position.XYZ of an EXR, or\n"
+           "                    files beside a PNG (NAME.albedo.png, NAME.normal.png,\n"
+           "                    NAME.depth.exr, NAME.position.exr; docs/scene-format.md, \"AOVs\")\n"
            "  --device N        Vulkan device (see --list-devices); default: the first discrete\n"
            "                    GPU, else the first device\n"
            "  --validation      enable Vulkan validation layers (also VKRT_VALIDATION=1); any\n"
@@ -171,6 +176,34 @@ static bool parse_positive(const char *option, const char *text, float *out, vkr
     return true;
 }
 
+/* --aov's list (names joined by commas) as VKRT_AOV_* bits. */
+static bool parse_aovs(const char *text, uint32_t *out, vkrt_error *err)
+{
+    static const struct {
+        const char *name;
+        uint32_t bit;
+    } names[] = {{"albedo", VKRT_AOV_ALBEDO},
+                 {"normal", VKRT_AOV_NORMAL},
+                 {"depth", VKRT_AOV_DEPTH},
+                 {"position", VKRT_AOV_POSITION}};
+    if (!text || !*text)
+        return vkrt_error_set(err, "--aov needs a list of albedo, normal, depth, position");
+    *out = 0;
+    for (const char *p = text; *p;) {
+        size_t n = strcspn(p, ",");
+        uint32_t bit = 0;
+        for (size_t k = 0; k < sizeof names / sizeof *names; ++k)
+            if (n == strlen(names[k].name) && strncmp(p, names[k].name, n) == 0)
+                bit = names[k].bit;
+        if (!bit)
+            return vkrt_error_set(err, "--aov: '%.*s' is not one of albedo, normal, depth, "
+                                       "position", (int)n, p);
+        *out |= bit;
+        p += n + (p[n] == ',');
+    }
+    return true;
+}
+
 /* Which commands take each option; the parser refuses an option its command does not take. */
 enum { RENDER = 1 << VKRT_COMMAND_RENDER, VIEW = 1 << VKRT_COMMAND_VIEW,
        BENCH = 1 << VKRT_COMMAND_BENCH, ALL = RENDER | VIEW | BENCH };
@@ -195,6 +228,7 @@ static const struct known_option {
     {"--bvh-splits", ALL},   {"--instancing", ALL},     {"--camera", RENDER | VIEW},
     {"--fps", RENDER | VIEW},                           {"--environment", RENDER | VIEW},
     {"--environment-map", RENDER | VIEW},               {"--denoise", RENDER | VIEW},
+    {"--aov", RENDER},
 };
 
 static const char *command_name(vkrt_command command)
@@ -382,6 +416,8 @@ static bool parse_render(const char *arg, const char *value, vkrt_render_options
         if (!value)
             return vkrt_error_set(err, "--sample-count-image needs a path");
         o->sample_count_image = value;
+    } else if (strcmp(arg, "--aov") == 0) {
+        return parse_aovs(value, &o->aovs, err);
     } else {
         *consumed = 0;
         if (strcmp(arg, "--profile") == 0)

@@ -78,6 +78,8 @@ typedef struct vkrt_render_options {
                                  (device_pool.h); NULL when not given */
     const char *sample_count_image; /* --sample-count-image: each pixel's samples (with
                                        --target-error), a pattern like -o's; NULL: none */
+    uint32_t aovs;            /* --aov: the AOVs written with each frame (VKRT_AOV_* of
+                                 glsl/shared.h); 0 when not given */
 } vkrt_render_options;
 
 typedef struct vkrt_view_options {

@@ -150,6 +150,8 @@ bool frame_writer_start(frame_writer *w, int device, bool tell, vkrt_error *err)
                                       .height = w->desc.height,
                                       .finish = {.exposure = opts->exposure,
                                                  .denoiser = w->denoiser},
+                                      .aovs = w->desc.aovs,
+                                      .aovs_written = w->cl->render.aovs,
                                       .written = w->written,
                                       .failed = w->failed,
                                       .user = w->user};
@@ -181,6 +183,12 @@ bool frame_writer_write(frame_writer *w, uint32_t f, vkrt_frame_stats *stats, vk
                                   f + 1 < w->scene->camera_count ? &w->scene->cameras[f + 1] : NULL);
     float *rgb = vkrt_write_pool_buffer(w->pool, err);
     if (!rgb || !vkrt_renderer_render(w->renderer, &w->scene->cameras[f], f, rgb, stats, err))
+        return false;
+    /* --aov: the frame's AOVs into the buffers that travel with its beauty to the writer. */
+    float *aovs[4];
+    vkrt_write_pool_aovs(w->pool, aovs);
+    if (w->desc.aovs &&
+        !vkrt_renderer_read_aovs(w->renderer, 0, aovs[0], aovs[1], aovs[2], aovs[3], err))
         return false;
     if (w->clock && !w->clock->frame)
         w->clock->frame = vkrt_clock_ms();

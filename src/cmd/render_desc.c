@@ -29,6 +29,8 @@ vkrt_render_desc vkrt_render_desc_for(const vkrt_config *cfg, const vkrt_command
         d.profile = o->profile;
         d.profile_repeat = o->profile_repeat;
         d.seed = o->seed;
+        /* --denoise: the albedo and normal guide the denoiser (written only if --aov asks). */
+        d.aovs = o->aovs | (vkrt_denoise_asked(cl) ? VKRT_AOV_SURFACE : 0u);
         d.shutter = cfg->shutter; /* the viewer's camera has no next frame to blur towards */
     } else if (cl->command == VKRT_COMMAND_VIEW) {
         uint32_t least = cfg->samples > view_default_samples ? cfg->samples : view_default_samples;

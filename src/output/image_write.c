@@ -1,6 +1,7 @@
 /*
  * image_write.c: writes rendered frames, finished by finish.h, as PNG (8-bit sRGB, png_encode.h) or
- * EXR (32-bit float linear RGB, via OpenEXRCore), and expands frame-number patterns in output paths.
+ * EXR (32-bit float linear RGB, via OpenEXRCore), with their AOVs (layers of the EXR, or files
+ * beside the PNG), and expands frame-number patterns in output paths.
  *
  * Both formats go through the same temporary-file discipline: the bytes are written to
  * "<path>.tmp-<pid>" beside the target (same folder, so rename() is atomic), and only a
@@ -190,9 +191,24 @@ static bool write_png8(const char *path, uint32_t width, uint32_t height, const 
     return temp_file_commit(&tf, err);
 }
 
-static bool write_png(const char *path, uint32_t width, uint32_t height, const float *rgb,
+/* The albedo and normal the finish stage's denoiser is guided by: those written, else the
+ * guides alone. */
+static const float *guide_albedo(const vkrt_frame_image *frame)
+{
+    return frame->albedo ? frame->albedo : frame->guide_albedo;
+}
+
+static const float *guide_normal(const vkrt_frame_image *frame)
+{
+    return frame->normal ? frame->normal : frame->guide_normal;
+}
+
+/* frame's beauty as an 8-bit PNG, through the finish stage (which may denoise it with the
+ * frame's albedo and normal). */
+static bool write_png(const char *path, const vkrt_frame_image *frame,
                       const vkrt_finish_desc *finish, vkrt_error *err)
 {
+    uint32_t width = frame->width, height = frame->height;
     if (!png_size_fits(width, height))
         return vkrt_error_set(err, "%s: image %" PRIu32 "x%" PRIu32 " is too large for PNG",
                               path, width, height);
@@ -201,8 +217,9 @@ static bool write_png(const char *path, uint32_t width, uint32_t height, const f
     uint8_t *srgb8 = malloc(value_count);
     if (!srgb8)
         return vkrt_error_set(err, "%s: cannot write: out of memory", path);
-    vkrt_finish_frame frame = {.width = width, .height = height, .rgb = rgb};
-    bool ok = vkrt_finish_srgb8(finish, &frame, srgb8, err);
+    vkrt_finish_frame finishing = {.width = width, .height = height, .rgb = frame->rgb,
+                                   .albedo = guide_albedo(frame), .normal = guide_normal(frame)};
+    bool ok = vkrt_finish_srgb8(finish, &finishing, srgb8, err);
     if (!ok)
         vkrt_error_prefix(err, "%s: cannot write", path);
     ok = ok && write_png8(path, width, height, srgb8, err);
@@ -266,14 +283,19 @@ static bool exr_failure(const char *path, const exr_stream *stream, exr_result_t
                           exr_get_default_error_message(rv));
 }
 
-/* The layer that holds the raw radiance beside a denoised beauty (--denoise). */
-#define NOISY_LAYER "noisy."
+/* One float channel of the EXR, read from the caller's buffers: its value at pixel i is
+ * first[i * stride] (the top row first). */
+typedef struct exr_source {
+    const char *name;
+    const float *first;
+    int32_t stride; /* floats from one pixel's value to the next's */
+} exr_source;
 
-/* Declares the single scanline part: B, G, R float channels (the order EXR sorts them in),
- * and with noisy noisy.B, noisy.G, noisy.R; data and display window 0..w-1 x 0..h-1,
- * increasing y (top row first, as ours). */
-static exr_result_t exr_define_rgb_part(exr_context_t ctxt, uint32_t width, uint32_t height,
-                                        bool noisy)
+/* Declares the single scanline part with the given float channels (OpenEXRCore keeps them in the
+ * sorted order EXR requires), data and display window 0..w-1 x 0..h-1, increasing y (top row
+ * first, as ours). */
+static exr_result_t exr_define_part(exr_context_t ctxt, uint32_t width, uint32_t height,
+                                    const exr_source *sources, size_t count)
 {
     int part_index = 0;
     exr_result_t rv = exr_add_part(ctxt, "rgb", EXR_STORAGE_SCANLINE, &part_index);
@@ -281,44 +303,25 @@ static exr_result_t exr_define_rgb_part(exr_context_t ctxt, uint32_t width, uint
         return rv;
     rv = exr_initialize_required_attr_simple(ctxt, part_index, (int32_t)width, (int32_t)height,
                                              EXR_COMPRESSION_ZIP);
-    static const char *const channel_names[] = {"B", "G", "R"};
-    for (size_t c = 0; c < 3 && rv == EXR_ERR_SUCCESS; c++)
-        rv = exr_add_channel(ctxt, part_index, channel_names[c], EXR_PIXEL_FLOAT,
-                             EXR_PERCEPTUALLY_LOGARITHMIC, 1, 1);
-    static const char *const noisy_names[] = {NOISY_LAYER "B", NOISY_LAYER "G", NOISY_LAYER "R"};
-    for (size_t c = 0; noisy && c < 3 && rv == EXR_ERR_SUCCESS; c++)
-        rv = exr_add_channel(ctxt, part_index, noisy_names[c], EXR_PIXEL_FLOAT,
+    for (size_t c = 0; c < count && rv == EXR_ERR_SUCCESS; c++)
+        rv = exr_add_channel(ctxt, part_index, sources[c].name, EXR_PIXEL_FLOAT,
                              EXR_PERCEPTUALLY_LOGARITHMIC, 1, 1);
     return rv;
 }
 
-/* Offset of a channel inside our interleaved RGB pixel, or -1 for a name we did not add. */
-static int rgb_offset_of_channel(const char *name)
+/* The source of a channel by name, or NULL for a name we did not add. */
+static const exr_source *exr_source_of(const char *name, const exr_source *sources, size_t count)
 {
-    if (strcmp(name, "R") == 0)
-        return 0;
-    if (strcmp(name, "G") == 0)
-        return 1;
-    if (strcmp(name, "B") == 0)
-        return 2;
-    return -1;
-}
-
-/* The interleaved buffer a channel is read from, its offset in *offset: the beauty for R, G, B,
- * noisy for the noisy layer's; NULL for a name we did not add. */
-static const float *channel_source(const char *name, const float *rgb, const float *noisy,
-                                   int *offset)
-{
-    size_t prefix = strlen(NOISY_LAYER);
-    bool in_noisy = noisy && strncmp(name, NOISY_LAYER, prefix) == 0;
-    *offset = rgb_offset_of_channel(in_noisy ? name + prefix : name);
-    return *offset < 0 ? NULL : in_noisy ? noisy : rgb;
+    for (size_t c = 0; c < count; c++)
+        if (strcmp(name, sources[c].name) == 0)
+            return &sources[c];
+    return NULL;
 }
 
 /* Compresses and writes the chunk that starts at row y, reading straight from the caller's
- * interleaved buffers through strides (no copy). */
+ * buffers through strides (no copy). */
 static exr_result_t exr_encode_chunk(exr_context_t ctxt, int32_t y, uint32_t width,
-                                     const float *rgb, const float *noisy)
+                                     const exr_source *sources, size_t count)
 {
     exr_chunk_info_t chunk;
     exr_result_t rv = exr_write_scanline_chunk_info(ctxt, 0, y, &chunk);
@@ -327,20 +330,19 @@ static exr_result_t exr_encode_chunk(exr_context_t ctxt, int32_t y, uint32_t wid
 
     exr_encode_pipeline_t encoder = EXR_ENCODE_PIPELINE_INITIALIZER;
     rv = exr_encoding_initialize(ctxt, 0, &chunk, &encoder);
-    size_t first_row = (size_t)chunk.start_y * width * 3;
     for (int16_t c = 0; c < encoder.channel_count && rv == EXR_ERR_SUCCESS; c++) {
         exr_coding_channel_info_t *channel = &encoder.channels[c];
-        int offset;
-        const float *source = channel_source(channel->channel_name, rgb, noisy, &offset);
+        const exr_source *source = exr_source_of(channel->channel_name, sources, count);
         if (!source) {
             rv = EXR_ERR_INVALID_ARGUMENT;
             break;
         }
-        channel->encode_from_ptr = (const uint8_t *)(source + first_row + offset);
+        size_t first_row = (size_t)chunk.start_y * width * (size_t)source->stride;
+        channel->encode_from_ptr = (const uint8_t *)(source->first + first_row);
         channel->user_data_type = EXR_PIXEL_FLOAT;
         channel->user_bytes_per_element = (int16_t)sizeof(float);
-        channel->user_pixel_stride = (int32_t)(3 * sizeof(float));
-        channel->user_line_stride = (int32_t)(width * 3 * sizeof(float));
+        channel->user_pixel_stride = (int32_t)(source->stride * sizeof(float));
+        channel->user_line_stride = (int32_t)(width * source->stride * sizeof(float));
     }
     if (rv == EXR_ERR_SUCCESS)
         rv = exr_encoding_choose_default_routines(ctxt, 0, &encoder);
@@ -352,14 +354,14 @@ static exr_result_t exr_encode_chunk(exr_context_t ctxt, int32_t y, uint32_t wid
 }
 
 static exr_result_t exr_write_all_chunks(exr_context_t ctxt, uint32_t width, uint32_t height,
-                                         const float *rgb, const float *noisy)
+                                         const exr_source *sources, size_t count)
 {
     int32_t lines_per_chunk = 0;
     exr_result_t rv = exr_get_scanlines_per_chunk(ctxt, 0, &lines_per_chunk);
     if (rv == EXR_ERR_SUCCESS && lines_per_chunk <= 0)
         rv = EXR_ERR_INVALID_ARGUMENT;
     for (int64_t y = 0; y < (int64_t)height && rv == EXR_ERR_SUCCESS; y += lines_per_chunk)
-        rv = exr_encode_chunk(ctxt, (int32_t)y, width, rgb, noisy);
+        rv = exr_encode_chunk(ctxt, (int32_t)y, width, sources, count);
     return rv;
 }
 
@@ -369,9 +371,8 @@ static bool exr_size_fits(uint32_t width, uint32_t height)
     return height <= (uint32_t)INT32_MAX && (uint64_t)width * 3 * sizeof(float) <= INT32_MAX;
 }
 
-/* noisy: the raw radiance for the noisy layer, or NULL for the beauty alone. */
-static bool write_exr(const char *path, uint32_t width, uint32_t height, const float *rgb,
-                      const float *noisy, vkrt_error *err)
+static bool write_exr(const char *path, uint32_t width, uint32_t height,
+                      const exr_source *sources, size_t count, vkrt_error *err)
 {
     if (!exr_size_fits(width, height))
         return vkrt_error_set(err, "%s: image %" PRIu32 "x%" PRIu32 " is too large for EXR",
@@ -392,11 +393,11 @@ static bool write_exr(const char *path, uint32_t width, uint32_t height, const f
     exr_context_t ctxt = NULL;
     exr_result_t rv = exr_start_write(&ctxt, path, EXR_WRITE_FILE_DIRECTLY, &init);
     if (rv == EXR_ERR_SUCCESS)
-        rv = exr_define_rgb_part(ctxt, width, height, noisy != NULL);
+        rv = exr_define_part(ctxt, width, height, sources, count);
     if (rv == EXR_ERR_SUCCESS)
         rv = exr_write_header(ctxt);
     if (rv == EXR_ERR_SUCCESS)
-        rv = exr_write_all_chunks(ctxt, width, height, rgb, noisy);
+        rv = exr_write_all_chunks(ctxt, width, height, sources, count);
     /* exr_finish writes the chunk offset table, so its result matters even after success. */
     if (ctxt) {
         exr_result_t finish_rv = exr_finish(&ctxt);
@@ -415,12 +416,134 @@ static bool write_exr(const char *path, uint32_t width, uint32_t height, const f
  * Entry point
  * ------------------------------------------------------------------------------------------- */
 
-bool vkrt_image_write_frame(const char *path, uint32_t width, uint32_t height, const float *rgb,
-                            const vkrt_finish_desc *finish, vkrt_error *err)
+/* ---------------------------------------------------------------------------------------------
+ * AOVs (--aov): layers of the EXR, or files beside the PNG
+ * ------------------------------------------------------------------------------------------- */
+
+/* Appends a layer's channels (names, NULL-terminated): channel k at values + k, values holding
+ * as many floats a pixel as there are names. */
+static void add_layer(exr_source *sources, size_t *count, const char *const *names,
+                      const float *values)
 {
+    int32_t stride = 0;
+    while (names[stride])
+        ++stride;
+    for (int32_t k = 0; k < stride; ++k)
+        sources[(*count)++] = (exr_source){names[k], values + k, stride};
+}
+
+/* The channel names of each layer, as Nuke names a layer's channels (layer.channel) and as
+ * Blender reads passes of a layer without a name (pass.channel, beside R, G, B, its Combined). */
+static const char *const beauty_channels[] = {"R", "G", "B", NULL};
+static const char *const albedo_channels[] = {"albedo.R", "albedo.G", "albedo.B", NULL};
+static const char *const normal_channels[] = {"normal.X", "normal.Y", "normal.Z", NULL};
+static const char *const depth_channels[] = {"depth.Z", NULL};
+static const char *const position_channels[] = {"position.X", "position.Y", "position.Z", NULL};
+/* The radiance rendered, kept beside a denoised beauty (--denoise). */
+static const char *const noisy_channels[] = {"noisy.R", "noisy.G", "noisy.B", NULL};
+
+enum { MAX_CHANNELS = 16 };
+
+/* The channels of frame's EXR: the beauty (rgb: the finished radiance), the radiance rendered
+ * where the finish stage denoised it (noisy), and every AOV the frame has. */
+static size_t frame_channels(const vkrt_frame_image *frame, const float *rgb, const float *noisy,
+                             exr_source sources[MAX_CHANNELS])
+{
+    size_t count = 0;
+    add_layer(sources, &count, beauty_channels, rgb);
+    if (noisy)
+        add_layer(sources, &count, noisy_channels, noisy);
+    if (frame->albedo)
+        add_layer(sources, &count, albedo_channels, frame->albedo);
+    if (frame->normal)
+        add_layer(sources, &count, normal_channels, frame->normal);
+    if (frame->depth)
+        add_layer(sources, &count, depth_channels, frame->depth);
+    if (frame->position)
+        add_layer(sources, &count, position_channels, frame->position);
+    return count;
+}
+
+/* Where AOV `name` of the image at path goes beside it: path without its extension, then
+ * ".name.extension" ("shot.png" -> "shot.albedo.png"). */
+static bool beside_path(char *out, size_t size, const char *path, const char *name,
+                        const char *extension, vkrt_error *err)
+{
+    const char *dot = strrchr(path, '.');
+    const char *slash = strrchr(path, '/');
+    size_t stem = dot && (!slash || dot > slash) ? (size_t)(dot - path) : strlen(path);
+    int n = snprintf(out, size, "%.*s.%s.%s", (int)stem, path, name, extension);
+    if (n < 0 || (size_t)n >= size)
+        return vkrt_error_set(err, "%s: the path of its %s image is too long", path, name);
+    return true;
+}
+
+/* A unit-range vector a pixel as 8-bit codes, 0.5 v + 0.5 (a normal map's convention: -1 is 0,
+ * +1 is 255, 0 is 128), no transfer curve. */
+static void vectors_to_codes(const float *v, size_t count, uint8_t *codes)
+{
+    for (size_t i = 0; i < count; ++i) {
+        /* In double: the nearest code to the exact value, also where it is near a half. */
+        double x = 0.5 * v[i] + 0.5;
+        x = x > 0.0 ? (x < 1.0 ? x : 1.0) : 0.0; /* NaN to 0 too */
+        codes[i] = (uint8_t)lrint(255.0 * x);
+    }
+}
+
+/* The AOVs of frame as files beside the 8-bit picture at path: albedo as an sRGB PNG (a colour,
+ * encoded as the beauty is but without its exposure), normal as a PNG of 0.5 n + 0.5, depth and
+ * position as float EXRs (no 8-bit range holds distances), their channels named as in a
+ * frame's EXR. */
+static bool write_aovs_beside(const char *path, const vkrt_frame_image *frame, vkrt_error *err)
+{
+    uint32_t w = frame->width, h = frame->height;
+    size_t values = (size_t)w * h * 3;
+    char beside[4096];
+    uint8_t *codes = frame->albedo || frame->normal ? malloc(values) : NULL;
+    if ((frame->albedo || frame->normal) && !codes)
+        return vkrt_error_set(err, "%s: cannot write its AOVs: out of memory", path);
+    bool ok = true;
+    if (ok && frame->albedo)
+        ok = beside_path(beside, sizeof beside, path, "albedo", "png", err) &&
+             vkrt_finish_srgb8(&(vkrt_finish_desc){0},
+                               &(vkrt_finish_frame){.width = w, .height = h, .rgb = frame->albedo},
+                               codes, err) &&
+             write_png8(beside, w, h, codes, err);
+    if (ok && frame->normal) {
+        vectors_to_codes(frame->normal, values, codes);
+        ok = beside_path(beside, sizeof beside, path, "normal", "png", err) &&
+             write_png8(beside, w, h, codes, err);
+    }
+    free(codes);
+    struct {
+        const char *name;
+        const float *values;
+        const char *const *channels;
+    } floats[] = {{"depth", frame->depth, depth_channels},
+                  {"position", frame->position, position_channels}};
+    for (size_t k = 0; ok && k < sizeof floats / sizeof *floats; ++k) {
+        if (!floats[k].values)
+            continue;
+        exr_source sources[MAX_CHANNELS];
+        size_t count = 0;
+        add_layer(sources, &count, floats[k].channels, floats[k].values);
+        ok = beside_path(beside, sizeof beside, path, floats[k].name, "exr", err) &&
+             write_exr(beside, w, h, sources, count, err);
+    }
+    return ok;
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Entry point
+ * ------------------------------------------------------------------------------------------- */
+
+bool vkrt_image_write_layers(const char *path, const vkrt_frame_image *frame,
+                             const vkrt_finish_desc *finish, vkrt_error *err)
+{
+    uint32_t width = frame->width, height = frame->height;
     if (!path || path[0] == '\0')
         return vkrt_error_set(err, "cannot write image: empty output path");
-    if (width == 0 || height == 0 || !rgb)
+    if (width == 0 || height == 0 || !frame->rgb)
         return vkrt_error_set(err, "%s: cannot write an empty image (%" PRIu32 "x%" PRIu32 ")",
                               path, width, height);
     if ((uint64_t)width * height > SIZE_MAX / (3 * sizeof(float)))
@@ -432,21 +555,35 @@ bool vkrt_image_write_frame(const char *path, uint32_t width, uint32_t height, c
     bool ok;
     switch (vkrt_image_format_of(path)) {
     case VKRT_IMAGE_PNG:
-        return write_png(path, width, height, rgb, finish, err);
+        /* The AOVs first: a complete beauty (what --resume checks) has them complete beside. */
+        return write_aovs_beside(path, frame, err) &&
+               write_png(path, frame, finish, err);
     case VKRT_IMAGE_EXR:
-        linear = vkrt_finish_linear(
-            finish, &(vkrt_finish_frame){.width = width, .height = height, .rgb = rgb}, &scratch,
-            err);
+        linear = vkrt_finish_linear(finish,
+                                    &(vkrt_finish_frame){.width = width, .height = height,
+                                                         .rgb = frame->rgb,
+                                                         .albedo = guide_albedo(frame),
+                                                         .normal = guide_normal(frame)},
+                                    &scratch, err);
         if (!linear)
             return vkrt_error_prefix(err, "%s: cannot write", path);
+        exr_source sources[MAX_CHANNELS];
         /* Denoised: the beauty is the denoiser's, and the radiance rendered stays beside it. */
-        ok = write_exr(path, width, height, linear, finish->denoiser ? rgb : NULL, err);
+        size_t count = frame_channels(frame, linear, finish->denoiser ? frame->rgb : NULL, sources);
+        ok = write_exr(path, width, height, sources, count, err);
         free(scratch);
         return ok;
     case VKRT_IMAGE_UNKNOWN:
     default:
         return vkrt_error_set(err, "%s: unknown image format (use .png or .exr)", path);
     }
+}
+
+bool vkrt_image_write_frame(const char *path, uint32_t width, uint32_t height, const float *rgb,
+                            const vkrt_finish_desc *finish, vkrt_error *err)
+{
+    vkrt_frame_image frame = {.width = width, .height = height, .rgb = rgb};
+    return vkrt_image_write_layers(path, &frame, finish, err);
 }
 
 bool vkrt_image_write(const char *path, uint32_t width, uint32_t height, const float *rgb,

@@ -28,6 +28,37 @@ typedef enum vkrt_image_format {
 /* The format for a path's extension (case-insensitive), or VKRT_IMAGE_UNKNOWN. */
 vkrt_image_format vkrt_image_format_of(const char *path);
 
+/* A finished frame as the writers get it: the beauty, linear RGB radiance (3 floats a pixel, the
+ * top row first), and its AOVs (--aov), each NULL when not asked for, as
+ * vkrt_renderer_read_aovs (render/renderer.h) gives them, anti-aliased as the beauty is:
+ *   albedo    3 floats a pixel in [0, 1], at each sample's first non-delta hit
+ *   normal    3 floats a pixel in [-1, 1], the world-space shading normal there
+ *   depth     1 float a pixel, the camera ray's hit distance (+inf where nothing was hit)
+ *   position  3 floats a pixel, its world-space hit point (0 where nothing was hit)
+ * What a pass on the finished frame (a denoiser's albedo and normal guides) reads. */
+typedef struct vkrt_frame_image {
+    uint32_t width, height;
+    const float *rgb;
+    const float *albedo, *normal, *depth, *position;
+    /* The denoiser's guides (finish.h) where the albedo and normal are not written themselves
+     * (--denoise without --aov): handed to the finish stage, never written. */
+    const float *guide_albedo, *guide_normal;
+} vkrt_frame_image;
+
+/* Writes frame to path as vkrt_image_write_frame writes its rgb, with its AOVs:
+ *   .exr: one scanline part whose channels are the beauty's R, G, B and a layer per AOV, named as
+ *         Nuke reads layers (layer.channel) and Blender passes: albedo.R/G/B, normal.X/Y/Z,
+ *         depth.Z, position.X/Y/Z (float, linear; the finish stage touches the beauty only);
+ *   .png: a file per AOV beside it, path's extension replaced: NAME.albedo.png (sRGB, as the
+ *         beauty without its exposure), NAME.normal.png (0.5 n + 0.5 in 8 bits, no curve),
+ *         NAME.depth.exr and NAME.position.exr (float, channels named as in the EXR: 8 bits
+ *         hold no distances). They are written before the beauty, each complete or not at all,
+ *         so a complete beauty (what --resume checks) has its AOVs complete beside it.
+ * False with err naming the file that failed; then the beauty is left as vkrt_image_write_frame
+ * leaves it on failure. */
+bool vkrt_image_write_layers(const char *path, const vkrt_frame_image *frame,
+                             const vkrt_finish_desc *finish, vkrt_error *err);
+
 /* Writes width x height pixels of rgb to path, finished as finish describes for the path's
  * format. Returns false with err naming the path on any failure; then no file is left at path (an
  * existing file there is left untouched) and no temporary file remains. */

@@ -28,8 +28,13 @@ enum { DEFAULT_MAX_THREADS = 4 };
 /* Frames in flight besides those being written: the one being rendered and one waiting. */
 enum { EXTRA_BUFFERS = 2 };
 
+/* The AOVs a slot may hold, in VKRT_AOV_* bit order, and their floats a pixel. */
+enum { AOV_KINDS = 4 };
+static const uint32_t aov_floats[AOV_KINDS] = {3, 3, 1, 3};
+
 typedef struct slot {
     float *rgb;
+    float *aovs[AOV_KINDS]; /* albedo, normal, depth, position: those of desc.aovs, else NULL */
     vkrt_written_frame frame;
     char path[4096];
 } slot;
@@ -83,7 +88,14 @@ bool vkrt_write_pool_threads(uint32_t sharers, uint32_t *threads, vkrt_error *er
 static bool write_slot(vkrt_write_pool *pool, slot *s, vkrt_error *err)
 {
     const vkrt_write_pool_desc *d = &pool->desc;
-    bool ok = vkrt_image_write_frame(s->path, d->width, d->height, s->rgb, &d->finish, err);
+    const float *written[AOV_KINDS];
+    for (int k = 0; k < AOV_KINDS; ++k)
+        written[k] = d->aovs_written & (1u << k) ? s->aovs[k] : NULL;
+    vkrt_frame_image image = {.width = d->width, .height = d->height, .rgb = s->rgb,
+                              .albedo = written[0], .normal = written[1], .depth = written[2],
+                              .position = written[3], .guide_albedo = s->aovs[0],
+                              .guide_normal = s->aovs[1]};
+    bool ok = vkrt_image_write_layers(s->path, &image, &d->finish, err);
     if (ok && d->written) {
         pthread_mutex_lock(&pool->report_lock);
         d->written(d->user, &s->frame);
@@ -178,8 +190,12 @@ bool vkrt_write_pool_create(vkrt_write_pool **out, const vkrt_write_pool_desc *d
     pool->queue = calloc(pool->slot_count, sizeof *pool->queue);
     bool ok = pool->slots && pool->free_slots && pool->queue;
     size_t values = (size_t)desc->width * desc->height * 3;
+    size_t pixels = (size_t)desc->width * desc->height;
     for (uint32_t i = 0; ok && i < pool->slot_count; ++i) {
         ok = (pool->slots[i].rgb = malloc(values * sizeof(float))) != NULL;
+        for (uint32_t k = 0; ok && k < AOV_KINDS; ++k)
+            if (desc->aovs & (1u << k))
+                ok = (pool->slots[i].aovs[k] = malloc(pixels * aov_floats[k] * sizeof(float))) != NULL;
         pool->free_slots[pool->free_count++] = pool->slot_count - 1 - i;
     }
     if (!ok) {
@@ -210,6 +226,14 @@ float *vkrt_write_pool_buffer(vkrt_write_pool *pool, vkrt_error *err)
     }
     pthread_mutex_unlock(&pool->lock);
     return rgb;
+}
+
+void vkrt_write_pool_aovs(vkrt_write_pool *pool, float *aovs[4])
+{
+    pthread_mutex_lock(&pool->lock);
+    for (uint32_t k = 0; k < AOV_KINDS; ++k)
+        aovs[k] = pool->held >= 0 ? pool->slots[pool->held].aovs[k] : NULL;
+    pthread_mutex_unlock(&pool->lock);
 }
 
 bool vkrt_write_pool_submit(vkrt_write_pool *pool, const vkrt_written_frame *frame, vkrt_error *err)
@@ -277,8 +301,11 @@ void vkrt_write_pool_destroy(vkrt_write_pool *pool)
     pthread_mutex_destroy(&pool->report_lock);
     pthread_cond_destroy(&pool->changed);
     pthread_mutex_destroy(&pool->lock);
-    for (uint32_t i = 0; pool->slots && i < pool->slot_count; ++i)
+    for (uint32_t i = 0; pool->slots && i < pool->slot_count; ++i) {
         free(pool->slots[i].rgb);
+        for (uint32_t k = 0; k < AOV_KINDS; ++k)
+            free(pool->slots[i].aovs[k]);
+    }
     free(pool->slots);
     free(pool->free_slots);
     free(pool->queue);

@@ -36,6 +36,10 @@ typedef struct vkrt_write_pool_desc {
     uint32_t threads; /* writer threads, at most VKRT_WRITE_POOL_MAX_THREADS; 0: no threads */
     uint32_t width, height;
     vkrt_finish_desc finish; /* the finish stage every frame passes through (finish.h) */
+    uint32_t aovs;    /* the AOVs each frame carries (--aov): VKRT_AOV_* of glsl/shared.h, 1
+                         albedo, 2 normal, 4 depth, 8 position; 0: the beauty alone */
+    uint32_t aovs_written; /* of aovs, those written beside the beauty (--aov); the others are
+                              the denoiser's guides, handed to the finish stage only */
     /* Called once a frame's file is complete (renamed into place), on the thread that wrote it;
      * calls of both callbacks never overlap. May be NULL. */
     void (*written)(void *user, const vkrt_written_frame *frame);
@@ -62,6 +66,12 @@ bool vkrt_write_pool_create(vkrt_write_pool **pool, const vkrt_write_pool_desc *
  * not yet submitted, else a free one, waiting for a writer to free one. NULL with err set when a
  * write has failed. */
 float *vkrt_write_pool_buffer(vkrt_write_pool *pool, vkrt_error *err);
+
+/* The AOV buffers of the frame held since vkrt_write_pool_buffer, for the render loop to read the
+ * frame's AOVs into: aovs[k] for the AOV of bit 1 << k of desc.aovs (albedo, normal, depth,
+ * position, laid out as image_write.h's vkrt_frame_image says), NULL for those it lacks or when
+ * no frame is held. They are written with the frame's beauty. */
+void vkrt_write_pool_aovs(vkrt_write_pool *pool, float *aovs[4]);
 
 /* Queues the buffer taken by vkrt_write_pool_buffer, holding frame's pixels, to be written to
  * frame->path. With 0 threads writes it now. False with err set when this or an earlier write

@@ -35,6 +35,14 @@ typedef struct vkrt_material_kernel {
 bool vkrt_material_kernel_create(vkrt_material_kernel *k, const vkrt_scene_materials *materials,
                                  bool float_atomics, bool path, vkrt_error *err);
 
+/* vkrt_material_kernel_create; with whitted_samples, a Whitted module also switches over the
+ * bsdf_sample of each shader that names one (a token search; the others return false): --aov
+ * asks it whether a Whitted path goes on through a delta bounce (glsl/shade.comp). */
+bool vkrt_material_kernel_create_sampling(vkrt_material_kernel *k,
+                                          const vkrt_scene_materials *materials,
+                                          bool float_atomics, bool path, bool whitted_samples,
+                                          vkrt_error *err);
+
 /* Compiles kernel (e.g. "shade.comp") against the module, with preamble (NULL or the device's
  * #extension and #define lines, gpu_shader_sources.preamble); on a compile error in a user's
  * shader err names the material file line that uses it. */

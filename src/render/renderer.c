@@ -242,6 +242,7 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
     r->emitter_light = ok && r->integrator == VKRT_INTEGRATOR_WHITTED && first_emitter(mats);
     r->light_words = (scene->light_count + r->emitter_light + 31) / 32;
     r->clamp = desc->clamp;
+    r->aovs = desc->aovs & VKRT_AOV_ALL;
     r->seed = desc->seed;
     r->shutter = desc->shutter;
     /* The path tracer's last wave only looks for the light its BSDF samples find (nee.comp skips
@@ -304,8 +305,9 @@ bool vkrt_renderer_create(vkrt_renderer **out, gpu_context *ctx, const vkrt_scen
     ok = ok && size_ray_buffers(r, desc, err) &&
          gpu_storage_set_create_texels(ctx, &r->set, VKRT_STORAGE_BINDINGS, VKRT_TEXEL_BINDINGS,
                                        sizeof(FrameParams), err) &&
-         vkrt_material_kernel_create(&kernel, mats, ctx->float_atomics,
-                                     r->integrator == VKRT_INTEGRATOR_PATH, err) &&
+         vkrt_material_kernel_create_sampling(&kernel, mats, ctx->float_atomics,
+                                              r->integrator == VKRT_INTEGRATOR_PATH,
+                                              (r->aovs & VKRT_AOV_SURFACE) != 0, err) &&
          renderer_scan_materials(r, mats, err);
     if (ok && renderer_data_layout_predict(r, &accel, &world, mats, &layout)) {
         renderer_kernel_plan_make(r, &layout, has_normals, has_texcoords, desc->traversal_stats,
@@ -391,7 +393,7 @@ vkrt_renderer_memory vkrt_renderer_memory_use(const vkrt_renderer *r)
         .textures = r->texture_infos.device_bytes + gpu_array_device_bytes(&r->texels),
         .rays = r->rays.device_bytes + r->rays_b.device_bytes + r->hits.device_bytes +
                 r->visibility.device_bytes + r->slots.device_bytes,
-        .image = r->image.device_bytes,
+        .image = r->image.device_bytes + r->aov_planes.device_bytes,
         .other = r->materials.device_bytes + r->lights.device_bytes + r->counters.device_bytes +
                  r->waves.device_bytes + r->emitters.device_bytes + r->environment.device_bytes +
                  r->plastic_tables.device_bytes + r->split_addresses.device_bytes,
@@ -426,7 +428,7 @@ void vkrt_renderer_destroy(vkrt_renderer *r)
     gpu_buffer_view_destroy(r->ctx, &r->node_view);
     renderer_destroy_ray_buffers(r);
     renderer_adaptive_destroy_buffers(r);
-    gpu_buffer *buffers[] = {&r->split_addresses, &r->counters,      &r->image,
+    gpu_buffer *buffers[] = {&r->aov_planes,      &r->split_addresses, &r->counters,      &r->image,
                              &r->waves,           &r->lights,        &r->materials,
                              &r->texture_infos,   &r->emitters,      &r->environment,
                              &r->plastic_tables};

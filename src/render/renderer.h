@@ -79,6 +79,9 @@ typedef struct vkrt_render_desc {
                                  (glsl/lib/adaptive.glsl) is at most this, or it has `samples`
                                  (the cap); path integrator only. 0: every pixel gets
                                  `samples` (--target-error; vkrt_renderer_convergence) */
+    uint32_t aovs;            /* --aov: VKRT_AOV_* of glsl/shared.h, the AOVs each frame records
+                                 besides the image (vkrt_renderer_read_aovs); 0: none, and the
+                                 kernels are those of a render without (glsl/lib/aov.glsl) */
     uint32_t seed;            /* the random numbers' seed: frame f of seed s draws other numbers than
                                  of seed s' (--seed; 0: the default) */
     vkrt_tuning_overrides tuning; /* zero: the device's defaults (tuning.h) */
@@ -148,6 +151,25 @@ bool vkrt_renderer_convergence(vkrt_renderer *r, vkrt_convergence *out, float *e
  * sample count): width * height * 3 floats, top row first. */
 bool vkrt_renderer_read_image(vkrt_renderer *r, uint32_t passes, float *rgb, vkrt_error *err);
 
+/* Reads the frame's AOVs back (those of vkrt_render_desc.aovs; glsl/shared.h and
+ * docs/scene-format.md, "AOVs", say what each is), width * height pixels, the top row first,
+ * each averaged over the pixel's samples as the image is (passes as for read_image; 0: the
+ * renderer's samples, what vkrt_renderer_render rendered):
+ *   albedo    3 floats in [0, 1]: the albedo at each sample's first non-delta hit
+ *   normal    3 floats: the world-space shading normal there, facing the arriving ray (the
+ *             mean of unit vectors, so shorter at edges; 0 where every sample escaped)
+ *   depth     1 float: the camera ray's hit distance, over the samples that hit; +inf where none
+ *   position  3 floats: the camera ray's world-space hit point, likewise; 0 where none hit
+ * Each pointer may be NULL (not read); one whose AOV the renderer does not record is an error. */
+bool vkrt_renderer_read_aovs(vkrt_renderer *r, uint32_t passes, float *albedo, float *normal,
+                             float *depth, float *position, vkrt_error *err);
+
+/* The AOVs the renderer records (VKRT_AOV_*), and their GPU buffer (planes as glsl/shared.h's
+ * VKRT_AOV_* comment lays them out; a minimal buffer without any), for a pass that reads them on
+ * the device. */
+uint32_t vkrt_renderer_aovs(const vkrt_renderer *r);
+const gpu_buffer *vkrt_renderer_aov_buffer(const vkrt_renderer *r);
+
 /* Whether the image's w holds each pixel's sample count (a target error), by which it is divided,
  * rather than every pixel having the passes added. */
 bool vkrt_renderer_per_pixel_counts(const vkrt_renderer *r);
@@ -168,7 +190,7 @@ typedef struct vkrt_renderer_memory {
     uint64_t nodes;     /* the acceleration structure */
     uint64_t textures;  /* texels and their table */
     uint64_t rays;      /* rays, hits, shadow-ray visibility, ray slots */
-    uint64_t image;     /* the accumulated image */
+    uint64_t image;     /* the accumulated image and its AOVs (--aov) */
     uint64_t other;     /* materials, lights, emitters, environment map, counters */
     uint64_t total;
 } vkrt_renderer_memory;

@@ -69,7 +69,7 @@ bool renderer_create_frame_buffers(vkrt_renderer *r, vkrt_error *err)
            gpu_buffer_create(r->ctx, &r->counters, sizeof(Counters), "counters", err) &&
            gpu_buffer_create(r->ctx, &r->waves, (r->max_depth + 2) * sizeof(WaveState),
                              "wave buffer", err) &&
-           renderer_adaptive_create_buffers(r, err);
+           renderer_adaptive_create_buffers(r, err) && renderer_aov_create_buffer(r, err);
 }
 
 void renderer_bind_all(vkrt_renderer *r)
@@ -103,6 +103,7 @@ void renderer_bind_all(vkrt_renderer *r)
         [VKRT_BINDING_SPLIT_ADDRESSES] = &r->split_addresses,
         [VKRT_BINDING_MATERIAL_ORDER] = &r->order_buffer,
         [VKRT_BINDING_PLASTIC_TABLES] = &r->plastic_tables,
+        [VKRT_BINDING_AOVS] = &r->aov_planes,
     };
     for (uint32_t i = 0; i < VKRT_STORAGE_BINDINGS; ++i)
         gpu_storage_set_bind(r->ctx, &r->set, i, bound[i]);

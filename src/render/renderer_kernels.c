@@ -294,6 +294,7 @@ void renderer_kernel_plan_make(const vkrt_renderer *r, const renderer_data_layou
         {VKRT_SPEC_SPLIT_REFS, shift[VKRT_SPLIT_REFS]},
         {VKRT_SPEC_SPLIT_TEXELS, shift[VKRT_SPLIT_TEXELS]},
         {VKRT_SPEC_MATERIAL_ORDER, r->material_order},
+        {VKRT_SPEC_AOVS, r->aovs},
     };
     memset(plan, 0, sizeof *plan);
     bool split = false;

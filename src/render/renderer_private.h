@@ -36,6 +36,10 @@ struct vkrt_renderer {
     /* Adaptive sampling's PixelStats, ActivePixels and per-sample luminance (bindings.glsl);
      * minimal buffers without a target error. */
     gpu_buffer pixel_stats, active_pixels, sample_luminance;
+    /* --aov: the AOVs the kernels record (VKRT_AOV_* of glsl/shared.h, vkrt_render_desc.aovs)
+     * and their planes (binding VKRT_BINDING_AOVS; a minimal buffer without any). */
+    uint32_t aovs;
+    gpu_buffer aov_planes;
     float target_error;         /* vkrt_render_desc.target_error; 0: uniform sampling */
     vkrt_integrator integrator; /* never auto */
     char integrator_reason[256];
@@ -145,6 +149,9 @@ void renderer_adaptive_record_raygen(vkrt_renderer *r, VkCommandBuffer cmd, Fram
 bool renderer_adaptive_render(vkrt_renderer *r, const vkrt_config_camera *camera,
                               uint32_t frame_index, vkrt_frame_stats *stats, vkrt_error *err);
 
+/* renderer_aov.c: the AOV planes, sized for r->aovs (a minimal buffer without any). */
+bool renderer_aov_create_buffer(vkrt_renderer *r, vkrt_error *err);
+
 /* What the structure and the uploads decide of the kernels: known after them, predicted before
  * (renderer_data_layout_predict). */
 typedef struct renderer_data_layout {
@@ -170,7 +177,7 @@ bool renderer_scan_materials(vkrt_renderer *r, const vkrt_scene_materials *mats,
 
 /* renderer_kernels.c: the wave kernels, the material ones from the scene's materials, each
  * compiled on a thread of its own. What they are compiled for besides their sources: */
-enum { RENDERER_KERNEL_CONSTANTS = 23 };
+enum { RENDERER_KERNEL_CONSTANTS = 24 };
 typedef struct renderer_kernel_plan {
     bool split;               /* the preamble reads split arrays through device addresses */
     bool adaptive;            /* adapt.comp and adapt_dispatch.comp too (a target error) */
