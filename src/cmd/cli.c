@@ -60,6 +60,9 @@ const char *vkrt_usage(void)
            "  --seed N          another set of random numbers (default 0): renders of one scene\n"
            "                    with different seeds have independent noise\n"
            "  --exposure STOPS  scale PNG output by 2^STOPS before the sRGB curve (EXR unchanged)\n"
+           "  --tonemap C       none | aces | agx (overrides `tonemap`): the tone curve of PNG\n"
+           "                    output and the window, after --exposure: none clips at 1, aces is\n"
+           "                    Hill's ACES fit, agx Blender's AgX (minimal fit); EXR unchanged\n"
            "  --device N        Vulkan device (see --list-devices); default: the first discrete\n"
            "                    GPU, else the first device\n"
            "  --validation      enable Vulkan validation layers (also VKRT_VALIDATION=1); any\n"
@@ -92,12 +95,12 @@ const char *vkrt_usage(void)
            "  --bvh-cost C  --kd-cost C  --loads storage|texel  --walk one-loop|nested\n"
            "\n"
            "view options: --width, --height, --spp, --accel, --bvh-splits, --instancing,\n"
-           "  --integrator, --clamp, --exposure, --target-error, --camera, --fps, --environment,\n"
-           "  --environment-map, --device, --validation, --quiet, --no-cache as for render; the\n"
-           "  window opens at the scene's resolution, from its first camera (or --camera's), and a\n"
-           "  still picture gathers samples until it has --spp of them (default: the scene's\n"
-           "  `samples`, at least 16), or with --target-error until every pixel is within it (--spp\n"
-           "  the cap)\n"
+           "  --integrator, --clamp, --exposure, --tonemap, --target-error, --camera, --fps,\n"
+           "  --environment, --environment-map, --device, --validation, --quiet, --no-cache as for\n"
+           "  render; the window opens at the scene's resolution, from its first camera (or\n"
+           "  --camera's), and a still picture gathers samples until it has --spp of them\n"
+           "  (default: the scene's `samples`, at least 16), or with --target-error until every\n"
+           "  pixel is within it (--spp the cap)\n"
            "  --record FILE     K appends the camera to FILE as a scene.cfg `camera` line\n"
            "  --script FILE     play key and mouse events from FILE (a testing aid; see\n"
            "                    docs/viewer.md)\n"
@@ -189,7 +192,7 @@ static const struct known_option {
     {"--target-error", RENDER | VIEW},                  {"--sample-count-image", RENDER},
     {"--bvh-splits", ALL},   {"--instancing", ALL},     {"--camera", RENDER | VIEW},
     {"--fps", RENDER | VIEW},                           {"--environment", RENDER | VIEW},
-    {"--environment-map", RENDER | VIEW},
+    {"--environment-map", RENDER | VIEW},               {"--tonemap", RENDER | VIEW},
 };
 
 static const char *command_name(vkrt_command command)
@@ -313,6 +316,11 @@ static bool parse_scene_option(const char *arg, char *const *values, int count,
         if (!value || !*value)
             return vkrt_error_set(err, "--environment-map needs a path");
         o->environment_map = value;
+    } else if (strcmp(arg, "--tonemap") == 0) {
+        if (!vkrt_tonemap_parse(value, &o->tonemap))
+            return vkrt_error_set(err, "--tonemap: '%s' is not one of none, aces, agx",
+                                  value ? value : "");
+        o->tonemap_given = true;
     } else {
         *used = false;
         *consumed = 0;

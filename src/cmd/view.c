@@ -31,7 +31,7 @@ int vkrt_cmd_view(const vkrt_command_line *cl)
         .scene_path = opts->scene_path,
         .scene = &scene,
         .render = vkrt_render_desc_for(&scene.config, cl),
-        .finish = {.exposure = opts->exposure},
+        .finish = {.exposure = opts->exposure, .tonemap = scene.config.tonemap},
         .device = opts->common.device,
         .validation = opts->common.validation,
         .quiet = opts->common.quiet,

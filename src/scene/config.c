@@ -466,6 +466,16 @@ static bool kw_bvh_splits(parser *p, const tokens *t)
     return true;
 }
 
+static bool kw_tonemap(parser *p, const tokens *t)
+{
+    char buf[SHOWN_TOKEN_BYTES + 4];
+    if (t->count != 2)
+        return fail(p, "tonemap needs one name (none, aces or agx), got %d", t->count - 1);
+    if (!vkrt_tonemap_parse(t->tok[1], &p->cfg->tonemap))
+        return fail(p, "unknown tonemap '%s' (expected none, aces or agx)", shown(t->tok[1], buf));
+    return true;
+}
+
 static bool kw_environment(parser *p, const tokens *t)
 {
     return want_numbers(p, t, 1, 3, "environment") &&
@@ -746,6 +756,7 @@ static const keyword keywords[] = {
     {"accel", true, kw_accel},
     {"integrator", true, kw_integrator},
     {"bvh-splits", true, kw_bvh_splits},
+    {"tonemap", true, kw_tonemap},
     {"output", true, kw_output},
     {"environment", true, kw_environment},
     {"environment-map", true, kw_environment_map},
@@ -779,8 +790,8 @@ static bool parse_line(void *ctx, const tokens *t)
         return keywords[i].parse(p, t);
     }
     return fail(p, "unknown keyword '%s' (expected geometry, materials, resolution, samples, "
-                   "max-depth, shutter, accel, integrator, bvh-splits, output, environment, "
-                   "environment-map, light or camera)",
+                   "max-depth, shutter, accel, integrator, bvh-splits, tonemap, output, "
+                   "environment, environment-map, light or camera)",
                 shown(t->tok[0], buf));
 }
 
