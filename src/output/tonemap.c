@@ -41,7 +41,7 @@ static inline __attribute__((always_inline)) void run_steps(const curve_steps *c
         rgb[i] = c->display(rgb[i]);
 }
 
-/* x clamped to [lo, hi] (x is never NaN here: tonemap_pixel turns NaN pixels black first).
+/* x clamped to [lo, hi] (x is never NaN here: map_pixel turns NaN pixels black first).
  * Comparisons rather than fminf and fmaxf, which are calls into libm. */
 static inline float clamp_to(float x, float lo, float hi)
 {
