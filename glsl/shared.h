@@ -75,6 +75,15 @@ typedef uint32_t uint;
 #define VKRT_DISPLAY_BINDING_IMAGE 0
 #define VKRT_DISPLAY_BINDING_WINDOW 1
 
+/* The display pass's push constants. */
+VKRT_STRUCT(DisplayParams) {
+    uvec4 size;   /* image width, height; window width, height */
+    vec4 scale;   /* x: 1 / passes, y: 2^exposure, z: 1 to store red in the third byte (BGRA),
+                     w: 1 to divide by each pixel's own count, its w, instead of x (sampling to a
+                     target error: glsl/adapt.comp) */
+    uvec4 curve;  /* x: the tone curve after exposure (glsl/tone_curves.h's VKRT_TONE_CURVE_*) */
+};
+
 /* Specialization constant ids of the wavefront kernels (0 is the workgroup size). */
 #define VKRT_SPEC_WORKGROUP_SIZE 0
 #define VKRT_SPEC_HAS_NORMALS 1

@@ -137,6 +137,16 @@ check "a pixel that sees nothing is the radiance given x 2^exposure, sRGB-encode
 check "and so is the opposite corner" test "$("$pixel" "$tmp/env.png" 7 5)" = "$(srgb8 0.05 0.3 0.7)"
 "$vkrt" render "$tmp/away.cfg" --quiet -o "$tmp/noenv.png"
 check "without it, the scene's environment line" test "$("$pixel" "$tmp/noenv.png" 3 2)" = "255 0 0"
+# The tone curve: scene.cfg's `tonemap agx` after exposure. 97 154 192 is Wrensch's minimal AgX
+# of (0.05, 0.3, 0.7) in double precision, sRGB-encoded (tests/test_tonemap.c holds the curve to
+# that code; test_view.sh runs --tonemap through render and the window).
+{ cat "$tmp/away.cfg"; echo "tonemap agx"; } >"$tmp/agx.cfg"
+"$vkrt" render "$tmp/agx.cfg" --environment 0.025 0.15 0.35 --exposure 1 --quiet -o "$tmp/agx.png"
+check "scene.cfg tonemap agx: the pixel is AgX's (97 154 192)" \
+    test "$("$pixel" "$tmp/agx.png" 3 2)" = "97 154 192"
+"$vkrt" render "$tmp/away.cfg" --tonemap filmic -o "$tmp/filmic.png" 2>"$tmp/err"
+check "--tonemap filmic is refused" test $? -eq 2
+check "and the message lists the curves" grep -q -- "--tonemap: 'filmic' is not one of none, aces, agx" "$tmp/err"
 for bad in "1 2" "1 -2 3" "1 x 3"; do
     # shellcheck disable=SC2086
     "$vkrt" render "$tmp/away.cfg" --environment $bad -o "$tmp/envbad.png" 2>"$tmp/err"

@@ -97,7 +97,8 @@ static void test_every_keyword(void **state)
                        "integrator  path\n"
                        "bvh-splits  off\n"
                        "textures    nearest\n"
-                       "environment-map sky/noon.exr scale 2.5 rotate -90\n";
+                       "environment-map sky/noon.exr scale 2.5 rotate -90\n"
+                       "tonemap     agx\n";
     vkrt_config cfg;
     parse_ok(text, "scenes/demo", &cfg);
 
@@ -113,6 +114,7 @@ static void test_every_keyword(void **state)
     assert_int_equal(cfg.integrator, VKRT_INTEGRATOR_PATH);
     assert_int_equal(cfg.bvh_splits, VKRT_BVH_SPLITS_OFF);
     assert_int_equal(cfg.texture_filter, VKRT_TEXTURE_FILTER_NEAREST);
+    assert_int_equal(cfg.tonemap, VKRT_TONEMAP_AGX);
     assert_vec3(cfg.environment, 0.05f, 0.25f, 0.5f);
     assert_string_equal(cfg.environment_map, "scenes/demo/sky/noon.exr");
     assert_float_equal(cfg.environment_scale, 2.5f, 0);
@@ -168,6 +170,7 @@ static void test_defaults(void **state)
     assert_int_equal(cfg.integrator, VKRT_INTEGRATOR_AUTO);
     assert_int_equal(cfg.bvh_splits, VKRT_BVH_SPLITS_AUTO);
     assert_int_equal(cfg.texture_filter, VKRT_TEXTURE_FILTER_CONE);
+    assert_int_equal(cfg.tonemap, VKRT_TONEMAP_NONE);
     assert_vec3(cfg.environment, 0, 0, 0);
     assert_null(cfg.environment_map);
     assert_float_equal(cfg.environment_scale, 1.0f, 0);
@@ -379,6 +382,25 @@ static void test_integrator_names(void **state)
     assert_string_equal(vkrt_integrator_name((vkrt_integrator)42), "unknown");
 }
 
+static void test_tonemap_names(void **state)
+{
+    (void)state;
+    const vkrt_tonemap all[] = {VKRT_TONEMAP_NONE, VKRT_TONEMAP_ACES, VKRT_TONEMAP_AGX};
+    const char *names[] = {"none", "aces", "agx"};
+    for (int i = 0; i < 3; i++) {
+        assert_string_equal(vkrt_tonemap_name(all[i]), names[i]);
+        vkrt_tonemap k = VKRT_TONEMAP_NONE;
+        assert_true(vkrt_tonemap_parse(names[i], &k));
+        assert_int_equal(k, all[i]);
+    }
+    vkrt_tonemap k = VKRT_TONEMAP_ACES;
+    assert_false(vkrt_tonemap_parse("AgX", &k));
+    assert_false(vkrt_tonemap_parse("filmic", &k));
+    assert_false(vkrt_tonemap_parse(NULL, &k));
+    assert_int_equal(k, VKRT_TONEMAP_ACES);
+    assert_string_equal(vkrt_tonemap_name((vkrt_tonemap)42), "unknown");
+}
+
 /* environment-map: its options in either order, alone, and beside a constant environment,
  * which it replaces (both are kept in the config; the renderer uses the map). */
 static void test_environment_map(void **state)
@@ -500,6 +522,9 @@ static const bad_case bad_cases[] = {
     {G "output a.png\noutput b.png\n", "t.cfg:3: ", "output given twice (first on line 2)"},
     {G "accel bvh\naccel grid\n", "t.cfg:3: ", "accel given twice (first on line 2)"},
     {G "integrator path\nintegrator path\n", "t.cfg:3: ", "integrator given twice (first on line 2)"},
+    {G "tonemap agx\ntonemap aces\n", "t.cfg:3: ", "tonemap given twice (first on line 2)"},
+    {G "tonemap filmic\n", "t.cfg:2: ", "unknown tonemap 'filmic' (expected none, aces or agx)"},
+    {G "tonemap\n", "t.cfg:2: ", "tonemap needs one name (none, aces or agx), got 0"},
     {G "environment-map a.hdr\nenvironment-map b.hdr\n", "t.cfg:3: ", "environment-map given twice (first on line 2)"},
     /* integrator */
     {G "integrator bidir\n", "t.cfg:2: ", "unknown integrator 'bidir' (expected auto, whitted or path)"},
@@ -797,6 +822,7 @@ int main(void)
         cmocka_unit_test(test_many_lights_and_cameras),
         cmocka_unit_test(test_accel_names),
         cmocka_unit_test(test_integrator_names),
+        cmocka_unit_test(test_tonemap_names),
         cmocka_unit_test(test_environment_map),
         cmocka_unit_test(test_geometry_placement),
         cmocka_unit_test(test_for_geometry),

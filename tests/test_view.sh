@@ -94,18 +94,21 @@ check "render of the printed camera exits 0" test $? -eq 0
 check "the window matches the render to one 8-bit step" test $? -eq 0
 cat "$tmp/compared"
 
-# A glTF file alone (no scene.cfg), through its orthographic camera (--camera 1): the converged
-# window against `vkrt render` of the same file and camera, to one 8-bit step as above.
+# A glTF file alone (no scene.cfg), through its orthographic camera (--camera 1), with a tone
+# curve after an exposure: the converged window against `vkrt render` of the same file, camera
+# and finish, to one 8-bit step as above (the window's curve is glsl/display.comp's, the PNG's
+# src/output/tonemap.c's).
 cp "$src/tests/gltf/cameras/scene.glb" "$tmp/cams.glb"
 printf 'wait converged\nkey p\nkey escape\n' >"$tmp/glb-events.txt"
 xvfb-run -a -s "-screen 0 1280x1024x24" "$vkrt" view "$tmp/cams.glb" --camera 1 --width 96 \
-    --height 72 --spp 4 --script "$tmp/glb-events.txt" >"$tmp/glb-out" 2>"$tmp/glb-log"
+    --height 72 --spp 4 --tonemap aces --exposure 1 --script "$tmp/glb-events.txt" \
+    >"$tmp/glb-out" 2>"$tmp/glb-log"
 status=$?
 check "glTF: view of a .glb alone exits 0" test $status -eq 0
 [ $status -eq 0 ] || cat "$tmp/glb-log"
 check "glTF: no validation message" sh -c "! grep -q validation '$tmp/glb-log'"
-"$vkrt" render "$tmp/cams.glb" --camera 1 --width 96 --height 72 --spp 4 -o "$tmp/glb-render.png" \
-    --quiet
+"$vkrt" render "$tmp/cams.glb" --camera 1 --width 96 --height 72 --spp 4 --tonemap aces \
+    --exposure 1 -o "$tmp/glb-render.png" --quiet
 check "glTF: render of the same camera exits 0" test $? -eq 0
 "$compare" "$tmp/cams-view-000.png" "$tmp/glb-render.png" 1 >"$tmp/glb-compared"
 check "glTF: the window matches the render to one 8-bit step" test $? -eq 0

@@ -69,6 +69,9 @@ const char *vkrt_usage(void)
            "                    albedo.RGB, normal.XYZ, depth.Z, position.XYZ of an EXR, or\n"
            "                    files beside a PNG (NAME.albedo.png, NAME.normal.png,\n"
            "                    NAME.depth.exr, NAME.position.exr; docs/scene-format.md, \"AOVs\")\n"
+           "  --tonemap C       none | aces | agx (overrides `tonemap`): the tone curve of PNG\n"
+           "                    output and the window, after --exposure: none clips at 1, aces is\n"
+           "                    Hill's ACES fit, agx Blender's AgX (minimal fit); EXR unchanged\n"
            "  --device N        Vulkan device (see --list-devices); default: the first discrete\n"
            "                    GPU, else the first device\n"
            "  --validation      enable Vulkan validation layers (also VKRT_VALIDATION=1); any\n"
@@ -101,13 +104,12 @@ const char *vkrt_usage(void)
            "  --bvh-cost C  --kd-cost C  --loads storage|texel  --walk one-loop|nested\n"
            "\n"
            "view options: --width, --height, --spp, --accel, --bvh-splits, --instancing,\n"
-           "  --integrator, --clamp, --exposure, --denoise, --target-error, --camera, --fps,\n"
-           "  --environment, --environment-map, --device, --validation, --quiet, --no-cache as\n"
-           "  for render (--denoise: each shown frame is denoised on the host); the\n"
-           "  window opens at the scene's resolution, from its first camera (or --camera's), and a\n"
-           "  still picture gathers samples until it has --spp of them (default: the scene's\n"
-           "  `samples`, at least 16), or with --target-error until every pixel is within it (--spp\n"
-           "  the cap)\n"
+           "  --integrator, --clamp, --exposure, --tonemap, --denoise, --target-error, --camera,\n"
+           "  --fps, --environment, --environment-map, --device, --validation, --quiet, --no-cache\n"
+           "  as for render (--denoise: each shown frame is denoised on the host); the window opens\n"
+           "  at the scene's resolution, from its first camera (or --camera's), and a still\n"
+           "  picture gathers samples until it has --spp of them (default: the scene's `samples`,\n"
+           "  at least 16), or with --target-error until every pixel is within it (--spp the cap)\n"
            "  --record FILE     K appends the camera to FILE as a scene.cfg `camera` line\n"
            "  --script FILE     play key and mouse events from FILE (a testing aid; see\n"
            "                    docs/viewer.md)\n"
@@ -229,6 +231,7 @@ static const struct known_option {
     {"--fps", RENDER | VIEW},                           {"--environment", RENDER | VIEW},
     {"--environment-map", RENDER | VIEW},               {"--denoise", RENDER | VIEW},
     {"--aov", RENDER},
+    {"--tonemap", RENDER | VIEW},
 };
 
 static const char *command_name(vkrt_command command)
@@ -352,6 +355,11 @@ static bool parse_scene_option(const char *arg, char *const *values, int count,
         if (!value || !*value)
             return vkrt_error_set(err, "--environment-map needs a path");
         o->environment_map = value;
+    } else if (strcmp(arg, "--tonemap") == 0) {
+        if (!vkrt_tonemap_parse(value, &o->tonemap))
+            return vkrt_error_set(err, "--tonemap: '%s' is not one of none, aces, agx",
+                                  value ? value : "");
+        o->tonemap_given = true;
     } else {
         *used = false;
         *consumed = 0;

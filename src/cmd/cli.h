@@ -58,6 +58,8 @@ typedef struct vkrt_scene_options {
     float environment[3];        /* each finite and >= 0 */
     const char *environment_map; /* --environment-map FILE, the path as given (relative to the
                                     working folder); NULL when not given */
+    bool tonemap_given;          /* --tonemap none|aces|agx: the tone curve of 8-bit output */
+    vkrt_tonemap tonemap;
 } vkrt_scene_options;
 
 typedef struct vkrt_render_options {

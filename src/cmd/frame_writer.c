@@ -149,6 +149,7 @@ bool frame_writer_start(frame_writer *w, int device, bool tell, vkrt_error *err)
     vkrt_write_pool_desc pool_desc = {.width = w->desc.width,
                                       .height = w->desc.height,
                                       .finish = {.exposure = opts->exposure,
+                                                 .tonemap = w->scene->config.tonemap,
                                                  .denoiser = w->denoiser},
                                       .aovs = w->desc.aovs,
                                       .aovs_written = w->cl->render.aovs,

@@ -1,4 +1,4 @@
-/* scene_options.c (cmd): the command line's camera and environment over the scene's
+/* scene_options.c (cmd): the command line's camera, environment and tone curve over the scene's
  * (scene_options.h). */
 #include "scene_options.h"
 
@@ -8,6 +8,8 @@
 bool vkrt_scene_options_apply(const vkrt_scene_options *o, vkrt_scene *scene, FILE *warnings,
                               vkrt_error *err)
 {
+    if (o->tonemap_given)
+        scene->config.tonemap = o->tonemap;
     if (o->camera && !vkrt_scene_select_camera(scene, o->camera, err))
         return vkrt_error_prefix(err, "--camera %s", o->camera);
     if (o->environment_map) {

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "srgb8.h"
+#include "tonemap.h"
 
 /* One pass on the finished linear image. */
 typedef struct finish_pass {
@@ -56,10 +57,25 @@ static bool exposure_run(const vkrt_finish_desc *d, const vkrt_finish_frame *fra
     return true;
 }
 
+/* The tone curve: a display choice too; it takes exposed radiance (tonemap.h). */
+static bool tonemap_wanted(const vkrt_finish_desc *d)
+{
+    return d->tonemap != VKRT_TONEMAP_NONE;
+}
+
+static bool tonemap_run(const vkrt_finish_desc *d, const vkrt_finish_frame *frame, float *rgb,
+                        vkrt_error *err)
+{
+    (void)err;
+    tonemap_image(d->tonemap, rgb, (size_t)frame->width * frame->height);
+    return true;
+}
+
 /* The passes, in the order a frame goes through them. A new pass is one entry here. */
 static const finish_pass passes[] = {
     {"denoise", true, denoise_wanted, denoise_run},
     {"exposure", false, exposure_wanted, exposure_run},
+    {"tonemap", false, tonemap_wanted, tonemap_run},
 };
 enum { PASS_COUNT = sizeof passes / sizeof *passes };
 
@@ -122,5 +138,5 @@ bool vkrt_finish_srgb8(const vkrt_finish_desc *d, const vkrt_finish_frame *frame
 
 vkrt_finish_display vkrt_finish_display_params(const vkrt_finish_desc *d)
 {
-    return (vkrt_finish_display){.scale = exp2f(d->exposure)};
+    return (vkrt_finish_display){.scale = exp2f(d->exposure), .tonemap = (uint32_t)d->tonemap};
 }

@@ -3,11 +3,12 @@
  *
  * Pixels arrive as linear radiance, 3 floats (RGB) per pixel, the top row first, and pass through
  * the finish stage (finish.h) for the file's format, which comes from its extension: ".png" is
- * 8-bit sRGB (radiance times 2^exposure, clamped, then the sRGB curve; no other tone mapping),
+ * 8-bit sRGB (radiance times 2^exposure, through the tone curve or clamped, then the sRGB curve),
  * ".exr" is 32-bit float linear RGB, written with OpenEXR's C API (OpenEXRCore); with a denoiser
  * in the finish (--denoise) its R, G, B are the denoised radiance and the rendered one is kept
- * beside them as layer "noisy" (channels noisy.R, noisy.G, noisy.B). Every file is written to a temporary name beside the target and
- * renamed when complete, so a failed run never leaves a truncated image.
+ * beside them as layer "noisy" (channels noisy.R, noisy.G, noisy.B). Every file is written to a
+ * temporary name beside the target and renamed when complete, so a failed run never leaves a
+ * truncated image.
  */
 #ifndef VKRT_IMAGE_WRITE_H
 #define VKRT_IMAGE_WRITE_H

@@ -486,6 +486,16 @@ static bool kw_textures(parser *p, const tokens *t)
                 shown(t->tok[1], buf));
 }
 
+static bool kw_tonemap(parser *p, const tokens *t)
+{
+    char buf[SHOWN_TOKEN_BYTES + 4];
+    if (t->count != 2)
+        return fail(p, "tonemap needs one name (none, aces or agx), got %d", t->count - 1);
+    if (!vkrt_tonemap_parse(t->tok[1], &p->cfg->tonemap))
+        return fail(p, "unknown tonemap '%s' (expected none, aces or agx)", shown(t->tok[1], buf));
+    return true;
+}
+
 static bool kw_environment(parser *p, const tokens *t)
 {
     return want_numbers(p, t, 1, 3, "environment") &&
@@ -767,6 +777,7 @@ static const keyword keywords[] = {
     {"integrator", true, kw_integrator},
     {"bvh-splits", true, kw_bvh_splits},
     {"textures", true, kw_textures},
+    {"tonemap", true, kw_tonemap},
     {"output", true, kw_output},
     {"environment", true, kw_environment},
     {"environment-map", true, kw_environment_map},
@@ -800,7 +811,7 @@ static bool parse_line(void *ctx, const tokens *t)
         return keywords[i].parse(p, t);
     }
     return fail(p, "unknown keyword '%s' (expected geometry, materials, resolution, samples, "
-                   "max-depth, shutter, accel, integrator, bvh-splits, textures, output, "
+                   "max-depth, shutter, accel, integrator, bvh-splits, textures, tonemap, output, "
                    "environment, environment-map, light or camera)",
                 shown(t->tok[0], buf));
 }

@@ -37,6 +37,14 @@ typedef enum vkrt_bvh_splits {
     VKRT_BVH_SPLITS_OFF,      /* object splits only: every triangle in one leaf */
 } vkrt_bvh_splits;
 
+/* The tone curve of 8-bit output and the window (docs/scene-format.md, `tonemap`); float files
+ * stay linear. The numbers are glsl/tone_curves.h's VKRT_TONE_CURVE_*. */
+typedef enum vkrt_tonemap {
+    VKRT_TONEMAP_NONE = 0, /* radiance clipped to [0, 1], then the sRGB curve */
+    VKRT_TONEMAP_ACES,     /* Stephen Hill's fit of ACES 1.0's RRT + sRGB ODT */
+    VKRT_TONEMAP_AGX,      /* Benjamin Wrensch's minimal AgX (Troy Sobotka's AgX) */
+} vkrt_tonemap;
+
 typedef enum vkrt_light_kind {
     VKRT_LIGHT_AMBIENT = 0, /* uniform, unoccluded radiance from every direction: adds Kd * colour */
     VKRT_LIGHT_DIRECTIONAL, /* colour is irradiance (W/m^2) on a surface facing the light */
@@ -88,6 +96,7 @@ typedef struct vkrt_config {
     vkrt_accel_kind accel;    /* default auto */
     vkrt_integrator integrator; /* default auto */
     vkrt_bvh_splits bvh_splits; /* default auto */
+    vkrt_tonemap tonemap;     /* default none */
     float environment[3];     /* radiance of rays that miss, default 0; unused with a map */
     char *environment_map;    /* equirectangular image (src/scene/envmap.h), resolved against the
                                  scene.cfg's folder; NULL when absent. It replaces environment[]. */
@@ -146,5 +155,13 @@ const char *vkrt_bvh_splits_name(vkrt_bvh_splits splits);
 
 /* Parses a bvh-splits name; returns false for an unknown one and then leaves *splits unchanged. */
 bool vkrt_bvh_splits_parse(const char *name, vkrt_bvh_splits *splits);
+
+/* Name of a tone curve as written in scene.cfg and after --tonemap ("none", "aces", "agx");
+ * "unknown" for a value outside the enum. */
+const char *vkrt_tonemap_name(vkrt_tonemap curve);
+
+/* Parses a tone curve's name (exact, lower case); returns false for an unknown one and then
+ * leaves *curve unchanged. */
+bool vkrt_tonemap_parse(const char *name, vkrt_tonemap *curve);
 
 #endif

@@ -1,5 +1,5 @@
-/* config_names.c: the names scene.cfg and the command line give the structure, the integrator
- * and the BVH's splits (config.h). */
+/* config_names.c: the names scene.cfg and the command line give the structure, the integrator,
+ * the BVH's splits and the tone curve (config.h). */
 #include <stdbool.h>
 #include <stddef.h>
 #include <string.h>
@@ -88,6 +88,31 @@ bool vkrt_bvh_splits_parse(const char *name, vkrt_bvh_splits *splits)
     for (size_t i = 0; name && i < sizeof all / sizeof all[0]; i++) {
         if (strcmp(name, vkrt_bvh_splits_name(all[i])) == 0) {
             *splits = all[i];
+            return true;
+        }
+    }
+    return false;
+}
+
+const char *vkrt_tonemap_name(vkrt_tonemap curve)
+{
+    switch (curve) {
+    case VKRT_TONEMAP_NONE:
+        return "none";
+    case VKRT_TONEMAP_ACES:
+        return "aces";
+    case VKRT_TONEMAP_AGX:
+        return "agx";
+    }
+    return "unknown";
+}
+
+bool vkrt_tonemap_parse(const char *name, vkrt_tonemap *curve)
+{
+    static const vkrt_tonemap all[] = {VKRT_TONEMAP_NONE, VKRT_TONEMAP_ACES, VKRT_TONEMAP_AGX};
+    for (size_t i = 0; name && i < sizeof all / sizeof all[0]; i++) {
+        if (strcmp(name, vkrt_tonemap_name(all[i])) == 0) {
+            *curve = all[i];
             return true;
         }
     }

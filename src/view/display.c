@@ -21,12 +21,6 @@
 #include "../gpu/vk_check.h"
 #include "../render/kernel_sources.h"
 
-/* glsl/display.comp's push constants. */
-typedef struct display_push {
-    uint32_t size[4];
-    float scale[4];
-} display_push;
-
 static const uint32_t display_workgroup_size = 64;
 
 static bool create_pipeline(view_display *d, vkrt_error *err)
@@ -80,7 +74,7 @@ bool view_display_create(view_display *d, gpu_context *ctx, uint32_t width, uint
         GPU_CHECK(vkCreateFence(ctx->device, &fence_info, NULL, &f->done));
         VkSemaphoreCreateInfo semaphore_info = {.sType = VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
         GPU_CHECK(vkCreateSemaphore(ctx->device, &semaphore_info, NULL, &f->acquired));
-        if (!gpu_storage_set_create(ctx, &f->set, 2, sizeof(display_push), err))
+        if (!gpu_storage_set_create(ctx, &f->set, 2, sizeof(DisplayParams), err))
             goto fail;
     }
     if (!create_pipeline(d, err) ||
@@ -143,7 +137,7 @@ static void image_layout_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayo
     vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 0, NULL, 0, NULL, 1, &barrier);
 }
 
-static void record(view_display *d, view_frame *f, uint32_t image_index, const display_push *push)
+static void record(view_display *d, view_frame *f, uint32_t image_index, const DisplayParams *push)
 {
     VkCommandBuffer cmd = f->cmd;
     VkImage image = d->swapchain.images[image_index];
@@ -192,10 +186,11 @@ bool view_display_present(view_display *d, const gpu_buffer *image, uint32_t ima
 
     VkExtent2D e = d->swapchain.extent;
     vkrt_finish_display shown = vkrt_finish_display_params(finish);
-    display_push push = {
+    DisplayParams push = {
         .size = {image_width, image_height, e.width, e.height},
         .scale = {1.0f / (float)(passes ? passes : 1), shown.scale, d->swapchain.bgra ? 1 : 0,
                   passes ? 0 : 1},
+        .curve = {shown.tonemap, 0, 0, 0},
     };
     gpu_storage_set_bind(d->ctx, &f->set, VKRT_DISPLAY_BINDING_IMAGE, image);
     gpu_storage_set_bind(d->ctx, &f->set, VKRT_DISPLAY_BINDING_WINDOW, &f->pixels);
