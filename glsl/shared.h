@@ -148,11 +148,12 @@ VKRT_STRUCT(DisplayParams) {
                                   its path through a delta (mirror or glass) bounce */
 /* Ray.info.w above the flags: the ray's sample index in its pixel (0 .. samples - 1 over all the
  * passes of a frame), which the path tracer's sampler (lib/sampler.glsl) draws its numbers by. */
-#define VKRT_RAY_SAMPLE_SHIFT 8u
+#define VKRT_RAY_SAMPLE_SHIFT 9u
 #define VKRT_RAY_FLAGS ((1u << VKRT_RAY_SAMPLE_SHIFT) - 1u)
-/* Ray.info.w bits 1-7: the ray's depth (ray_depth), 0 for camera rays; scene.cfg's max-depth is
- * at most 64, so 7 bits hold every depth a ray reaches. */
-#define VKRT_RAY_DEPTH_SHIFT 1u
+/* Ray.info.w bits 2-8, above the two flags: the ray's depth (ray_depth), 0 for camera rays;
+ * scene.cfg's max-depth is at most 64, so 7 bits hold every depth a ray reaches. The sample index
+ * keeps 23 bits, past any sample count a frame may have. */
+#define VKRT_RAY_DEPTH_SHIFT 2u
 #define VKRT_RAY_DEPTH_MASK 127u
 
 /* One ray of the wavefront with its "image reconstruction information" (the seed's term):
@@ -169,7 +170,8 @@ VKRT_STRUCT(Ray) {
     uvec4 info;       /* x: pixel index (ray_pixel), y: hash stream state (ray_seed), z: the ray
                          cone for texture filtering, its width at the origin and its spread
                          angle, two 16-bit floats (ray_cone), w: VKRT_RAY_DEAD (ray_is_dead),
-                         the depth in bits 1-7 (ray_depth) and the sample index above
+                         VKRT_RAY_AOV_PENDING (ray_aov_pending), the depth in bits 2-8
+                         (ray_depth) and the sample index above
                          VKRT_RAY_SAMPLE_SHIFT (ray_sample) */
     vec4 payload;     /* the material's own; zero for primary rays */
 };
