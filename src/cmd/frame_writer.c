@@ -9,6 +9,7 @@
 #include "../clock.h"
 #include "../output/image_check.h"
 #include "../output/image_write.h"
+#include "../output/temporary.h"
 #include "../render/trace_api.h"
 #include "render_desc.h"
 #include "report.h"
@@ -163,7 +164,8 @@ bool frame_writer_write(frame_writer *w, uint32_t f, vkrt_frame_stats *stats, vk
     char path[4096];
     if (!vkrt_frame_path(path, sizeof path, w->output, f, err))
         return false;
-    vkrt_image_remove_stale_temporaries(path);
+    /* A --devices worker killed on this frame left its temporary; it is reaped by now. */
+    vkrt_temporaries_remove_dead_beside(path);
     /* Motion blur towards the next frame's camera; the last frame has none and is sharp. */
     vkrt_renderer_set_next_camera(w->renderer,
                                   f + 1 < w->scene->camera_count ? &w->scene->cameras[f + 1] : NULL);
@@ -231,6 +233,8 @@ bool frame_list_make(const vkrt_command_line *cl, const vkrt_scene *scene, const
     uint32_t first = opts->frames_given ? opts->frame_first : 0;
     uint32_t last = opts->frames_given ? opts->frame_last : scene->camera_count - 1;
     uint32_t step = opts->frames_given ? opts->frame_step : 1;
+    /* What interrupted runs left beside any frame of the pattern, those of live runs kept. */
+    vkrt_temporaries_remove_dead(output);
     *list = (frame_list){.total = (last - first) / step + 1};
     list->frames = malloc(list->total * sizeof *list->frames);
     if (!list->frames)
