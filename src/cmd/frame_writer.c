@@ -31,14 +31,22 @@ static bool report_convergence(const vkrt_render_options *opts, vkrt_renderer *r
     }
     vkrt_convergence c;
     bool ok = vkrt_renderer_convergence(renderer, &c, NULL, samples, err);
+    /* A pixel needs 2 samples for an estimate; those with fewer are said apart, not averaged. */
+    char estimates[200];
+    if (c.unestimated == c.pixels)
+        snprintf(estimates, sizeof estimates,
+                 "no error estimate (a pixel needs 2 samples for one; give --spp 2 or more)");
+    else
+        snprintf(estimates, sizeof estimates,
+                 "estimate rms %.4f, 99th percentile %.4f, max %.4f%s", c.rms_error,
+                 (double)c.p99_error, (double)c.max_error,
+                 c.unestimated ? " (of the pixels with 2 samples or more)" : "");
     if (ok && !opts->common.quiet)
         fprintf(stderr,
-                "vkrt: frame %u: target error %g: %.2f%% of pixels within it; estimate rms %.4f, "
-                "99th percentile %.4f, max %.4f; samples per pixel %.1f mean (%u to %u of %u); "
-                "%.3f s\n",
-                f, (double)c.target, 100.0 * c.converged / c.pixels, c.rms_error,
-                (double)c.p99_error, (double)c.max_error, c.mean_samples, c.min_samples,
-                c.max_samples, desc->samples, stats->seconds);
+                "vkrt: frame %u: target error %g: %.2f%% of pixels within it; %s; samples per "
+                "pixel %.1f mean (%u to %u of %u); %.3f s\n",
+                f, (double)c.target, 100.0 * c.converged / c.pixels, estimates, c.mean_samples,
+                c.min_samples, c.max_samples, desc->samples, stats->seconds);
     char path[4096];
     if (ok && opts->sample_count_image) {
         bool exr = vkrt_image_format_of(opts->sample_count_image) == VKRT_IMAGE_EXR;
