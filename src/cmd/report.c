@@ -50,9 +50,9 @@ void report_kernel_cache(FILE *out)
     gpu_pipeline_cache_counts(&pipelines_loaded, &pipelines_stored);
     if (gpu_spirv_cache_dir(dir, sizeof dir))
         fprintf(out,
-                "vkrt: kernels: %u compiled (%u stored), %u from the cache in %s; pipelines: %u "
-                "from the driver's data there, %u stored%s\n",
-                compiled, stored, loaded, dir, pipelines_loaded, pipelines_stored,
+                "vkrt: kernels: %u compiled, %u from the cache in %s, %u stored there; "
+                "pipelines: %u from the driver's data there, %u stored%s\n",
+                compiled, loaded, dir, stored, pipelines_loaded, pipelines_stored,
                 compiled > stored ? " (the cache could not be written: is it a file, read-only "
                                     "or full?)"
                                   : "");
