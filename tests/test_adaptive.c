@@ -175,11 +175,38 @@ static void samples_are_the_uniform_ones(void **state)
     assert_true(worst < 1e-4);
 }
 
+/* Pixels of one sample have no estimate (adaptive.glsl's 1e30 sentinel): they are counted apart,
+ * never averaged into the rms or shown as the max; with only such pixels there is no figure. */
+static void single_samples_are_not_estimates(void **state)
+{
+    (void)state;
+    /* Two pixels of 10 samples with variance 0.36 and mean 2: error sqrt(0.36 / 10) / 2. */
+    PixelStats stats[4] = {{1.0f, 0.0f, 1, 0}, {2.0f, 0.36f * 9, 10, 0}, {0.5f, 0.0f, 1, 0},
+                           {2.0f, 0.36f * 9, 10, 0}};
+    float sorted[4];
+    vkrt_convergence c;
+    vkrt_convergence_of(stats, 4, 0.05f, &c, sorted, NULL, NULL);
+    double want = sqrt(0.36 / 10) / 2;
+    assert_int_equal(c.unestimated, 2);
+    assert_float_equal(c.rms_error, want, 1e-6);
+    assert_float_equal(c.max_error, want, 1e-6);
+    assert_float_equal(c.p99_error, want, 1e-6);
+    assert_int_equal(c.converged, 0);
+    assert_int_equal(c.min_samples, 1);
+    assert_int_equal(c.max_samples, 10);
+
+    PixelStats ones[2] = {{1.0f, 0.0f, 1, 0}, {3.0f, 0.0f, 1, 0}};
+    vkrt_convergence_of(ones, 2, 0.05f, &c, sorted, NULL, NULL);
+    assert_int_equal(c.unestimated, 2);
+    assert_true(c.rms_error == 0.0 && c.max_error == 0.0f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(estimate_is_honest_and_samples_go_to_noise),
         cmocka_unit_test(samples_are_the_uniform_ones),
+        cmocka_unit_test(single_samples_are_not_estimates),
     };
     return cmocka_run_group_tests(tests, scene_dir_make, scene_dir_remove);
 }

@@ -113,6 +113,11 @@ for bad in 0 -24 x inf; do
 done
 "$vkrt" view "$tmp/named.cfg" --fps 0 2>"$tmp/err"
 check "view --fps 0 is refused" grep -q -- "--fps: '0' is not a positive number" "$tmp/err"
+"$vkrt" render "$tmp/named.cfg" -o '' 2>"$tmp/err"
+check "-o '' is refused" test $? -ne 0
+check "and says the name is empty" grep -q "^vkrt: the output file name is empty" "$tmp/err"
+"$vkrt" render "$tmp/named.cfg" --accel octree -o "$tmp/x.png" 2>"$tmp/err"
+check "--accel octree is refused, listing kdtree" grep -q -- "--accel: 'octree' is not one of auto, brute, grid, bvh or kdtree" "$tmp/err"
 "$vkrt" bench "$tmp/named.cfg" --camera 0 >/dev/null 2>"$tmp/err"
 check "bench --camera is refused" grep -q "vkrt bench does not take --camera (an option of vkrt render and view)" "$tmp/err"
 
@@ -198,13 +203,21 @@ check "and nothing was written" test ! -e "$tmp/fx0.png"
 cp "$tmp/r0.png" "$tmp/r0.saved"
 rm "$tmp/r1.png"
 head -c 300 "$tmp/r2.png" >"$tmp/cut" && mv "$tmp/cut" "$tmp/r2.png"
-: >"$tmp/r2.png.tmp-12345"
+# Temporaries of a process that is gone, beside a cut frame and beside a complete one, and
+# one of a live process (this shell) that must stay.
+gone=$(sh -c 'echo $$')
+: >"$tmp/r2.png.tmp-$gone"
+: >"$tmp/r0.png.tmp-$(uname -n | tr -c 'A-Za-z0-9._\n' _)-$gone"
+: >"$tmp/r0.png.tmp-$$"
 "$vkrt" render "$tmp/fly.cfg" --resume -o "$tmp/r%d.png" 2>"$tmp/err"
 check "resume exits 0" test $? -eq 0
 check "resume skips exactly the complete frame" grep -q "resumed: 1 of 3 frames were already complete" "$tmp/err"
 check "resume re-renders the cut frame" test "$(wc -c <"$tmp/r2.png")" -gt 300
 check "resume renders the missing frame" test -s "$tmp/r1.png"
-check "resume removes stale temporaries" test ! -e "$tmp/r2.png.tmp-12345"
+check "resume removes stale temporaries" test ! -e "$tmp/r2.png.tmp-$gone"
+check "also beside a complete frame" sh -c "! ls '$tmp' | grep -q 'r0.png.tmp-.*-$gone'"
+check "but not a live process's" test -e "$tmp/r0.png.tmp-$$"
+rm "$tmp/r0.png.tmp-$$"
 check "resume leaves the complete frame alone" cmp -s "$tmp/r0.png" "$tmp/r0.saved"
 
 # Frames are written by threads while the next ones render (src/output/write_pool.h): the same
@@ -454,6 +467,9 @@ VKRT_CACHE_DIR=$cache "$vkrt" render "$src/scenes/cornell/scene.cfg" --width 24 
 check "after them, every kernel comes from the cache" grep -q "kernels: 0 compiled, [1-9][0-9]* from the cache" "$tmp/err"
 check "no temporary file is left in the cache" sh -c "! ls '$cache' | grep -q tmp"
 check "the driver's pipeline data comes from the cache too" grep -q "pipelines: [1-9][0-9]* from the driver's data there, 0 stored" "$tmp/err"
+VKRT_CACHE_DIR=$tmp/k1.png "$vkrt" render "$src/scenes/cornell/scene.cfg" --width 24 --height 16 \
+    --verbose -o "$tmp/k6.png" 2>"$tmp/err"
+check "a cache directory that is a file stores nothing, and --verbose says so" grep -q "kernels: [1-9][0-9]* compiled, 0 from the cache in $tmp/k1.png, 0 stored there; pipelines: 0 from the driver's data there, 0 stored (the cache could not be written" "$tmp/err"
 # A damaged pipeline entry is not handed to the driver: it is made and written again, whole.
 first=$(ls "$cache"/*.vkpc | head -n 1)
 size=$(wc -c <"$first")

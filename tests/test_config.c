@@ -243,6 +243,23 @@ static void test_crlf_bom_and_no_final_newline(void **state)
     assert_float_equal(cfg.cameras[0].fov_deg, 45.0f, 1e-6);
     assert_int_equal(cfg.cameras[0].line, 4);
     vkrt_config_free(&cfg);
+
+    /* Classic Mac OS line ends (a '\r' alone) are line ends too, counted as lines; mixed with
+     * the others as well. */
+    parse_ok("geometry m.obj\rresolution 10 20\r\r"
+             "camera eye 0 0 5 look 0 0 0 up 0 1 0 fov 45\rsamples 3\r",
+             "d", &cfg);
+    assert_string_equal(cfg.geometries[0].path, "d/m.obj");
+    assert_int_equal(cfg.width, 10);
+    assert_int_equal(cfg.samples, 3);
+    assert_int_equal(cfg.cameras[0].line, 4);
+    vkrt_config_free(&cfg);
+    parse_ok("geometry m.obj\r\nresolution 10 20\n\r"
+             "camera eye 0 0 5 look 0 0 0 up 0 1 0 fov 45\rsamples 3",
+             "d", &cfg);
+    assert_int_equal(cfg.samples, 3);
+    assert_int_equal(cfg.cameras[0].line, 4);
+    vkrt_config_free(&cfg);
 }
 
 static void test_comments_and_whitespace(void **state)
@@ -505,7 +522,7 @@ typedef struct bad_case {
 
 static const bad_case bad_cases[] = {
     /* keywords */
-    {G "foo 1 2\n", "t.cfg:2: ", "unknown keyword 'foo'"},
+    {G "foo 1 2\n", "t.cfg:2: ", "unknown keyword 'foo' (expected geometry, materials, resolution, samples, max-depth, shutter, accel, integrator, bvh-splits, output, environment, environment-map, light or camera)"},
     {G "Samples 2\n", "t.cfg:2: ", "unknown keyword 'Samples'"},
     {G "resolution 1 1\n\nresolution 2 2\n", "t.cfg:4: ", "resolution given twice (first on line 2)"},
     {G "geometry b.obj translate 1 2\n", "t.cfg:2: ", "geometry translate needs 3 numbers"},
@@ -573,7 +590,11 @@ static const bad_case bad_cases[] = {
     {G "environment -0.1 0 0\n", "t.cfg:2: ", "environment r must not be negative, got -0.1"},
     {G "environment 1 1\n", "t.cfg:2: ", "environment needs 3 numbers, got 2"},
     /* accel, output */
-    {G "accel fast\n", "t.cfg:2: ", "unknown accel 'fast' (expected auto, brute, grid or bvh)"},
+    {G "accel fast\n", "t.cfg:2: ", "unknown accel 'fast' (expected auto, brute, grid, bvh or kdtree)"},
+    {G "accel octree\n", "t.cfg:2: ", "unknown accel 'octree' (expected auto, brute, grid, bvh or kdtree)"},
+    {G "accel\n", "t.cfg:2: ", "accel needs one name (auto, brute, grid, bvh or kdtree), got 0"},
+    {G "integrator mlt\n", "t.cfg:2: ", "unknown integrator 'mlt' (expected auto, whitted or path)"},
+    {G "bvh-splits yes\n", "t.cfg:2: ", "unknown bvh-splits 'yes' (expected auto, on or off)"},
     {G "accel\n", "t.cfg:2: ", "accel needs one name"},
     {G "output x.jpg\n", "t.cfg:2: ", "output 'x.jpg' must end in .png or .exr"},
     {G "output out/f%s.png\n", "t.cfg:2: ", "unsupported conversion '%s' (use %d, %04d, or %% for a literal %)"},
@@ -638,6 +659,7 @@ static const bad_case bad_cases[] = {
      "camera name 'a123456789b123456789c123456789d123456789e123456789f123456789...' is longer than 63 bytes"},
     /* the first error wins, and its line is counted across CRLF, blanks and comments */
     {"# c\r\n\r\n" G "samples 0\r\nfoo\r\n", "t.cfg:4: ", "samples must be between 1 and 65536"},
+    {"# c\r\r" G "samples 0\rfoo\r", "t.cfg:4: ", "samples must be between 1 and 65536"},
     /* text that is not a scene.cfg */
     {G "samples 1\x01\n", "t.cfg:2: ", "not a text line (control character 0x01"},
     {G "\xff\xfe\xfd\n", "t.cfg:2: ", "not a text line (invalid UTF-8 at column 1)"},
@@ -727,6 +749,27 @@ static void test_long_lines(void **state)
 /* ---------------------------------------------------------------------------------------------
  * vkrt_config_load
  * ------------------------------------------------------------------------------------------- */
+
+/* The name lists of messages hold every name the parsers take: each enum value's name is in
+ * its list, and each listed name parses. */
+static void test_name_lists(void **state)
+{
+    (void)state;
+    char names[VKRT_NAMES_BYTES];
+    for (int k = VKRT_ACCEL_AUTO; k <= VKRT_ACCEL_KDTREE; k++)
+        assert_non_null(strstr(vkrt_accel_names(names), vkrt_accel_name((vkrt_accel_kind)k)));
+    for (int k = VKRT_INTEGRATOR_AUTO; k <= VKRT_INTEGRATOR_PATH; k++)
+        assert_non_null(
+            strstr(vkrt_integrator_names(names), vkrt_integrator_name((vkrt_integrator)k)));
+    for (int k = VKRT_BVH_SPLITS_AUTO; k <= VKRT_BVH_SPLITS_OFF; k++)
+        assert_non_null(
+            strstr(vkrt_bvh_splits_names(names), vkrt_bvh_splits_name((vkrt_bvh_splits)k)));
+    char *save = NULL;
+    vkrt_accel_names(names);
+    for (char *n = strtok_r(names, ", ", &save); n;
+         n = strtok_r(NULL, ", ", &save))
+        assert_true(strcmp(n, "or") == 0 || vkrt_accel_parse(n, NULL));
+}
 
 static void test_load_file(void **state)
 {
@@ -831,6 +874,7 @@ int main(void)
         cmocka_unit_test(test_coordinates_at_the_limit),
         cmocka_unit_test(test_nul_and_binary),
         cmocka_unit_test(test_long_lines),
+        cmocka_unit_test(test_name_lists),
         cmocka_unit_test(test_load_file),
         cmocka_unit_test(test_load_relative_name),
         cmocka_unit_test(test_load_missing_file),

@@ -24,6 +24,7 @@
 #include <string.h>
 
 #include <openexr.h>
+#include <stb_image.h>
 #include <stb_image_write.h>
 
 #include "../glsl/shared.h"
@@ -705,6 +706,143 @@ static void test_load_errors(void **state)
     assert_non_null(strstr(err.msg, "alpha.exr': no R, G and B channels (nor Y)"));
 }
 
+/* The bytes of the file at path, malloc'd, in *size. */
+static unsigned char *file_bytes(const char *path, size_t *size)
+{
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    assert_int_equal(fseek(f, 0, SEEK_END), 0);
+    long n = ftell(f);
+    assert_true(n > 0);
+    rewind(f);
+    unsigned char *bytes = malloc((size_t)n);
+    assert_non_null(bytes);
+    assert_int_equal(fread(bytes, 1, (size_t)n, f), (size_t)n);
+    fclose(f);
+    *size = (size_t)n;
+    return bytes;
+}
+
+/* A Radiance map decodes to exactly the floats stb_image gives (the reader before ours), run-length
+ * encoded (width 8 to 32767, as stbi_write_hdr writes them) or flat (narrower), and with a
+ * file name that does not end in .hdr. */
+static void test_hdr_as_stb_image_decodes(void **state)
+{
+    temp_dir *fx = *state;
+    static const uint32_t widths[] = {5, 8, 37, 300};
+    for (size_t t = 0; t < sizeof widths / sizeof widths[0]; t++) {
+        uint32_t w = widths[t], h = 7;
+        float *rgb = make_sky(w, h);
+        rgb[3 * (w + 1)] = 1e-30f; /* an exponent of 0 */
+        const char *path = temp_dir_path(fx, "sky.pic");
+        assert_true(stbi_write_hdr(path, (int)w, (int)h, 3, rgb) != 0);
+        int sw, sh, sc;
+        float *want = stbi_loadf(path, &sw, &sh, &sc, 3);
+        assert_non_null(want);
+        vkrt_envmap_image img;
+        vkrt_error err = {{0}};
+        assert_true(vkrt_envmap_load(path, NULL, &img, &err));
+        assert_int_equal(img.width, w);
+        assert_int_equal(img.height, h);
+        assert_memory_equal(img.rgb, want, (size_t)w * h * 3 * sizeof(float));
+        stbi_image_free(want);
+        vkrt_envmap_image_free(&img);
+        free(rgb);
+    }
+}
+
+/* A Radiance file cut short is an error with its byte counts, whatever the encoding and wherever
+ * the cut (stb_image read the missing pixels as zeros: flat colour); a header declaring the
+ * largest size the docs allow is read as such, and its missing pixels reported, not "too large". */
+static void test_hdr_cut_short(void **state)
+{
+    temp_dir *fx = *state;
+    static const uint32_t widths[] = {5, 64};
+    for (size_t t = 0; t < sizeof widths / sizeof widths[0]; t++) {
+        uint32_t w = widths[t], h = 16;
+        float *rgb = make_sky(w, h);
+        const char *path = temp_dir_path(fx, "whole.hdr");
+        assert_true(stbi_write_hdr(path, (int)w, (int)h, 3, rgb) != 0);
+        free(rgb);
+        size_t size;
+        unsigned char *bytes = file_bytes(path, &size);
+        size_t cuts[] = {size - 1, size / 2, size - 200};
+        for (size_t c = 0; c < sizeof cuts / sizeof cuts[0]; c++) {
+            path = temp_dir_write(fx, "cut.hdr", bytes, cuts[c]);
+            vkrt_envmap_image img;
+            vkrt_error err = {{0}};
+            assert_false(vkrt_envmap_load(path, "s.cfg:2", &img, &err));
+            char want[200];
+            snprintf(want, sizeof want, "cut.hdr': the Radiance HDR file is cut short: it has %zu bytes, but its pixels end in scanline ", cuts[c]);
+            if (!strstr(err.msg, want))
+                print_error("%s\n", err.msg);
+            assert_non_null(strstr(err.msg, want));
+            assert_null(img.rgb);
+        }
+        free(bytes);
+    }
+
+    static const char header[] = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 16384 +X 16384\n";
+    const char *path = temp_dir_write(fx, "big.hdr", header, strlen(header));
+    vkrt_envmap_image img;
+    vkrt_error err = {{0}};
+    assert_false(vkrt_envmap_load(path, NULL, &img, &err));
+    assert_non_null(strstr(err.msg, "big.hdr': the Radiance HDR file is cut short: it has 53 "
+                                    "bytes, but its pixels end in scanline 1 of 16384 (a "
+                                    "16384x16384 image needs at least "));
+    assert_null(strstr(err.msg, "too large"));
+
+    /* One past the limit is refused as such; the limit itself, in one direction, loads. */
+    static const char over[] = "#?RADIANCE\n\n-Y 1 +X 16385\n";
+    path = temp_dir_write(fx, "over.hdr", over, strlen(over));
+    assert_false(vkrt_envmap_load(path, NULL, &img, &err));
+    assert_non_null(strstr(err.msg, "image is 16385x1; maps must be 1 to 16384 pixels"));
+    size_t w = 16384, h = 2;
+    float *rgb = malloc(w * h * 3 * sizeof *rgb);
+    assert_non_null(rgb);
+    for (size_t i = 0; i < w * h * 3; i++)
+        rgb[i] = (float)(i % 7);
+    path = temp_dir_path(fx, "wide.hdr");
+    assert_true(stbi_write_hdr(path, (int)w, (int)h, 3, rgb) != 0);
+    assert_true(vkrt_envmap_load(path, NULL, &img, &err));
+    assert_int_equal(img.width, w);
+    assert_memory_equal(img.rgb, rgb, w * h * 3 * sizeof *rgb); /* small integers are exact */
+    vkrt_envmap_image_free(&img);
+    free(rgb);
+
+    /* Damaged rather than short: a run longer than its scanline. */
+    static const char damaged[] = "#?RADIANCE\n\n-Y 1 +X 8\n\x02\x02\x00\x08\x8a\x01";
+    path = temp_dir_write(fx, "damaged.hdr", damaged, sizeof damaged - 1);
+    assert_false(vkrt_envmap_load(path, NULL, &img, &err));
+    assert_non_null(strstr(err.msg, "a run in scanline 1 of 1 goes past the scanline's 8 pixels"));
+    static const char xyze[] = "#?RADIANCE\nFORMAT=32-bit_rle_xyze\n\n-Y 1 +X 1\nabcd";
+    path = temp_dir_write(fx, "xyze.hdr", xyze, sizeof xyze - 1);
+    assert_false(vkrt_envmap_load(path, NULL, &img, &err));
+    assert_non_null(strstr(err.msg, "format is 32-bit_rle_xyze; only 32-bit_rle_rgbe is read"));
+}
+
+/* A PNG map cut short says so with its byte counts, not stb_image's "outofdata". */
+static void test_png_cut_short(void **state)
+{
+    temp_dir *fx = *state;
+    uint32_t w = 32, h = 16;
+    float *rgb = make_sky(w, h);
+    const char *path = temp_dir_path(fx, "sky.png");
+    vkrt_error err = {{0}};
+    assert_true(vkrt_image_write(path, w, h, rgb, 0.0f, &err));
+    free(rgb);
+    size_t size;
+    unsigned char *bytes = file_bytes(path, &size);
+    path = temp_dir_write(fx, "cut.png", bytes, size - 20);
+    free(bytes);
+    vkrt_envmap_image img;
+    assert_false(vkrt_envmap_load(path, NULL, &img, &err));
+    if (!strstr(err.msg, "cut.png': cannot decode the image: the PNG file is cut short: it has "))
+        print_error("%s\n", err.msg);
+    assert_non_null(strstr(err.msg, "cut.png': cannot decode the image: the PNG file is cut short: it has "));
+    assert_null(strstr(err.msg, "stb_image"));
+}
+
 /* ---------------------------------------------------------------------------------------------
  * glsl/lib/envmap.glsl compiles where the kernels include it: after lib/bindings.glsl. glslang
  * runs on the CPU, so no device is needed.
@@ -761,6 +899,9 @@ int main(void)
         temp_dir_test(test_load_exr_tiled_and_grey),
         temp_dir_test(test_load_hdr_and_png),
         temp_dir_test(test_load_errors),
+        temp_dir_test(test_hdr_as_stb_image_decodes),
+        temp_dir_test(test_hdr_cut_short),
+        temp_dir_test(test_png_cut_short),
         cmocka_unit_test(test_glsl_compiles),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -25,12 +25,14 @@
 #include <string.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <openexr.h>
 #include <stb_image.h>
 
 #include "output/image_write.h"
+#include "output/temporary.h"
 #include "temp_dir.h"
 
 /* ---------------------------------------------------------------------------------------------
@@ -694,6 +696,62 @@ static void test_frame_pattern_has_number(void **state)
     assert_false(vkrt_frame_pattern_has_number(NULL));
 }
 
+/* The pid of a process that has exited and been reaped: no process has it (until it is reused,
+ * which takes the kernel a whole lap of pids). */
+static long dead_pid(void)
+{
+    pid_t child = fork();
+    assert_true(child >= 0);
+    if (child == 0)
+        _exit(0);
+    assert_int_equal(waitpid(child, NULL, 0), child);
+    return (long)child;
+}
+
+/* Every temporary of the pattern's frames whose writer is gone goes, complete frames or not, in
+ * both namings; a live writer's, another host's, another pattern's and the frames stay. */
+static void test_dead_temporaries_removed(void **state)
+{
+    fixture *fx = *state;
+    char host[300], live_name[400], name[400];
+    assert_true(vkrt_temporary_name(live_name, sizeof live_name, "f007.exr"));
+    /* "f007.exr.tmp-<host>-<pid>": this process's own */
+    snprintf(host, sizeof host, "%.*s", (int)(strrchr(live_name, '-') - live_name - 13),
+             live_name + 13);
+    long dead = dead_pid();
+    const char *made[] = {"f001.exr", "f007.exr", "g001.exr.tmp-1", "f1x.exr.tmp-1", live_name};
+    for (size_t i = 0; i < sizeof made / sizeof *made; i++)
+        temp_dir_write_text(fx->tmp, made[i], "x");
+    static const char *const gone_formats[] = {"f001.exr.tmp-%s-%ld", "f007.exr.tmp-%s-%ld",
+                                               "f123456.exr.tmp-%s-%ld", "f001.exr.tmp-%.0s%ld"};
+    for (size_t i = 0; i < 4; i++) {
+        snprintf(name, sizeof name, gone_formats[i], host, dead);
+        temp_dir_write_text(fx->tmp, name, "x");
+    }
+    snprintf(name, sizeof name, "f002.exr.tmp-other_host-%ld", dead);
+    temp_dir_write_text(fx->tmp, name, "x");
+
+    char pattern[600];
+    snprintf(pattern, sizeof pattern, "%s/f%%03d.exr", fx->tmp->dir);
+    assert_int_equal(vkrt_temporaries_remove_dead(pattern), 4);
+    char listing[2048];
+    list_dir(fx->tmp->dir, listing, sizeof listing);
+    char want[2048];
+    snprintf(want, sizeof want, "f001.exr f002.exr.tmp-other_host-%ld f007.exr %s f1x.exr.tmp-1 "
+                                "g001.exr.tmp-1", dead, live_name);
+    assert_string_equal(listing, want);
+
+    /* One frame's, by its path; a '%' in it is a plain character. */
+    snprintf(name, sizeof name, "100%%.exr.tmp-%s-%ld", host, dead);
+    temp_dir_write_text(fx->tmp, name, "x");
+    snprintf(pattern, sizeof pattern, "%s/100%%.exr", fx->tmp->dir);
+    assert_int_equal(vkrt_temporaries_remove_dead_beside(pattern), 1);
+    /* A pattern without a number: its one frame. */
+    temp_dir_write_text(fx->tmp, name, "x");
+    snprintf(pattern, sizeof pattern, "%s/100%%%%.exr", fx->tmp->dir);
+    assert_int_equal(vkrt_temporaries_remove_dead(pattern), 1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -709,6 +767,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_success_replaces_old_file, make_fixture, remove_fixture),
         cmocka_unit_test_setup_teardown(test_unknown_extension, make_fixture, remove_fixture),
         cmocka_unit_test_setup_teardown(test_empty_image_rejected, make_fixture, remove_fixture),
+        cmocka_unit_test_setup_teardown(test_dead_temporaries_removed, make_fixture, remove_fixture),
         cmocka_unit_test(test_format_of),
         cmocka_unit_test(test_frame_path_expands),
         cmocka_unit_test(test_frame_path_rejects),

@@ -83,7 +83,8 @@ static void the_file(const char *dir, char *path, size_t size)
 
 static void counts(uint32_t *loaded, uint32_t *compiled)
 {
-    gpu_spirv_cache_counts(loaded, compiled);
+    uint32_t stored;
+    gpu_spirv_cache_counts(loaded, compiled, &stored);
 }
 
 static void hit_gives_the_same_words_without_glslang(void **state)
@@ -196,7 +197,19 @@ static void no_cache_still_compiles(void **state)
     char dir[600];
     snprintf(dir, sizeof dir, "%s/cache", file);
     setenv("VKRT_CACHE_DIR", dir, 1);
+    uint32_t loaded, compiled, stored, stored_before;
+    gpu_spirv_cache_counts(&loaded, &compiled, &stored_before);
     compile(&words, &n);
+    /* Nothing was stored, and nothing says so (--verbose reports these counts). */
+    gpu_spirv_cache_counts(&loaded, &compiled, &stored);
+    assert_int_equal(stored, stored_before);
+    gpu_spirv_key key = gpu_spirv_key_of("k", 1);
+    assert_false(gpu_spirv_cache_store(&key, words, n));
+    assert_false(gpu_spirv_cache_store_bytes(&key, words, n * sizeof *words));
+    /* The cache directory is a file itself. */
+    setenv("VKRT_CACHE_DIR", file, 1);
+    assert_false(gpu_spirv_cache_store(&key, words, n));
+    assert_false(gpu_spirv_cache_store_bytes(&key, words, n * sizeof *words));
     free(words);
     /* Switched off. */
     setenv("VKRT_CACHE_DIR", "", 1);

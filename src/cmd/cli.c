@@ -278,15 +278,17 @@ static bool parse_common(const char *arg, const char *value, vkrt_common_options
         c->device = (int)device;
     } else if (strcmp(arg, "--accel") == 0) {
         *consumed = 1;
+        char names[VKRT_NAMES_BYTES];
         if (!value || !vkrt_accel_parse(value, &c->accel))
-            return vkrt_error_set(err, "--accel: '%s' is not one of auto, brute, grid, bvh, kdtree",
-                                  value ? value : "");
+            return vkrt_error_set(err, "--accel: '%s' is not one of %s", value ? value : "",
+                                  vkrt_accel_names(names));
         c->accel_given = true;
     } else if (strcmp(arg, "--bvh-splits") == 0) {
         *consumed = 1;
+        char names[VKRT_NAMES_BYTES];
         if (!value || !vkrt_bvh_splits_parse(value, &c->bvh_splits))
-            return vkrt_error_set(err, "--bvh-splits: '%s' is not one of auto, on, off",
-                                  value ? value : "");
+            return vkrt_error_set(err, "--bvh-splits: '%s' is not one of %s", value ? value : "",
+                                  vkrt_bvh_splits_names(names));
         c->bvh_splits_given = true;
     } else if (strcmp(arg, "--instancing") == 0) {
         *consumed = 1;
@@ -300,9 +302,10 @@ static bool parse_common(const char *arg, const char *value, vkrt_common_options
         c->instancing = (vkrt_instancing)k;
     } else if (strcmp(arg, "--integrator") == 0) {
         *consumed = 1;
+        char names[VKRT_NAMES_BYTES];
         if (!value || !vkrt_integrator_parse(value, &c->integrator))
-            return vkrt_error_set(err, "--integrator: '%s' is not one of auto, whitted, path",
-                                  value ? value : "");
+            return vkrt_error_set(err, "--integrator: '%s' is not one of %s", value ? value : "",
+                                  vkrt_integrator_names(names));
     } else if (strcmp(arg, "--clamp") == 0) {
         *consumed = 1;
         return parse_positive(arg, value, &c->clamp, err);

@@ -9,6 +9,7 @@
 #include "../clock.h"
 #include "../output/image_check.h"
 #include "../output/image_write.h"
+#include "../output/temporary.h"
 #include "../render/trace_api.h"
 #include "render_desc.h"
 #include "report.h"
@@ -30,14 +31,22 @@ static bool report_convergence(const vkrt_render_options *opts, vkrt_renderer *r
     }
     vkrt_convergence c;
     bool ok = vkrt_renderer_convergence(renderer, &c, NULL, samples, err);
+    /* A pixel needs 2 samples for an estimate; those with fewer are said apart, not averaged. */
+    char estimates[200];
+    if (c.unestimated == c.pixels)
+        snprintf(estimates, sizeof estimates,
+                 "no error estimate (a pixel needs 2 samples for one; give --spp 2 or more)");
+    else
+        snprintf(estimates, sizeof estimates,
+                 "estimate rms %.4f, 99th percentile %.4f, max %.4f%s", c.rms_error,
+                 (double)c.p99_error, (double)c.max_error,
+                 c.unestimated ? " (of the pixels with 2 samples or more)" : "");
     if (ok && !opts->common.quiet)
         fprintf(stderr,
-                "vkrt: frame %u: target error %g: %.2f%% of pixels within it; estimate rms %.4f, "
-                "99th percentile %.4f, max %.4f; samples per pixel %.1f mean (%u to %u of %u); "
-                "%.3f s\n",
-                f, (double)c.target, 100.0 * c.converged / c.pixels, c.rms_error,
-                (double)c.p99_error, (double)c.max_error, c.mean_samples, c.min_samples,
-                c.max_samples, desc->samples, stats->seconds);
+                "vkrt: frame %u: target error %g: %.2f%% of pixels within it; %s; samples per "
+                "pixel %.1f mean (%u to %u of %u); %.3f s\n",
+                f, (double)c.target, 100.0 * c.converged / c.pixels, estimates, c.mean_samples,
+                c.min_samples, c.max_samples, desc->samples, stats->seconds);
     char path[4096];
     if (ok && opts->sample_count_image) {
         bool exr = vkrt_image_format_of(opts->sample_count_image) == VKRT_IMAGE_EXR;
@@ -178,7 +187,8 @@ bool frame_writer_write(frame_writer *w, uint32_t f, vkrt_frame_stats *stats, vk
     char path[4096];
     if (!vkrt_frame_path(path, sizeof path, w->output, f, err))
         return false;
-    vkrt_image_remove_stale_temporaries(path);
+    /* A --devices worker killed on this frame left its temporary; it is reaped by now. */
+    vkrt_temporaries_remove_dead_beside(path);
     /* Motion blur towards the next frame's camera; the last frame has none and is sharp. */
     vkrt_renderer_set_next_camera(w->renderer,
                                   f + 1 < w->scene->camera_count ? &w->scene->cameras[f + 1] : NULL);
@@ -254,6 +264,8 @@ bool frame_list_make(const vkrt_command_line *cl, const vkrt_scene *scene, const
     uint32_t first = opts->frames_given ? opts->frame_first : 0;
     uint32_t last = opts->frames_given ? opts->frame_last : scene->camera_count - 1;
     uint32_t step = opts->frames_given ? opts->frame_step : 1;
+    /* What interrupted runs left beside any frame of the pattern, those of live runs kept. */
+    vkrt_temporaries_remove_dead(output);
     *list = (frame_list){.total = (last - first) / step + 1};
     list->frames = malloc(list->total * sizeof *list->frames);
     if (!list->frames)

@@ -42,6 +42,8 @@ static bool check_output(const char *output, uint32_t frames, vkrt_error *err)
 {
     if (!output)
         return vkrt_error_set(err, "no output file: give -o PATH or an `output` line");
+    if (!*output)
+        return vkrt_error_set(err, "the output file name is empty: give -o PATH, a .png or .exr");
     char first[4096];
     if (!vkrt_frame_path(first, sizeof first, output, 0, err))
         return false;

@@ -43,16 +43,19 @@ void report_accel_stats(FILE *out, const vkrt_accel_stats *s)
 
 void report_kernel_cache(FILE *out)
 {
-    uint32_t loaded, compiled;
-    gpu_spirv_cache_counts(&loaded, &compiled);
+    uint32_t loaded, compiled, stored;
+    gpu_spirv_cache_counts(&loaded, &compiled, &stored);
     char dir[4096];
     uint32_t pipelines_loaded, pipelines_stored;
     gpu_pipeline_cache_counts(&pipelines_loaded, &pipelines_stored);
     if (gpu_spirv_cache_dir(dir, sizeof dir))
         fprintf(out,
-                "vkrt: kernels: %u compiled, %u from the cache in %s; pipelines: %u from the "
-                "driver's data there, %u stored\n",
-                compiled, loaded, dir, pipelines_loaded, pipelines_stored);
+                "vkrt: kernels: %u compiled, %u from the cache in %s, %u stored there; "
+                "pipelines: %u from the driver's data there, %u stored%s\n",
+                compiled, loaded, dir, stored, pipelines_loaded, pipelines_stored,
+                compiled > stored ? " (the cache could not be written: is it a file, read-only "
+                                    "or full?)"
+                                  : "");
     else
         fprintf(out,
                 "vkrt: kernels: %u compiled (no kernel cache: --no-cache, VKRT_CACHE_DIR is empty, "

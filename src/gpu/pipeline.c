@@ -85,10 +85,9 @@ static void store_pipeline_cache(gpu_context *ctx, const gpu_spirv_key *key, VkP
         return;
     void *data = malloc(size);
     if (data && vkGetPipelineCacheData(ctx->device, cache, &size, data) == VK_SUCCESS &&
-        gpu_pipeline_cache_header_ok(data, size, &ctx->properties)) {
-        gpu_spirv_cache_store_bytes(key, data, size);
-        atomic_fetch_add(&cache_stored, 1u);
-    }
+        gpu_pipeline_cache_header_ok(data, size, &ctx->properties) &&
+        gpu_spirv_cache_store_bytes(key, data, size))
+        atomic_fetch_add(&cache_stored, 1u); /* counted only when it is on disk */
     free(data);
 }
 

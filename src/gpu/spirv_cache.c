@@ -40,7 +40,7 @@ typedef struct file_header {
 static const uint64_t BYTES_MAGIC = 0x3144435054524B56ull; /* "VKRTPCD1", little-endian */
 static const uint64_t MAX_BYTES = 1u << 26;
 
-static _Atomic uint32_t loaded_count, compiled_count;
+static _Atomic uint32_t loaded_count, compiled_count, stored_count;
 
 /* FNV-1a over bytes, from a given basis; 64 bits. */
 static uint64_t fnv1a(const void *data, size_t size, uint64_t h)
@@ -164,34 +164,37 @@ bool gpu_spirv_cache_load(const gpu_spirv_key *key, uint32_t **spirv, size_t *wo
 
 /* Writes the header, size bytes of data and their hash to key's file with extension ext, whole
  * under a temporary name and then renamed; best effort, and silent: a kernel is small and
- * compiled again next time. */
-static void store_entry(const gpu_spirv_key *key, const char *ext, const file_header *h,
+ * compiled again next time. Returns whether the entry is on disk. */
+static bool store_entry(const gpu_spirv_key *key, const char *ext, const file_header *h,
                         const void *data, size_t size)
 {
     vkrt_cache_writer w;
     if (!vkrt_cache_writer_open(&w, VKRT_CACHE_KERNELS, NULL, key->h, ext))
-        return;
+        return false;
     uint64_t hash = block_hash(data, size, 0);
     vkrt_cache_writer_put(&w, h, sizeof *h);
     vkrt_cache_writer_put(&w, data, size);
     vkrt_cache_writer_put(&w, &hash, sizeof hash);
-    vkrt_cache_writer_commit(&w);
+    return vkrt_cache_writer_commit(&w);
 }
 
-void gpu_spirv_cache_store(const gpu_spirv_key *key, const uint32_t *spirv, size_t word_count)
+bool gpu_spirv_cache_store(const gpu_spirv_key *key, const uint32_t *spirv, size_t word_count)
 {
     if (word_count > MAX_WORDS)
-        return;
+        return false;
     file_header h = {FILE_MAGIC, {key->h[0], key->h[1]}, word_count};
-    store_entry(key, ".spv", &h, spirv, word_count * sizeof *spirv);
+    bool stored = store_entry(key, ".spv", &h, spirv, word_count * sizeof *spirv);
+    if (stored)
+        atomic_fetch_add(&stored_count, 1u);
+    return stored;
 }
 
-void gpu_spirv_cache_store_bytes(const gpu_spirv_key *key, const void *data, size_t size)
+bool gpu_spirv_cache_store_bytes(const gpu_spirv_key *key, const void *data, size_t size)
 {
     if (size == 0 || size > MAX_BYTES)
-        return;
+        return false;
     file_header h = {BYTES_MAGIC, {key->h[0], key->h[1]}, size};
-    store_entry(key, ".vkpc", &h, data, size);
+    return store_entry(key, ".vkpc", &h, data, size);
 }
 
 bool gpu_spirv_cache_load_bytes(const gpu_spirv_key *key, void **data, size_t *size)
@@ -202,10 +205,11 @@ bool gpu_spirv_cache_load_bytes(const gpu_spirv_key *key, void **data, size_t *s
     return ok;
 }
 
-void gpu_spirv_cache_counts(uint32_t *loaded, uint32_t *compiled)
+void gpu_spirv_cache_counts(uint32_t *loaded, uint32_t *compiled, uint32_t *stored)
 {
     *loaded = atomic_load(&loaded_count);
     *compiled = atomic_load(&compiled_count);
+    *stored = atomic_load(&stored_count);
 }
 
 void gpu_spirv_cache_count_compiled(void)

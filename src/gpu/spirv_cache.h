@@ -44,19 +44,22 @@ bool gpu_spirv_cache_dir(char *dir, size_t dir_size);
 bool gpu_spirv_cache_load(const gpu_spirv_key *key, uint32_t **spirv, size_t *word_count);
 
 /* Stores a kernel under key, best effort: creates the directory if needed; a failure leaves no
- * file behind and is otherwise ignored (the next start compiles again). */
-void gpu_spirv_cache_store(const gpu_spirv_key *key, const uint32_t *spirv, size_t word_count);
+ * file behind and is otherwise ignored (the next start compiles again). Returns whether the
+ * entry was stored (false for a directory that is a file, read-only, or full). */
+bool gpu_spirv_cache_store(const gpu_spirv_key *key, const uint32_t *spirv, size_t word_count);
 
 /* The driver's own compiled form of a pipeline (a VkPipelineCache's data, pipeline.c) is kept
  * beside the kernels, under a key of what it depends on (gpu_spirv_key_of_bytes over the SPIR-V,
  * the specialization, and the driver's identity), in the same way: whole, with a hash of its
- * bytes; a short or damaged file is a miss. store is best effort, as for kernels. */
+ * bytes; a short or damaged file is a miss. store is best effort, as for kernels, and says
+ * whether the entry was stored. */
 gpu_spirv_key gpu_spirv_key_of_bytes(const void *data, size_t size);
 bool gpu_spirv_cache_load_bytes(const gpu_spirv_key *key, void **data, size_t *size);
-void gpu_spirv_cache_store_bytes(const gpu_spirv_key *key, const void *data, size_t size);
+bool gpu_spirv_cache_store_bytes(const gpu_spirv_key *key, const void *data, size_t size);
 
-/* How many kernels this process took from the cache and how many it compiled, for --verbose. */
-void gpu_spirv_cache_counts(uint32_t *loaded, uint32_t *compiled);
+/* How many kernels this process took from the cache, how many it compiled and how many of those
+ * it stored there, for --verbose. */
+void gpu_spirv_cache_counts(uint32_t *loaded, uint32_t *compiled, uint32_t *stored);
 
 /* Counts one compiled kernel (gpu_shader_compile_stage calls it). */
 void gpu_spirv_cache_count_compiled(void);

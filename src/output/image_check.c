@@ -2,12 +2,10 @@
 #define _POSIX_C_SOURCE 200809L
 #include "image_check.h"
 
-#include <dirent.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include <openexr.h>
 
@@ -81,30 +79,4 @@ bool vkrt_image_is_complete(const char *path, uint32_t width, uint32_t height)
     default:
         return false;
     }
-}
-
-void vkrt_image_remove_stale_temporaries(const char *path)
-{
-    const char *slash = strrchr(path, '/');
-    char folder[4096];
-    const char *base = slash ? slash + 1 : path;
-    if (slash)
-        snprintf(folder, sizeof folder, "%.*s", (int)(slash - path), path);
-    else
-        snprintf(folder, sizeof folder, ".");
-    if (slash == path)
-        snprintf(folder, sizeof folder, "/");
-    char prefix[4200];
-    snprintf(prefix, sizeof prefix, "%s.tmp-", base);
-    DIR *dir = opendir(folder);
-    if (!dir)
-        return;
-    for (struct dirent *e; (e = readdir(dir));) {
-        if (strncmp(e->d_name, prefix, strlen(prefix)) != 0)
-            continue;
-        char stale[8400];
-        snprintf(stale, sizeof stale, "%s/%s", folder, e->d_name);
-        unlink(stale);
-    }
-    closedir(dir);
 }

@@ -14,7 +14,4 @@
  * guards against files cut short by other tools, full disks or a different resolution. */
 bool vkrt_image_is_complete(const char *path, uint32_t width, uint32_t height);
 
-/* Removes temporary files "<path>.tmp-*" that an interrupted run left beside path. */
-void vkrt_image_remove_stale_temporaries(const char *path);
-
 #endif

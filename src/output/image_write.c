@@ -4,7 +4,7 @@
  * beside the PNG), and expands frame-number patterns in output paths.
  *
  * Both formats go through the same temporary-file discipline: the bytes are written to
- * "<path>.tmp-<pid>" beside the target (same folder, so rename() is atomic), and only a
+ * "<path>.tmp-<host>-<pid>" (temporary.h) beside the target (same folder, so rename() is atomic), and only a
  * complete, closed file is renamed onto path. Any failure unlinks the temporary file, so a
  * failed or interrupted write never leaves a truncated image or clobbers an older one.
  */
@@ -26,6 +26,7 @@
 #include <openexr.h>
 
 #include "png_encode.h"
+#include "temporary.h"
 
 /* ---------------------------------------------------------------------------------------------
  * Format detection
@@ -61,7 +62,7 @@ vkrt_image_format vkrt_image_format_of(const char *path)
 
 typedef struct temp_file {
     const char *target_path; /* the final name, used in every error message */
-    char *temp_path;         /* "<target>.tmp-<pid>", heap-allocated */
+    char *temp_path;         /* "<target>.tmp-<host>-<pid>", heap-allocated */
     int fd;                  /* -1 once closed */
 } temp_file;
 
@@ -69,12 +70,12 @@ static bool temp_file_open(temp_file *tf, const char *target_path, vkrt_error *e
 {
     tf->target_path = target_path;
     tf->fd = -1;
-    /* "%ld" of a pid needs at most 20 characters; keep some slack for ".tmp-" and NUL. */
-    size_t size = strlen(target_path) + 32;
+    /* The host (at most 255 characters) and the pid (at most 20), ".tmp-", '-' and NUL. */
+    size_t size = strlen(target_path) + 300;
     tf->temp_path = malloc(size);
     if (!tf->temp_path)
         return vkrt_error_set(err, "%s: cannot write: out of memory", target_path);
-    snprintf(tf->temp_path, size, "%s.tmp-%ld", target_path, (long)getpid());
+    vkrt_temporary_name(tf->temp_path, size, target_path);
 
     /* O_TRUNC rather than O_EXCL: a leftover from an earlier crashed run with the same pid is
      * ours to overwrite. 0666 lets the umask decide, like any other file the user creates. */

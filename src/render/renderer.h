@@ -137,9 +137,21 @@ typedef struct vkrt_convergence {
     double rms_error;    /* root mean square of the pixels' estimates */
     float p99_error;     /* the 99th percentile of the estimates */
     float max_error;     /* the largest (a pixel at the cap, or dark and noisy) */
+    uint32_t unestimated; /* pixels with fewer than 2 samples, whose error cannot be estimated:
+                             rms, p99 and max are over the others (0 when there are none) */
     double mean_samples; /* samples per pixel, mean, fewest and most */
     uint32_t min_samples, max_samples;
 } vkrt_convergence;
+
+struct PixelStats; /* glsl/shared.h */
+
+/* What vkrt_renderer_convergence reports, from pixels' statistics already on the host (sorted:
+ * room for pixels floats), each pixel's estimate and samples copied out where those are not
+ * NULL (a pixel of fewer than 2 samples has adaptive.glsl's sentinel there, and counts in
+ * out->unestimated, not in the rms, p99 or max). */
+void vkrt_convergence_of(const struct PixelStats *stats, size_t pixels, float target,
+                         vkrt_convergence *out, float *sorted, float *estimates,
+                         uint32_t *samples);
 
 /* Reads the pixels' statistics back (once: width * height * 16 bytes) into out, and when not
  * NULL each pixel's estimate and sample count (width * height, top row first). False with err set

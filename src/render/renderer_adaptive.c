@@ -99,6 +99,45 @@ static int compare_floats(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+void vkrt_convergence_of(const PixelStats *stats, size_t pixels, float target,
+                         vkrt_convergence *out, float *sorted, float *estimates,
+                         uint32_t *samples)
+{
+    *out = (vkrt_convergence){.target = target, .pixels = (uint32_t)pixels};
+    double squares = 0, total = 0;
+    size_t estimated = 0;
+    out->min_samples = UINT32_MAX;
+    for (size_t i = 0; i < pixels; ++i) {
+        const PixelStats *s = &stats[i];
+        float e = adaptive_relative_error(s->mean, s->m2, s->samples);
+        total += s->samples;
+        out->converged += e <= target;
+        out->min_samples = s->samples < out->min_samples ? s->samples : out->min_samples;
+        out->max_samples = s->samples > out->max_samples ? s->samples : out->max_samples;
+        if (estimates)
+            estimates[i] = e;
+        if (samples)
+            samples[i] = s->samples;
+        /* Fewer than 2 samples give adaptive.glsl's sentinel, not an estimate: counted apart,
+         * so that it is never averaged into the figures or reported as one. */
+        if (s->samples < 2) {
+            out->unestimated++;
+            continue;
+        }
+        sorted[estimated++] = e;
+        squares += (double)e * e;
+    }
+    if (pixels == 0)
+        out->min_samples = 0;
+    out->mean_samples = pixels ? total / (double)pixels : 0.0;
+    if (estimated) {
+        out->rms_error = sqrt(squares / (double)estimated);
+        qsort(sorted, estimated, sizeof *sorted, compare_floats);
+        out->p99_error = sorted[(size_t)floor(0.99 * (double)(estimated - 1))];
+        out->max_error = sorted[estimated - 1];
+    }
+}
+
 bool vkrt_renderer_convergence(vkrt_renderer *r, vkrt_convergence *out, float *estimates,
                                uint32_t *samples, vkrt_error *err)
 {
@@ -112,30 +151,8 @@ bool vkrt_renderer_convergence(vkrt_renderer *r, vkrt_convergence *out, float *e
     if (!ok)
         vkrt_error_set(err, "out of memory reading back %zu pixels' statistics", pixels);
     ok = ok && gpu_buffer_download(r->ctx, &r->pixel_stats, stats, pixels * sizeof *stats, err);
-    if (ok) {
-        double squares = 0, total = 0;
-        out->pixels = (uint32_t)pixels;
-        out->min_samples = UINT32_MAX;
-        for (size_t i = 0; i < pixels; ++i) {
-            const PixelStats *s = &stats[i];
-            float e = adaptive_relative_error(s->mean, s->m2, s->samples);
-            sorted[i] = e;
-            squares += (double)e * e;
-            total += s->samples;
-            out->converged += e <= r->target_error;
-            out->min_samples = s->samples < out->min_samples ? s->samples : out->min_samples;
-            out->max_samples = s->samples > out->max_samples ? s->samples : out->max_samples;
-            if (estimates)
-                estimates[i] = e;
-            if (samples)
-                samples[i] = s->samples;
-        }
-        out->rms_error = sqrt(squares / (double)pixels);
-        out->mean_samples = total / (double)pixels;
-        qsort(sorted, pixels, sizeof *sorted, compare_floats);
-        out->p99_error = sorted[(size_t)floor(0.99 * (double)(pixels - 1))];
-        out->max_error = sorted[pixels - 1];
-    }
+    if (ok)
+        vkrt_convergence_of(stats, pixels, r->target_error, out, sorted, estimates, samples);
     free(stats);
     free(sorted);
     return ok;

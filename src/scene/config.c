@@ -436,33 +436,36 @@ static bool kw_max_depth(parser *p, const tokens *t)
 
 static bool kw_accel(parser *p, const tokens *t)
 {
-    char buf[SHOWN_TOKEN_BYTES + 4];
+    char buf[SHOWN_TOKEN_BYTES + 4], names[VKRT_NAMES_BYTES];
     if (t->count != 2)
-        return fail(p, "accel needs one name (auto, brute, grid or bvh), got %d", t->count - 1);
+        return fail(p, "accel needs one name (%s), got %d", vkrt_accel_names(names), t->count - 1);
     if (!vkrt_accel_parse(t->tok[1], &p->cfg->accel))
-        return fail(p, "unknown accel '%s' (expected auto, brute, grid or bvh)",
-                    shown(t->tok[1], buf));
+        return fail(p, "unknown accel '%s' (expected %s)", shown(t->tok[1], buf),
+                    vkrt_accel_names(names));
     return true;
 }
 
 static bool kw_integrator(parser *p, const tokens *t)
 {
-    char buf[SHOWN_TOKEN_BYTES + 4];
+    char buf[SHOWN_TOKEN_BYTES + 4], names[VKRT_NAMES_BYTES];
     if (t->count != 2)
-        return fail(p, "integrator needs one name (auto, whitted or path), got %d", t->count - 1);
+        return fail(p, "integrator needs one name (%s), got %d", vkrt_integrator_names(names),
+                    t->count - 1);
     if (!vkrt_integrator_parse(t->tok[1], &p->cfg->integrator))
-        return fail(p, "unknown integrator '%s' (expected auto, whitted or path)",
-                    shown(t->tok[1], buf));
+        return fail(p, "unknown integrator '%s' (expected %s)", shown(t->tok[1], buf),
+                    vkrt_integrator_names(names));
     return true;
 }
 
 static bool kw_bvh_splits(parser *p, const tokens *t)
 {
-    char buf[SHOWN_TOKEN_BYTES + 4];
+    char buf[SHOWN_TOKEN_BYTES + 4], names[VKRT_NAMES_BYTES];
     if (t->count != 2)
-        return fail(p, "bvh-splits needs one name (auto, on or off), got %d", t->count - 1);
+        return fail(p, "bvh-splits needs one name (%s), got %d", vkrt_bvh_splits_names(names),
+                    t->count - 1);
     if (!vkrt_bvh_splits_parse(t->tok[1], &p->cfg->bvh_splits))
-        return fail(p, "unknown bvh-splits '%s' (expected auto, on or off)", shown(t->tok[1], buf));
+        return fail(p, "unknown bvh-splits '%s' (expected %s)", shown(t->tok[1], buf),
+                    vkrt_bvh_splits_names(names));
     return true;
 }
 
@@ -810,10 +813,13 @@ static bool parse_line(void *ctx, const tokens *t)
         }
         return keywords[i].parse(p, t);
     }
-    return fail(p, "unknown keyword '%s' (expected geometry, materials, resolution, samples, "
-                   "max-depth, shutter, accel, integrator, bvh-splits, textures, tonemap, output, "
-                   "environment, environment-map, light or camera)",
-                shown(t->tok[0], buf));
+    /* Every keyword of the table, so the list cannot fall behind it. */
+    char expected[400] = "";
+    size_t used = 0;
+    for (int i = 0; i < n && used < sizeof expected; i++)
+        used += (size_t)snprintf(expected + used, sizeof expected - used, "%s%s",
+                                 i == 0 ? "" : i + 1 == n ? " or " : ", ", keywords[i].word);
+    return fail(p, "unknown keyword '%s' (expected %s)", shown(t->tok[0], buf), expected);
 }
 
 static bool parse_all(parser *p, const char *text, size_t size)

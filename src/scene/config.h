@@ -136,7 +136,17 @@ bool vkrt_config_for_geometry(const char *path, vkrt_config *cfg, vkrt_error *er
 /* Frees what a successful load or parse allocated, and zeroes *cfg. Safe on a zeroed struct. */
 void vkrt_config_free(vkrt_config *cfg);
 
-/* Name of an accel kind as written in scene.cfg ("auto", "brute", "grid", "bvh"). */
+/* Room for any of the name lists below. */
+#define VKRT_NAMES_BYTES 96
+
+/* Every name of a setting, for messages, written into out and returned: "auto, brute, grid,
+ * bvh or kdtree", "auto, whitted or path", "auto, on or off". Made from the tables the parse
+ * functions read, so a message never leaves a name out. */
+const char *vkrt_accel_names(char out[VKRT_NAMES_BYTES]);
+const char *vkrt_integrator_names(char out[VKRT_NAMES_BYTES]);
+const char *vkrt_bvh_splits_names(char out[VKRT_NAMES_BYTES]);
+
+/* Name of an accel kind as written in scene.cfg ("auto", "brute", "grid", "bvh", "kdtree"). */
 const char *vkrt_accel_name(vkrt_accel_kind kind);
 
 /* Parses an accel name; returns false for an unknown one. */

@@ -32,6 +32,8 @@
 
 #include "../../glsl/shared.h"
 #include "colour.h"
+#include "radiance_hdr.h"
+#include "texture_file.h"
 
 #define PI_D 3.14159265358979323846
 #define PI_F 3.14159265358979323846f
@@ -72,12 +74,91 @@ static bool size_ok(int64_t w, int64_t h)
     return w > 0 && h > 0 && w <= VKRT_TEXTURE_MAX_SIZE && h <= VKRT_TEXTURE_MAX_SIZE;
 }
 
+/* The rest of f, from where it stands, in *bytes (malloc'd) and *size; false when out of memory
+ * or a read fails. Read in doubling chunks: the file may be a pipe. */
+static bool read_rest(FILE *f, unsigned char **bytes, size_t *size)
+{
+    size_t used = 0, cap = 0;
+    unsigned char *buf = NULL;
+    for (;;) {
+        if (used == cap) {
+            size_t grown_cap = cap ? 2 * cap : (size_t)1 << 16;
+            unsigned char *grown = grown_cap > cap ? realloc(buf, grown_cap) : NULL;
+            if (!grown) {
+                free(buf);
+                return false;
+            }
+            buf = grown;
+            cap = grown_cap;
+        }
+        size_t n = fread(buf + used, 1, cap - used, f);
+        used += n;
+        if (n == 0)
+            break;
+    }
+    if (ferror(f)) {
+        free(buf);
+        return false;
+    }
+    *bytes = buf;
+    *size = used;
+    return true;
+}
+
+/* A Radiance .hdr through radiance_hdr.c: the header, the size limits, the pixel data's
+ * coverage (before anything is allocated for the pixels), then the decode. f is at its start. */
+static bool load_radiance(FILE *f, const char *path, const char *referrer,
+                          vkrt_envmap_image *image, vkrt_error *err)
+{
+    unsigned char *bytes = NULL;
+    size_t size = 0;
+    if (!read_rest(f, &bytes, &size))
+        return fail(err, referrer, path, "cannot read: %s", ferror(f) ? strerror(errno)
+                                                                       : "out of memory");
+    char why[300];
+    vkrt_radiance_info info;
+    bool ok = vkrt_radiance_header(bytes, size, &info, why, sizeof why);
+    if (ok && !size_ok(info.width, info.height)) {
+        snprintf(why, sizeof why, "image is %ux%u; maps must be 1 to %u pixels wide and tall",
+                 info.width, info.height, VKRT_TEXTURE_MAX_SIZE);
+        ok = false;
+    }
+    ok = ok && vkrt_radiance_check(bytes, size, &info, why, sizeof why);
+    float *rgb = ok ? malloc((size_t)info.width * info.height * 3 * sizeof *rgb) : NULL;
+    if (ok && (!rgb || !vkrt_radiance_decode(bytes, size, &info, 3, rgb))) {
+        snprintf(why, sizeof why, "out of memory for %ux%u pixels", info.width, info.height);
+        ok = false;
+    }
+    free(bytes);
+    if (!ok) {
+        free(rgb);
+        return fail(err, referrer, path, "%s", why);
+    }
+    size_t n = (size_t)info.width * info.height * 3;
+    for (size_t i = 0; i < n; i++)
+        rgb[i] = sanitise(rgb[i]);
+    *image = (vkrt_envmap_image){.width = info.width, .height = info.height, .rgb = rgb};
+    return true;
+}
+
 static bool load_stb(const char *path, const char *referrer, vkrt_envmap_image *image,
                      vkrt_error *err)
 {
     FILE *f = fopen(path, "rb");
     if (!f)
         return fail(err, referrer, path, "cannot open: %s", strerror(errno));
+    /* Radiance files, whatever their name, go to our reader; the rest to stb_image. */
+    unsigned char magic[2] = {0, 0};
+    size_t got = fread(magic, 1, sizeof magic, f);
+    if (fseek(f, 0, SEEK_SET) != 0) {
+        fclose(f);
+        return fail(err, referrer, path, "cannot read: %s", strerror(errno));
+    }
+    if (vkrt_radiance_is(magic, got)) {
+        bool ok = load_radiance(f, path, referrer, image, err);
+        fclose(f);
+        return ok;
+    }
     int w = 0, h = 0, channels = 0;
     if (!stbi_info_from_file(f, &w, &h, &channels)) {
         fclose(f);
@@ -91,14 +172,15 @@ static bool load_stb(const char *path, const char *referrer, vkrt_envmap_image *
                     "image is %dx%d; maps must be 1 to %u pixels wide and tall", w, h,
                     VKRT_TEXTURE_MAX_SIZE);
     }
-    bool hdr = stbi_is_hdr_from_file(f) != 0;
     int dw = 0, dh = 0, dc = 0;
-    void *pixels = hdr ? (void *)stbi_loadf_from_file(f, &dw, &dh, &dc, 3)
-                       : (void *)stbi_load_from_file(f, &dw, &dh, &dc, 3);
+    unsigned char *pixels = stbi_load_from_file(f, &dw, &dh, &dc, 3);
+    if (!pixels) {
+        char why[300];
+        vkrt_texture_decode_failure(f, why, sizeof why);
+        fclose(f);
+        return fail(err, referrer, path, "cannot decode the image: %s", why);
+    }
     fclose(f);
-    if (!pixels)
-        return fail(err, referrer, path, "cannot decode the image (stb_image: %s)",
-                    stbi_failure_reason());
     if (dw != w || dh != h) {
         stbi_image_free(pixels);
         return fail(err, referrer, path, "decoded %dx%d, but its header says %dx%d", dw, dh, w, h);
@@ -109,10 +191,9 @@ static bool load_stb(const char *path, const char *referrer, vkrt_envmap_image *
         stbi_image_free(pixels);
         return fail(err, referrer, path, "out of memory for %dx%d pixels", w, h);
     }
-    /* Radiance HDR is linear; 8-bit images are sRGB-encoded, like colour textures. */
+    /* 8-bit images are sRGB-encoded, like colour textures. */
     for (size_t i = 0; i < n; i++)
-        rgb[i] = sanitise(hdr ? ((const float *)pixels)[i]
-                              : srgb_to_linear(((const unsigned char *)pixels)[i] / 255.0f));
+        rgb[i] = sanitise(srgb_to_linear(pixels[i] / 255.0f));
     stbi_image_free(pixels);
     *image = (vkrt_envmap_image){.width = (uint32_t)w, .height = (uint32_t)h, .rgb = rgb};
     return true;

@@ -80,8 +80,14 @@ void vkrt_text_skip_bom(const char **text, size_t *size)
 const char *vkrt_text_next_line(const char *text, size_t size, size_t *pos, size_t *len)
 {
     const char *line = text + *pos;
-    const char *nl = memchr(line, '\n', size - *pos);
-    *len = nl ? (size_t)(nl - line) : size - *pos;
+    size_t rest = size - *pos;
+    const char *nl = memchr(line, '\n', rest);
+    /* A '\r' not followed by '\n' ends a line too: files from classic Mac OS end their lines so,
+     * and read as one long line they would give a message about the wrong thing. */
+    const char *cr = memchr(line, '\r', nl ? (size_t)(nl - line) : rest);
+    if (cr && cr + 1 != nl)
+        nl = cr;
+    *len = nl ? (size_t)(nl - line) : rest;
     *pos += *len + (nl ? 1 : 0);
     return line;
 }

@@ -39,8 +39,9 @@ bool vkrt_text_read_file(const char *path, size_t max_bytes, const char *kind, c
 void vkrt_text_skip_bom(const char **text, size_t *size);
 
 /* The next line of text[0..size) from *pos on: returns its start, sets *len (without the '\n')
- * and moves *pos past it. Call only while *pos < size. '\r' is left in the line (a separator for
- * vkrt_text_split), so CRLF files need nothing special. */
+ * and moves *pos past it. Call only while *pos < size. A line ends at '\n' (Unix), "\r\n"
+ * (Windows: the '\r' is left in the line, a separator for vkrt_text_split) or a '\r' alone
+ * (classic Mac OS), so each counts its lines as an editor does. */
 const char *vkrt_text_next_line(const char *text, size_t size, size_t *pos, size_t *len);
 
 /* Checks one line (len bytes, without its '\n') and splits the part before any '#' into tokens

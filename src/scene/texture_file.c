@@ -174,9 +174,11 @@ static bool png_cut_short(FILE *f, char *why, size_t size)
 }
 
 /* stb_image's reasons are short codes ("outofdata", "bad huffman code"); this says what they mean
- * for the user. NULL for a reason that is empty or not printable. */
-static const char *meaning_of(const char *reason)
+ * for the user, and whether the code adds anything (a damaged file's code names what is damaged;
+ * "outofdata" says no more than "cut short"). NULL for a reason that is empty or not printable. */
+static const char *meaning_of(const char *reason, bool *show_code)
 {
+    *show_code = false;
     if (!reason || !*reason)
         return NULL;
     for (const char *c = reason; *c; c++)
@@ -184,20 +186,24 @@ static const char *meaning_of(const char *reason)
             return NULL;
     static const struct {
         const char *code, *meaning;
+        bool show_code;
     } known[] = {
-        {"outofdata", "the file ends early (cut short?)"},
-        {"read past buffer", "the file ends early (cut short?)"},
-        {"not enough pixels", "the file ends early (cut short?)"},
-        {"too large", "the image is too large for stb_image"},
-        {"output buffer limit", "the image is too large for stb_image"},
-        {"outofmem", "out of memory"},
-        {"only 8-bit", "a format variant stb_image does not support"},
-        {"1/2/4/8/16-bit only", "a format variant stb_image does not support"},
-        {"unknown image type", "a format stb_image does not support"},
+        {"outofdata", "the image data stops before the image is complete (the file is cut short or damaged)", false},
+        {"read past buffer", "the image data stops before the image is complete (the file is cut short or damaged)", false},
+        {"not enough pixels", "the image data stops before the image is complete (the file is cut short or damaged)", false},
+        {"too large", "stb_image cannot decode an image this large in this format", true},
+        {"output buffer limit", "stb_image cannot decode an image this large in this format", true},
+        {"outofmem", "out of memory", false},
+        {"only 8-bit", "a format variant stb_image does not support", true},
+        {"1/2/4/8/16-bit only", "a format variant stb_image does not support", true},
+        {"unknown image type", "a format stb_image does not support", false},
     };
     for (size_t i = 0; i < sizeof known / sizeof known[0]; i++)
-        if (strcmp(reason, known[i].code) == 0)
+        if (strcmp(reason, known[i].code) == 0) {
+            *show_code = known[i].show_code;
             return known[i].meaning;
+        }
+    *show_code = true;
     if (strstr(reason, "not known"))
         return "a format variant stb_image does not support";
     return "the image data is damaged";
@@ -208,10 +214,13 @@ static const char *meaning_of(const char *reason)
 void vkrt_texture_decode_failure(FILE *f, char *why, size_t size)
 {
     const char *reason = stbi_failure_reason(); /* before png_cut_short reads anything */
-    const char *meaning = meaning_of(reason);
+    bool show_code;
+    const char *meaning = meaning_of(reason, &show_code);
     if (png_cut_short(f, why, size))
         return;
-    if (meaning)
+    if (meaning && !show_code)
+        snprintf(why, size, "%s", meaning);
+    else if (meaning)
         snprintf(why, size, "%s (stb_image: %s)", meaning, reason);
     else
         snprintf(why, size, "the file is damaged or cut short (stb_image gives no reason)");
