@@ -98,7 +98,8 @@ static void test_every_keyword(void **state)
                        "bvh-splits  off\n"
                        "textures    nearest\n"
                        "environment-map sky/noon.exr scale 2.5 rotate -90\n"
-                       "tonemap     agx\n";
+                       "tonemap     agx\n"
+                       "denoise     on\n";
     vkrt_config cfg;
     parse_ok(text, "scenes/demo", &cfg);
 
@@ -115,6 +116,7 @@ static void test_every_keyword(void **state)
     assert_int_equal(cfg.bvh_splits, VKRT_BVH_SPLITS_OFF);
     assert_int_equal(cfg.texture_filter, VKRT_TEXTURE_FILTER_NEAREST);
     assert_int_equal(cfg.tonemap, VKRT_TONEMAP_AGX);
+    assert_true(cfg.denoise);
     assert_vec3(cfg.environment, 0.05f, 0.25f, 0.5f);
     assert_string_equal(cfg.environment_map, "scenes/demo/sky/noon.exr");
     assert_float_equal(cfg.environment_scale, 2.5f, 0);
@@ -522,7 +524,7 @@ typedef struct bad_case {
 
 static const bad_case bad_cases[] = {
     /* keywords */
-    {G "foo 1 2\n", "t.cfg:2: ", "unknown keyword 'foo' (expected geometry, materials, resolution, samples, max-depth, shutter, accel, integrator, bvh-splits, output, environment, environment-map, light or camera)"},
+    {G "foo 1 2\n", "t.cfg:2: ", "unknown keyword 'foo' (expected geometry, materials, resolution, samples, max-depth, shutter, accel, integrator, bvh-splits, textures, tonemap, denoise, output, environment, environment-map, light or camera)"},
     {G "Samples 2\n", "t.cfg:2: ", "unknown keyword 'Samples'"},
     {G "resolution 1 1\n\nresolution 2 2\n", "t.cfg:4: ", "resolution given twice (first on line 2)"},
     {G "geometry b.obj translate 1 2\n", "t.cfg:2: ", "geometry translate needs 3 numbers"},
@@ -542,6 +544,8 @@ static const bad_case bad_cases[] = {
     {G "tonemap agx\ntonemap aces\n", "t.cfg:3: ", "tonemap given twice (first on line 2)"},
     {G "tonemap filmic\n", "t.cfg:2: ", "unknown tonemap 'filmic' (expected none, aces or agx)"},
     {G "tonemap\n", "t.cfg:2: ", "tonemap needs one name (none, aces or agx), got 0"},
+    {G "denoise yes\n", "t.cfg:2: ", "denoise: 'yes' is not on or off"},
+    {G "denoise on\ndenoise off\n", "t.cfg:3: ", "denoise given twice (first on line 2)"},
     {G "environment-map a.hdr\nenvironment-map b.hdr\n", "t.cfg:3: ", "environment-map given twice (first on line 2)"},
     /* integrator */
     {G "integrator bidir\n", "t.cfg:2: ", "unknown integrator 'bidir' (expected auto, whitted or path)"},

@@ -147,7 +147,7 @@ bool frame_writer_start(frame_writer *w, int device, bool tell, vkrt_error *err)
                 break;
             }
     /* Made here, after any fork of --devices: a worker's denoiser is its own. */
-    if (vkrt_denoise_asked(w->cl) &&
+    if (vkrt_denoise_asked(w->cl, &w->scene->config) &&
         !vkrt_denoiser_create(&w->denoiser, &(vkrt_denoiser_desc){0}, err)) {
         vkrt_renderer_destroy(w->renderer);
         gpu_context_destroy(&w->ctx);

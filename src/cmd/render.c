@@ -298,7 +298,7 @@ int vkrt_cmd_render(const vkrt_command_line *cl, double main_ms)
     vkrt_scene scene;
     startup_clock clock = {.main = main_ms};
     /* --denoise without its library stops here, before any work. */
-    if (vkrt_denoise_asked(cl) && !vkrt_denoise_library_check(&err)) {
+    if (vkrt_denoise_asked(cl, NULL) && !vkrt_denoise_library_check(&err)) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
         return 1;
     }
@@ -315,6 +315,13 @@ int vkrt_cmd_render(const vkrt_command_line *cl, double main_ms)
     if (!vkrt_scene_options_apply(&opts->scene_options, &scene,
                                   opts->common.quiet ? NULL : stderr, &err)) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
+        early_context_discard(&early);
+        vkrt_scene_free(&scene);
+        return 1;
+    }
+    /* `denoise on` in the scene file: its library is checked as soon as the file is read. */
+    if (vkrt_denoise_asked(cl, &scene.config) && !vkrt_denoise_library_check(&err)) {
+        fprintf(stderr, "vkrt: %s: denoise on: %s\n", opts->scene_path, err.msg);
         early_context_discard(&early);
         vkrt_scene_free(&scene);
         return 1;

@@ -30,7 +30,7 @@ vkrt_render_desc vkrt_render_desc_for(const vkrt_config *cfg, const vkrt_command
         d.profile_repeat = o->profile_repeat;
         d.seed = o->seed;
         /* --denoise: the albedo and normal guide the denoiser (written only if --aov asks). */
-        d.aovs = o->aovs | (vkrt_denoise_asked(cl) ? VKRT_AOV_SURFACE : 0u);
+        d.aovs = o->aovs | (vkrt_denoise_asked(cl, cfg) ? VKRT_AOV_SURFACE : 0u);
         d.shutter = cfg->shutter; /* the viewer's camera has no next frame to blur towards */
     } else if (cl->command == VKRT_COMMAND_VIEW) {
         uint32_t least = cfg->samples > view_default_samples ? cfg->samples : view_default_samples;
@@ -43,9 +43,11 @@ vkrt_render_desc vkrt_render_desc_for(const vkrt_config *cfg, const vkrt_command
     return vkrt_render_desc_complete(&d, cfg);
 }
 
-bool vkrt_denoise_asked(const vkrt_command_line *cl)
+bool vkrt_denoise_asked(const vkrt_command_line *cl, const vkrt_config *cfg)
 {
-    return cl->command == VKRT_COMMAND_RENDER ? cl->render.denoise
-           : cl->command == VKRT_COMMAND_VIEW ? cl->view.denoise
-                                              : false;
+    bool flag = cl->command == VKRT_COMMAND_RENDER ? cl->render.denoise
+                : cl->command == VKRT_COMMAND_VIEW ? cl->view.denoise
+                                                   : false;
+    bool frames = cl->command == VKRT_COMMAND_RENDER || cl->command == VKRT_COMMAND_VIEW;
+    return flag || (frames && cfg && cfg->denoise);
 }

@@ -16,6 +16,6 @@
 vkrt_render_desc vkrt_render_desc_for(const vkrt_config *cfg, const vkrt_command_line *cl);
 
 /* Whether cl's command denoises what it makes (render's files, view's window): --denoise. */
-bool vkrt_denoise_asked(const vkrt_command_line *cl);
+bool vkrt_denoise_asked(const vkrt_command_line *cl, const vkrt_config *cfg);
 
 #endif

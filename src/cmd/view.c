@@ -17,7 +17,7 @@ int vkrt_cmd_view(const vkrt_command_line *cl)
     /* --denoise without its library stops before any work; the window's frames are denoised
      * at OIDN's interactive quality. */
     vkrt_denoiser *denoiser = NULL;
-    if (vkrt_denoise_asked(cl) &&
+    if (vkrt_denoise_asked(cl, NULL) &&
         !vkrt_denoiser_create(&denoiser, &(vkrt_denoiser_desc){.interactive = true}, &err)) {
         fprintf(stderr, "vkrt: %s\n", err.msg);
         return 1;
@@ -35,6 +35,13 @@ int vkrt_cmd_view(const vkrt_command_line *cl)
         fprintf(stderr, "vkrt: %s\n", err.msg);
         vkrt_scene_free(&scene);
         vkrt_denoiser_destroy(denoiser);
+        return 1;
+    }
+    /* `denoise on` in the scene file, where --denoise did not already make the denoiser. */
+    if (!denoiser && vkrt_denoise_asked(cl, &scene.config) &&
+        !vkrt_denoiser_create(&denoiser, &(vkrt_denoiser_desc){.interactive = true}, &err)) {
+        fprintf(stderr, "vkrt: %s: denoise on: %s\n", opts->scene_path, err.msg);
+        vkrt_scene_free(&scene);
         return 1;
     }
     if (!opts->common.quiet)

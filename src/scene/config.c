@@ -49,7 +49,7 @@ typedef struct parser {
     vkrt_line_parser at;  /* file name, line and error of messages */
     const char *base_dir; /* "" for the current folder */
     vkrt_config *cfg;
-    int first_line[16];   /* per single-valued keyword: where it was given, 0 if not yet */
+    int first_line[24];   /* per single-valued keyword: where it was given, 0 if not yet */
     uint32_t light_cap, camera_cap, geometry_cap;
 } parser;
 
@@ -499,6 +499,19 @@ static bool kw_tonemap(parser *p, const tokens *t)
     return true;
 }
 
+/* denoise on|off: Open Image Denoise on every frame (src/output/denoise.h), as --denoise. */
+static bool kw_denoise(parser *p, const tokens *t)
+{
+    char buf[SHOWN_TOKEN_BYTES + 4];
+    if (t->count != 2)
+        return fail(p, "denoise needs on or off, got %d words", t->count - 1);
+    bool on = strcmp(t->tok[1], "on") == 0;
+    if (!on && strcmp(t->tok[1], "off") != 0)
+        return fail(p, "denoise: '%s' is not on or off", shown(t->tok[1], buf));
+    p->cfg->denoise = on;
+    return true;
+}
+
 static bool kw_environment(parser *p, const tokens *t)
 {
     return want_numbers(p, t, 1, 3, "environment") &&
@@ -781,6 +794,7 @@ static const keyword keywords[] = {
     {"bvh-splits", true, kw_bvh_splits},
     {"textures", true, kw_textures},
     {"tonemap", true, kw_tonemap},
+    {"denoise", true, kw_denoise},
     {"output", true, kw_output},
     {"environment", true, kw_environment},
     {"environment-map", true, kw_environment_map},

@@ -97,6 +97,7 @@ typedef struct vkrt_config {
     vkrt_integrator integrator; /* default auto */
     vkrt_bvh_splits bvh_splits; /* default auto */
     vkrt_tonemap tonemap;     /* default none */
+    bool denoise;             /* `denoise on`: the finish stage's denoiser, as --denoise asks */
     float environment[3];     /* radiance of rays that miss, default 0; unused with a map */
     char *environment_map;    /* equirectangular image (src/scene/envmap.h), resolved against the
                                  scene.cfg's folder; NULL when absent. It replaces environment[]. */
