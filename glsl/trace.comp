@@ -24,7 +24,9 @@ void main()
         hits[index] = previous;
         return;
     }
-    cutout_cone = vec2(ray_cone_width(ray), ray_cone_spread(ray)); /* texture filtering */
+    /* Coverage at the cone's footprint for camera rays alone (lib/cutout.glsl says why). */
+    cutout_cone = ray_depth(ray) == 0u ? vec2(ray_cone_width(ray), ray_cone_spread(ray))
+                                       : vec2(0.0);
     Hit hit = trace_closest(ray.origin.xyz, ray.direction.xyz, ray_tmin(ray), previous.t);
     hits[index] = hit.triangle != VKRT_NO_HIT ? hit : previous;
 #ifdef VKRT_SUBGROUPS

@@ -8,11 +8,14 @@
  * cut-outs compile none of it (HAS_CUTOUTS).
 
  *
- * Coverage is read at the footprint of the ray's cone where the ray has one (cutout_cone: the
- * trace kernel's camera and bounce rays), as the surface's colour is, so that a distant leaf
- * covers the pixel share its mipmapped coverage says rather than sparkling between texels; rays
- * without a cone (shadow rays), and the meshes of an instanced scene (whose triangles traversal
- * sees in their own space), read the image itself.
+ * A camera ray reads coverage at the footprint of its cone (cutout_cone), as the surface's colour
+ * is, so that a distant leaf covers the pixel share its mipmapped coverage says rather than
+ * sparkling between texels: that is the pixel's filter over the card. Every other ray reads the
+ * image itself: a bounce's cone is wide (a diffuse bounce's spreads by its pdf) and stands for the
+ * footprint of the picture's filtering, not for the ray, so filtered coverage would turn a cut-out
+ * card into a half-opaque veil for the light that passes it (a test of light through a card's
+ * hole, tests/test_path.c, saw the floor under the hole 20% too bright). Shadow rays and the
+ * meshes of an instanced scene (whose triangles traversal sees in their own space) have no cone.
  */
 #ifndef VKRT_CUTOUT_GLSL
 #define VKRT_CUTOUT_GLSL
