@@ -279,6 +279,40 @@ static void strips_fans_and_skipped_lines(void **state)
     vkrt_model_free(&m);
 }
 
+/* Non-indexed triangles of the given corners (count a multiple of 3), one mesh, one node. */
+static void corners_json(char *json, size_t size, const float *pos, size_t corners)
+{
+    buf b = {0};
+    put_floats(&b, pos, 3 * corners);
+    snprintf(json, size,
+             "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":%zu,\"uri\":\"%s\"}],"
+             "\"bufferViews\":[{\"buffer\":0,\"byteLength\":%zu}],"
+             "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":%zu,"
+             "\"type\":\"VEC3\"}],\"nodes\":[{\"mesh\":0}],"
+             "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}]}",
+             b.size, data_uri(&b), b.size, corners);
+}
+
+/* Zero-area triangles (corners on a line, or one point twice) are dropped with a warning, as the
+ * OBJ loader drops them; a file of nothing else is an error. */
+static void zero_area_triangles(void **state)
+{
+    (void)state;
+    char json[4000];
+    const float line[] = {0, 0, 0, 1, 0, 0, 2, 0, 0, /* a line */
+                          0, 0, 0, 0, 1, 0, 0, 1, 0, /* a repeated corner */
+                          0, 0, 0, 1, 0, 0, 0, 1, 0};
+    corners_json(json, sizeof json, line, 6);
+    load_fails(json, strlen(json), "all 2 triangles have zero area");
+    corners_json(json, sizeof json, line, 9);
+    vkrt_model m;
+    load_ok(json, &m);
+    assert_int_equal(m.meshes[0].triangle_count, 1);
+    assert_vec3(m.meshes[0].positions + 6, 0, 1, 0);
+    assert_non_null(strstr(m.warnings, "t.gltf: warning: 2 triangles have zero area"));
+    vkrt_model_free(&m);
+}
+
 /* ---------------------------------------------------------------- materials */
 
 static void material_mapping(void **state)
@@ -724,6 +758,7 @@ int main(void)
         cmocka_unit_test(gpu_instancing_adds_one_instance_per_element),
         cmocka_unit_test(mirrored_node_gets_reversed_winding),
         cmocka_unit_test(strips_fans_and_skipped_lines),
+        cmocka_unit_test(zero_area_triangles),
         cmocka_unit_test(material_mapping),
         cmocka_unit_test(embedded_image_decodes),
         cmocka_unit_test(lights_in_radiometric_units),

@@ -199,6 +199,29 @@ char *copy_string(const std::string &s)
         throw std::bad_alloc();
     return p;
 }
+/* Triangles of zero area (their corners on a line or at one point) no ray hits and no light
+ * samples: dropped as the OBJ loader drops them, with one warning; instances of a mesh left with
+ * none place nothing, and a file of nothing else is an error. */
+static void drop_zero_area(Context &c, const std::string &name)
+{
+    vkrt_model *model = c.model;
+    uint64_t triangles = 0, dropped = 0;
+    for (uint32_t m = 0; m < model->mesh_count; ++m) {
+        triangles += model->meshes[m].triangle_count;
+        dropped += vkrt_mesh_drop_degenerate(&model->meshes[m]);
+    }
+    uint32_t kept = 0;
+    for (uint32_t i = 0; i < model->instance_count; ++i)
+        if (model->meshes[model->instances[i].mesh].triangle_count > 0)
+            model->instances[kept++] = model->instances[i];
+    model->instance_count = kept;
+    if (triangles > 0 && dropped == triangles)
+        throw LoadError(name + ": all " + std::to_string(triangles) +
+                        " triangles have zero area (their corners lie on a line or at one "
+                        "point): nothing to draw");
+    obj_warnings::warn_degenerate_triangles(name.c_str(), (size_t)dropped, &c.warnings);
+}
+
 
 bool parse(const unsigned char *bytes, size_t size, const std::string &name, const char *folder,
            const vkrt_load_options &options, vkrt_model *model, vkrt_error *err)
@@ -249,6 +272,7 @@ bool parse(const unsigned char *bytes, size_t size, const std::string &name, con
     read_materials(c);
     read_meshes(c, used_meshes(c));
     read_instances(c);
+    drop_zero_area(c, name);
     if (model->instance_count == 0)
         throw LoadError(name + ": no triangles in the scene");
     read_lights(c);
