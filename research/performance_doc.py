@@ -782,6 +782,8 @@ instances of a 100,000-triangle mesh (since this call the material list is per m
 on lavapipe that scene loads in about 1.8 s warm without the driver's pipeline creation, 1 GiB at
 its peak) and the driver's pipeline on the instanced scenes (rtpipe-bench now builds a BLAS per
 mesh and a TLAS over the instances; `research/gpu-run instancing-driver` runs both, not yet run).
+The structure cache now keeps two-level BVHs: on lavapipe that scene's structure builds in 826 ms
+and reads back warm in 43 ms, a cost the GPU's start-up above no longer pays on a second run.
 
 ## Memory
 
