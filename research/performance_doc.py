@@ -783,7 +783,7 @@ on lavapipe that scene loads in about 1.8 s warm without the driver's pipeline c
 its peak) and the driver's pipeline on the instanced scenes (rtpipe-bench now builds a BLAS per
 mesh and a TLAS over the instances; `research/gpu-run instancing-driver` runs both, not yet run).
 The structure cache now keeps two-level BVHs: on lavapipe that scene's structure builds in 826 ms
-and reads back warm in 43 ms, a cost the GPU's start-up above no longer pays on a second run.
+and reads back warm in 43 ms (the second runs above still built theirs; not measured again on a GPU).
 
 ## Memory
 
