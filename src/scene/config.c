@@ -471,22 +471,14 @@ static bool kw_bvh_splits(parser *p, const tokens *t)
 
 static bool kw_textures(parser *p, const tokens *t)
 {
-    static const char *const names[] = {
-        [VKRT_TEXTURE_FILTER_CONE] = "cone",
-        [VKRT_TEXTURE_FILTER_BILINEAR] = "bilinear",
-        [VKRT_TEXTURE_FILTER_NEAREST] = "nearest",
-    };
     char buf[SHOWN_TOKEN_BYTES + 4];
     if (t->count != 2)
         return fail(p, "textures needs one name (cone, bilinear or nearest), got %d",
                     t->count - 1);
-    for (int i = 0; i < 3; i++)
-        if (strcmp(t->tok[1], names[i]) == 0) {
-            p->cfg->texture_filter = (vkrt_texture_filter)i;
-            return true;
-        }
-    return fail(p, "unknown textures '%s' (expected cone, bilinear or nearest)",
-                shown(t->tok[1], buf));
+    if (!vkrt_texture_filter_parse(t->tok[1], &p->cfg->texture_filter))
+        return fail(p, "unknown textures '%s' (expected cone, bilinear or nearest)",
+                    shown(t->tok[1], buf));
+    return true;
 }
 
 static bool kw_tonemap(parser *p, const tokens *t)
@@ -898,20 +890,4 @@ bool vkrt_config_load(const char *path, vkrt_config *cfg, vkrt_error *err)
     free(dir);
     free(text);
     return ok;
-}
-
-void vkrt_config_free(vkrt_config *cfg)
-{
-    if (!cfg)
-        return;
-    free(cfg->path);
-    for (uint32_t i = 0; cfg->geometries && i < cfg->geometry_count; i++)
-        free(cfg->geometries[i].path);
-    free(cfg->geometries);
-    free(cfg->materials);
-    free(cfg->output);
-    free(cfg->environment_map);
-    free(cfg->lights);
-    free(cfg->cameras);
-    memset(cfg, 0, sizeof *cfg);
 }

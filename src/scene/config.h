@@ -175,4 +175,8 @@ const char *vkrt_tonemap_name(vkrt_tonemap curve);
  * leaves *curve unchanged. */
 bool vkrt_tonemap_parse(const char *name, vkrt_tonemap *curve);
 
+/* The texture filter named as scene.cfg's `textures` line names it ("cone", "bilinear",
+ * "nearest"); false for any other name. */
+bool vkrt_texture_filter_parse(const char *name, vkrt_texture_filter *filter);
+
 #endif

@@ -1,5 +1,5 @@
-/* config_defaults.c: the settings no scene.cfg line gives, and those of a scene file rendered
- * without a scene.cfg (config.h). */
+/* config_defaults.c: the settings no scene.cfg line gives, those of a scene file rendered
+ * without a scene.cfg, and freeing what a config holds (config.h). */
 #define _POSIX_C_SOURCE 200809L
 #include <stdlib.h>
 #include <string.h>
@@ -45,4 +45,20 @@ bool vkrt_config_for_geometry(const char *path, vkrt_config *cfg, vkrt_error *er
     memcpy(c.output + stem, ".png", 5);
     *cfg = c;
     return true;
+}
+
+void vkrt_config_free(vkrt_config *cfg)
+{
+    if (!cfg)
+        return;
+    free(cfg->path);
+    for (uint32_t i = 0; cfg->geometries && i < cfg->geometry_count; i++)
+        free(cfg->geometries[i].path);
+    free(cfg->geometries);
+    free(cfg->materials);
+    free(cfg->output);
+    free(cfg->environment_map);
+    free(cfg->lights);
+    free(cfg->cameras);
+    memset(cfg, 0, sizeof *cfg);
 }

@@ -155,3 +155,18 @@ bool vkrt_tonemap_parse(const char *name, vkrt_tonemap *curve)
     }
     return false;
 }
+
+bool vkrt_texture_filter_parse(const char *name, vkrt_texture_filter *filter)
+{
+    static const char *const names[] = {
+        [VKRT_TEXTURE_FILTER_CONE] = "cone",
+        [VKRT_TEXTURE_FILTER_BILINEAR] = "bilinear",
+        [VKRT_TEXTURE_FILTER_NEAREST] = "nearest",
+    };
+    for (size_t i = 0; name && i < sizeof names / sizeof names[0]; i++)
+        if (strcmp(name, names[i]) == 0) {
+            *filter = (vkrt_texture_filter)i;
+            return true;
+        }
+    return false;
+}
